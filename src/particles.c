@@ -1,0 +1,98 @@
+/* particles.c — allocation and compaction of the structure-of-arrays particle store.
+ * Invariant on exit of every function: x, v, w point into the single block y of 9n
+ * doubles, in that order, so the block is one contiguous ODE state vector. */
+#include "particles.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+int esf_particle_defs_push(esf_particle_defs *defs, const esf_particle_def *def,
+                           esf_error *err) {
+  if (defs->n == defs->cap) {
+    size_t cap = defs->cap ? 2 * defs->cap : 64;
+    esf_particle_def *d = realloc(defs->d, cap * sizeof *d);
+    if (!d) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particles", cap);
+    defs->d = d;
+    defs->cap = cap;
+  }
+  defs->d[defs->n++] = *def;
+  return ESF_OK;
+}
+
+void esf_particle_defs_clear(esf_particle_defs *defs) {
+  free(defs->d);
+  defs->d = NULL;
+  defs->n = defs->cap = 0;
+}
+
+void esf_particles_release(esf_particles *p) {
+  free(p->y);
+  free(p->f);
+  free(p->t);
+  free(p->radius);
+  free(p->mass);
+  free(p->inv_mass);
+  free(p->inertia);
+  free(p->inv_inertia);
+  free(p->material);
+  free(p->id);
+  memset(p, 0, sizeof *p);
+}
+
+int esf_particles_alloc(esf_particles *p, size_t n, esf_error *err) {
+  memset(p, 0, sizeof *p);
+  size_t m = n ? n : 1; /* never hand out NULL arrays */
+  p->n = n;
+  p->y = calloc(9 * m, sizeof(double));
+  p->f = calloc(3 * m, sizeof(double));
+  p->t = calloc(3 * m, sizeof(double));
+  p->radius = calloc(m, sizeof(double));
+  p->mass = calloc(m, sizeof(double));
+  p->inv_mass = calloc(m, sizeof(double));
+  p->inertia = calloc(m, sizeof(double));
+  p->inv_inertia = calloc(m, sizeof(double));
+  p->material = calloc(m, sizeof(int32_t));
+  p->id = calloc(m, sizeof(int64_t));
+  if (!p->y || !p->f || !p->t || !p->radius || !p->mass || !p->inv_mass || !p->inertia ||
+      !p->inv_inertia || !p->material || !p->id) {
+    esf_particles_release(p);
+    return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particles", n);
+  }
+  p->x = p->y;
+  p->v = p->y + 3 * n;
+  p->w = p->y + 6 * n;
+  return ESF_OK;
+}
+
+int esf_particles_compact(esf_particles *p, const unsigned char *keep, size_t *remap,
+                          esf_error *err) {
+  size_t n = p->n, m = 0;
+  for (size_t i = 0; i < n; i++) m += keep[i] ? 1 : 0;
+  esf_particles q;
+  int rc = esf_particles_alloc(&q, m, err);
+  if (rc) return rc;
+  size_t k = 0;
+  for (size_t i = 0; i < n; i++) {
+    if (!keep[i]) {
+      if (remap) remap[i] = SIZE_MAX;
+      continue;
+    }
+    if (remap) remap[i] = k;
+    memcpy(q.x + 3 * k, p->x + 3 * i, 3 * sizeof(double));
+    memcpy(q.v + 3 * k, p->v + 3 * i, 3 * sizeof(double));
+    memcpy(q.w + 3 * k, p->w + 3 * i, 3 * sizeof(double));
+    memcpy(q.f + 3 * k, p->f + 3 * i, 3 * sizeof(double));
+    memcpy(q.t + 3 * k, p->t + 3 * i, 3 * sizeof(double));
+    q.radius[k] = p->radius[i];
+    q.mass[k] = p->mass[i];
+    q.inv_mass[k] = p->inv_mass[i];
+    q.inertia[k] = p->inertia[i];
+    q.inv_inertia[k] = p->inv_inertia[i];
+    q.material[k] = p->material[i];
+    q.id[k] = p->id[i];
+    k++;
+  }
+  esf_particles_release(p);
+  *p = q;
+  return ESF_OK;
+}

@@ -1,0 +1,52 @@
+/* vec3.h — small inline helpers for 3-vectors stored as double[3]. */
+#ifndef ESF_VEC3_H
+#define ESF_VEC3_H
+
+#include <math.h>
+
+static inline double v3_dot(const double *a, const double *b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+static inline double v3_norm2(const double *a) { return v3_dot(a, a); }
+static inline double v3_norm(const double *a) { return sqrt(v3_dot(a, a)); }
+static inline void v3_set(double *o, double x, double y, double z) {
+  o[0] = x;
+  o[1] = y;
+  o[2] = z;
+}
+static inline void v3_copy(double *o, const double *a) {
+  o[0] = a[0];
+  o[1] = a[1];
+  o[2] = a[2];
+}
+static inline void v3_sub(double *o, const double *a, const double *b) {
+  o[0] = a[0] - b[0];
+  o[1] = a[1] - b[1];
+  o[2] = a[2] - b[2];
+}
+static inline void v3_add(double *o, const double *a, const double *b) {
+  o[0] = a[0] + b[0];
+  o[1] = a[1] + b[1];
+  o[2] = a[2] + b[2];
+}
+static inline void v3_scale(double *o, double s, const double *a) {
+  o[0] = s * a[0];
+  o[1] = s * a[1];
+  o[2] = s * a[2];
+}
+/* o += s a */
+static inline void v3_axpy(double *o, double s, const double *a) {
+  o[0] += s * a[0];
+  o[1] += s * a[1];
+  o[2] += s * a[2];
+}
+static inline void v3_cross(double *o, const double *a, const double *b) {
+  double x = a[1] * b[2] - a[2] * b[1];
+  double y = a[2] * b[0] - a[0] * b[2];
+  double z = a[0] * b[1] - a[1] * b[0];
+  o[0] = x;
+  o[1] = y;
+  o[2] = z;
+}
+
+#endif

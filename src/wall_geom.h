@@ -1,0 +1,64 @@
+/* wall_geom.h — geometry of wall elements: infinite planes and finite convex planar
+ * polygons (triangles, quadrilaterals), and the point of an element nearest a sphere
+ * centre (004 §2.3.2, eqs. 2.4–2.5): the foot of the normal when it falls inside the
+ * polygon (face contact), else the nearest point of its boundary (edge or vertex).
+ *
+ * A plane is one-sided: particles live on the side its normal points to, and a centre
+ * behind it is still pushed back along the normal (its distance is negative).
+ * A polygon is two-sided: the distance is unsigned. */
+#ifndef ESF_WALL_GEOM_H
+#define ESF_WALL_GEOM_H
+
+#include <stdint.h>
+
+#include "esf_error.h"
+
+enum { ESF_WALL_PLANE = 0, ESF_WALL_POLYGON = 1 };
+enum { ESF_FEATURE_FACE = 0, ESF_FEATURE_EDGE = 1, ESF_FEATURE_VERTEX = 2 };
+
+#define ESF_WALL_MAX_VERTS 4
+
+typedef struct esf_wall_elem {
+  int kind;                         /* ESF_WALL_PLANE or ESF_WALL_POLYGON */
+  int nv;                           /* polygon: 3 or 4 vertices; plane: 0 */
+  double v[ESF_WALL_MAX_VERTS][3];  /* polygon vertices in order, m */
+  double p[3];                      /* plane: its point; polygon: the centroid, m */
+  double n[3];                      /* unit normal (polygon: right hand over v order) */
+  double edge_n[ESF_WALL_MAX_VERTS][3]; /* in-plane unit outward normal of edge k
+                                           (v[k] -> v[k+1]), for the inside test */
+  double bound_r;                   /* polygon: radius of the sphere about p holding it */
+  int32_t material;                 /* material index */
+  int32_t group;                    /* the wall this element belongs to (box, plane...) */
+} esf_wall_elem;
+
+/* The nearest point of an element to a centre. */
+typedef struct esf_wall_hit {
+  double q[3];   /* the nearest point on the element, m */
+  double n[3];   /* unit contact normal, from the centre toward q (plane: -normal) */
+  double dist;   /* distance centre -> q along n, m (plane: signed, negative behind) */
+  int feature;   /* ESF_FEATURE_FACE, _EDGE or _VERTEX (plane: always FACE) */
+} esf_wall_hit;
+
+/* Builds an infinite plane through point with the given normal (normalised here).
+ * Error: zero or non-finite normal. */
+int esf_wall_plane_init(esf_wall_elem *e, const double point[3], const double normal[3],
+                        int32_t material, int32_t group, esf_error *err);
+
+/* Builds a polygon from nv = 3 or 4 vertices. Errors (ESF_EINPUT): nv out of range,
+ * repeated vertices or zero area (degenerate), a quadrilateral that is not planar
+ * (within 1e-9 of its size) or not convex. */
+int esf_wall_polygon_init(esf_wall_elem *e, int nv, const double (*verts)[3],
+                          int32_t material, int32_t group, esf_error *err);
+
+/* The nearest point of e to centre x. When x lies on a polygon's plane inside it
+ * (dist 0) the normal is -e->n. */
+void esf_wall_nearest(const esf_wall_elem *e, const double x[3], esf_wall_hit *hit);
+
+/* The six inward-facing quadrilaterals of an axis-aligned box, less the open faces.
+ * open_mask bits: 1 xmin, 2 xmax, 4 ymin, 8 ymax, 16 zmin (bottom), 32 zmax (top).
+ * Writes up to 6 elements into out and their count into *count. Error: min >= max. */
+int esf_wall_box(const double min[3], const double max[3], unsigned open_mask,
+                 int32_t material, int32_t group, esf_wall_elem out[6], int *count,
+                 esf_error *err);
+
+#endif
