@@ -1,0 +1,43 @@
+/* integrator.h — the time-integration strategy table.
+ *
+ * Every scheme (the production leapfrog here; velocity Verlet and the SUNDIALS methods
+ * of the testbed) is a const descriptor with its capabilities, so that the run driver
+ * treats them alike and all of them call the same physics (src/forces.h).
+ *
+ * Contract of step(): on entry the sim holds a consistent state at time s->t; on exit
+ * it holds the state one step later (fixed-step schemes advance by s->dt; adaptive ones
+ * by the step they chose, never past t_stop), s->t and s->step advanced, and, when the
+ * energy ledger is on, the ledger updated through that step with s->led_time set to the
+ * time its stored energies refer to. */
+#ifndef ESF_INTEGRATOR_H
+#define ESF_INTEGRATOR_H
+
+#include "esf_error.h"
+#include "sim.h"
+
+enum {
+  ESF_INTEG_FIXED_STEP = 1u << 0,  /* uses s->dt */
+  ESF_INTEG_ADAPTIVE = 1u << 1,    /* chooses its own steps */
+  ESF_INTEG_HALF_STEP_V = 1u << 2, /* velocities in the state are at half steps */
+  ESF_INTEG_HISTORY_INCREMENTAL = 1u << 3 /* contact history committed once per step */
+};
+
+typedef struct esf_integrator_type {
+  const char *name;
+  const char *summary; /* one line for --help and the log */
+  int order;           /* nominal order of accuracy */
+  unsigned flags;
+  int (*create)(esf_sim *s, void **state, esf_error *err);
+  int (*step)(esf_sim *s, void *state, double t_stop, esf_error *err);
+  void (*destroy)(void **state);
+} esf_integrator_type;
+
+extern const esf_integrator_type esf_integrator_leapfrog;
+
+/* The scheme of a given name (integrator.method), or NULL. */
+const esf_integrator_type *esf_integrator_find(const char *name);
+
+/* Names of all schemes, NULL-terminated, for messages. */
+extern const esf_integrator_type *const esf_integrators[];
+
+#endif

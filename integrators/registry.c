@@ -1,0 +1,12 @@
+/* registry.c — the table of time integrators, looked up by integrator.method. */
+#include <string.h>
+
+#include "integrator.h"
+
+const esf_integrator_type *const esf_integrators[] = {&esf_integrator_leapfrog, NULL};
+
+const esf_integrator_type *esf_integrator_find(const char *name) {
+  for (int k = 0; esf_integrators[k]; k++)
+    if (strcmp(esf_integrators[k]->name, name) == 0) return esf_integrators[k];
+  return NULL;
+}

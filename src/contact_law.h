@@ -1,0 +1,71 @@
+/* contact_law.h — the contact-law strategy table.
+ *
+ * A contact law turns the kinematics of one contact (normal, overlap, relative velocity
+ * at the contact point) and its history (the tangential elastic displacement and the
+ * normal it was last expressed in) into the contact force. Both time integrators call
+ * the same law: the leapfrog commits the updated history every step; a Runge-Kutta
+ * stage evaluates it without committing (history frozen), and so on.
+ *
+ * Conventions (PHYSICS.md §2): n is the unit normal from A's centre toward B (or toward
+ * the wall point); un > 0 is the overlap; vc is the velocity of B's contact point minus
+ * A's; forces returned are those acting ON A (B receives the opposite). */
+#ifndef ESF_CONTACT_LAW_H
+#define ESF_CONTACT_LAW_H
+
+#include "material.h"
+
+/* The kinematics of one contact at the evaluation instant. */
+typedef struct esf_contact_in {
+  double n[3];    /* unit normal A -> B */
+  double un;      /* overlap, m (> 0 when touching) */
+  double vc[3];   /* relative velocity of the contact point, B minus A, m/s */
+  double spin_n;  /* (w_A + w_B).n / 2, rad/s: the contact plane's spin about n (3-18) */
+  double mstar;   /* reduced mass, kg (the particle's mass against a wall) */
+  double dt;      /* time over which the tangential increment integrates, s */
+} esf_contact_in;
+
+/* The history one contact carries between steps. */
+typedef struct esf_contact_hist {
+  double xi[3];   /* tangential elastic displacement, m (force on A = kt xi) */
+  double n[3];    /* the normal xi was last expressed in */
+} esf_contact_hist;
+
+/* What the law returns. */
+typedef struct esf_contact_out {
+  double f[3];       /* total force on A, N */
+  double ft[3];      /* its tangential part, N (the torque arm acts on this) */
+  double fn;         /* normal force magnitude, N (> 0 compressive) */
+  double fd_n;       /* the normal dashpot's share of fn actually applied, N */
+  double fd_t[3];    /* the tangential dashpot force on A actually applied, N */
+  double slip_work;  /* friction work of this evaluation (force x slip), J */
+  double e_el_n;     /* elastic energy in the normal spring, J */
+  double e_el_t;     /* elastic energy in the tangential spring, J */
+  int touching;      /* 0: no force (separated); history is reset */
+  int sliding;       /* 1: the Coulomb cap was active */
+} esf_contact_out;
+
+/* How the stored tangential displacement follows a turning contact plane. */
+enum {
+  ESF_TFRAME_ROTATE = 0, /* the seed's two small rotations, 000 (3-17)-(3-18) */
+  ESF_TFRAME_PROJECT = 1 /* project on the new plane, rescale to keep |xi| */
+};
+
+enum {
+  ESF_LAW_HISTORY = 1u << 0, /* carries tangential history */
+  ESF_LAW_TENSION = 1u << 1  /* may pull (adhesive) */
+};
+
+typedef struct esf_contact_law {
+  const char *name;
+  unsigned flags;
+  /* Evaluates the law. hist is read; when hist_out is not NULL the updated history is
+   * written there (it may alias hist). `first` marks a contact that was not touching
+   * at the last commit: its history starts from zero. */
+  void (*eval)(const esf_pair_params *pp, double beta, int tframe,
+               const esf_contact_in *in, const esf_contact_hist *hist, int first,
+               esf_contact_hist *hist_out, esf_contact_out *out);
+} esf_contact_law;
+
+extern const esf_contact_law esf_contact_linear;
+
+#endif

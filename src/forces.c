@@ -1,0 +1,283 @@
+/* forces.c — evaluation of the DEM forces (PHYSICS.md §2–3).
+ *
+ * For every candidate pair (A, B) with overlap un = rA + rB - d > 0 (000 3-15):
+ *   n = (xB - xA)/d; contact point xc = xA + (rA - un/2) n (000 3-16); lever arms
+ *   lA = rA - un/2 and lB = rB - un/2 measured to xc, so that the tangential forces
+ *   are equal, opposite and act at one point (angular momentum is conserved exactly;
+ *   004 2.33–2.34 use the radii, which differ by un/2);
+ *   vc = [vB + wB x (-lB n)] - [vA + wA x (lA n)] (000 3-21);
+ *   the contact law gives the force on A; B gets the opposite (004 2.31);
+ *   torques M_A = lA n x Ft, M_B = lB n x Ft (same sense, 004 2.34).
+ * For a wall element: q its nearest point (wall_geom.h), un = rA - |q - xA|, n toward
+ * q, lever lA = |q - xA|, vc = v_wall(q) - [vA + wA x (lA n)], m* = mA. Contacts of
+ * one particle with elements of the same wall at the same point (a shared edge or
+ * vertex) count once.
+ * Gravity: f += m g. In 2D only x, z forces and the y torque act.
+ * Entry: candidate lists valid for x; on exit f, t hold the totals. */
+#include "forces.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "vec3.h"
+
+static int overlap_failure(const esf_sim *s, long long ida, long long idb, int wall,
+                           double un, double rmin, esf_error *err) {
+  const char *rule = esf_dt_rule_names[s->cfg.dt_rule];
+  if (wall)
+    return esf_fail(err, ESF_ENUMERIC,
+                    "step %ld (t = %.6g s): particle id %lld overlaps wall element %lld "
+                    "by %.3g m, %.0f%% of its radius (limit %.0f%%); dt = %.4g s, "
+                    "critical dt (%s) = %.4g s. The wall pushes faster than contacts "
+                    "can respond, or dt is too large: lower integrator.frac or dt, or "
+                    "raise kn",
+                    s->step, s->t, ida, idb, un, 100.0 * un / rmin,
+                    100.0 * s->cfg.max_overlap, s->dt, rule, s->dte.crit[s->cfg.dt_rule]);
+  return esf_fail(err, ESF_ENUMERIC,
+                  "step %ld (t = %.6g s): particles id %lld and id %lld overlap by %.3g "
+                  "m, %.0f%% of the smaller radius (limit %.0f%%); dt = %.4g s, "
+                  "critical dt (%s) = %.4g s. The step is too large for the stiffness "
+                  "(lower integrator.frac or dt) or the contacts are too soft for the "
+                  "loads (raise kn)",
+                  s->step, s->t, ida, idb, un, 100.0 * un / rmin,
+                  100.0 * s->cfg.max_overlap, s->dt, rule, s->dte.crit[s->cfg.dt_rule]);
+}
+
+static int pair_forces(esf_sim *s, const double *x, const double *v, const double *w,
+                       double dt, int commit, size_t *touching, esf_error *err) {
+  esf_particles *p = &s->p;
+  esf_contacts *c = &s->nb.pp;
+  const esf_materials *mt = &s->mats;
+  double *led = commit && s->led.on ? c->led : NULL;
+  double eln = 0, elt = 0, slip = 0;
+  size_t nt = 0;
+  for (size_t k = 0; k < c->n; k++) {
+    uint32_t a = c->a[k], b = c->b[k];
+    const double *xa = x + 3 * a, *xb = x + 3 * b;
+    double d[3];
+    v3_sub(d, xb, xa);
+    double R = p->radius[a] + p->radius[b];
+    double d2 = v3_norm2(d);
+    if (d2 >= R * R) {
+      if (commit) c->touch[k] = 0;
+      continue;
+    }
+    double dist = sqrt(d2);
+    esf_contact_in in;
+    if (dist > 0) v3_scale(in.n, 1.0 / dist, d);
+    else v3_set(in.n, 0, 0, 1);
+    in.un = R - dist;
+    double rmin = fmin(p->radius[a], p->radius[b]);
+    if (in.un > s->cfg.max_overlap * rmin)
+      return overlap_failure(s, (long long)p->id[a], (long long)p->id[b], 0, in.un, rmin,
+                             err);
+    double la = p->radius[a] - 0.5 * in.un, lb = p->radius[b] - 0.5 * in.un;
+    const double *va = v + 3 * a, *vb = v + 3 * b, *wa = w + 3 * a, *wb = w + 3 * b;
+    double ra[3], rb[3], ta[3], tb[3];
+    v3_scale(ra, la, in.n);
+    v3_scale(rb, -lb, in.n);
+    v3_cross(ta, wa, ra);
+    v3_cross(tb, wb, rb);
+    for (int q = 0; q < 3; q++) in.vc[q] = vb[q] + tb[q] - va[q] - ta[q];
+    in.spin_n = 0.5 * (v3_dot(wa, in.n) + v3_dot(wb, in.n));
+    in.mstar = p->mass[a] * p->mass[b] / (p->mass[a] + p->mass[b]);
+    in.dt = dt;
+    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
+    esf_contact_out out;
+    s->law->eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], !c->touch[k],
+                 commit ? &c->h[k] : NULL, &out);
+    if (!out.touching) {
+      if (commit) c->touch[k] = 0;
+      continue;
+    }
+    nt++;
+    v3_add(p->f + 3 * a, p->f + 3 * a, out.f);
+    v3_sub(p->f + 3 * b, p->f + 3 * b, out.f);
+    double m[3];
+    v3_cross(m, in.n, out.ft);
+    v3_axpy(p->t + 3 * a, la, m);
+    v3_axpy(p->t + 3 * b, lb, m);
+    if (commit) c->touch[k] = 1;
+    if (led) {
+      double *L = led + ESF_LED_STRIDE * k;
+      L[0] = in.un;
+      L[1] = out.fd_n;
+      v3_copy(L + 2, out.fd_t);
+      eln += out.e_el_n;
+      elt += out.e_el_t;
+      slip += out.slip_work;
+    }
+  }
+  if (led) {
+    s->led.el_n = eln;
+    s->led.el_t = elt;
+    s->led.d_friction += slip;
+  }
+  *touching += nt;
+  return ESF_OK;
+}
+
+static int wall_forces(esf_sim *s, const double *x, const double *v, const double *w,
+                       double dt, int commit, size_t *touching, esf_error *err) {
+  esf_particles *p = &s->p;
+  esf_contacts *c = &s->nb.pw;
+  const esf_materials *mt = &s->mats;
+  double *led = commit && s->led.on ? c->led : NULL;
+  double eln = 0, elt = 0, slip = 0;
+  size_t nt = 0;
+  /* contact points kept so far for the current particle, to drop repeats */
+  enum { KEEP_MAX = 32 };
+  double kept_q[KEEP_MAX][3];
+  int kept_g[KEEP_MAX], nkept = 0;
+  uint32_t cur = UINT32_MAX;
+  for (size_t k = 0; k < c->n; k++) {
+    uint32_t a = c->a[k];
+    const esf_wall_elem *el = &s->walls.e[c->b[k]];
+    if (a != cur) {
+      cur = a;
+      nkept = 0;
+    }
+    const double *xa = x + 3 * a;
+    esf_wall_hit hit;
+    esf_wall_nearest(el, xa, &hit);
+    double r = p->radius[a];
+    double un = r - hit.dist;
+    int dup = 0;
+    if (un > 0 && el->kind == ESF_WALL_POLYGON && hit.feature != ESF_FEATURE_FACE) {
+      double tol2 = 1e-18 * r * r;
+      for (int q = 0; q < nkept; q++) {
+        double dq[3];
+        v3_sub(dq, kept_q[q], hit.q);
+        if (kept_g[q] == el->group && v3_norm2(dq) <= tol2) dup = 1;
+      }
+    }
+    if (un <= 0 || dup) {
+      if (commit) c->touch[k] = 0;
+      continue;
+    }
+    if (nkept < KEEP_MAX) {
+      v3_copy(kept_q[nkept], hit.q);
+      kept_g[nkept++] = el->group;
+    }
+    if (un > s->cfg.max_overlap * r)
+      return overlap_failure(s, (long long)p->id[a], (long long)c->b[k], 1, un, r, err);
+    const esf_wall_group *g = &s->walls.g[el->group];
+    esf_contact_in in;
+    v3_copy(in.n, hit.n);
+    in.un = un;
+    double la = hit.dist;
+    double ra[3], ta[3], vw[3];
+    v3_scale(ra, la, in.n);
+    v3_cross(ta, w + 3 * a, ra);
+    esf_wall_point_velocity(g, hit.q, vw);
+    const double *va = v + 3 * a;
+    for (int q = 0; q < 3; q++) in.vc[q] = vw[q] - va[q] - ta[q];
+    in.spin_n = 0.5 * (v3_dot(w + 3 * a, in.n) + v3_dot(g->omega, in.n));
+    in.mstar = p->mass[a];
+    in.dt = dt;
+    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
+    esf_contact_out out;
+    s->law->eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], !c->touch[k],
+                 commit ? &c->h[k] : NULL, &out);
+    if (!out.touching) {
+      if (commit) c->touch[k] = 0;
+      continue;
+    }
+    nt++;
+    v3_add(p->f + 3 * a, p->f + 3 * a, out.f);
+    double m[3];
+    v3_cross(m, in.n, out.ft);
+    v3_axpy(p->t + 3 * a, la, m);
+    if (commit) c->touch[k] = 1;
+    if (led) {
+      double *L = led + ESF_LED_STRIDE * k;
+      L[0] = un;
+      L[1] = out.fd_n;
+      v3_copy(L + 2, out.fd_t);
+      v3_copy(L + 5, out.f);
+      eln += out.e_el_n;
+      elt += out.e_el_t;
+      slip += out.slip_work;
+    }
+  }
+  if (led) {
+    s->led.el_n += eln;
+    s->led.el_t += elt;
+    s->led.d_friction += slip;
+  }
+  *touching += nt;
+  return ESF_OK;
+}
+
+int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *w,
+                    double dt, int mode, size_t *touching, esf_error *err) {
+  esf_particles *p = &s->p;
+  const double *g = s->cfg.gravity;
+  for (size_t i = 0; i < p->n; i++) {
+    double m = p->mass[i];
+    p->f[3 * i] = m * g[0];
+    p->f[3 * i + 1] = m * g[1];
+    p->f[3 * i + 2] = m * g[2];
+  }
+  memset(p->t, 0, 3 * p->n * sizeof(double));
+  size_t nt = 0;
+  int commit = mode == ESF_FORCES_COMMIT;
+  int rc = pair_forces(s, x, v, w, dt, commit, &nt, err);
+  if (!rc) rc = wall_forces(s, x, v, w, dt, commit, &nt, err);
+  if (rc) return rc;
+  if (s->cfg.dim == 2) {
+    for (size_t i = 0; i < p->n; i++) {
+      p->f[3 * i + 1] = 0.0;
+      p->t[3 * i] = 0.0;
+      p->t[3 * i + 2] = 0.0;
+    }
+  }
+  s->rhs_evals++;
+  if (touching) *touching = nt;
+  return ESF_OK;
+}
+
+void esf_forces_ledger_pass(esf_sim *s, const double *vbar, const double *wbar,
+                            double dt) {
+  const esf_particles *p = &s->p;
+  double dn = 0, dtg = 0, ww = 0;
+  const esf_contacts *c = &s->nb.pp;
+  for (size_t k = 0; k < c->n; k++) {
+    if (!c->touch[k]) continue;
+    uint32_t a = c->a[k], b = c->b[k];
+    const double *L = c->led + ESF_LED_STRIDE * k;
+    const double *n = c->h[k].n;
+    double la = p->radius[a] - 0.5 * L[0], lb = p->radius[b] - 0.5 * L[0];
+    double ra[3], rb[3], ta[3], tb[3], vc[3];
+    v3_scale(ra, la, n);
+    v3_scale(rb, -lb, n);
+    v3_cross(ta, wbar + 3 * a, ra);
+    v3_cross(tb, wbar + 3 * b, rb);
+    for (int q = 0; q < 3; q++)
+      vc[q] = vbar[3 * b + q] + tb[q] - vbar[3 * a + q] - ta[q];
+    dn += -L[1] * v3_dot(vc, n) * dt; /* fd_n x approach rate */
+    dtg += v3_dot(L + 2, vc) * dt;
+  }
+  c = &s->nb.pw;
+  for (size_t k = 0; k < c->n; k++) {
+    if (!c->touch[k]) continue;
+    uint32_t a = c->a[k];
+    const double *L = c->led + ESF_LED_STRIDE * k;
+    const double *n = c->h[k].n;
+    const esf_wall_elem *el = &s->walls.e[c->b[k]];
+    const esf_wall_group *g = &s->walls.g[el->group];
+    double la = p->radius[a] - L[0];
+    double ra[3], ta[3], vc[3], q[3], vw[3];
+    v3_scale(ra, la, n);
+    v3_add(q, p->x + 3 * a, ra);
+    esf_wall_point_velocity(g, q, vw);
+    v3_cross(ta, wbar + 3 * a, ra);
+    for (int j = 0; j < 3; j++) vc[j] = vw[j] - vbar[3 * a + j] - ta[j];
+    dn += -L[1] * v3_dot(vc, n) * dt;
+    dtg += v3_dot(L + 2, vc) * dt;
+    ww += v3_dot(L + 5, vw) * dt;
+  }
+  s->led.d_normal += dn;
+  s->led.d_tangential += dtg;
+  s->led.w_walls += ww;
+}

@@ -1,0 +1,68 @@
+/* neighbor.h — Verlet lists of contact candidates with their contact history.
+ *
+ * Candidates are the particle pairs closer than `skin` surface to surface (found by the
+ * linked cells, cells.h) and the particle-wall element pairs closer than `skin`. Each
+ * candidate carries its contact history (contact_law.h), which survives rebuilds: it is
+ * looked up by pair at each rebuild (sorted keys and binary search, no hashing). The
+ * lists are valid while no particle has moved more than skin/2 since the build; the
+ * caller checks that every step with esf_neighbor_check. Pairs are stored with a < b. */
+#ifndef ESF_NEIGHBOR_H
+#define ESF_NEIGHBOR_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "cells.h"
+#include "contact_law.h"
+#include "particles.h"
+#include "walls.h"
+
+/* Ledger scratch per contact (only allocated when the energy ledger is on):
+ * [0] overlap (m), [1] normal dashpot force applied (N), [2..4] tangential dashpot force
+ * on A (N), [5..7] total force on the particle (N, wall contacts). */
+#define ESF_LED_STRIDE 8
+
+typedef struct esf_contacts {
+  size_t n, cap;
+  uint32_t *a;           /* particle A */
+  uint32_t *b;           /* particle B, or the wall element index */
+  esf_contact_hist *h;   /* history */
+  uint8_t *touch;        /* 1: touching at the last committed evaluation */
+  double *led;           /* ESF_LED_STRIDE per contact, or NULL */
+} esf_contacts;
+
+typedef struct esf_neighbor {
+  double skin;           /* m */
+  esf_contacts pp;       /* particle-particle candidates */
+  esf_contacts pw;       /* particle-wall candidates */
+  int ledger;            /* allocate ledger scratch */
+  esf_cells *cells;
+  esf_pairbuf buf;
+  double *xref;          /* positions at the last build, 3 * nref */
+  size_t nref;
+  long builds;           /* rebuild count */
+} esf_neighbor;
+
+int esf_neighbor_init(esf_neighbor *nb, double skin, int ledger, esf_error *err);
+void esf_neighbor_release(esf_neighbor *nb);
+
+/* Sets *rebuild when a particle moved more than skin/2 since the last build (or none
+ * was made, or the count changed). A non-finite position is an ESF_ENUMERIC error
+ * naming the particle (by id). */
+int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, int *rebuild,
+                       esf_error *err);
+
+/* Rebuilds both lists from the current positions, carrying the history of contacts
+ * that were touching over to the new lists. */
+int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls *w,
+                       esf_error *err);
+
+/* After particles were removed (esf_particles_compact's remap, n_old entries), drops
+ * the candidates of removed particles and renumbers the rest. The lists stay valid
+ * until the next check. */
+void esf_neighbor_remap(esf_neighbor *nb, const size_t *remap, size_t n_old);
+
+/* Number of contacts touching at the last committed evaluation. */
+size_t esf_neighbor_touching(const esf_neighbor *nb);
+
+#endif
