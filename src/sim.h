@@ -47,6 +47,7 @@ typedef struct esf_config {
 
   int tframe;               /* ESF_TFRAME_* */
   double max_overlap;       /* failure when overlap > this x the smaller radius */
+  int allow_initial_overlap; /* explicit particles may start overlapping */
   double skin;              /* m; <= 0: 0.2 x mean radius */
 
   double duration;          /* s (when steps == 0) */

@@ -1,0 +1,200 @@
+/* run.c — the time loop of `esfera run`.
+ *
+ * Schedule: frames at t = 0, every cfg.out_every (rounded to whole steps) and at the
+ * end; energy rows every cfg.energy_every (whole steps). After each ledger row the
+ * balance is checked: energy appearing from nothing beyond a quarter of the run's energy
+ * budget (the stored energy at the start plus everything dissipated, the change of
+ * potential energy and the wall work) means the integration is unstable, and the run
+ * stops with the step, the dt and the critical dt. Wall time is measured around the
+ * loop alone (set-up excluded), as LAMMPS's "Loop time". */
+#include "run.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "frames.h"
+#include "version.h"
+
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int esf_mkdirs(const char *path, esf_error *err) {
+  char buf[1024];
+  if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf)
+    return esf_fail(err, ESF_EIO, "output path too long: %s", path);
+  for (char *c = buf + 1;; c++) {
+    if (*c == '/' || *c == '\0') {
+      char keep = *c;
+      *c = '\0';
+      if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+        return esf_fail(err, ESF_EIO, "cannot create directory '%s': %s", buf,
+                        strerror(errno));
+      *c = keep;
+      if (!keep) break;
+    }
+  }
+  struct stat sb;
+  if (stat(path, &sb) != 0 || !S_ISDIR(sb.st_mode))
+    return esf_fail(err, ESF_EIO, "'%s' is not a directory", path);
+  return ESF_OK;
+}
+
+static void log_setup(const esf_sim *s, const esf_integrator_type *it) {
+  const esf_config *c = &s->cfg;
+  esf_sim_log(s, "esfera %s", ESF_VERSION);
+  esf_sim_log(s, "scene: %s (%s), %dD, %zu particles, %d materials, %zu wall elements",
+              c->name, c->source, c->dim, s->p.n, s->mats.n, s->walls.n);
+  esf_sim_log(s, "integrator: %s (order %d): %s", it->name, it->order, it->summary);
+  esf_sim_log(s, "critical dt (FRAC = 1): cundall %.6g s, hart %.6g s, damped %.6g s "
+              "(m_min %.6g kg, k_max %.6g N/m, damping ratio %.4g)",
+              s->dte.crit[0], s->dte.crit[1], s->dte.crit[2], s->dte.m_min, s->dte.k_max,
+              s->dte.xi);
+  esf_sim_log(s, "dt used: %.6g s = %.4g x the %s critical dt (%.6g s)%s", s->dt,
+              s->dt / s->dte.crit[c->dt_rule], esf_dt_rule_names[c->dt_rule],
+              s->dte.crit[c->dt_rule], c->dt_auto ? " (dt: auto)" : "");
+  if (s->dt > s->dte.crit[c->dt_rule])
+    esf_sim_log(s, "WARNING: dt exceeds the critical step (allow_unstable: true)");
+  esf_sim_log(s, "damping: global alpha_r %.6g 1/s, alpha_t %.6g 1/s%s; local %s %.4g; "
+              "Rayleigh beta %.6g s",
+              s->alpha_r, s->alpha_t, c->autod.on ? " (adaptive)" : "",
+              s->local ? s->local->name : "off", c->local_coef, s->beta);
+  esf_sim_log(s, "contact law: %s, tangential frame: %s; skin %.6g m",
+              s->law->name, c->tframe == ESF_TFRAME_ROTATE ? "rotate (seed)" : "project",
+              c->skin);
+  if (it->flags & ESF_INTEG_HALF_STEP_V)
+    esf_sim_log(s, "note: frame velocities are the half-step ones, v(t - dt/2); energy "
+                "rows: kinetic at t + dt/2, elastic at t");
+}
+
+static int check_energy(const esf_sim *s, esf_error *err) {
+  const esf_ledger *L = &s->led;
+  double err_e = esf_ledger_total_error(L);
+  double budget = fabs(L->e0) + esf_ledger_dissipated(L) + fabs(L->w_walls) +
+                  fabs(L->e_removed);
+  /* potential energy released counts as budget too */
+  double pot_change = fabs(L->pot_g + L->el_n + L->el_t - 0.0);
+  budget += pot_change;
+  if (err_e > 0.25 * budget && err_e > 1e-30 && !s->cfg.allow_unstable)
+    return esf_fail(err, ESF_ENUMERIC,
+                    "step %ld (t = %.6g s): energy appeared from nothing: the balance "
+                    "residual is %.4g J against an energy budget of %.4g J. The "
+                    "integration is unstable: dt = %.4g s, critical dt (%s) = %.4g s. "
+                    "Lower integrator.frac or dt",
+                    s->step, s->t, err_e, budget, s->dt, esf_dt_rule_names[s->cfg.dt_rule],
+                    s->dte.crit[s->cfg.dt_rule]);
+  return ESF_OK;
+}
+
+static void progress(const esf_sim *s, double t_end, double t0, double ps) {
+  double el = now_s() - t0;
+  double frac = t_end > 0 ? s->t / t_end : 1.0;
+  double eta = frac > 0 ? el * (1.0 - frac) / frac : 0.0;
+  fprintf(stdout, "\r  t = %.4g s  %5.1f%%  %.3g particle-steps/s  ETA %.0f s   ", s->t,
+          100.0 * frac, el > 0 ? ps / el : 0.0, eta);
+  fflush(stdout);
+}
+
+int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err) {
+  memset(st, 0, sizeof *st);
+  const esf_integrator_type *it = esf_integrator_find(s->cfg.method);
+  if (!it) return esf_fail(err, ESF_EINPUT, "unknown integrator '%s'", s->cfg.method);
+  int rc = esf_mkdirs(o->out_dir, err);
+  if (rc) return rc;
+  char path[1200];
+  snprintf(path, sizeof path, "%s/log.txt", o->out_dir);
+  FILE *logf = fopen(path, "w");
+  if (!logf) return esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
+  s->log = logf;
+  FILE *ef = NULL;
+  esf_frames *fr = NULL;
+  void *ist = NULL;
+  log_setup(s, it);
+  if (s->led.on) {
+    snprintf(path, sizeof path, "%s/energy.csv", o->out_dir);
+    ef = fopen(path, "w");
+    if (!ef) {
+      rc = esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
+      goto done;
+    }
+    esf_ledger_header(ef);
+  }
+  snprintf(path, sizeof path, "%s/frames.h5", o->out_dir);
+  rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, &fr, err);
+  if (!rc) rc = it->create(s, &ist, err);
+  if (!rc) rc = esf_frames_write(fr, s->t, &s->p, err);
+  if (rc) goto done;
+
+  long nsteps = s->cfg.steps > 0 ? s->cfg.steps
+                                 : (long)ceil(s->cfg.duration / s->dt - 1e-9);
+  double t_end = nsteps * s->dt;
+  long every_e = s->cfg.energy_every > 0
+                     ? (long)fmax(1.0, floor(s->cfg.energy_every / s->dt + 0.5))
+                     : 0;
+  long every_f = s->cfg.out_every > 0
+                     ? (long)fmax(1.0, floor(s->cfg.out_every / s->dt + 0.5))
+                     : 0;
+  esf_sim_log(s, "run: %ld steps to t = %.6g s; frames every %ld steps, energy rows "
+              "every %ld steps", nsteps, t_end, every_f, every_e);
+  double t0 = now_s(), next_prog = t0 + 0.5, psum = 0.0;
+  for (long n = 0; n < nsteps; n++) {
+    psum += (double)s->p.n;
+    rc = it->step(s, ist, t_end, err);
+    if (rc) break;
+    if (every_e && (n % every_e == 0 || n == nsteps - 1)) {
+      esf_ledger_row(ef, s->led_time, &s->led, s->alpha_r);
+      rc = check_energy(s, err);
+      if (rc) break;
+    }
+    if (every_f && (n + 1) % every_f == 0 && n + 1 < nsteps) {
+      rc = esf_frames_write(fr, s->t, &s->p, err);
+      if (rc) break;
+    }
+    if (o->progress && !o->quiet && (n & 63) == 0) {
+      double tn = now_s();
+      if (tn >= next_prog) {
+        progress(s, t_end, t0, psum);
+        next_prog = tn + 0.25;
+      }
+    }
+  }
+  double wall = now_s() - t0;
+  if (o->progress && !o->quiet) fputs("\r\033[K", stdout);
+  st->steps = s->step;
+  st->wall_s = wall;
+  st->particles_mean = s->step ? psum / (double)s->step : (double)s->p.n;
+  st->contacts_mean = s->step ? s->contacts_sum / (double)s->step : 0.0;
+  st->rate = wall > 0 ? psum / wall : 0.0;
+  st->energy_error = s->led.on ? esf_ledger_total_error(&s->led) : 0.0;
+  st->dissipated = s->led.on ? esf_ledger_dissipated(&s->led) : 0.0;
+  if (!rc) rc = esf_frames_write(fr, s->t, &s->p, err);
+  if (rc) esf_sim_log(s, "FAILED: %s", err->msg);
+  else
+    esf_sim_log(s, "done: %ld steps, %.3f s of loop, %.4g particle-steps/s, %ld list "
+                "builds, %ld force evaluations, %ld particles removed",
+                st->steps, wall, st->rate, s->nb.builds, s->rhs_evals, s->removed);
+done:
+  if (ist) it->destroy(&ist);
+  {
+    esf_error e2;
+    esf_error_clear(&e2);
+    int rc2 = esf_frames_close(&fr, &e2);
+    if (!rc && rc2) {
+      rc = rc2;
+      *err = e2;
+    }
+  }
+  if (ef && fclose(ef) != 0 && !rc)
+    rc = esf_fail(err, ESF_EIO, "cannot finish energy.csv: %s", strerror(errno));
+  s->log = NULL;
+  if (fclose(logf) != 0 && !rc)
+    rc = esf_fail(err, ESF_EIO, "cannot finish log.txt: %s", strerror(errno));
+  return rc;
+}

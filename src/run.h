@@ -1,0 +1,32 @@
+/* run.h — the run driver: time loop, output schedule, failure checks, summary. */
+#ifndef ESF_RUN_H
+#define ESF_RUN_H
+
+#include "integrator.h"
+#include "sim.h"
+
+typedef struct esf_run_opts {
+  const char *out_dir; /* where energy.csv, log.txt, frames.h5 go */
+  int quiet;           /* no progress */
+  int progress;        /* show progress (stdout is a terminal) */
+} esf_run_opts;
+
+typedef struct esf_run_stats {
+  long steps;
+  double wall_s;         /* wall time of the time-stepping loop, s */
+  double particles_mean; /* mean particle count */
+  double contacts_mean;  /* mean touching contacts */
+  double rate;           /* particle-steps per second */
+  double energy_error;   /* final total_error, J (0 without ledger) */
+  double dissipated;     /* final dissipated energy, J */
+} esf_run_stats;
+
+/* Creates out_dir (and parents), writes log.txt, energy.csv and frames.h5 while
+ * integrating the set-up sim to its end. On a numerical failure the files written so
+ * far are closed intact and the error says what happened and what to change. */
+int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err);
+
+/* Creates a directory and its parents (like mkdir -p). */
+int esf_mkdirs(const char *path, esf_error *err);
+
+#endif

@@ -1,0 +1,128 @@
+/* scene_walls.c — the `walls:` list of a scene (INTERFACE.md): an infinite plane, a
+ * polygon (triangle or quadrilateral) and the box helper (inward quadrilaterals less
+ * the open faces). Each entry becomes one wall group; its material must be defined.
+ * Prescribed motion (`motion:`) is recognised but refused until moving walls land. */
+#include <stdio.h>
+#include <string.h>
+
+#include "scene.h"
+
+static int wall_material(const esf_ynode *e, const esf_sim *s, int32_t *m,
+                         esf_error *err) {
+  const esf_ynode *mn = esf_ymap_get(e, "material");
+  if (!mn) return esf_ynode_fail(e, err, "missing key 'material'");
+  return esf_scene_material(mn, &s->mats, m, err);
+}
+
+static int geometry_fail(const esf_ynode *n, esf_error *err) {
+  char msg[ESF_ERROR_MSG_MAX];
+  snprintf(msg, sizeof msg, "%s", err->msg);
+  return esf_ynode_fail(n, err, "%s", msg);
+}
+
+static int read_box(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
+                    esf_error *err) {
+  static const char *const bkeys[] = {"min", "max", NULL};
+  static const char *const faces[] = {"xmin", "xmax", "ymin", "ymax", "bottom", "top",
+                                      NULL};
+  const esf_ynode *b = esf_ymap_get(e, "box");
+  double lo[3], hi[3];
+  int rc = esf_ynode_require_map(b, err);
+  if (!rc) rc = esf_ymap_check_keys(b, bkeys, err);
+  if (!rc) rc = esf_yget_doubles(b, "min", 1, lo, 3, err);
+  if (!rc) rc = esf_yget_doubles(b, "max", 1, hi, 3, err);
+  unsigned mask = 0;
+  const esf_ynode *op = esf_ymap_get(e, "open");
+  if (!rc && op) {
+    rc = esf_ynode_require_seq(op, err);
+    for (size_t k = 0; k < (op ? op->n : 0) && !rc; k++) {
+      const char *f = NULL;
+      rc = esf_ynode_string(op->items[k], &f, err);
+      int hit = -1;
+      for (int q = 0; faces[q] && !rc; q++)
+        if (strcmp(faces[q], f) == 0) hit = q;
+      if (!rc && hit < 0)
+        return esf_ynode_fail(op->items[k], err,
+                              "unknown face '%s' (expected one of: xmin, xmax, ymin, "
+                              "ymax, bottom, top)", f);
+      if (!rc) mask |= 1u << hit;
+    }
+  }
+  if (s->cfg.dim == 2) mask |= 4u | 8u; /* a 2D box has no y faces */
+  if (rc) return rc;
+  esf_wall_elem el[6];
+  int count = 0;
+  rc = esf_wall_box(lo, hi, mask, mat, group, el, &count, err);
+  if (rc) return geometry_fail(b, err);
+  for (int k = 0; k < count && !rc; k++) rc = esf_walls_add_elem(&s->walls, &el[k], err);
+  return rc;
+}
+
+static int read_plane(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
+                      esf_error *err) {
+  static const char *const pkeys[] = {"point", "normal", NULL};
+  const esf_ynode *p = esf_ymap_get(e, "plane");
+  double pt[3], nr[3];
+  int rc = esf_ynode_require_map(p, err);
+  if (!rc) rc = esf_ymap_check_keys(p, pkeys, err);
+  if (!rc) rc = esf_yget_doubles(p, "point", 1, pt, 3, err);
+  if (!rc) rc = esf_yget_doubles(p, "normal", 1, nr, 3, err);
+  if (rc) return rc;
+  esf_wall_elem el;
+  rc = esf_wall_plane_init(&el, pt, nr, mat, group, err);
+  if (rc) return geometry_fail(p, err);
+  return esf_walls_add_elem(&s->walls, &el, err);
+}
+
+static int read_polygon(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
+                        esf_error *err) {
+  const esf_ynode *p = esf_ymap_get(e, "polygon");
+  int rc = esf_ynode_require_seq(p, err);
+  if (rc) return rc;
+  if (p->n < 3 || p->n > ESF_WALL_MAX_VERTS)
+    return esf_ynode_fail(p, err, "a polygon has 3 or 4 vertices, got %zu", p->n);
+  double v[ESF_WALL_MAX_VERTS][3];
+  for (size_t k = 0; k < p->n && !rc; k++) rc = esf_ynode_doubles(p->items[k], v[k], 3, err);
+  if (rc) return rc;
+  esf_wall_elem el;
+  rc = esf_wall_polygon_init(&el, (int)p->n, (const double(*)[3])v, mat, group, err);
+  if (rc) return geometry_fail(p, err);
+  return esf_walls_add_elem(&s->walls, &el, err);
+}
+
+int esf_scene_walls(const esf_ynode *seq, esf_sim *s, esf_error *err) {
+  static const char *const keys[] = {"box", "plane", "polygon", "open", "material",
+                                     "motion", NULL};
+  if (!seq || seq->kind == ESF_YN_NULL) return ESF_OK;
+  int rc = esf_ynode_require_seq(seq, err);
+  for (size_t k = 0; k < (seq ? seq->n : 0) && !rc; k++) {
+    const esf_ynode *e = seq->items[k];
+    rc = esf_ynode_require_map(e, err);
+    if (!rc) rc = esf_ymap_check_keys(e, keys, err);
+    if (rc) break;
+    const esf_ynode *mo = esf_ymap_get(e, "motion");
+    if (mo)
+      return esf_ynode_fail(mo, err, "prescribed wall motion is not available in this "
+                                     "version of esfera; walls are fixed");
+    int nkind = (esf_ymap_get(e, "box") != NULL) + (esf_ymap_get(e, "plane") != NULL) +
+                (esf_ymap_get(e, "polygon") != NULL);
+    if (nkind != 1)
+      return esf_ynode_fail(e, err, "a wall is exactly one of box, plane or polygon");
+    if (esf_ymap_get(e, "open") && !esf_ymap_get(e, "box"))
+      return esf_ynode_fail(esf_ymap_get(e, "open"), err, "only a box has open faces");
+    int32_t mat = 0;
+    rc = wall_material(e, s, &mat, err);
+    if (rc) break;
+    char label[32];
+    const char *kind = esf_ymap_get(e, "box") ? "box" : esf_ymap_get(e, "plane") ? "plane"
+                                                                                : "polygon";
+    snprintf(label, sizeof label, "%s %zu", kind, k);
+    int group = 0;
+    rc = esf_walls_add_group(&s->walls, label, &group, err);
+    if (rc) break;
+    if (kind[0] == 'b') rc = read_box(e, s, group, mat, err);
+    else if (kind[1] == 'l') rc = read_plane(e, s, group, mat, err);
+    else rc = read_polygon(e, s, group, mat, err);
+  }
+  return rc;
+}
