@@ -19,9 +19,11 @@ enum {
 int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *w,
                     double dt, int mode, size_t *touching, esf_error *err);
 
-/* After a leapfrog kick: accumulates the dashpot dissipation and the work of walls over
- * the step with the mid-step velocities vbar, wbar (v(t) = average of the half steps),
- * using the dashpot forces the last COMMIT evaluation stored. Requires the ledger. */
+/* After a leapfrog kick (before the drift): accumulates the dashpot dissipation and the
+ * work of walls over the step with the mid-step velocities vbar, wbar (the average of
+ * the half steps), using the dashpot forces the last COMMIT evaluation stored, and
+ * sets the elastic energies in the leapfrog's measure (forces.c). Requires the ledger;
+ * s->p.v, s->p.w hold the new half-step velocities. */
 void esf_forces_ledger_pass(esf_sim *s, const double *vbar, const double *wbar,
                             double dt);
 
