@@ -12,7 +12,8 @@
  *   4. failure surface (Mohr-Coulomb with tension cut-off, 004 Fig. 2.13):
  *      tau = max(0, c + mu fn), and tau = 0 when fn < -tensile_limit;
  *   5. if |ft| > tau: sliding; radial return ft = tau ft/|ft|, no dashpot, and the
- *      elastic displacement is reset to xi = ft/kt (2.16).
+ *      elastic displacement is reset to xi = ft/kt (2.16); the friction work is the
+ *      slip xi_trial - xi times the mean elastic force kt (xi2 + xi)/2.
  * Dashpots: c = 2 gamma sqrt(m* k) (Tsuji, 004 2.27–2.29), or c = beta k (Rayleigh).
  * Units: SI. Forces are those on A. */
 #include "contact_law.h"
@@ -86,12 +87,14 @@ static void linear_eval(const esf_pair_params *pp, double beta, int tframe,
     v3_scale(ft, tau / ftm, ft);
     double xi_new[3];
     v3_scale(xi_new, pp->kt > 0 ? 1.0 / pp->kt : 0.0, ft);
-    /* slip = relative tangential motion not stored elastically */
-    double slip[3];
-    v3_scale(slip, in->dt, vct);
-    v3_axpy(slip, -1.0, xi_new);
-    v3_axpy(slip, 1.0, xi_rot);
-    out->slip_work = v3_dot(ft, slip);
+    /* slip s = xi_trial - xi_new, the relative motion not stored elastically. Its work
+       is taken with the mean elastic force across the return, kt (xi_rot + xi_new)/2:
+       with the stored energy measured as (1/2) kt xi_n . xi_{n+1} (forces.c) this is
+       the energy the return removes exactly (for the seed's force increments, too) */
+    double slip[3], fmean[3];
+    v3_sub(slip, xi, xi_new);
+    v3_add(fmean, xi_rot, xi_new);
+    out->slip_work = 0.5 * pp->kt * v3_dot(fmean, slip);
     v3_copy(xi, xi_new);
     v3_set(fdt, 0, 0, 0);
     out->sliding = 1;
