@@ -1,0 +1,121 @@
+#!/usr/bin/env bash
+# bad_input.sh ESFERA — bad scenes and options get exit status 2 and a message naming
+# the place (file:line:column, or the --set override); a numerically failing run gets
+# exit status 1 naming the step, the particle, dt and the critical dt. Earlier output
+# stays intact.
+set -u
+esfera=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+pass=0 fail=0
+
+good() {  # a valid scene; $1 extra text appended to particles, $2 extra top-level text
+  cat <<YAML
+name: bad
+materials:
+  glass: {density: 2500, kn: 1.0e5, restitution: 0.5, friction: 0.3}
+particles:
+  - {material: glass, radius: 0.005, position: [0, 0, 0.01]}
+$1
+walls:
+  - {plane: {point: [0, 0, 0], normal: [0, 0, 1]}, material: glass}
+run: {steps: 10}
+output: {energy_every: 0}
+$2
+YAML
+}
+
+expect() {  # expect NAME STATUS PATTERN -- esfera arguments...
+  local name=$1 status=$2 pattern=$3
+  shift 4
+  local out
+  out=$("$esfera" "$@" 2>&1 >/dev/null)
+  local rc=$?
+  if [ "$rc" = "$status" ] && printf '%s\n' "$out" | grep -Eq -- "$pattern"; then
+    pass=$((pass + 1))
+  else
+    fail=$((fail + 1))
+    printf 'FAIL %s: exit %s (want %s), message:\n  %s\n  (want /%s/)\n' "$name" "$rc" \
+      "$status" "$out" "$pattern"
+  fi
+}
+
+good "" "" > "$tmp/ok.yaml"
+expect "valid scene runs" 0 "^$" -- run "$tmp/ok.yaml" --out "$tmp/o0" --quiet
+
+good "  - {material: sand, radius: 0.005, position: [0.1, 0, 0.01]}" "" > "$tmp/s1.yaml"
+expect "missing material" 2 "s1.yaml:6:[0-9]+: .*unknown material 'sand' \(defined: glass\)" \
+  -- run "$tmp/s1.yaml" --out "$tmp/o1"
+
+good "  - {material: glass, radius: -0.005, position: [0.1, 0, 0.01]}" "" > "$tmp/s2.yaml"
+expect "negative radius" 2 "s2.yaml:6:[0-9]+: particles.1.radius: must be positive" \
+  -- run "$tmp/s2.yaml" --out "$tmp/o2"
+
+sed 's/density: 2500/densty: 2500/' "$tmp/ok.yaml" > "$tmp/s3.yaml"
+expect "misspelt key" 2 "s3.yaml:3:[0-9]+: unknown key 'densty' in materials.glass \(did you mean 'density'\?\)" \
+  -- run "$tmp/s3.yaml" --out "$tmp/o3"
+
+sed 's/kn: 1.0e5/kn: stiff/' "$tmp/ok.yaml" > "$tmp/s4.yaml"
+expect "wrong type" 2 "s4.yaml:3:[0-9]+: materials.glass.kn: expected a number, got 'stiff'" \
+  -- run "$tmp/s4.yaml" --out "$tmp/o4"
+
+good "  - {material: glass, radius: 0.005, position: [0.009, 0, 0.01]}" "" > "$tmp/s5.yaml"
+expect "overlapping explicit particles" 2 "s5.yaml:6:[0-9]+: this particle overlaps the one at .*s5.yaml:5:[0-9]+" \
+  -- run "$tmp/s5.yaml" --out "$tmp/o5"
+
+good "  - {file: missing.csv, material: glass}" "" > "$tmp/s6.yaml"
+expect "unreadable CSV" 2 "s6.yaml:6:[0-9]+: particles from file: cannot open '.*missing.csv'" \
+  -- run "$tmp/s6.yaml" --out "$tmp/o6"
+
+printf 'x,y,z,radius\n0.1,0,0.01,abc\n' > "$tmp/bad.csv"
+good "  - {file: bad.csv, material: glass}" "" > "$tmp/s7.yaml"
+expect "bad CSV value" 2 "bad.csv:2:4: expected a number, got 'abc'" \
+  -- run "$tmp/s7.yaml" --out "$tmp/o7"
+
+expect "unknown --set key" 2 "^esfera: --set integrator.fracc=0.2: unknown key 'fracc' in integrator \(did you mean 'frac'\?\)" \
+  -- run "$tmp/ok.yaml" --set integrator.fracc=0.2 --out "$tmp/o8"
+
+expect "--set wrong type" 2 "--set gravity=\[0,0\]: gravity: expected a sequence of 3 numbers, got 2 items" \
+  -- run "$tmp/ok.yaml" --set 'gravity=[0,0]' --out "$tmp/o9"
+
+good "" "integrator: {dt: 1.0}" > "$tmp/s10.yaml"
+expect "dt above critical" 2 "above the critical step of the 'hart' rule" \
+  -- run "$tmp/s10.yaml" --out "$tmp/o10"
+
+printf 'name: x\nmaterials: {a: {kn: 1}\nparticles: []\n' > "$tmp/s11.yaml"
+expect "YAML syntax" 2 "s11.yaml:[0-9]+:[0-9]+: YAML syntax error" -- run "$tmp/s11.yaml"
+
+expect "missing scene file" 2 "nothere.yaml.*(cannot open|No such file)" -- run "$tmp/nothere.yaml"
+
+good "" "integrator: {method: rk99}" > "$tmp/s13.yaml"
+expect "unknown integrator" 2 "unknown method 'rk99' \(available: leapfrog" -- run "$tmp/s13.yaml"
+
+expect "unknown option" 2 "unknown or incomplete option '--frobnicate'" -- run "$tmp/ok.yaml" --frobnicate
+
+good "" "dimension: 4" > "$tmp/s15.yaml"
+expect "bad dimension" 2 "s15.yaml:11:[0-9]+: dimension: must be 2 or 3, got 4" -- run "$tmp/s15.yaml"
+
+# numerical failure: exit 1, with the step, particle, dt and critical dt; frames so far kept
+cat > "$tmp/s16.yaml" <<'YAML'
+name: column
+materials:
+  glass: {density: 2500, kn: 1.0e5, restitution: 0.9, friction: 0.3}
+particles:
+  - {generate: lattice, region: {min: [0, 0, 0], max: [0.01, 0.01, 0.1]}, radius: 0.005,
+     material: glass}
+walls:
+  - {plane: {point: [0, 0, 0], normal: [0, 0, 1]}, material: glass}
+integrator: {dt: 4.0e-4, allow_unstable: true}
+run: {steps: 2000}
+output: {energy_every: 1.0e-4}
+YAML
+expect "unstable run stops" 1 "step [0-9]+ .*particles id [0-9]+ and id [0-9]+ overlap .*dt = 0.0004 s, critical dt \(hart\) = .* s" \
+  -- run "$tmp/s16.yaml" --out "$tmp/o16"
+if [ -s "$tmp/o16/frames.h5" ] && grep -q "FAILED" "$tmp/o16/log.txt"; then
+  pass=$((pass + 1))
+else
+  fail=$((fail + 1)); echo "FAIL failed run keeps frames.h5 and logs the failure"
+fi
+
+echo "bad_input: $pass passed, $fail failed"
+[ "$fail" = 0 ]
