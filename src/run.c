@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "frames.h"
+#include "vec3.h"
 #include "version.h"
 
 static double now_s(void) {
@@ -77,18 +78,29 @@ static void log_setup(const esf_sim *s, const esf_integrator_type *it) {
 static int check_energy(const esf_sim *s, esf_error *err) {
   const esf_ledger *L = &s->led;
   double err_e = esf_ledger_total_error(L);
-  double budget = fabs(L->e0) + esf_ledger_dissipated(L) + fabs(L->w_walls) +
-                  fabs(L->e_removed);
-  budget += fabs(L->pot_g) + L->el_n + L->el_t; /* what the fields can release */
-  if (err_e > 0.25 * budget && err_e > 1e-30)
-    return esf_fail(err, ESF_ENUMERIC,
-                    "step %ld (t = %.6g s): energy appeared from nothing: the balance "
-                    "residual is %.4g J against an energy budget of %.4g J. The "
-                    "integration is unstable: dt = %.4g s, critical dt (%s) = %.4g s. "
-                    "Lower integrator.frac or dt",
-                    s->step, s->t, err_e, budget, s->dt, esf_dt_rule_names[s->cfg.dt_rule],
-                    s->dte.crit[s->cfg.dt_rule]);
-  return ESF_OK;
+  double budget = fabs(L->e0) + fabs(L->d_normal) + fabs(L->d_tangential) +
+                  fabs(L->d_friction) + fabs(L->d_global) + fabs(L->d_local) +
+                  fabs(L->w_walls) + fabs(L->e_removed) + fabs(L->pot_g) + fabs(L->el_n) +
+                  fabs(L->el_t);
+  if (!(err_e > 0.25 * budget && err_e > 1e-30) && isfinite(err_e)) return ESF_OK;
+  /* name the particle with the most kinetic energy: where the blow-up is */
+  const esf_particles *p = &s->p;
+  size_t worst = 0;
+  double ek_max = -1;
+  for (size_t i = 0; i < p->n; i++) {
+    double ek = p->mass[i] * v3_norm2(p->v + 3 * i) + p->inertia[i] * v3_norm2(p->w + 3 * i);
+    if (ek > ek_max) {
+      ek_max = ek;
+      worst = i;
+    }
+  }
+  return esf_fail(err, ESF_ENUMERIC,
+                  "step %ld (t = %.6g s): energy appeared from nothing: the balance "
+                  "residual is %.4g J against an energy budget of %.4g J (fastest: "
+                  "particle id %lld). The integration is unstable: dt = %.4g s, critical "
+                  "dt (%s) = %.4g s. Lower integrator.frac or dt",
+                  s->step, s->t, err_e, budget, p->n ? (long long)p->id[worst] : -1LL,
+                  s->dt, esf_dt_rule_names[s->cfg.dt_rule], s->dte.crit[s->cfg.dt_rule]);
 }
 
 static void progress(const esf_sim *s, double t_end, double t0, double ps) {
