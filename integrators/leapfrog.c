@@ -52,8 +52,9 @@ static int refresh_lists(esf_sim *s, esf_error *err) {
   int rebuild = 0;
   int rc = esf_neighbor_check(&s->nb, &s->p, &rebuild, err);
   if (rc) {
-    esf_error_prefix(err, "step %ld (t = %.6g s, dt = %.4g s, critical dt %.4g s): ",
-                     s->step, s->t, s->dt, s->dte.crit[s->cfg.dt_rule]);
+    esf_error_prefix(err,
+                     "step %ld (t = %.6g s, dt = %.4g s, critical dt %.4g s): ", s->step,
+                     s->t, s->dt, s->dte.crit[s->cfg.dt_rule]);
     return rc;
   }
   if (!rebuild) return ESF_OK;
@@ -76,7 +77,7 @@ static int start(esf_sim *s, esf_error *err) {
 }
 
 typedef struct kick_tally {
-  double ke_old, ke_new;           /* kinetic, J */
+  double ke_old, ke_new; /* kinetic, J */
   double ket_new, ker_new, pe_old, pe_new, d_global, d_local;
 } kick_tally;
 
@@ -185,8 +186,8 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     s->led_time = s->t;
   }
   if (s->cfg.autod.on) {
-    double a = esf_auto_damping_update(&s->cfg.autod, s->alpha_r, k.ke_old, k.ke_new,
-                                       s->dt);
+    double a =
+        esf_auto_damping_update(&s->cfg.autod, s->alpha_r, k.ke_old, k.ke_new, s->dt);
     double ratio = s->alpha_r > 0 ? a / s->alpha_r : 1.0;
     s->alpha_r = a;
     s->alpha_t *= ratio;

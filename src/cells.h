@@ -31,7 +31,8 @@ void esf_cells_free(esf_cells **c);
 /* Clears out and fills it with the pairs closer than skin (surface to surface).
  * x: 3n positions (m), radius: n radii (m). Non-finite positions are an ESF_ENUMERIC
  * error naming the particle. The grid never exceeds a few cells per particle: when the
- * bounding box is very large against the cell edge (a particle flew far) the edge grows. */
+ * bounding box is very large against the cell edge (a particle flew far) the edge grows.
+ */
 int esf_cells_pairs(esf_cells *c, size_t n, const double *x, const double *radius,
                     double skin, esf_pairbuf *out, esf_error *err);
 

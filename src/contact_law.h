@@ -16,32 +16,32 @@
 
 /* The kinematics of one contact at the evaluation instant. */
 typedef struct esf_contact_in {
-  double n[3];    /* unit normal A -> B */
-  double un;      /* overlap, m (> 0 when touching) */
-  double vc[3];   /* relative velocity of the contact point, B minus A, m/s */
-  double spin_n;  /* (w_A + w_B).n / 2, rad/s: the contact plane's spin about n (3-18) */
-  double mstar;   /* reduced mass, kg (the particle's mass against a wall) */
-  double dt;      /* time over which the tangential increment integrates, s */
+  double n[3];   /* unit normal A -> B */
+  double un;     /* overlap, m (> 0 when touching) */
+  double vc[3];  /* relative velocity of the contact point, B minus A, m/s */
+  double spin_n; /* (w_A + w_B).n / 2, rad/s: the contact plane's spin about n (3-18) */
+  double mstar;  /* reduced mass, kg (the particle's mass against a wall) */
+  double dt;     /* time over which the tangential increment integrates, s */
 } esf_contact_in;
 
 /* The history one contact carries between steps. */
 typedef struct esf_contact_hist {
-  double xi[3];   /* tangential elastic displacement, m (force on A = kt xi) */
-  double n[3];    /* the normal xi was last expressed in */
+  double xi[3]; /* tangential elastic displacement, m (force on A = kt xi) */
+  double n[3];  /* the normal xi was last expressed in */
 } esf_contact_hist;
 
 /* What the law returns. */
 typedef struct esf_contact_out {
-  double f[3];       /* total force on A, N */
-  double ft[3];      /* its tangential part, N (the torque arm acts on this) */
-  double fn;         /* normal force magnitude, N (> 0 compressive) */
-  double fd_n;       /* the normal dashpot's share of fn actually applied, N */
-  double fd_t[3];    /* the tangential dashpot force on A actually applied, N */
-  double slip_work;  /* friction work of this evaluation (force x slip), J */
-  double e_el_n;     /* elastic energy in the normal spring, J */
-  double e_el_t;     /* elastic energy in the tangential spring, J */
-  int touching;      /* 0: no force (separated); history is reset */
-  int sliding;       /* 1: the Coulomb cap was active */
+  double f[3];      /* total force on A, N */
+  double ft[3];     /* its tangential part, N (the torque arm acts on this) */
+  double fn;        /* normal force magnitude, N (> 0 compressive) */
+  double fd_n;      /* the normal dashpot's share of fn actually applied, N */
+  double fd_t[3];   /* the tangential dashpot force on A actually applied, N */
+  double slip_work; /* friction work of this evaluation (force x slip), J */
+  double e_el_n;    /* elastic energy in the normal spring, J */
+  double e_el_t;    /* elastic energy in the tangential spring, J */
+  int touching;     /* 0: no force (separated); history is reset */
+  int sliding;      /* 1: the Coulomb cap was active */
 } esf_contact_out;
 
 /* How the stored tangential displacement follows a turning contact plane. */

@@ -28,12 +28,14 @@ const esf_local_damping esf_local_vector = {"vector", local_vector};
 
 double esf_auto_damping_update(const esf_auto_damping *a, double alpha, double ek_old,
                                double ek_new, double dt) {
-  double rate = fabs(ek_new - ek_old) / dt;     /* |dEk/dt|, W */
+  double rate = fabs(ek_new - ek_old) / dt;             /* |dEk/dt|, W */
   double power = 2.0 * alpha * 0.5 * (ek_old + ek_new); /* 2 alpha Ek, W */
   /* ratio > a_fac (including rate = 0): the dampers absorb more than the motion
      changes, so damp less; otherwise damp more */
-  if (power > a->a_fac * rate) alpha /= a->a_mul;
-  else alpha *= a->a_mul;
+  if (power > a->a_fac * rate)
+    alpha /= a->a_mul;
+  else
+    alpha *= a->a_mul;
   if (alpha < a->alpha_min) alpha = a->alpha_min;
   if (alpha > a->alpha_max) alpha = a->alpha_max;
   return alpha;

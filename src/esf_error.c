@@ -45,20 +45,29 @@ int esf_error_prefix(esf_error *err, const char *fmt, ...) {
 
 int esf_error_exit_status(int code) {
   switch (code) {
-  case ESF_OK: return 0;
+  case ESF_OK:
+    return 0;
   case ESF_EINPUT:
-  case ESF_EIO: return 2;
-  default: return 1;
+  case ESF_EIO:
+    return 2;
+  default:
+    return 1;
   }
 }
 
 const char *esf_error_name(int code) {
   switch (code) {
-  case ESF_OK: return "ok";
-  case ESF_EINPUT: return "bad input";
-  case ESF_EIO: return "file error";
-  case ESF_ENOMEM: return "out of memory";
-  case ESF_ENUMERIC: return "numerical failure";
-  default: return "internal error";
+  case ESF_OK:
+    return "ok";
+  case ESF_EINPUT:
+    return "bad input";
+  case ESF_EIO:
+    return "file error";
+  case ESF_ENOMEM:
+    return "out of memory";
+  case ESF_ENUMERIC:
+    return "numerical failure";
+  default:
+    return "internal error";
   }
 }

@@ -43,13 +43,34 @@ static int overlap_failure(const esf_sim *s, long long ida, long long idb, int w
                   100.0 * s->cfg.max_overlap, s->dt, rule, s->dte.crit[s->cfg.dt_rule]);
 }
 
+/* Evaluates the law for candidate k of list c, updates its touching flag and history
+ * (commit), records the ledger scratch (when led is not NULL) and adds the slip work
+ * to *slip. Returns 1 when the contact carries force. */
+static int eval_contact(const esf_sim *s, const esf_pair_params *pp,
+                        const esf_contact_in *in, esf_contacts *c, size_t k, int commit,
+                        double *led, double *slip, esf_contact_out *out) {
+  s->law->eval(pp, s->beta, s->cfg.tframe, in, &c->h[k], !c->touch[k],
+               commit ? &c->h[k] : NULL, out);
+  if (commit) c->touch[k] = (uint8_t)out->touching;
+  if (!out->touching) return 0;
+  if (led) {
+    double *L = led + ESF_LED_STRIDE * k;
+    L[0] = in->un;
+    L[1] = out->fd_n;
+    v3_copy(L + 2, out->fd_t);
+    v3_copy(L + 5, out->f);
+    *slip += out->slip_work;
+  }
+  return 1;
+}
+
 static int pair_forces(esf_sim *s, const double *x, const double *v, const double *w,
                        double dt, int commit, size_t *touching, esf_error *err) {
   esf_particles *p = &s->p;
   esf_contacts *c = &s->nb.pp;
   const esf_materials *mt = &s->mats;
   double *led = commit && s->led.on ? c->led : NULL;
-  double eln = 0, elt = 0, slip = 0;
+  double slip = 0;
   size_t nt = 0;
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];
@@ -64,8 +85,10 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
     }
     double dist = sqrt(d2);
     esf_contact_in in;
-    if (dist > 0) v3_scale(in.n, 1.0 / dist, d);
-    else v3_set(in.n, 0, 0, 1);
+    if (dist > 0)
+      v3_scale(in.n, 1.0 / dist, d);
+    else
+      v3_set(in.n, 0, 0, 1);
     in.un = R - dist;
     double rmin = fmin(p->radius[a], p->radius[b]);
     if (in.un > s->cfg.max_overlap * rmin)
@@ -84,12 +107,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
     in.dt = dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
     esf_contact_out out;
-    s->law->eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], !c->touch[k],
-                 commit ? &c->h[k] : NULL, &out);
-    if (!out.touching) {
-      if (commit) c->touch[k] = 0;
-      continue;
-    }
+    if (!eval_contact(s, pp, &in, c, k, commit, led, &slip, &out)) continue;
     nt++;
     v3_add(p->f + 3 * a, p->f + 3 * a, out.f);
     v3_sub(p->f + 3 * b, p->f + 3 * b, out.f);
@@ -97,22 +115,8 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
     v3_cross(m, in.n, out.ft);
     v3_axpy(p->t + 3 * a, la, m);
     v3_axpy(p->t + 3 * b, lb, m);
-    if (commit) c->touch[k] = 1;
-    if (led) {
-      double *L = led + ESF_LED_STRIDE * k;
-      L[0] = in.un;
-      L[1] = out.fd_n;
-      v3_copy(L + 2, out.fd_t);
-      eln += out.e_el_n;
-      elt += out.e_el_t;
-      slip += out.slip_work;
-    }
   }
-  if (led) {
-    s->led.el_n = eln;
-    s->led.el_t = elt;
-    s->led.d_friction += slip;
-  }
+  if (led) s->led.d_friction += slip;
   *touching += nt;
   return ESF_OK;
 }
@@ -123,7 +127,7 @@ static int wall_forces(esf_sim *s, const double *x, const double *v, const doubl
   esf_contacts *c = &s->nb.pw;
   const esf_materials *mt = &s->mats;
   double *led = commit && s->led.on ? c->led : NULL;
-  double eln = 0, elt = 0, slip = 0;
+  double slip = 0;
   size_t nt = 0;
   /* contact points kept so far for the current particle, to drop repeats */
   enum { KEEP_MAX = 32 };
@@ -177,34 +181,14 @@ static int wall_forces(esf_sim *s, const double *x, const double *v, const doubl
     in.dt = dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
     esf_contact_out out;
-    s->law->eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], !c->touch[k],
-                 commit ? &c->h[k] : NULL, &out);
-    if (!out.touching) {
-      if (commit) c->touch[k] = 0;
-      continue;
-    }
+    if (!eval_contact(s, pp, &in, c, k, commit, led, &slip, &out)) continue;
     nt++;
     v3_add(p->f + 3 * a, p->f + 3 * a, out.f);
     double m[3];
     v3_cross(m, in.n, out.ft);
     v3_axpy(p->t + 3 * a, la, m);
-    if (commit) c->touch[k] = 1;
-    if (led) {
-      double *L = led + ESF_LED_STRIDE * k;
-      L[0] = un;
-      L[1] = out.fd_n;
-      v3_copy(L + 2, out.fd_t);
-      v3_copy(L + 5, out.f);
-      eln += out.e_el_n;
-      elt += out.e_el_t;
-      slip += out.slip_work;
-    }
   }
-  if (led) {
-    s->led.el_n += eln;
-    s->led.el_t += elt;
-    s->led.d_friction += slip;
-  }
+  if (led) s->led.d_friction += slip;
   *touching += nt;
   return ESF_OK;
 }
@@ -238,9 +222,9 @@ int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *
 }
 
 /* Relative velocity of the contact point (B minus A) for velocities v, w. */
-static void contact_velocity(const double *v, const double *w, uint32_t a, const double *vb,
-                             const double *wb_or_null, double la, double lb,
-                             const double *n, double vc[3]) {
+static void contact_velocity(const double *v, const double *w, uint32_t a,
+                             const double *vb, const double *wb_or_null, double la,
+                             double lb, const double *n, double vc[3]) {
   double ra[3], ta[3], tb[3] = {0, 0, 0};
   v3_scale(ra, la, n);
   v3_cross(ta, w + 3 * a, ra);

@@ -15,8 +15,7 @@ int esf_frames_open(const char *path, const char *scene_name, const char *versio
                     esf_frames **out, esf_error *err);
 
 /* Appends a frame of the current particle state. */
-int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
-                     esf_error *err);
+int esf_frames_write(esf_frames *fr, double time, const esf_particles *p, esf_error *err);
 
 /* Number of frames written so far. */
 long esf_frames_count(const esf_frames *fr);

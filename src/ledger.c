@@ -26,8 +26,8 @@ void esf_ledger_row(FILE *f, double t, const esf_ledger *l, double alpha) {
   fprintf(f,
           "%.9e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,%.12e,"
           "%.12e,%.12e,%.12e,%.12e,%.6e\n",
-          t, l->kin_t, l->kin_r, l->pot_g, l->el_n + l->el_t, l->d_normal + l->d_tangential,
-          l->d_friction, l->d_global + l->d_local, l->w_walls, esf_ledger_total_error(l),
-          l->el_n, l->el_t, l->d_normal, l->d_tangential, l->d_global, l->d_local,
-          l->e_removed, alpha);
+          t, l->kin_t, l->kin_r, l->pot_g, l->el_n + l->el_t,
+          l->d_normal + l->d_tangential, l->d_friction, l->d_global + l->d_local,
+          l->w_walls, esf_ledger_total_error(l), l->el_n, l->el_t, l->d_normal,
+          l->d_tangential, l->d_global, l->d_local, l->e_removed, alpha);
 }

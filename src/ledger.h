@@ -11,18 +11,18 @@
 
 typedef struct esf_ledger {
   int on;
-  double kin_t, kin_r;      /* kinetic, translational and rotational, J */
-  double pot_g;             /* gravitational potential, -m g.x, J */
-  double el_n, el_t;        /* elastic, normal and tangential springs, J */
-  double d_normal;          /* normal dashpots, J (cumulative) */
-  double d_tangential;      /* tangential dashpots, J */
-  double d_friction;        /* Coulomb slip, J */
-  double d_global;          /* global viscous damping, J */
-  double d_local;           /* local non-viscous damping, J */
-  double w_walls;           /* work done by walls on the particles, J */
-  double e_removed;         /* energy carried away by particles leaving the domain, J */
-  double e0;                /* stored energy at the start, J */
-  int started;              /* e0 set */
+  double kin_t, kin_r; /* kinetic, translational and rotational, J */
+  double pot_g;        /* gravitational potential, -m g.x, J */
+  double el_n, el_t;   /* elastic, normal and tangential springs, J */
+  double d_normal;     /* normal dashpots, J (cumulative) */
+  double d_tangential; /* tangential dashpots, J */
+  double d_friction;   /* Coulomb slip, J */
+  double d_global;     /* global viscous damping, J */
+  double d_local;      /* local non-viscous damping, J */
+  double w_walls;      /* work done by walls on the particles, J */
+  double e_removed;    /* energy carried away by particles leaving the domain, J */
+  double e0;           /* stored energy at the start, J */
+  int started;         /* e0 set */
 } esf_ledger;
 
 double esf_ledger_stored(const esf_ledger *l);

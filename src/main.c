@@ -42,9 +42,12 @@ static int cmd_run(int argc, char **argv) {
   if (!sets) return fail(ESF_ENOMEM, "out of memory");
   for (int k = 0; k < argc; k++) {
     const char *a = argv[k];
-    if (strcmp(a, "--out") == 0 && k + 1 < argc) out = argv[++k];
-    else if (strcmp(a, "--set") == 0 && k + 1 < argc) sets[nsets++] = argv[++k];
-    else if (strncmp(a, "--set=", 6) == 0) sets[nsets++] = a + 6;
+    if (strcmp(a, "--out") == 0 && k + 1 < argc)
+      out = argv[++k];
+    else if (strcmp(a, "--set") == 0 && k + 1 < argc)
+      sets[nsets++] = argv[++k];
+    else if (strncmp(a, "--set=", 6) == 0)
+      sets[nsets++] = a + 6;
     else if (strcmp(a, "--threads") == 0 && k + 1 < argc) {
       char *end = NULL;
       long t = strtol(argv[++k], &end, 10);
@@ -52,13 +55,15 @@ static int cmd_run(int argc, char **argv) {
         free(sets);
         return fail(ESF_EINPUT, "--threads takes a positive whole number");
       }
-    } else if (strcmp(a, "--quiet") == 0) quiet = 1;
-    else if (a[0] == '-' ) {
+    } else if (strcmp(a, "--quiet") == 0)
+      quiet = 1;
+    else if (a[0] == '-') {
       fprintf(stderr, "esfera: unknown or incomplete option '%s'\n", a);
       usage(stderr);
       free(sets);
       return 2;
-    } else if (!scene) scene = a;
+    } else if (!scene)
+      scene = a;
     else {
       fprintf(stderr, "esfera: more than one scene given ('%s' and '%s')\n", scene, a);
       free(sets);
@@ -80,10 +85,13 @@ static int cmd_run(int argc, char **argv) {
     char list[512] = "";
     for (int k = 0; esf_integrators[k]; k++) {
       size_t l = strlen(list);
-      snprintf(list + l, sizeof list - l, "%s%s", k ? ", " : "", esf_integrators[k]->name);
+      snprintf(list + l, sizeof list - l, "%s%s", k ? ", " : "",
+               esf_integrators[k]->name);
     }
-    rc = esf_fail(&err, ESF_EINPUT, "%s: integrator.method: unknown method '%s' "
-                  "(available: %s)", scene, s.cfg.method, list);
+    rc = esf_fail(&err, ESF_EINPUT,
+                  "%s: integrator.method: unknown method '%s' "
+                  "(available: %s)",
+                  scene, s.cfg.method, list);
   }
   if (!rc) rc = esf_sim_setup(&s, &err);
   if (rc) {

@@ -14,8 +14,8 @@
 
 #include "vec3.h"
 
-const char *const esf_mix_names[] = {"harmonic", "arithmetic", "geometric", "min", "max",
-                                     NULL};
+const char *const esf_mix_names[] = {"harmonic", "arithmetic", "geometric",
+                                     "min",      "max",        NULL};
 
 void esf_mixing_default(esf_mixing *m) {
   m->kn = ESF_MIX_HARMONIC;
@@ -30,11 +30,16 @@ void esf_mixing_default(esf_mixing *m) {
 double esf_mix(int rule, double a, double b) {
   if (a == b) return a; /* exact for equal materials under every rule */
   switch (rule) {
-  case ESF_MIX_HARMONIC: return (a + b) > 0 ? 2.0 * a * b / (a + b) : 0.0;
-  case ESF_MIX_ARITHMETIC: return 0.5 * (a + b);
-  case ESF_MIX_GEOMETRIC: return sqrt(a * b);
-  case ESF_MIX_MIN: return a < b ? a : b;
-  default: return a > b ? a : b;
+  case ESF_MIX_HARMONIC:
+    return (a + b) > 0 ? 2.0 * a * b / (a + b) : 0.0;
+  case ESF_MIX_ARITHMETIC:
+    return 0.5 * (a + b);
+  case ESF_MIX_GEOMETRIC:
+    return sqrt(a * b);
+  case ESF_MIX_MIN:
+    return a < b ? a : b;
+  default:
+    return a > b ? a : b;
   }
 }
 
@@ -93,10 +98,14 @@ int esf_materials_mix(esf_materials *t, esf_error *err) {
       double ta = A->tensile_limit, tb = B->tensile_limit;
       /* no limit given: the apex of the Mohr-Coulomb line, c / mu (0 when c = 0) */
       double apex = p->mu > 0 ? p->cohesion / p->mu : 0.0;
-      if (ta < 0 && tb < 0) p->tensile_limit = apex;
-      else if (ta < 0) p->tensile_limit = tb;
-      else if (tb < 0) p->tensile_limit = ta;
-      else p->tensile_limit = esf_mix(r->tensile_limit, ta, tb);
+      if (ta < 0 && tb < 0)
+        p->tensile_limit = apex;
+      else if (ta < 0)
+        p->tensile_limit = tb;
+      else if (tb < 0)
+        p->tensile_limit = ta;
+      else
+        p->tensile_limit = esf_mix(r->tensile_limit, ta, tb);
     }
   }
   return ESF_OK;

@@ -64,8 +64,8 @@ typedef struct esf_materials {
   esf_material *m;
   esf_pair_params *pair; /* n*n, pair[a*n + b] */
   esf_mixing mixing;
-  double rayleigh_beta;  /* > 0: contact dashpots c = beta k (001 3.47) replace the
-                            restitution-derived ones */
+  double rayleigh_beta; /* > 0: contact dashpots c = beta k (001 3.47) replace the
+                           restitution-derived ones */
 } esf_materials;
 
 /* gamma = -ln(eta) / sqrt(pi^2 + ln^2 eta), 004 (2.28); 0 for eta = 1. */

@@ -24,23 +24,23 @@
 
 typedef struct esf_contacts {
   size_t n, cap;
-  uint32_t *a;           /* particle A */
-  uint32_t *b;           /* particle B, or the wall element index */
-  esf_contact_hist *h;   /* history */
-  uint8_t *touch;        /* 1: touching at the last committed evaluation */
-  double *led;           /* ESF_LED_STRIDE per contact, or NULL */
+  uint32_t *a;         /* particle A */
+  uint32_t *b;         /* particle B, or the wall element index */
+  esf_contact_hist *h; /* history */
+  uint8_t *touch;      /* 1: touching at the last committed evaluation */
+  double *led;         /* ESF_LED_STRIDE per contact, or NULL */
 } esf_contacts;
 
 typedef struct esf_neighbor {
-  double skin;           /* m */
-  esf_contacts pp;       /* particle-particle candidates */
-  esf_contacts pw;       /* particle-wall candidates */
-  int ledger;            /* allocate ledger scratch */
+  double skin;     /* m */
+  esf_contacts pp; /* particle-particle candidates */
+  esf_contacts pw; /* particle-wall candidates */
+  int ledger;      /* allocate ledger scratch */
   esf_cells *cells;
   esf_pairbuf buf;
-  double *xref;          /* positions at the last build, 3 * nref */
+  double *xref; /* positions at the last build, 3 * nref */
   size_t nref;
-  long builds;           /* rebuild count */
+  long builds; /* rebuild count */
 } esf_neighbor;
 
 int esf_neighbor_init(esf_neighbor *nb, double skin, int ledger, esf_error *err);

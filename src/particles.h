@@ -16,20 +16,20 @@
 #include "esf_error.h"
 
 typedef struct esf_particles {
-  size_t n;           /* particle count */
-  double *y;          /* 9n: x | v | w */
-  double *x;          /* 3n positions, m (= y) */
-  double *v;          /* 3n velocities, m/s (= y + 3n) */
-  double *w;          /* 3n angular velocities, rad/s (= y + 6n) */
-  double *f;          /* 3n force accumulator, N */
-  double *t;          /* 3n torque accumulator, N m */
-  double *radius;     /* n, m */
-  double *mass;       /* n, kg */
-  double *inv_mass;   /* n, 1/kg */
-  double *inertia;    /* n, kg m^2 (2/5 m r^2 spheres, 1/2 m r^2 disks) */
-  double *inv_inertia;/* n, 1/(kg m^2) */
-  int32_t *material;  /* n, index into the material table */
-  int64_t *id;        /* n, stable identifier (the order particles were defined in) */
+  size_t n;            /* particle count */
+  double *y;           /* 9n: x | v | w */
+  double *x;           /* 3n positions, m (= y) */
+  double *v;           /* 3n velocities, m/s (= y + 3n) */
+  double *w;           /* 3n angular velocities, rad/s (= y + 6n) */
+  double *f;           /* 3n force accumulator, N */
+  double *t;           /* 3n torque accumulator, N m */
+  double *radius;      /* n, m */
+  double *mass;        /* n, kg */
+  double *inv_mass;    /* n, 1/kg */
+  double *inertia;     /* n, kg m^2 (2/5 m r^2 spheres, 1/2 m r^2 disks) */
+  double *inv_inertia; /* n, 1/(kg m^2) */
+  int32_t *material;   /* n, index into the material table */
+  int64_t *id;         /* n, stable identifier (the order particles were defined in) */
 } esf_particles;
 
 /* One particle's definition, as scene sources produce them. */

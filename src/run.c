@@ -54,7 +54,8 @@ static void log_setup(const esf_sim *s, const esf_integrator_type *it) {
   esf_sim_log(s, "scene: %s (%s), %dD, %zu particles, %d materials, %zu wall elements",
               c->name, c->source, c->dim, s->p.n, s->mats.n, s->walls.n);
   esf_sim_log(s, "integrator: %s (order %d): %s", it->name, it->order, it->summary);
-  esf_sim_log(s, "critical dt (FRAC = 1): cundall %.6g s, hart %.6g s, damped %.6g s "
+  esf_sim_log(s,
+              "critical dt (FRAC = 1): cundall %.6g s, hart %.6g s, damped %.6g s "
               "(m_min %.6g kg, k_max %.6g N/m, damping ratio %.4g)",
               s->dte.crit[0], s->dte.crit[1], s->dte.crit[2], s->dte.m_min, s->dte.k_max,
               s->dte.xi);
@@ -63,16 +64,16 @@ static void log_setup(const esf_sim *s, const esf_integrator_type *it) {
               s->dte.crit[c->dt_rule], c->dt_auto ? " (dt: auto)" : "");
   if (s->dt > s->dte.crit[c->dt_rule])
     esf_sim_log(s, "WARNING: dt exceeds the critical step (allow_unstable: true)");
-  esf_sim_log(s, "damping: global alpha_r %.6g 1/s, alpha_t %.6g 1/s%s; local %s %.4g; "
+  esf_sim_log(s,
+              "damping: global alpha_r %.6g 1/s, alpha_t %.6g 1/s%s; local %s %.4g; "
               "Rayleigh beta %.6g s",
               s->alpha_r, s->alpha_t, c->autod.on ? " (adaptive)" : "",
               s->local ? s->local->name : "off", c->local_coef, s->beta);
-  esf_sim_log(s, "contact law: %s, tangential frame: %s; skin %.6g m",
-              s->law->name, c->tframe == ESF_TFRAME_ROTATE ? "rotate (seed)" : "project",
-              c->skin);
+  esf_sim_log(s, "contact law: %s, tangential frame: %s; skin %.6g m", s->law->name,
+              c->tframe == ESF_TFRAME_ROTATE ? "rotate (seed)" : "project", c->skin);
   if (it->flags & ESF_INTEG_HALF_STEP_V)
     esf_sim_log(s, "note: frame velocities are the half-step ones, v(t - dt/2); energy "
-                "rows: kinetic at t + dt/2, elastic at t");
+                   "rows: kinetic at t + dt/2, elastic at t");
 }
 
 static int check_energy(const esf_sim *s, esf_error *err) {
@@ -88,7 +89,8 @@ static int check_energy(const esf_sim *s, esf_error *err) {
   size_t worst = 0;
   double ek_max = -1;
   for (size_t i = 0; i < p->n; i++) {
-    double ek = p->mass[i] * v3_norm2(p->v + 3 * i) + p->inertia[i] * v3_norm2(p->w + 3 * i);
+    double ek =
+        p->mass[i] * v3_norm2(p->v + 3 * i) + p->inertia[i] * v3_norm2(p->w + 3 * i);
     if (ek > ek_max) {
       ek_max = ek;
       worst = i;
@@ -121,7 +123,8 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   char path[1200];
   snprintf(path, sizeof path, "%s/log.txt", o->out_dir);
   FILE *logf = fopen(path, "w");
-  if (!logf) return esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
+  if (!logf)
+    return esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
   s->log = logf;
   FILE *ef = NULL;
   esf_frames *fr = NULL;
@@ -142,17 +145,18 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   if (!rc) rc = esf_frames_write(fr, s->t, &s->p, err);
   if (rc) goto done;
 
-  long nsteps = s->cfg.steps > 0 ? s->cfg.steps
-                                 : (long)ceil(s->cfg.duration / s->dt - 1e-9);
+  long nsteps =
+      s->cfg.steps > 0 ? s->cfg.steps : (long)ceil(s->cfg.duration / s->dt - 1e-9);
   double t_end = nsteps * s->dt;
   long every_e = s->cfg.energy_every > 0
                      ? (long)fmax(1.0, floor(s->cfg.energy_every / s->dt + 0.5))
                      : 0;
-  long every_f = s->cfg.out_every > 0
-                     ? (long)fmax(1.0, floor(s->cfg.out_every / s->dt + 0.5))
-                     : 0;
-  esf_sim_log(s, "run: %ld steps to t = %.6g s; frames every %ld steps, energy rows "
-              "every %ld steps", nsteps, t_end, every_f, every_e);
+  long every_f =
+      s->cfg.out_every > 0 ? (long)fmax(1.0, floor(s->cfg.out_every / s->dt + 0.5)) : 0;
+  esf_sim_log(s,
+              "run: %ld steps to t = %.6g s; frames every %ld steps, energy rows "
+              "every %ld steps",
+              nsteps, t_end, every_f, every_e);
   double t0 = now_s(), next_prog = t0 + 0.5, psum = 0.0;
   for (long n = 0; n < nsteps; n++) {
     psum += (double)s->p.n;
@@ -185,9 +189,11 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   st->energy_error = s->led.on ? esf_ledger_total_error(&s->led) : 0.0;
   st->dissipated = s->led.on ? esf_ledger_dissipated(&s->led) : 0.0;
   if (!rc) rc = esf_frames_write(fr, s->t, &s->p, err);
-  if (rc) esf_sim_log(s, "FAILED: %s", err->msg);
+  if (rc)
+    esf_sim_log(s, "FAILED: %s", err->msg);
   else
-    esf_sim_log(s, "done: %ld steps, %.3f s of loop, %.4g particle-steps/s, %ld list "
+    esf_sim_log(s,
+                "done: %ld steps, %.3f s of loop, %.4g particle-steps/s, %ld list "
                 "builds, %ld force evaluations, %ld particles removed",
                 st->steps, wall, st->rate, s->nb.builds, s->rhs_evals, s->removed);
 done:

@@ -20,10 +20,16 @@ static int positive(const esf_ynode *map, const char *key, double v, int strict,
 
 static int read_material(const esf_ynode *name_key_map, size_t k, esf_sim *s,
                          esf_error *err) {
-  static const char *const keys[] = {"density",     "kn",       "kt",
-                                     "restitution", "tangential_restitution",
-                                     "friction",    "friction_angle",
-                                     "cohesion",    "tensile_limit", NULL};
+  static const char *const keys[] = {"density",
+                                     "kn",
+                                     "kt",
+                                     "restitution",
+                                     "tangential_restitution",
+                                     "friction",
+                                     "friction_angle",
+                                     "cohesion",
+                                     "tensile_limit",
+                                     NULL};
   const esf_ynode *m = name_key_map->items[k];
   const char *name = name_key_map->keys[k];
   int rc = esf_ynode_require_map(m, err);
@@ -50,13 +56,15 @@ static int read_material(const esf_ynode *name_key_map, size_t k, esf_sim *s,
     return esf_ynode_fail(esf_ymap_get(m, "restitution"), err,
                           "must be in (0, 1], got %g", mat.restitution);
   mat.tangential_restitution = mat.restitution;
-  if (!rc) rc = esf_yget_double(m, "tangential_restitution", 0,
-                                &mat.tangential_restitution, err);
+  if (!rc)
+    rc =
+        esf_yget_double(m, "tangential_restitution", 0, &mat.tangential_restitution, err);
   if (!rc && !(mat.tangential_restitution > 0 && mat.tangential_restitution <= 1))
     return esf_ynode_fail(esf_ymap_get(m, "tangential_restitution"), err,
                           "must be in (0, 1], got %g", mat.tangential_restitution);
   if (rc) return rc;
-  const esf_ynode *fr = esf_ymap_get(m, "friction"), *fa = esf_ymap_get(m, "friction_angle");
+  const esf_ynode *fr = esf_ymap_get(m, "friction"),
+                  *fa = esf_ymap_get(m, "friction_angle");
   if (fr && fa)
     return esf_ynode_fail(fa, err, "give friction or friction_angle, not both");
   if (fr) rc = esf_ynode_double(fr, &mat.friction, err);
@@ -90,14 +98,15 @@ static int read_materials(const esf_ynode *root, esf_sim *s, esf_error *err) {
   if (rc) return rc;
   esf_mixing_default(&s->mats.mixing);
   const esf_ynode *mx = esf_ymap_get(root, "mixing");
-  static const char *const mkeys[] = {"kn",       "kt",       "restitution",
-                                      "tangential_restitution", "friction",
-                                      "cohesion", "tensile_limit", NULL};
+  static const char *const mkeys[] = {
+      "kn",       "kt",       "restitution",   "tangential_restitution",
+      "friction", "cohesion", "tensile_limit", NULL};
   if (!mx) return ESF_OK;
   rc = esf_ymap_check_keys(mx, mkeys, err);
   esf_mixing *r = &s->mats.mixing;
-  int *slots[] = {&r->kn,       &r->kt,       &r->restitution, &r->tangential_restitution,
-                  &r->friction, &r->cohesion, &r->tensile_limit};
+  int *slots[] = {
+      &r->kn,       &r->kt,       &r->restitution,  &r->tangential_restitution,
+      &r->friction, &r->cohesion, &r->tensile_limit};
   for (int k = 0; mkeys[k] && !rc; k++)
     rc = esf_yget_choice(mx, mkeys[k], 0, esf_mix_names, slots[k], err);
   return rc;
@@ -119,8 +128,8 @@ int esf_scene_material(const esf_ynode *node, const esf_materials *m, int32_t *i
 }
 
 static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err) {
-  static const char *const keys[] = {"method", "dt", "dt_rule", "frac", "allow_unstable",
-                                     NULL};
+  static const char *const keys[] = {"method",         "dt", "dt_rule", "frac",
+                                     "allow_unstable", NULL};
   const esf_ynode *in = esf_ymap_get(root, "integrator");
   if (!in) return ESF_OK;
   int rc = esf_ynode_require_map(in, err);
@@ -195,8 +204,9 @@ static int read_damping(const esf_ynode *root, esf_config *c, esf_error *err) {
   const esf_ynode *r = esf_ymap_get(d, "rayleigh");
   if (!rc && r) {
     if (g && (esf_ymap_get(g, "translation") || esf_ymap_get(g, "rotation")))
-      return esf_ynode_fail(r, err, "Rayleigh damping sets the global damping "
-                                    "(alpha = 2 omega zeta); remove damping.global");
+      return esf_ynode_fail(r, err,
+                            "Rayleigh damping sets the global damping "
+                            "(alpha = 2 omega zeta); remove damping.global");
     rc = esf_ymap_check_keys(r, rkeys, err);
     if (!rc) rc = esf_yget_double(r, "zeta", 1, &c->rayleigh_zeta, err);
     if (!rc) rc = esf_yget_double(r, "frequency", 1, &c->rayleigh_freq, err);
@@ -231,7 +241,8 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
     if (!rc) rc = positive(se, "skin", c->skin, 1, err);
   }
   const esf_ynode *ru = esf_ymap_get(root, "run");
-  if (!rc && !ru) return esf_ynode_fail(root, err, "missing key 'run' (duration or steps)");
+  if (!rc && !ru)
+    return esf_ynode_fail(root, err, "missing key 'run' (duration or steps)");
   if (!rc) rc = esf_ymap_check_keys(ru, rkeys, err);
   if (rc) return rc;
   const esf_ynode *du = esf_ymap_get(ru, "duration"), *st = esf_ymap_get(ru, "steps");
@@ -261,10 +272,10 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
 }
 
 static int read_top(const esf_ynode *root, esf_config *c, esf_error *err) {
-  static const char *const keys[] = {"name",      "dimension", "disk_thickness", "gravity",
-                                     "domain",    "materials", "mixing",         "particles",
-                                     "walls",     "integrator", "damping",       "contact",
-                                     "search",    "run",       "output",         NULL};
+  static const char *const keys[] = {
+      "name",   "dimension", "disk_thickness", "gravity",    "domain",  "materials",
+      "mixing", "particles", "walls",          "integrator", "damping", "contact",
+      "search", "run",       "output",         NULL};
   int rc = esf_ynode_require_map(root, err);
   if (!rc) rc = esf_ymap_check_keys(root, keys, err);
   const char *name = NULL;
@@ -323,7 +334,8 @@ int esf_scene_load(const char *path, const char *const *overrides, int noverride
                    esf_sim *s, esf_error *err) {
   esf_ydoc *doc = NULL;
   int rc = esf_ydoc_load(path, &doc, err);
-  for (int k = 0; k < noverrides && !rc; k++) rc = esf_ydoc_override(doc, overrides[k], err);
+  for (int k = 0; k < noverrides && !rc; k++)
+    rc = esf_ydoc_override(doc, overrides[k], err);
   esf_config_default(&s->cfg);
   snprintf(s->cfg.source, sizeof s->cfg.source, "%s", path);
   if (!rc) rc = esf_scene_read(doc, s, err);

@@ -24,8 +24,8 @@ static int lookup(void *ctx, const char *name, int32_t *index, esf_error *err) {
 
 static int read_explicit(const esf_ynode *e, esf_sim *s, esf_particle_defs *defs,
                          esf_error *err) {
-  static const char *const keys[] = {"material", "radius", "position", "velocity",
-                                     "angular_velocity", NULL};
+  static const char *const keys[] = {"material", "radius",           "position",
+                                     "velocity", "angular_velocity", NULL};
   int rc = esf_ymap_check_keys(e, keys, err);
   if (rc) return rc;
   esf_particle_def d;
@@ -55,8 +55,10 @@ static int read_file(const esf_ynode *e, const char *dir, esf_sim *s,
   if (!rc && mn) rc = esf_scene_material(mn, &s->mats, &mat, err);
   if (rc) return rc;
   char path[2048];
-  if (file[0] == '/' || !dir || !dir[0]) snprintf(path, sizeof path, "%s", file);
-  else snprintf(path, sizeof path, "%s/%s", dir, file);
+  if (file[0] == '/' || !dir || !dir[0])
+    snprintf(path, sizeof path, "%s", file);
+  else
+    snprintf(path, sizeof path, "%s/%s", dir, file);
   lookup_ctx ctx = {&s->mats};
   rc = esf_particles_read_csv(path, mat, lookup, &ctx, defs, err);
   if (rc) {
@@ -67,7 +69,8 @@ static int read_file(const esf_ynode *e, const char *dir, esf_sim *s,
   return rc;
 }
 
-static int read_size(const esf_ynode *r, esf_size_dist *sd, double **buf, esf_error *err) {
+static int read_size(const esf_ynode *r, esf_size_dist *sd, double **buf,
+                     esf_error *err) {
   static const char *const keys[] = {"uniform", "uniform_diameter", "values", "fractions",
                                      NULL};
   if (r->kind == ESF_YN_SCALAR) {
@@ -78,11 +81,13 @@ static int read_size(const esf_ynode *r, esf_size_dist *sd, double **buf, esf_er
   }
   int rc = esf_ymap_check_keys(r, keys, err);
   if (rc) return rc;
-  const esf_ynode *u = esf_ymap_get(r, "uniform"), *ud = esf_ymap_get(r, "uniform_diameter"),
+  const esf_ynode *u = esf_ymap_get(r, "uniform"),
+                  *ud = esf_ymap_get(r, "uniform_diameter"),
                   *v = esf_ymap_get(r, "values");
   if ((u != NULL) + (ud != NULL) + (v != NULL) != 1)
-    return esf_ynode_fail(r, err, "give one of uniform: [rmin, rmax], uniform_diameter: "
-                                  "[dmin, dmax], or values: [...] with fractions: [...]");
+    return esf_ynode_fail(r, err,
+                          "give one of uniform: [rmin, rmax], uniform_diameter: "
+                          "[dmin, dmax], or values: [...] with fractions: [...]");
   if (u || ud) {
     double ab[2];
     rc = esf_ynode_doubles(u ? u : ud, ab, 2, err);
@@ -107,7 +112,8 @@ static int read_size(const esf_ynode *r, esf_size_dist *sd, double **buf, esf_er
   if (!*buf) return esf_fail(err, ESF_ENOMEM, "out of memory");
   for (size_t k = 0; k < v->n && !rc; k++) {
     rc = esf_ynode_double(v->items[k], &(*buf)[k], err);
-    if (!rc && !((*buf)[k] > 0)) return esf_ynode_fail(v->items[k], err, "must be positive");
+    if (!rc && !((*buf)[k] > 0))
+      return esf_ynode_fail(v->items[k], err, "must be positive");
     if (!rc) rc = esf_ynode_double(f->items[k], &(*buf)[v->n + k], err);
   }
   sd->kind = ESF_SIZE_DISCRETE;
@@ -134,7 +140,9 @@ static int read_mix(const esf_ynode *mn, const esf_sim *s, esf_material_mix *mix
   static const char *const keys[] = {"mix", NULL};
   int rc = esf_ymap_check_keys(mn, keys, err);
   const esf_ynode *m = esf_ymap_get(mn, "mix");
-  if (!rc && !m) return esf_ynode_fail(mn, err, "give a material name or {mix: {name: fraction, ...}}");
+  if (!rc && !m)
+    return esf_ynode_fail(mn, err,
+                          "give a material name or {mix: {name: fraction, ...}}");
   if (!rc) rc = esf_ynode_require_map(m, err);
   if (rc) return rc;
   if (m->n == 0) return esf_ynode_fail(m, err, "the mix is empty");
@@ -156,8 +164,9 @@ static int read_mix(const esf_ynode *mn, const esf_sim *s, esf_material_mix *mix
 
 static int read_generate(const esf_ynode *e, esf_sim *s, esf_particle_defs *defs,
                          esf_error *err) {
-  static const char *const keys[] = {"generate", "region", "count", "spacing", "radius",
-                                     "material", "seed", "velocity", NULL};
+  static const char *const keys[] = {"generate", "region",   "count",
+                                     "spacing",  "radius",   "material",
+                                     "seed",     "velocity", NULL};
   static const char *const kinds[] = {"random", "lattice", NULL};
   int rc = esf_ymap_check_keys(e, keys, err);
   int kind = 0;
@@ -166,14 +175,16 @@ static int read_generate(const esf_ynode *e, esf_sim *s, esf_particle_defs *defs
   memset(&sp, 0, sizeof sp);
   sp.dim = s->cfg.dim;
   const esf_ynode *rg = esf_ymap_get(e, "region");
-  if (!rc && !rg) return esf_ynode_fail(e, err, "missing key 'region' ({min: [...], max: [...]})");
+  if (!rc && !rg)
+    return esf_ynode_fail(e, err, "missing key 'region' ({min: [...], max: [...]})");
   static const char *const rkeys[] = {"min", "max", NULL};
   if (!rc) rc = esf_ymap_check_keys(rg, rkeys, err);
   if (!rc) rc = esf_yget_doubles(rg, "min", 1, sp.min, 3, err);
   if (!rc) rc = esf_yget_doubles(rg, "max", 1, sp.max, 3, err);
   long count = 0, seed = 1;
   if (!rc) rc = esf_yget_long(e, "count", kind == 0, &count, err);
-  if (!rc && count < 0) return esf_ynode_fail(esf_ymap_get(e, "count"), err, "must be >= 0");
+  if (!rc && count < 0)
+    return esf_ynode_fail(esf_ymap_get(e, "count"), err, "must be >= 0");
   if (!rc) rc = esf_yget_double(e, "spacing", 0, &sp.spacing, err);
   if (!rc) rc = esf_yget_long(e, "seed", 0, &seed, err);
   if (!rc) rc = esf_yget_doubles(e, "velocity", 0, sp.velocity, 3, err);

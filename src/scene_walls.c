@@ -23,8 +23,8 @@ static int geometry_fail(const esf_ynode *n, esf_error *err) {
 static int read_box(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
                     esf_error *err) {
   static const char *const bkeys[] = {"min", "max", NULL};
-  static const char *const faces[] = {"xmin", "xmax", "ymin", "ymax", "bottom", "top",
-                                      NULL};
+  static const char *const faces[] = {"xmin",   "xmax", "ymin", "ymax",
+                                      "bottom", "top",  NULL};
   const esf_ynode *b = esf_ymap_get(e, "box");
   double lo[3], hi[3];
   int rc = esf_ynode_require_map(b, err);
@@ -44,7 +44,8 @@ static int read_box(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
       if (!rc && hit < 0)
         return esf_ynode_fail(op->items[k], err,
                               "unknown face '%s' (expected one of: xmin, xmax, ymin, "
-                              "ymax, bottom, top)", f);
+                              "ymax, bottom, top)",
+                              f);
       if (!rc) mask |= 1u << hit;
     }
   }
@@ -82,7 +83,8 @@ static int read_polygon(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
   if (p->n < 3 || p->n > ESF_WALL_MAX_VERTS)
     return esf_ynode_fail(p, err, "a polygon has 3 or 4 vertices, got %zu", p->n);
   double v[ESF_WALL_MAX_VERTS][3];
-  for (size_t k = 0; k < p->n && !rc; k++) rc = esf_ynode_doubles(p->items[k], v[k], 3, err);
+  for (size_t k = 0; k < p->n && !rc; k++)
+    rc = esf_ynode_doubles(p->items[k], v[k], 3, err);
   if (rc) return rc;
   esf_wall_elem el;
   rc = esf_wall_polygon_init(&el, (int)p->n, (const double(*)[3])v, mat, group, err);
@@ -91,8 +93,8 @@ static int read_polygon(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
 }
 
 int esf_scene_walls(const esf_ynode *seq, esf_sim *s, esf_error *err) {
-  static const char *const keys[] = {"box", "plane", "polygon", "open", "material",
-                                     "motion", NULL};
+  static const char *const keys[] = {"box",      "plane",  "polygon", "open",
+                                     "material", "motion", NULL};
   if (!seq || seq->kind == ESF_YN_NULL) return ESF_OK;
   int rc = esf_ynode_require_seq(seq, err);
   for (size_t k = 0; k < (seq ? seq->n : 0) && !rc; k++) {
@@ -102,8 +104,9 @@ int esf_scene_walls(const esf_ynode *seq, esf_sim *s, esf_error *err) {
     if (rc) break;
     const esf_ynode *mo = esf_ymap_get(e, "motion");
     if (mo)
-      return esf_ynode_fail(mo, err, "prescribed wall motion is not available in this "
-                                     "version of esfera; walls are fixed");
+      return esf_ynode_fail(mo, err,
+                            "prescribed wall motion is not available in this "
+                            "version of esfera; walls are fixed");
     int nkind = (esf_ymap_get(e, "box") != NULL) + (esf_ymap_get(e, "plane") != NULL) +
                 (esf_ymap_get(e, "polygon") != NULL);
     if (nkind != 1)
@@ -114,15 +117,19 @@ int esf_scene_walls(const esf_ynode *seq, esf_sim *s, esf_error *err) {
     rc = wall_material(e, s, &mat, err);
     if (rc) break;
     char label[32];
-    const char *kind = esf_ymap_get(e, "box") ? "box" : esf_ymap_get(e, "plane") ? "plane"
-                                                                                : "polygon";
+    const char *kind = esf_ymap_get(e, "box")     ? "box"
+                       : esf_ymap_get(e, "plane") ? "plane"
+                                                  : "polygon";
     snprintf(label, sizeof label, "%s %zu", kind, k);
     int group = 0;
     rc = esf_walls_add_group(&s->walls, label, &group, err);
     if (rc) break;
-    if (kind[0] == 'b') rc = read_box(e, s, group, mat, err);
-    else if (kind[1] == 'l') rc = read_plane(e, s, group, mat, err);
-    else rc = read_polygon(e, s, group, mat, err);
+    if (kind[0] == 'b')
+      rc = read_box(e, s, group, mat, err);
+    else if (kind[1] == 'l')
+      rc = read_plane(e, s, group, mat, err);
+    else
+      rc = read_polygon(e, s, group, mat, err);
   }
   return rc;
 }

@@ -62,10 +62,11 @@ static int set_masses(esf_sim *s, esf_error *err) {
       p->inertia[i] = 0.5 * p->mass[i] * r * r;
       if (p->x[3 * i + 1] != 0.0 || p->v[3 * i + 1] != 0.0 || p->w[3 * i] != 0.0 ||
           p->w[3 * i + 2] != 0.0)
-        return esf_fail(err, ESF_EINPUT,
-                        "particle id %lld: a 2D scene moves disks in the x-z plane, so y, "
-                        "vy, wx and wz must be 0",
-                        (long long)p->id[i]);
+        return esf_fail(
+            err, ESF_EINPUT,
+            "particle id %lld: a 2D scene moves disks in the x-z plane, so y, "
+            "vy, wx and wz must be 0",
+            (long long)p->id[i]);
     } else {
       p->mass[i] = 4.0 / 3.0 * ESF_PI * r * r * r * m->density;
       p->inertia[i] = 0.4 * p->mass[i] * r * r;
@@ -171,7 +172,8 @@ int esf_sim_remove_escaped(esf_sim *s, esf_error *err) {
       double ek = 0.5 * p->mass[i] * v3_norm2(v) + 0.5 * p->inertia[i] * v3_norm2(w);
       double ep = -p->mass[i] * v3_dot(s->cfg.gravity, x);
       s->led.e_removed += ek + ep;
-      esf_sim_log(s, "t = %.6g s: particle id %lld left the domain at (%g, %g, %g); removed",
+      esf_sim_log(s,
+                  "t = %.6g s: particle id %lld left the domain at (%g, %g, %g); removed",
                   s->t, (long long)p->id[i], x[0], x[1], x[2]);
     }
   }

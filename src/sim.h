@@ -24,37 +24,37 @@ enum { ESF_LOCAL_OFF = 0, ESF_LOCAL_COMPONENT = 1, ESF_LOCAL_VECTOR = 2 };
 /* Everything a scene sets, with SI units. esf_config_default gives the defaults. */
 typedef struct esf_config {
   char name[128];
-  char source[1024];      /* scene file path */
-  int dim;                /* 3, or 2 (disks in the x-z plane) */
-  double disk_thickness;  /* 2D: disk mass = rho pi r^2 thickness, m */
-  double gravity[3];      /* m/s^2 */
+  char source[1024];     /* scene file path */
+  int dim;               /* 3, or 2 (disks in the x-z plane) */
+  double disk_thickness; /* 2D: disk mass = rho pi r^2 thickness, m */
+  double gravity[3];     /* m/s^2 */
   int has_domain;
   double domain_min[3], domain_max[3]; /* m; particles leaving it are removed */
 
-  char method[128];       /* integrator name */
-  double dt;              /* s; <= 0 with dt_auto */
+  char method[128]; /* integrator name */
+  double dt;        /* s; <= 0 with dt_auto */
   int dt_auto;
-  int dt_rule;            /* ESF_DT_* */
-  double frac;            /* dt = frac x critical (auto) */
-  int allow_unstable;     /* accept dt above the rule's critical value */
+  int dt_rule;        /* ESF_DT_* */
+  double frac;        /* dt = frac x critical (auto) */
+  int allow_unstable; /* accept dt above the rule's critical value */
 
-  double alpha_r, alpha_t;  /* global viscous damping, 1/s */
-  int local_form;           /* ESF_LOCAL_* */
-  double local_coef;        /* alpha_c of 001 */
-  int rayleigh;             /* damping.rayleigh given */
+  double alpha_r, alpha_t;             /* global viscous damping, 1/s */
+  int local_form;                      /* ESF_LOCAL_* */
+  double local_coef;                   /* alpha_c of 001 */
+  int rayleigh;                        /* damping.rayleigh given */
   double rayleigh_zeta, rayleigh_freq; /* zeta, f (Hz) */
-  esf_auto_damping autod;   /* adaptive global damping */
+  esf_auto_damping autod;              /* adaptive global damping */
 
-  int tframe;               /* ESF_TFRAME_* */
-  double max_overlap;       /* failure when overlap > this x the smaller radius */
+  int tframe;                /* ESF_TFRAME_* */
+  double max_overlap;        /* failure when overlap > this x the smaller radius */
   int allow_initial_overlap; /* explicit particles may start overlapping */
-  double skin;              /* m; <= 0: 0.2 x mean radius */
+  double skin;               /* m; <= 0: 0.2 x mean radius */
 
-  double duration;          /* s (when steps == 0) */
-  long steps;               /* steps, or 0 */
-  double out_every;         /* s between frames; 0: final frame only */
-  double energy_every;      /* s between energy rows; 0: no ledger */
-  int energy_off;           /* energy_every: 0 given explicitly */
+  double duration;     /* s (when steps == 0) */
+  long steps;          /* steps, or 0 */
+  double out_every;    /* s between frames; 0: final frame only */
+  double energy_every; /* s between energy rows; 0: no ledger */
+  int energy_off;      /* energy_every: 0 given explicitly */
   char out_dir[1024];
 } esf_config;
 
@@ -62,9 +62,9 @@ void esf_config_default(esf_config *c);
 
 /* Critical-step estimates (timestep.c). */
 typedef struct esf_dt_estimate {
-  double m_min;            /* smallest particle mass, kg */
-  double k_max;            /* largest stiffness of any used material pair, N/m */
-  double xi;               /* largest damping ratio (contact + global) */
+  double m_min;              /* smallest particle mass, kg */
+  double k_max;              /* largest stiffness of any used material pair, N/m */
+  double xi;                 /* largest damping ratio (contact + global) */
   double crit[ESF_DT_RULES]; /* each rule's critical step (FRAC = 1), s */
 } esf_dt_estimate;
 
@@ -77,7 +77,7 @@ typedef struct esf_sim {
   esf_ledger led;
   const esf_contact_law *law;
   const esf_local_damping *local; /* NULL when off */
-  double beta;             /* Rayleigh stiffness-proportional factor (0: off), s */
+  double beta;                    /* Rayleigh stiffness-proportional factor (0: off), s */
   double alpha_r, alpha_t; /* current global damping (adaptive changes them), 1/s */
   double t, dt;            /* s */
   double led_time;         /* the time the ledger's stored energies refer to, s */
@@ -85,10 +85,10 @@ typedef struct esf_sim {
   esf_dt_estimate dte;
   esf_rng rng;
   /* counters */
-  long removed;            /* particles removed for leaving the domain */
-  double contacts_sum;     /* sum over steps of touching contacts */
-  long rhs_evals;          /* force evaluations */
-  FILE *log;               /* the run's log, or NULL */
+  long removed;        /* particles removed for leaving the domain */
+  double contacts_sum; /* sum over steps of touching contacts */
+  long rhs_evals;      /* force evaluations */
+  FILE *log;           /* the run's log, or NULL */
 } esf_sim;
 
 /* Prepares a sim whose cfg, particles, materials and walls are filled in: mixes the
@@ -97,7 +97,8 @@ int esf_sim_setup(esf_sim *s, esf_error *err);
 void esf_sim_release(esf_sim *s);
 
 /* Writes a line to the run's log (if any), printf style. */
-void esf_sim_log(const esf_sim *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+void esf_sim_log(const esf_sim *s, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
 
 /* Critical-step estimates for the sim's particles, materials and damping. */
 void esf_dt_estimate_compute(const esf_sim *s, esf_dt_estimate *e);

@@ -2,13 +2,13 @@
  *
  * With m_min the smallest particle mass, k_max the largest stiffness (k_n or k_t) of any
  * material pair the scene can bring into contact, and FRAC = 1:
- *   cundall (000 3-27):          dt_c = sqrt(m_min / k_max)       (the seed's 0.1 is FRAC)
- *   hart    (004 2.48):          dt_c = 2 sqrt(m_min / (2 k_max))
- *   damped  (001 3.64, 3.66):    dt_c = 2 sqrt(m_min / k_max) (sqrt(1 + xi^2) - xi)
- * where xi is the largest damping ratio: the contact dashpots' gamma (Tsuji: gamma is the
- * damping ratio of the reduced-mass oscillator) or, with Rayleigh damping, beta omega/2,
- * plus the global damping's alpha/(2 omega), omega = sqrt(k_max / m_min).
- * The adopted step is FRAC x dt_c of the chosen rule (001 3.65). */
+ *   cundall (000 3-27):          dt_c = sqrt(m_min / k_max)       (the seed's 0.1 is
+ * FRAC) hart    (004 2.48):          dt_c = 2 sqrt(m_min / (2 k_max)) damped
+ * (001 3.64, 3.66):    dt_c = 2 sqrt(m_min / k_max) (sqrt(1 + xi^2) - xi) where xi is the
+ * largest damping ratio: the contact dashpots' gamma (Tsuji: gamma is the damping ratio
+ * of the reduced-mass oscillator) or, with Rayleigh damping, beta omega/2, plus the
+ * global damping's alpha/(2 omega), omega = sqrt(k_max / m_min). The adopted step is FRAC
+ * x dt_c of the chosen rule (001 3.65). */
 #include <math.h>
 
 #include "sim.h"

@@ -25,7 +25,8 @@
 
 #define AREA_TOL   1e-12 /* zero area below this fraction of size^2 */
 #define REPEAT_TOL 1e-12 /* vertices closer than this fraction of the size coincide */
-#define PLANAR_TOL 1e-9  /* a quadrilateral may bend off its plane this much of its size \
+#define PLANAR_TOL                                                                       \
+  1e-9                   /* a quadrilateral may bend off its plane this much of its size \
                           */
 #define INSIDE_TOL 1e-12 /* inside test slack, as a fraction of bound_r */
 

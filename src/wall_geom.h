@@ -19,24 +19,24 @@ enum { ESF_FEATURE_FACE = 0, ESF_FEATURE_EDGE = 1, ESF_FEATURE_VERTEX = 2 };
 #define ESF_WALL_MAX_VERTS 4
 
 typedef struct esf_wall_elem {
-  int kind;                         /* ESF_WALL_PLANE or ESF_WALL_POLYGON */
-  int nv;                           /* polygon: 3 or 4 vertices; plane: 0 */
-  double v[ESF_WALL_MAX_VERTS][3];  /* polygon vertices in order, m */
-  double p[3];                      /* plane: its point; polygon: the centroid, m */
-  double n[3];                      /* unit normal (polygon: right hand over v order) */
+  int kind;                        /* ESF_WALL_PLANE or ESF_WALL_POLYGON */
+  int nv;                          /* polygon: 3 or 4 vertices; plane: 0 */
+  double v[ESF_WALL_MAX_VERTS][3]; /* polygon vertices in order, m */
+  double p[3];                     /* plane: its point; polygon: the centroid, m */
+  double n[3];                     /* unit normal (polygon: right hand over v order) */
   double edge_n[ESF_WALL_MAX_VERTS][3]; /* in-plane unit outward normal of edge k
                                            (v[k] -> v[k+1]), for the inside test */
-  double bound_r;                   /* polygon: radius of the sphere about p holding it */
-  int32_t material;                 /* material index */
-  int32_t group;                    /* the wall this element belongs to (box, plane...) */
+  double bound_r;   /* polygon: radius of the sphere about p holding it */
+  int32_t material; /* material index */
+  int32_t group;    /* the wall this element belongs to (box, plane...) */
 } esf_wall_elem;
 
 /* The nearest point of an element to a centre. */
 typedef struct esf_wall_hit {
-  double q[3];   /* the nearest point on the element, m */
-  double n[3];   /* unit contact normal, from the centre toward q (plane: -normal) */
-  double dist;   /* distance centre -> q along n, m (plane: signed, negative behind) */
-  int feature;   /* ESF_FEATURE_FACE, _EDGE or _VERTEX (plane: always FACE) */
+  double q[3]; /* the nearest point on the element, m */
+  double n[3]; /* unit contact normal, from the centre toward q (plane: -normal) */
+  double dist; /* distance centre -> q along n, m (plane: signed, negative behind) */
+  int feature; /* ESF_FEATURE_FACE, _EDGE or _VERTEX (plane: always FACE) */
 } esf_wall_hit;
 
 /* Builds an infinite plane through point with the given normal (normalised here).

@@ -11,16 +11,16 @@
 #include "wall_geom.h"
 
 typedef struct esf_wall_group {
-  char label[32];    /* "plane", "box", "polygon" + index, for messages */
-  int moving;        /* 0: static (vel, omega zero) */
-  double vel[3];     /* translational velocity, m/s */
-  double omega[3];   /* angular velocity about `center`, rad/s */
-  double center[3];  /* m */
+  char label[32];   /* "plane", "box", "polygon" + index, for messages */
+  int moving;       /* 0: static (vel, omega zero) */
+  double vel[3];    /* translational velocity, m/s */
+  double omega[3];  /* angular velocity about `center`, rad/s */
+  double center[3]; /* m */
 } esf_wall_group;
 
 typedef struct esf_walls {
   size_t n, cap;
-  esf_wall_elem *e;  /* the elements */
+  esf_wall_elem *e; /* the elements */
   int ngroups;
   esf_wall_group *g;
 } esf_walls;

@@ -17,15 +17,15 @@ typedef enum { ESF_YN_NULL, ESF_YN_SCALAR, ESF_YN_SEQ, ESF_YN_MAP } esf_ynode_ki
 typedef struct esf_ynode esf_ynode;
 struct esf_ynode {
   esf_ynode_kind kind;
-  char *text;          /* SCALAR: the scalar's text; NULL otherwise */
-  int quoted;          /* SCALAR: written in quotes (then it is always a string) */
-  const char *origin;  /* the file name, or the override text "--set KEY=VALUE" */
-  int line, col;       /* 1-based place in origin; 0 when origin is an override */
-  char *path;          /* dotted path from the root, "materials.glass.density" ("" root) */
-  size_t n;            /* SEQ: item count; MAP: key count */
-  esf_ynode **items;   /* SEQ: the items; MAP: the values, items[k] for keys[k] */
-  char **keys;         /* MAP: the keys, in document order */
-  int *key_line;       /* MAP: place of each key (for unknown-key errors) */
+  char *text;         /* SCALAR: the scalar's text; NULL otherwise */
+  int quoted;         /* SCALAR: written in quotes (then it is always a string) */
+  const char *origin; /* the file name, or the override text "--set KEY=VALUE" */
+  int line, col;      /* 1-based place in origin; 0 when origin is an override */
+  char *path;         /* dotted path from the root, "materials.glass.density" ("" root) */
+  size_t n;           /* SEQ: item count; MAP: key count */
+  esf_ynode **items;  /* SEQ: the items; MAP: the values, items[k] for keys[k] */
+  char **keys;        /* MAP: the keys, in document order */
+  int *key_line;      /* MAP: place of each key (for unknown-key errors) */
   int *key_col;
 };
 
@@ -68,7 +68,8 @@ esf_ynode *esf_ymap_get(const esf_ynode *map, const char *key);
 
 /* Checks that every key of map is in `allowed` (NULL-terminated). An unknown key is an
  * ESF_EINPUT error at the key's place, naming the closest allowed key when one is near
- * ("did you mean 'density'?") and otherwise listing the allowed keys. A NULL map is ok. */
+ * ("did you mean 'density'?") and otherwise listing the allowed keys. A NULL map is ok.
+ */
 int esf_ymap_check_keys(const esf_ynode *map, const char *const *allowed, esf_error *err);
 
 /* Requires node to be a mapping (or a sequence); error names what was expected. */

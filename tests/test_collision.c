@@ -37,8 +37,10 @@ static const char *pair_scene =
     "gravity: [0, 0, 0]\n"
     "materials: {glass: {density: 2500, kn: 1.0e5, restitution: 0.5, friction: 0.3}}\n"
     "particles:\n"
-    "  - {material: glass, radius: 0.005, position: [-0.00502, 0, 0], velocity: [1, 0, 0]}\n"
-    "  - {material: glass, radius: 0.004, position: [0.00402, 0, 0], velocity: [-1, 0, 0]}\n"
+    "  - {material: glass, radius: 0.005, position: [-0.00502, 0, 0], velocity: [1, 0, "
+    "0]}\n"
+    "  - {material: glass, radius: 0.004, position: [0.00402, 0, 0], velocity: [-1, 0, "
+    "0]}\n"
     "integrator: {dt: auto, frac: 0.002}\n"
     "run: {duration: 1}\n"
     "output: {energy_every: 0}\n";
@@ -49,7 +51,8 @@ static const char *wall_scene =
     "materials: {glass: {density: 2500, kn: 1.0e5, restitution: 0.5, friction: 0.3},\n"
     "            steel: {density: 7800, kn: 1.0e5, restitution: 0.5, friction: 0.3}}\n"
     "particles:\n"
-    "  - {material: glass, radius: 0.005, position: [0, 0, 0.00502], velocity: [0, 0, -1]}\n"
+    "  - {material: glass, radius: 0.005, position: [0, 0, 0.00502], velocity: [0, 0, "
+    "-1]}\n"
     "walls:\n"
     "  - {plane: {point: [0, 0, 0], normal: [0, 0, 1]}, material: steel}\n"
     "integrator: {dt: auto, frac: 0.002}\n"
@@ -78,8 +81,8 @@ static void run_case(const char *scene, double eta, int wall) {
   double t_first = -1, t_last = -1, t_sep = -1, umax = 0;
   for (long n = 0; n < 200000; n++) {
     if (simtest_step(&T)) break;
-    double un = wall ? p->radius[0] - p->x[2]
-                     : p->radius[0] + p->radius[1] - (p->x[3] - p->x[0]);
+    double un =
+        wall ? p->radius[0] - p->x[2] : p->radius[0] + p->radius[1] - (p->x[3] - p->x[0]);
     if (un > umax) umax = un;
     /* the step just taken applied the force at t_n = t - dt */
     int force = fabs(p->f[0]) + fabs(p->f[2]) > 0;
@@ -96,7 +99,8 @@ static void run_case(const char *scene, double eta, int wall) {
   CHECK_NEAR(e, x.e, 0.005 * x.e, what);
   CHECK(e > eta, "%s: no-tension restitution %.4f must exceed the requested %.4f", what,
         e, eta);
-  snprintf(what, sizeof what, "%s eta=%.2f contact duration", wall ? "wall" : "pair", eta);
+  snprintf(what, sizeof what, "%s eta=%.2f contact duration", wall ? "wall" : "pair",
+           eta);
   CHECK_NEAR(dur, x.t_end, 0.005 * x.t_end, what);
   snprintf(what, sizeof what, "%s eta=%.2f time to separation", wall ? "wall" : "pair",
            eta);
@@ -105,8 +109,8 @@ static void run_case(const char *scene, double eta, int wall) {
   CHECK_NEAR(umax, x.u_max * v_in, 0.005 * x.u_max * v_in, what);
   printf("%s eta=%.2f: e=%.5f (closed form %.5f), force duration %.5g s (%.5g), "
          "separation after %.5g s (%.5g), u_max=%.5g m (%.5g)\n",
-         wall ? "wall" : "pair", eta, e, x.e, dur, x.t_end, t_sep - t_first, x.t_sep, umax,
-         x.u_max * v_in);
+         wall ? "wall" : "pair", eta, e, x.e, dur, x.t_end, t_sep - t_first, x.t_sep,
+         umax, x.u_max * v_in);
   simtest_close(&T);
 }
 

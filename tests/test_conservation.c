@@ -17,9 +17,11 @@
 static const char *cloud =
     "name: cloud\n"
     "gravity: [0, 0, 0]\n"
-    "materials: {g: {density: 2500, kn: 1.0e4, kt: 7.0e3, restitution: 0.5, friction: 0.5}}\n"
+    "materials: {g: {density: 2500, kn: 1.0e4, kt: 7.0e3, restitution: 0.5, friction: "
+    "0.5}}\n"
     "particles:\n"
-    "  - {generate: random, region: {min: [0, 0, 0], max: [0.04, 0.04, 0.04]}, count: 60,\n"
+    "  - {generate: random, region: {min: [0, 0, 0], max: [0.04, 0.04, 0.04]}, count: "
+    "60,\n"
     "     radius: {uniform: [0.002, 0.004]}, material: g, seed: 3}\n"
     "integrator: {dt: auto, frac: 0.1}\n"
     "run: {steps: 1}\n"
@@ -110,8 +112,10 @@ static const char *pack =
     "name: bouncing pack\n"
     "materials: {g: {density: 2500, kn: 1.0e4, restitution: 1.0, friction: 0.0}}\n"
     "particles:\n"
-    "  - {generate: random, region: {min: [0, 0, 0.0], max: [0.03, 0.03, 0.06]}, count: 150,\n"
-    "     radius: {uniform: [0.0015, 0.0025]}, material: g, seed: 5, velocity: [0.2, 0, 0]}\n"
+    "  - {generate: random, region: {min: [0, 0, 0.0], max: [0.03, 0.03, 0.06]}, count: "
+    "150,\n"
+    "     radius: {uniform: [0.0015, 0.0025]}, material: g, seed: 5, velocity: [0.2, 0, "
+    "0]}\n"
     "walls:\n"
     "  - {box: {min: [0, 0, 0], max: [0.03, 0.03, 0.06]}, material: g}\n"
     "integrator: {dt: auto, frac: 0.1}\n"
@@ -124,7 +128,8 @@ static void test_energy(void) {
   CHECK(fabs(e1) < 2e-3, "elastic pair at frac 0.1: relative energy error %.3g", e1);
   CHECK(fabs(e3) < 2e-4, "elastic pair at frac 0.025: relative energy error %.3g", e3);
   printf("elastic pair: relative energy error after the collision %.3g (frac 0.1), %.3g "
-         "(0.05), %.3g (0.025)\n", e1, e2, e3);
+         "(0.05), %.3g (0.025)\n",
+         e1, e2, e3);
 
   simtest T;
   if (simtest_open(&T, pack, NULL, 0)) {
@@ -136,8 +141,9 @@ static void test_energy(void) {
   double err_mid = 0;
   for (long n = 0; n < steps; n++) {
     if (simtest_step(&T)) break;
-    if (n == 0) e0 = T.s.led.kin_t + T.s.led.kin_r + T.s.led.el_n + T.s.led.el_t +
-                     fabs(T.s.led.pot_g);
+    if (n == 0)
+      e0 = T.s.led.kin_t + T.s.led.kin_r + T.s.led.el_n + T.s.led.el_t +
+           fabs(T.s.led.pot_g);
     double e = fabs(esf_ledger_total_error(&T.s.led));
     if (e > worst) worst = e;
     if (n == steps / 2) err_mid = esf_ledger_total_error(&T.s.led);
@@ -148,9 +154,10 @@ static void test_energy(void) {
   CHECK(worst < 1e-3 * e0, "bouncing pack: worst |energy error| %.3g J vs scale %.3g J",
         worst, e0);
   CHECK(T.s.led.d_normal == 0 && T.s.led.d_friction == 0, "nothing dissipates");
-  printf("bouncing pack, %ld steps (%.3g s): energy error %.3g J at the middle, %.3g J at "
-         "the end, worst %.3g J; relative to the energy scale %.3g J: %.2g\n",
-         steps, T.s.t, err_mid, err_end, worst, e0, worst / e0);
+  printf(
+      "bouncing pack, %ld steps (%.3g s): energy error %.3g J at the middle, %.3g J at "
+      "the end, worst %.3g J; relative to the energy scale %.3g J: %.2g\n",
+      steps, T.s.t, err_mid, err_end, worst, e0, worst / e0);
   simtest_close(&T);
 }
 

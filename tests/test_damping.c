@@ -1,8 +1,9 @@
 /* test_damping.c — damping of particle motion against closed forms (PHYSICS.md §4).
  * 1. Local non-viscous damping, component form (001 3.50): a sphere in free fall feels
  *    the whole unbalanced force m g damped by alpha_c, so it accelerates at
- *    (1 - alpha_c) g (the sign is the half-step velocity's; see the first kick below). The vector form (000 3-11) gives the same in a straight fall, and
- *    for a sphere thrown sideways it opposes the velocity with magnitude alpha |m g|.
+ *    (1 - alpha_c) g (the sign is the half-step velocity's; see the first kick below).
+ * The vector form (000 3-11) gives the same in a straight fall, and for a sphere thrown
+ * sideways it opposes the velocity with magnitude alpha |m g|.
  * 2. Global viscous damping in the (1 -+ a dt/2) form: a free sphere's speed falls by
  *    ((1 - a dt/2)/(1 + a dt/2)) each step, within O((a dt)^3) of exp(-a t).
  * 3. Rayleigh settings (001 3.59–3.60): omega = 2 pi f, alpha = 2 omega zeta,
@@ -11,15 +12,14 @@
  * 4. Adaptive damping (001 3.62–3.63): the update rule's two branches and its bounds. */
 #include "simtest.h"
 
-static const char *fall =
-    "name: fall\n"
-    "materials: {b: {density: 2500, kn: 1.0e5}}\n"
-    "particles:\n"
-    "  - {material: b, radius: 0.01, position: [0, 0, 1]}\n"
-    "integrator: {dt: 1.0e-4}\n"
-    "damping: {local: {coefficient: 0.3, form: component}}\n"
-    "run: {steps: 1}\n"
-    "output: {energy_every: 0}\n";
+static const char *fall = "name: fall\n"
+                          "materials: {b: {density: 2500, kn: 1.0e5}}\n"
+                          "particles:\n"
+                          "  - {material: b, radius: 0.01, position: [0, 0, 1]}\n"
+                          "integrator: {dt: 1.0e-4}\n"
+                          "damping: {local: {coefficient: 0.3, form: component}}\n"
+                          "run: {steps: 1}\n"
+                          "output: {energy_every: 0}\n";
 
 static void local_damping(void) {
   const char *forms[] = {"damping.local.form=component", "damping.local.form=vector"};
@@ -77,17 +77,18 @@ static void global_damping(void) {
   simtest_close(&T);
 }
 
-static const char *pair =
-    "name: rayleigh\n"
-    "gravity: [0, 0, 0]\n"
-    "materials: {b: {density: 2500, kn: 1.0e5}}\n"
-    "particles:\n"
-    "  - {material: b, radius: 0.005, position: [-0.00501, 0, 0], velocity: [0.5, 0, 0]}\n"
-    "  - {material: b, radius: 0.005, position: [0.00501, 0, 0], velocity: [-0.5, 0, 0]}\n"
-    "integrator: {dt: auto, frac: 0.002}\n"
-    "damping: {rayleigh: {zeta: 0.05, frequency: 200}}\n"
-    "run: {steps: 1}\n"
-    "output: {energy_every: 0}\n";
+static const char *pair = "name: rayleigh\n"
+                          "gravity: [0, 0, 0]\n"
+                          "materials: {b: {density: 2500, kn: 1.0e5}}\n"
+                          "particles:\n"
+                          "  - {material: b, radius: 0.005, position: [-0.00501, 0, 0], "
+                          "velocity: [0.5, 0, 0]}\n"
+                          "  - {material: b, radius: 0.005, position: [0.00501, 0, 0], "
+                          "velocity: [-0.5, 0, 0]}\n"
+                          "integrator: {dt: auto, frac: 0.002}\n"
+                          "damping: {rayleigh: {zeta: 0.05, frequency: 200}}\n"
+                          "run: {steps: 1}\n"
+                          "output: {energy_every: 0}\n";
 
 static void rayleigh(void) {
   simtest T;
@@ -105,7 +106,8 @@ static void rayleigh(void) {
   double expect = -exp(-zc * th / s) * (cos(th) - zc / s * sin(th));
   CHECK_NEAR(e, expect, 0.005 * expect, "restitution with c = beta k");
   printf("Rayleigh: alpha %.4g 1/s, beta %.4g s, contact zeta %.4f, e %.5f (closed form "
-         "%.5f)\n", 2 * w * 0.05, T.s.beta, zc, e, expect);
+         "%.5f)\n",
+         2 * w * 0.05, T.s.beta, zc, e, expect);
   simtest_close(&T);
 }
 

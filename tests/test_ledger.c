@@ -16,10 +16,12 @@ static const char *pack =
     "      tangential_restitution: 0.6, friction: 0.5}\n"
     "  wallmat: {kn: 2.0e4, restitution: 0.3, friction: 0.3}\n"
     "particles:\n"
-    "  - {generate: random, region: {min: [0, 0, 0.0], max: [0.03, 0.03, 0.09]}, count: 300,\n"
+    "  - {generate: random, region: {min: [0, 0, 0.0], max: [0.03, 0.03, 0.09]}, count: "
+    "300,\n"
     "     radius: {uniform: [0.0012, 0.0022]}, material: g, seed: 9}\n"
     "walls:\n"
-    "  - {box: {min: [0, 0, 0], max: [0.03, 0.03, 0.1]}, open: [top], material: wallmat}\n"
+    "  - {box: {min: [0, 0, 0], max: [0.03, 0.03, 0.1]}, open: [top], material: "
+    "wallmat}\n"
     "integrator: {dt: auto, frac: 0.1}\n"
     "damping: {global: {translation: 2.0, rotation: 2.0}}\n"
     "run: {steps: 1}\n"
@@ -37,18 +39,21 @@ static void settle(const char *label, const char *const *sets, int nsets, int wa
     if (simtest_step(&T)) break;
   const esf_ledger *L = &T.s.led;
   double D = esf_ledger_dissipated(L), R = esf_ledger_total_error(L);
-  printf("%s: t = %.3f s, dissipated %.4g J (normal %.3g, tangential %.3g, friction %.3g, "
-         "global %.3g, local %.3g), kinetic %.3g J, residual %.3g J = %.3g of "
-         "dissipated\n",
-         label, T.s.t, D, L->d_normal, L->d_tangential, L->d_friction, L->d_global,
-         L->d_local, L->kin_t + L->kin_r, R, R / D);
+  printf(
+      "%s: t = %.3f s, dissipated %.4g J (normal %.3g, tangential %.3g, friction %.3g, "
+      "global %.3g, local %.3g), kinetic %.3g J, residual %.3g J = %.3g of "
+      "dissipated\n",
+      label, T.s.t, D, L->d_normal, L->d_tangential, L->d_friction, L->d_global,
+      L->d_local, L->kin_t + L->kin_r, R, R / D);
   CHECK(L->d_normal > 0 && L->d_tangential > 0 && L->d_friction > 0,
         "%s: every contact path dissipates", label);
   CHECK(want_global ? L->d_global > 0 : L->d_global == 0, "%s: global damping tally",
         label);
   CHECK(want_local ? L->d_local > 0 : L->d_local == 0, "%s: local damping tally", label);
-  CHECK(fabs(R) < 0.01 * D, "%s: |residual| %.3g J must stay below 1%% of the %.3g J "
-        "dissipated", label, R, D);
+  CHECK(fabs(R) < 0.01 * D,
+        "%s: |residual| %.3g J must stay below 1%% of the %.3g J "
+        "dissipated",
+        label, R, D);
   simtest_close(&T);
 }
 

@@ -49,8 +49,8 @@ int main(void) {
     double e = max_error(spp[k], &dt);
     lx[k] = log(dt);
     ly[k] = log(e);
-    printf("steps/period %4d: dt = %.4g s, max |z error| / amplitude = %.4g\n", spp[k], dt,
-           e);
+    printf("steps/period %4d: dt = %.4g s, max |z error| / amplitude = %.4g\n", spp[k],
+           dt, e);
   }
   double mx = 0, my = 0, sxx = 0, sxy = 0;
   for (int k = 0; k < 5; k++) {

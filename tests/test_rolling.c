@@ -26,7 +26,8 @@ static void roll(int dim) {
   char d[32], z[64];
   snprintf(d, sizeof d, "dimension=%d", dim);
   /* static overlap m g / kn */
-  double m = dim == 3 ? 4.0 / 3.0 * ESF_PI * r * r * r * 2500 : ESF_PI * r * r * 1.0 * 2500;
+  double m =
+      dim == 3 ? 4.0 / 3.0 * ESF_PI * r * r * r * 2500 : ESF_PI * r * r * 1.0 * 2500;
   snprintf(z, sizeof z, "particles.0.position=[0, 0, %.17g]", r - m * g / 1.0e6);
   const char *sets[] = {d, z};
   simtest T;
@@ -40,7 +41,7 @@ static void roll(int dim) {
   double t_roll = -1;
   while (T.s.t < 3 * t_roll_exact) {
     if (simtest_step(&T)) break;
-    double lever = p->x[2]; /* distance to the plane: r - u */
+    double lever = p->x[2];                  /* distance to the plane: r - u */
     double slip = p->v[0] - p->w[1] * lever; /* contact point speed (w_y > 0 rolls +x) */
     if (t_roll < 0 && slip < 1e-3 * v0) t_roll = T.s.t;
   }
@@ -51,8 +52,9 @@ static void roll(int dim) {
   CHECK_NEAR(t_roll, t_roll_exact, 3e-3 * t_roll_exact, what);
   CHECK(fabs(p->v[1]) < 1e-12 && fabs(p->w[0]) < 1e-9 && fabs(p->w[2]) < 1e-9,
         "%dD: motion stays in the x-z plane", dim);
-  printf("%dD: rolling speed %.6f v0 (exact %.6f), rolling from t = %.6f s (exact %.6f)\n",
-         dim, p->v[0] / v0, v_roll_exact / v0, t_roll, t_roll_exact);
+  printf(
+      "%dD: rolling speed %.6f v0 (exact %.6f), rolling from t = %.6f s (exact %.6f)\n",
+      dim, p->v[0] / v0, v_roll_exact / v0, t_roll, t_roll_exact);
   simtest_close(&T);
 }
 

@@ -27,9 +27,10 @@ int main(void) {
   double m_min = 4.0 / 3.0 * ESF_PI * 8e-9 * 2000;
   double k_max = 2 * 4e5 * 8e5 / (4e5 + 8e5);
   double l = log(0.5), gamma = -l / sqrt(ESF_PI * ESF_PI + l * l);
-  double cund = sqrt(m_min / k_max);              /* 000 (3-27) with FRAC = 1 */
-  double hart = 2 * sqrt(m_min / (2 * k_max));    /* 004 (2.48) */
-  double damp = 2 * sqrt(m_min / k_max) * (sqrt(1 + gamma * gamma) - gamma); /* 001 3.66 */
+  double cund = sqrt(m_min / k_max);           /* 000 (3-27) with FRAC = 1 */
+  double hart = 2 * sqrt(m_min / (2 * k_max)); /* 004 (2.48) */
+  double damp =
+      2 * sqrt(m_min / k_max) * (sqrt(1 + gamma * gamma) - gamma); /* 001 3.66 */
   const esf_dt_estimate *e = &T.s.dte;
   CHECK_NEAR(e->m_min, m_min, 1e-15 * m_min, "m_min");
   CHECK_NEAR(e->k_max, k_max, 1e-9 * k_max, "k_max");
@@ -39,7 +40,8 @@ int main(void) {
   CHECK_NEAR(e->crit[ESF_DT_DAMPED], damp, 1e-12 * damp, "damped");
   CHECK_NEAR(T.s.dt, 0.1 * hart, 1e-12 * hart, "dt auto = frac x hart");
   printf("m_min %.6g kg, k_max %.6g N/m, xi %.4f: cundall %.6g s, hart %.6g s, damped "
-         "%.6g s\n", m_min, k_max, gamma, cund, hart, damp);
+         "%.6g s\n",
+         m_min, k_max, gamma, cund, hart, damp);
   simtest_close(&T);
 
   /* each rule with dt: auto */
