@@ -9,9 +9,9 @@
  *   the contact law gives the force on A; B gets the opposite (004 2.31);
  *   torques M_A = lA n x Ft, M_B = lB n x Ft (same sense, 004 2.34).
  * For a wall element: q its nearest point (wall_geom.h), un = rA - |q - xA|, n toward
- * q, lever lA = |q - xA|, vc = v_wall(q) - [vA + wA x (lA n)], m* = mA. Contacts of
- * one particle with elements of the same wall at the same point (a shared edge or
- * vertex) count once.
+ * q, lever lA = |q - xA|, vc = v_wall(q) - [vA + wA x (lA n)], m* = mA. Hits of
+ * one particle on edges and vertices shared by wall elements count once
+ * (select_wall_hits).
  * Gravity: f += m g. In 2D only x, z forces and the y torque act.
  * Entry: candidate lists valid for x; on exit f, t hold the totals. */
 #include "forces.h"
@@ -121,6 +121,44 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
   return ESF_OK;
 }
 
+/* Which of one particle's wall hits carry force. Meshes and boxes share edges and
+ * vertices (and separate walls may meet), and the nearest point of a neighbouring
+ * element is then a point that also belongs to an element the particle touches on its
+ * face. Rule, over all the particle's wall elements:
+ * every face hit counts; an edge or vertex hit counts unless its point lies on an
+ * element with a face hit (it is part of that face's closed polygon, so the surface's
+ * nearest point is that face's) or coincides with a hit already kept (a shared edge or
+ * vertex reported by both its elements). Coincident face hits (a centre right above a
+ * shared edge) count once. keep[k] is set for the kept hits among hits[0..m). */
+static void select_wall_hits(const esf_walls *walls, const uint32_t *elem,
+                             const esf_wall_hit *hits, const double *un, size_t m,
+                             double r, unsigned char *keep) {
+  double tol = 1e-9 * r;
+  for (size_t k = 0; k < m; k++)
+    keep[k] = un[k] > 0 && hits[k].feature == ESF_FEATURE_FACE;
+  for (int pass = 0; pass < 2; pass++) {
+    for (size_t k = 0; k < m; k++) {
+      if (!(un[k] > 0)) continue;
+      int face = hits[k].feature == ESF_FEATURE_FACE;
+      if (face != (pass == 0)) continue; /* faces first, then edges and vertices */
+      keep[k] = 1;
+      for (size_t j = 0; j < m && keep[k]; j++) {
+        if (j == k || !keep[j] || (pass == 0 && j > k)) continue;
+        const esf_wall_elem *f = &walls->e[elem[j]];
+        double d[3];
+        v3_sub(d, hits[j].q, hits[k].q);
+        if (v3_norm2(d) <= tol * tol)
+          keep[k] = 0; /* the same point */
+        else if (!face && hits[j].feature == ESF_FEATURE_FACE) {
+          esf_wall_hit on;
+          esf_wall_nearest(f, hits[k].q, &on);
+          if (fabs(on.dist) <= tol) keep[k] = 0; /* the point lies on a touched face */
+        }
+      }
+    }
+  }
+}
+
 static int wall_forces(esf_sim *s, const double *x, const double *v, const double *w,
                        double dt, int commit, size_t *touching, esf_error *err) {
   esf_particles *p = &s->p;
@@ -129,64 +167,53 @@ static int wall_forces(esf_sim *s, const double *x, const double *v, const doubl
   double *led = commit && s->led.on ? c->led : NULL;
   double slip = 0;
   size_t nt = 0;
-  /* contact points kept so far for the current particle, to drop repeats */
-  enum { KEEP_MAX = 32 };
-  double kept_q[KEEP_MAX][3];
-  int kept_g[KEEP_MAX], nkept = 0;
-  uint32_t cur = UINT32_MAX;
-  for (size_t k = 0; k < c->n; k++) {
-    uint32_t a = c->a[k];
-    const esf_wall_elem *el = &s->walls.e[c->b[k]];
-    if (a != cur) {
-      cur = a;
-      nkept = 0;
+  esf_wall_hit *hits = s->nb.wall_hits;
+  double *un = s->nb.wall_un;
+  unsigned char *keep = s->nb.wall_keep;
+  for (size_t k0 = 0, k1; k0 < c->n; k0 = k1) {
+    uint32_t a = c->a[k0];
+    for (k1 = k0; k1 < c->n && c->a[k1] == a; k1++) {
+      esf_wall_nearest(&s->walls.e[c->b[k1]], x + 3 * a, &hits[k1 - k0]);
+      un[k1 - k0] = p->radius[a] - hits[k1 - k0].dist;
     }
-    const double *xa = x + 3 * a;
-    esf_wall_hit hit;
-    esf_wall_nearest(el, xa, &hit);
     double r = p->radius[a];
-    double un = r - hit.dist;
-    int dup = 0;
-    if (un > 0 && el->kind == ESF_WALL_POLYGON && hit.feature != ESF_FEATURE_FACE) {
-      double tol2 = 1e-18 * r * r;
-      for (int q = 0; q < nkept; q++) {
-        double dq[3];
-        v3_sub(dq, kept_q[q], hit.q);
-        if (kept_g[q] == el->group && v3_norm2(dq) <= tol2) dup = 1;
+    if (k1 - k0 == 1)
+      keep[0] = un[0] > 0;
+    else
+      select_wall_hits(&s->walls, c->b + k0, hits, un, k1 - k0, r, keep);
+    for (size_t k = k0; k < k1; k++) {
+      const esf_wall_hit *hit = &hits[k - k0];
+      if (!keep[k - k0]) {
+        if (commit) c->touch[k] = 0;
+        continue;
       }
+      const esf_wall_elem *el = &s->walls.e[c->b[k]];
+      if (un[k - k0] > s->cfg.max_overlap * r)
+        return overlap_failure(s, (long long)p->id[a], (long long)c->b[k], 1, un[k - k0],
+                               r, err);
+      const esf_wall_group *g = &s->walls.g[el->group];
+      esf_contact_in in;
+      v3_copy(in.n, hit->n);
+      in.un = un[k - k0];
+      double la = hit->dist;
+      double ra[3], ta[3], vw[3];
+      v3_scale(ra, la, in.n);
+      v3_cross(ta, w + 3 * a, ra);
+      esf_wall_point_velocity(g, hit->q, vw);
+      const double *va = v + 3 * a;
+      for (int q = 0; q < 3; q++) in.vc[q] = vw[q] - va[q] - ta[q];
+      in.spin_n = 0.5 * (v3_dot(w + 3 * a, in.n) + v3_dot(g->omega, in.n));
+      in.mstar = p->mass[a];
+      in.dt = dt;
+      const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
+      esf_contact_out out;
+      if (!eval_contact(s, pp, &in, c, k, commit, led, &slip, &out)) continue;
+      nt++;
+      v3_add(p->f + 3 * a, p->f + 3 * a, out.f);
+      double m[3];
+      v3_cross(m, in.n, out.ft);
+      v3_axpy(p->t + 3 * a, la, m);
     }
-    if (un <= 0 || dup) {
-      if (commit) c->touch[k] = 0;
-      continue;
-    }
-    if (nkept < KEEP_MAX) {
-      v3_copy(kept_q[nkept], hit.q);
-      kept_g[nkept++] = el->group;
-    }
-    if (un > s->cfg.max_overlap * r)
-      return overlap_failure(s, (long long)p->id[a], (long long)c->b[k], 1, un, r, err);
-    const esf_wall_group *g = &s->walls.g[el->group];
-    esf_contact_in in;
-    v3_copy(in.n, hit.n);
-    in.un = un;
-    double la = hit.dist;
-    double ra[3], ta[3], vw[3];
-    v3_scale(ra, la, in.n);
-    v3_cross(ta, w + 3 * a, ra);
-    esf_wall_point_velocity(g, hit.q, vw);
-    const double *va = v + 3 * a;
-    for (int q = 0; q < 3; q++) in.vc[q] = vw[q] - va[q] - ta[q];
-    in.spin_n = 0.5 * (v3_dot(w + 3 * a, in.n) + v3_dot(g->omega, in.n));
-    in.mstar = p->mass[a];
-    in.dt = dt;
-    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
-    esf_contact_out out;
-    if (!eval_contact(s, pp, &in, c, k, commit, led, &slip, &out)) continue;
-    nt++;
-    v3_add(p->f + 3 * a, p->f + 3 * a, out.f);
-    double m[3];
-    v3_cross(m, in.n, out.ft);
-    v3_axpy(p->t + 3 * a, la, m);
   }
   if (led) s->led.d_friction += slip;
   *touching += nt;

@@ -59,6 +59,9 @@ void esf_neighbor_release(esf_neighbor *nb) {
   contacts_release(&nb->pw);
   esf_cells_free(&nb->cells);
   esf_pairbuf_release(&nb->buf);
+  free(nb->wall_hits);
+  free(nb->wall_un);
+  free(nb->wall_keep);
   free(nb->xref);
   memset(nb, 0, sizeof *nb);
 }
@@ -224,6 +227,15 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
   rc = rebuild_list(&nb->pw, keys, mw, nb->ledger, err);
   free(keys);
   if (rc) return rc;
+  size_t ws = nb->pw.cap ? nb->pw.cap : 1;
+  esf_wall_hit *wh = realloc(nb->wall_hits, ws * sizeof *wh);
+  if (wh) nb->wall_hits = wh;
+  double *wu = realloc(nb->wall_un, ws * sizeof *wu);
+  if (wu) nb->wall_un = wu;
+  unsigned char *wk = realloc(nb->wall_keep, ws);
+  if (wk) nb->wall_keep = wk;
+  if (!wh || !wu || !wk)
+    return esf_fail(err, ESF_ENOMEM, "out of memory for wall contacts");
 
   if (nb->nref != p->n || !nb->xref) {
     free(nb->xref);

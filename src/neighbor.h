@@ -38,6 +38,9 @@ typedef struct esf_neighbor {
   int ledger;      /* allocate ledger scratch */
   esf_cells *cells;
   esf_pairbuf buf;
+  esf_wall_hit *wall_hits; /* scratch for the wall loop, pw.cap entries */
+  double *wall_un;
+  unsigned char *wall_keep;
   double *xref; /* positions at the last build, 3 * nref */
   size_t nref;
   long builds; /* rebuild count */

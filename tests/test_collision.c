@@ -114,6 +114,87 @@ static void run_case(const char *scene, double eta, int wall) {
   simtest_close(&T);
 }
 
+/* Head-on impacts on the face, an edge and a vertex of polygons, and on the shared
+ * diagonal of a square made of two triangles (once above the edge, once beside it):
+ * every case is the same one-dimensional impact along the contact normal, so the
+ * restitution and peak overlap must equal the plane's closed form (eta = 0.5). */
+static void polygon_case(const char *label, const char *walls, const double dir[3],
+                         const double target[3]) {
+  const double r = 0.005, gap = 2e-5;
+  char yaml[2048];
+  snprintf(yaml, sizeof yaml,
+           "name: polygon\n"
+           "gravity: [0, 0, 0]\n"
+           "materials: {glass: {density: 2500, kn: 1.0e5, restitution: 0.5, friction: "
+           "0.3}}\n"
+           "particles:\n"
+           "  - {material: glass, radius: %.17g, position: [%.17g, %.17g, %.17g],\n"
+           "     velocity: [%.17g, %.17g, %.17g]}\n"
+           "walls:\n%s"
+           "integrator: {dt: auto, frac: 0.002}\n"
+           "run: {duration: 1}\n"
+           "output: {energy_every: 0}\n",
+           r, target[0] - dir[0] * (r + gap), target[1] - dir[1] * (r + gap),
+           target[2] - dir[2] * (r + gap), dir[0], dir[1], dir[2], walls);
+  simtest T;
+  if (simtest_open(&T, yaml, NULL, 0)) {
+    CHECK(0, "%s: scene failed", label);
+    return;
+  }
+  esf_particles *p = &T.s.p;
+  double w = sqrt(1.0e5 / p->mass[0]);
+  expect x = closed_form(0.5, w);
+  double umax = 0;
+  int touched = 0;
+  for (long n = 0; n < 100000; n++) {
+    if (simtest_step(&T)) break;
+    double d[3];
+    v3_sub(d, p->x, target);
+    double u = r - v3_norm(d);
+    umax = fmax(umax, u);
+    if (u > 0) touched = 1;
+    if (touched && u < -2 * gap) break;
+  }
+  double e = -v3_dot(p->v, dir);
+  double side[3];
+  v3_copy(side, p->v);
+  v3_axpy(side, e, dir);
+  char what[96];
+  snprintf(what, sizeof what, "%s: restitution", label);
+  CHECK_NEAR(e, x.e, 0.005 * x.e, what);
+  snprintf(what, sizeof what, "%s: peak overlap", label);
+  CHECK_NEAR(umax, x.u_max, 0.005 * x.u_max, what);
+  CHECK(v3_norm(side) < 1e-9, "%s: rebounds along the normal (sideways %.3g m/s)", label,
+        v3_norm(side));
+  printf("%s: e=%.5f (closed form %.5f), u_max=%.5g m (%.5g)\n", label, e, x.e, umax,
+         x.u_max);
+  simtest_close(&T);
+}
+
+static void polygon_cases(void) {
+  const char *tri =
+      "  - {polygon: [[0, 0, 0], [0.1, 0, 0], [0, 0.1, 0]], material: glass}\n";
+  const char *square =
+      "  - {polygon: [[0, 0, 0], [0.1, 0, 0], [0.1, 0.1, 0]], material: glass}\n"
+      "  - {polygon: [[0, 0, 0], [0.1, 0.1, 0], [0, 0.1, 0]], material: glass}\n";
+  const char *box =
+      "  - {box: {min: [0, 0, 0], max: [0.1, 0.1, 0.1]}, material: glass}\n";
+  const double down[3] = {0, 0, 1}, s2 = sqrt(0.5), s3 = sqrt(1.0 / 3.0);
+  const double edge_dir[3] = {0, s2, -s2}, vert_dir[3] = {s3, s3, -s3};
+  /* the particle moves along dir toward target, from the side the feature faces */
+  double face_t[3] = {0.02, 0.02, 0}, edge_t[3] = {0.05, 0, 0}, vert_t[3] = {0, 0, 0};
+  double down_neg[3] = {0, 0, -1};
+  polygon_case("triangle face", tri, down_neg, face_t);
+  (void)down;
+  polygon_case("triangle edge", tri, edge_dir, edge_t);
+  polygon_case("triangle vertex", tri, vert_dir, vert_t);
+  double diag_t[3] = {0.05, 0.05, 0}, near_t[3] = {0.05, 0.0503, 0};
+  polygon_case("square diagonal (shared edge)", square, down_neg, diag_t);
+  polygon_case("beside the shared edge", square, down_neg, near_t);
+  double corner_t[3] = {0.05, 0.05, 0};
+  polygon_case("box floor", box, down_neg, corner_t);
+}
+
 int main(void) {
   const double etas[] = {0.1, 0.3, 0.5, 0.7, 0.9, 0.95, 1.0};
   for (size_t k = 0; k < sizeof etas / sizeof *etas; k++) {
@@ -122,5 +203,6 @@ int main(void) {
       run_case(wall_scene, etas[k], 1);
     }
   }
+  polygon_cases();
   return check_finish("test_collision");
 }
