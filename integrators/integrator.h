@@ -33,6 +33,7 @@ typedef struct esf_integrator_type {
 } esf_integrator_type;
 
 extern const esf_integrator_type esf_integrator_leapfrog;
+extern const esf_integrator_type esf_integrator_verlet;
 
 /* The scheme of a given name (integrator.method), or NULL. */
 const esf_integrator_type *esf_integrator_find(const char *name);

@@ -24,6 +24,7 @@
 #include <string.h>
 
 #include "forces.h"
+#include "integ_common.h"
 #include "integrator.h"
 #include "vec3.h"
 
@@ -46,21 +47,6 @@ static void lf_destroy(void **state) {
   if (lf) free(lf->vold);
   free(lf);
   *state = NULL;
-}
-
-static int refresh_lists(esf_sim *s, esf_error *err) {
-  int rebuild = 0;
-  int rc = esf_neighbor_check(&s->nb, &s->p, &rebuild, err);
-  if (rc) {
-    esf_error_prefix(err,
-                     "step %ld (t = %.6g s, dt = %.4g s, critical dt %.4g s): ", s->step,
-                     s->t, s->dt, s->dte.crit[s->cfg.dt_rule]);
-    return rc;
-  }
-  if (!rebuild) return ESF_OK;
-  rc = esf_sim_remove_escaped(s, err);
-  if (!rc) rc = esf_neighbor_build(&s->nb, &s->p, &s->walls, err);
-  return rc;
 }
 
 /* v_{-1/2} from v_0: half a step back with the initial forces (history not touched) */
@@ -141,7 +127,7 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   (void)t_stop;
   leapfrog *lf = state;
   esf_particles *p = &s->p;
-  int rc = refresh_lists(s, err);
+  int rc = esf_integ_refresh(s, NULL, err);
   if (rc) return rc;
   if (!lf->started) {
     rc = start(s, err);

@@ -3,7 +3,8 @@
 
 #include "integrator.h"
 
-const esf_integrator_type *const esf_integrators[] = {&esf_integrator_leapfrog, NULL};
+const esf_integrator_type *const esf_integrators[] = {&esf_integrator_leapfrog,
+                                                     &esf_integrator_verlet, NULL};
 
 const esf_integrator_type *esf_integrator_find(const char *name) {
   for (int k = 0; esf_integrators[k]; k++)

@@ -46,13 +46,21 @@ static int overlap_failure(const esf_sim *s, long long ida, long long idb, int w
 /* Evaluates the law for candidate k of list c, updates its touching flag and history
  * (commit), records the ledger scratch (when led is not NULL) and adds the slip work
  * to *slip. Returns 1 when the contact carries force. */
-static int eval_contact(const esf_sim *s, const esf_pair_params *pp,
+static int eval_contact(esf_sim *s, const esf_pair_params *pp,
                         const esf_contact_in *in, esf_contacts *c, size_t k, int commit,
                         double *led, double *slip, esf_contact_out *out) {
   s->law->eval(pp, s->beta, s->cfg.tframe, in, &c->h[k], !c->touch[k],
                commit ? &c->h[k] : NULL, out);
   if (commit) c->touch[k] = (uint8_t)out->touching;
   if (!out->touching) return 0;
+  esf_force_tally *ty = s->tally;
+  if (ty) {
+    ty->p_normal -= out->fd_n * v3_dot(in->vc, in->n);
+    ty->p_tangential += v3_dot(out->fd_t, in->vc);
+    ty->e_el_n += out->e_el_n;
+    ty->e_el_t += out->e_el_t;
+    ty->slip += out->slip_work;
+  }
   if (led) {
     double *L = led + ESF_LED_STRIDE * k;
     L[0] = in->un;
@@ -209,6 +217,7 @@ static int wall_forces(esf_sim *s, const double *x, const double *v, const doubl
       esf_contact_out out;
       if (!eval_contact(s, pp, &in, c, k, commit, led, &slip, &out)) continue;
       nt++;
+      if (s->tally) s->tally->p_walls += v3_dot(out.f, vw);
       v3_add(p->f + 3 * a, p->f + 3 * a, out.f);
       double m[3];
       v3_cross(m, in.n, out.ft);
@@ -231,6 +240,7 @@ int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *
     p->f[3 * i + 2] = m * g[2];
   }
   memset(p->t, 0, 3 * p->n * sizeof(double));
+  if (s->tally) memset(s->tally, 0, sizeof *s->tally);
   size_t nt = 0;
   int commit = mode == ESF_FORCES_COMMIT;
   int rc = pair_forces(s, x, v, w, dt, commit, &nt, err);

@@ -6,6 +6,17 @@
 
 #include "sim.h"
 
+/* Instantaneous energy rates and stored energies at an evaluation's state, for
+ * integrators that integrate the ledger as quadratures (set s->tally to collect). */
+typedef struct esf_force_tally {
+  double p_normal;     /* power dissipated by normal dashpots, W */
+  double p_tangential; /* power dissipated by tangential dashpots, W */
+  double p_walls;      /* power delivered by walls to the particles, W */
+  double e_el_n;       /* elastic energy (1/2) kn u^2, J */
+  double e_el_t;       /* elastic energy (1/2) kt |xi|^2, J */
+  double slip;         /* Coulomb slip work of this evaluation (committing), J */
+} esf_force_tally;
+
 enum {
   ESF_FORCES_TRIAL = 0, /* history read, not written */
   ESF_FORCES_COMMIT = 1 /* history, touching flags and ledger tallies written */
@@ -15,7 +26,8 @@ enum {
  * s->p.f and s->p.t (overwritten). dt is the time over which the tangential increment
  * integrates (the step). The candidate lists must be valid for x. Fails with
  * ESF_ENUMERIC when an overlap exceeds cfg.max_overlap of the smaller radius, naming
- * the step, particles, dt and the critical dt. Sets *touching to the touching count. */
+ * the step, particles, dt and the critical dt. Sets *touching to the touching count.
+ * When s->tally is not NULL it is overwritten with the evaluation's energy rates. */
 int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *w,
                     double dt, int mode, size_t *touching, esf_error *err);
 

@@ -89,6 +89,7 @@ typedef struct esf_sim {
   double contacts_sum; /* sum over steps of touching contacts */
   long rhs_evals;      /* force evaluations */
   FILE *log;           /* the run's log, or NULL */
+  struct esf_force_tally *tally; /* filled by force evaluations when not NULL */
 } esf_sim;
 
 /* Prepares a sim whose cfg, particles, materials and walls are filled in: mixes the

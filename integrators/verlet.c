@@ -1,0 +1,148 @@
+/* verlet.c — velocity Verlet (kick-drift-kick), the peers' default (LAMMPS, LIGGGHTS),
+ * for comparison with the leapfrog. Second order; velocities on the steps.
+ *
+ * State between steps: x, v, w at t_n and the damped accelerations a_n, dw_n.
+ * One step:
+ *   1. v_{n+1/2} = v_n + a_n dt/2, likewise w;
+ *   2. x_{n+1} = x_n + v_{n+1/2} dt; refresh the candidate lists;
+ *   3. F_{n+1} = forces(x_{n+1}, v_{n+1/2}) (dashpots see the half-step velocity, as in
+ *      the peers), committing the contact history over dt;
+ *   4. a_{n+1} with global damping -alpha m v_{n+1/2} and local damping as force terms;
+ *   5. v_{n+1} = v_{n+1/2} + a_{n+1} dt/2.
+ * Start: forces at x_0, v_0 with the history committed over a zero interval.
+ * Ledger: stored energies on the step; dissipation by the trapezoidal rule over the
+ * powers at successive evaluations (second order, so the residual falls as dt^2). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "forces.h"
+#include "integ_common.h"
+#include "integrator.h"
+
+typedef struct verlet {
+  size_t cap;
+  double *a, *dw;   /* 3 cap each */
+  double p_prev[6]; /* normal, tangential, global, local, walls powers at t_n */
+  int started;
+} verlet;
+
+static int vv_create(esf_sim *s, void **state, esf_error *err) {
+  (void)s;
+  verlet *vv = calloc(1, sizeof *vv);
+  if (!vv) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  *state = vv;
+  return ESF_OK;
+}
+
+static void vv_destroy(void **state) {
+  verlet *vv = *state;
+  if (vv) {
+    free(vv->a);
+    free(vv->dw);
+  }
+  free(vv);
+  *state = NULL;
+}
+
+static int reserve(verlet *vv, size_t n, esf_error *err) {
+  if (vv->cap >= n) return ESF_OK;
+  free(vv->a);
+  free(vv->dw);
+  vv->a = malloc(3 * n * sizeof(double));
+  vv->dw = malloc(3 * n * sizeof(double));
+  if (!vv->a || !vv->dw) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  vv->cap = n;
+  return ESF_OK;
+}
+
+/* forces and accelerations at the current state; powers into pw[5] */
+static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[5], esf_error *err) {
+  esf_particles *p = &s->p;
+  esf_force_tally ty;
+  s->tally = s->led.on ? &ty : NULL;
+  size_t touching = 0;
+  int rc = esf_forces_eval(s, p->x, p->v, p->w, dt, ESF_FORCES_COMMIT, &touching, err);
+  s->tally = NULL;
+  if (rc) return rc;
+  s->contacts_sum += (double)touching;
+  rc = reserve(vv, p->n, err);
+  if (rc) return rc;
+  double pd[2] = {0, 0};
+  esf_integ_accel(s, p->v, p->w, vv->a, vv->dw, s->led.on ? pd : NULL);
+  if (s->led.on) {
+    pw[0] = ty.p_normal;
+    pw[1] = ty.p_tangential;
+    pw[2] = pd[0];
+    pw[3] = pd[1];
+    pw[4] = ty.p_walls;
+    s->led.el_n = ty.e_el_n;
+    s->led.el_t = ty.e_el_t;
+    s->led.d_friction += ty.slip;
+  }
+  return ESF_OK;
+}
+
+static void ledger_update(esf_sim *s, verlet *vv, const double pw[5]) {
+  esf_ledger *L = &s->led;
+  double h = 0.5 * s->dt;
+  L->d_normal += h * (vv->p_prev[0] + pw[0]);
+  L->d_tangential += h * (vv->p_prev[1] + pw[1]);
+  L->d_global += h * (vv->p_prev[2] + pw[2]);
+  L->d_local += h * (vv->p_prev[3] + pw[3]);
+  L->w_walls += h * (vv->p_prev[4] + pw[4]);
+  memcpy(vv->p_prev, pw, 5 * sizeof(double));
+  esf_integ_energies(s, s->p.x, s->p.v, s->p.w, &L->kin_t, &L->kin_r, &L->pot_g);
+  s->led_time = s->t;
+}
+
+static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
+  (void)t_stop;
+  verlet *vv = state;
+  esf_particles *p = &s->p;
+  double pw[5] = {0, 0, 0, 0, 0};
+  int rc;
+  if (!vv->started) {
+    rc = esf_integ_refresh(s, NULL, err);
+    if (!rc) rc = evaluate(s, vv, 0.0, pw, err);
+    if (rc) return rc;
+    if (s->led.on) {
+      memcpy(vv->p_prev, pw, 5 * sizeof(double));
+      esf_integ_energies(s, p->x, p->v, p->w, &s->led.kin_t, &s->led.kin_r, &s->led.pot_g);
+      s->led.e0 = esf_ledger_stored(&s->led);
+      s->led.started = 1;
+    }
+    vv->started = 1;
+  }
+  const double dt = s->dt, h = 0.5 * dt;
+  for (size_t j = 0; j < 3 * p->n; j++) {
+    p->v[j] += h * vv->a[j];
+    p->w[j] += h * vv->dw[j];
+    p->x[j] += dt * p->v[j];
+  }
+  size_t n_before = p->n;
+  rc = esf_integ_refresh(s, NULL, err);
+  if (!rc && p->n != n_before)
+    rc = esf_fail(err, ESF_EINPUT, "the verlet integrator does not support particles "
+                                   "leaving the domain yet; use leapfrog");
+  if (!rc) rc = evaluate(s, vv, dt, pw, err);
+  if (rc) return rc;
+  for (size_t j = 0; j < 3 * p->n; j++) {
+    p->v[j] += h * vv->a[j];
+    p->w[j] += h * vv->dw[j];
+  }
+  s->step++;
+  s->t = (double)s->step * dt;
+  if (s->led.on) ledger_update(s, vv, pw);
+  return ESF_OK;
+}
+
+const esf_integrator_type esf_integrator_verlet = {
+    .name = "verlet",
+    .summary = "velocity Verlet (kick-drift-kick), velocities on the steps; damping as "
+               "force terms; the peers' default, for comparison",
+    .order = 2,
+    .flags = ESF_INTEG_FIXED_STEP | ESF_INTEG_HISTORY_INCREMENTAL,
+    .create = vv_create,
+    .step = vv_step,
+    .destroy = vv_destroy,
+};
