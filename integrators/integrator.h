@@ -22,6 +22,17 @@ enum {
   ESF_INTEG_HISTORY_INCREMENTAL = 1u << 3 /* contact history committed once per step */
 };
 
+/* Cost accounting of a run (every scheme fills what applies; the rest stays 0). */
+typedef struct esf_integ_stats {
+  long steps;          /* accepted steps */
+  long attempts;       /* step attempts (accepted + rejected) */
+  long rejected;       /* error-test failures */
+  long rhs_evals;      /* right-hand-side (force) evaluations, commits included */
+  long acc_limited;    /* adaptive: steps limited by accuracy */
+  long stab_limited;   /* adaptive: steps limited by the stability bound */
+  double h_last;       /* last step size, s */
+} esf_integ_stats;
+
 typedef struct esf_integrator_type {
   const char *name;
   const char *summary; /* one line for --help and the log */
@@ -30,10 +41,14 @@ typedef struct esf_integrator_type {
   int (*create)(esf_sim *s, void **state, esf_error *err);
   int (*step)(esf_sim *s, void *state, double t_stop, esf_error *err);
   void (*destroy)(void **state);
+  /* Optional: cost accounting so far. */
+  void (*stats)(const esf_sim *s, void *state, esf_integ_stats *out);
 } esf_integrator_type;
 
 extern const esf_integrator_type esf_integrator_leapfrog;
 extern const esf_integrator_type esf_integrator_verlet;
+extern const esf_integrator_type esf_integrator_erk;   /* erk:<TABLE> and rk4 */
+extern const esf_integrator_type esf_integrator_cvode; /* cvode-adams */
 
 /* The scheme of a given name (integrator.method), or NULL. */
 const esf_integrator_type *esf_integrator_find(const char *name);

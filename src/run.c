@@ -145,29 +145,49 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   if (!rc) rc = esf_frames_write(fr, s->t, &s->p, err);
   if (rc) goto done;
 
+  int adaptive = (it->flags & ESF_INTEG_ADAPTIVE) && s->cfg.rtol > 0;
   long nsteps =
       s->cfg.steps > 0 ? s->cfg.steps : (long)ceil(s->cfg.duration / s->dt - 1e-9);
-  double t_end = nsteps * s->dt;
+  double t_end = adaptive && s->cfg.duration > 0 ? s->cfg.duration : nsteps * s->dt;
   long every_e = s->cfg.energy_every > 0
                      ? (long)fmax(1.0, floor(s->cfg.energy_every / s->dt + 0.5))
                      : 0;
   long every_f =
       s->cfg.out_every > 0 ? (long)fmax(1.0, floor(s->cfg.out_every / s->dt + 0.5)) : 0;
-  esf_sim_log(s,
-              "run: %ld steps to t = %.6g s; frames every %ld steps, energy rows "
-              "every %ld steps",
-              nsteps, t_end, every_f, every_e);
+  if (adaptive)
+    esf_sim_log(s, "run: adaptive steps to t = %.6g s; frames every %.6g s, energy rows "
+                   "every %.6g s",
+                t_end, s->cfg.out_every, s->cfg.energy_every);
+  else
+    esf_sim_log(s, "run: %ld steps to t = %.6g s; frames every %ld steps, energy rows "
+                   "every %ld steps",
+                nsteps, t_end, every_f, every_e);
   double t0 = now_s(), next_prog = t0 + 0.5, psum = 0.0;
-  for (long n = 0; n < nsteps; n++) {
+  /* adaptive methods are not forced onto the output times (that would cap their
+     steps): rows and frames are written at the first step at or past each time */
+  double te = s->cfg.energy_every, tf = s->cfg.out_every;
+  double next_e = te > 0 ? te : INFINITY, next_f = tf > 0 ? tf : INFINITY;
+  for (long n = 0; adaptive ? s->t < t_end * (1 - 1e-12) : n < nsteps; n++) {
     psum += (double)s->p.n;
     rc = it->step(s, ist, t_end, err);
     if (rc) break;
-    if (every_e && (n % every_e == 0 || n == nsteps - 1)) {
+    int row, frame;
+    if (adaptive) {
+      double tol = 1e-9 * t_end;
+      row = te > 0 && (s->t >= next_e - tol || s->t >= t_end * (1 - 1e-12));
+      frame = tf > 0 && s->t >= next_f - tol && s->t < t_end * (1 - 1e-12);
+      while (te > 0 && next_e <= s->t + tol) next_e += te;
+      while (tf > 0 && next_f <= s->t + tol) next_f += tf;
+    } else {
+      row = every_e && (n % every_e == 0 || n == nsteps - 1);
+      frame = every_f && (n + 1) % every_f == 0 && n + 1 < nsteps;
+    }
+    if (row) {
       esf_ledger_row(ef, s->led_time, &s->led, s->alpha_r);
       rc = check_energy(s, err);
       if (rc) break;
     }
-    if (every_f && (n + 1) % every_f == 0 && n + 1 < nsteps) {
+    if (frame) {
       rc = esf_frames_write(fr, s->t, &s->p, err);
       if (rc) break;
     }
@@ -186,16 +206,27 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   st->particles_mean = s->step ? psum / (double)s->step : (double)s->p.n;
   st->contacts_mean = s->step ? s->contacts_sum / (double)s->step : 0.0;
   st->rate = wall > 0 ? psum / wall : 0.0;
+  memset(&st->integ, 0, sizeof st->integ);
+  if (ist && it->stats) it->stats(s, ist, &st->integ);
+  else {
+    st->integ.steps = st->integ.attempts = s->step;
+    st->integ.rhs_evals = s->rhs_evals;
+    st->integ.h_last = s->dt;
+  }
   st->energy_error = s->led.on ? esf_ledger_total_error(&s->led) : 0.0;
   st->dissipated = s->led.on ? esf_ledger_dissipated(&s->led) : 0.0;
   if (!rc) rc = esf_frames_write(fr, s->t, &s->p, err);
   if (rc)
     esf_sim_log(s, "FAILED: %s", err->msg);
   else
-    esf_sim_log(s,
-                "done: %ld steps, %.3f s of loop, %.4g particle-steps/s, %ld list "
-                "builds, %ld force evaluations, %ld particles removed",
-                st->steps, wall, st->rate, s->nb.builds, s->rhs_evals, s->removed);
+    esf_sim_log(s, "done: %ld steps, %.3f s of loop, %.4g particle-steps/s, %ld list "
+                "builds, %ld force evaluations, %ld particles removed; integrator: %ld "
+                "steps, %ld attempts, %ld rejected, %ld rhs evaluations, %ld limited "
+                "by accuracy, %ld by stability, last step %.4g s",
+                st->steps, wall, st->rate, s->nb.builds, s->rhs_evals, s->removed,
+                st->integ.steps, st->integ.attempts, st->integ.rejected,
+                st->integ.rhs_evals, st->integ.acc_limited, st->integ.stab_limited,
+                st->integ.h_last);
 done:
   if (ist) it->destroy(&ist);
   {

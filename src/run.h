@@ -19,6 +19,7 @@ typedef struct esf_run_stats {
   double rate;           /* particle-steps per second */
   double energy_error;   /* final total_error, J (0 without ledger) */
   double dissipated;     /* final dissipated energy, J */
+  esf_integ_stats integ; /* the integrator's cost accounting */
 } esf_run_stats;
 
 /* Creates out_dir (and parents), writes log.txt, energy.csv and frames.h5 while

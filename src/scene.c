@@ -128,8 +128,8 @@ int esf_scene_material(const esf_ynode *node, const esf_materials *m, int32_t *i
 }
 
 static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err) {
-  static const char *const keys[] = {"method",         "dt", "dt_rule", "frac",
-                                     "allow_unstable", NULL};
+  static const char *const keys[] = {"method", "dt",   "dt_rule", "frac",      "allow_unstable",
+                                     "rtol",   "atol", "history", "max_steps", NULL};
   const esf_ynode *in = esf_ymap_get(root, "integrator");
   if (!in) return ESF_OK;
   int rc = esf_ynode_require_map(in, err);
@@ -153,6 +153,14 @@ static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err)
   if (!rc && !(c->frac > 0))
     return esf_ynode_fail(esf_ymap_get(in, "frac"), err, "must be positive");
   if (!rc) rc = esf_yget_bool(in, "allow_unstable", 0, &c->allow_unstable, err);
+  if (!rc) rc = esf_yget_double(in, "rtol", 0, &c->rtol, err);
+  if (!rc) rc = positive(in, "rtol", c->rtol, 0, err);
+  if (!rc) rc = esf_yget_double(in, "atol", 0, &c->atol, err);
+  if (!rc) rc = positive(in, "atol", c->atol, 1, err);
+  if (!rc) rc = esf_yget_choice(in, "history", 0, esf_history_names, &c->history, err);
+  if (!rc) rc = esf_yget_long(in, "max_steps", 0, &c->max_steps, err);
+  if (!rc && c->max_steps <= 0)
+    return esf_ynode_fail(esf_ymap_get(in, "max_steps"), err, "must be positive");
   return rc;
 }
 

@@ -17,6 +17,8 @@
 
 #include "vec3.h"
 
+const char *const esf_history_names[] = {"frozen", "state", NULL};
+
 void esf_config_default(esf_config *c) {
   memset(c, 0, sizeof *c);
   snprintf(c->name, sizeof c->name, "scene");
@@ -33,6 +35,10 @@ void esf_config_default(esf_config *c) {
   c->autod.alpha_min = -1; /* set from the contact frequency at set-up */
   c->autod.alpha_max = -1;
   c->tframe = ESF_TFRAME_ROTATE;
+  c->rtol = 0;
+  c->atol = 1e-9;
+  c->history = ESF_HIST_FROZEN;
+  c->max_steps = 100000000;
   c->max_overlap = 0.5;
   c->skin = -1;
   c->out_every = 0;

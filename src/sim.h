@@ -19,6 +19,10 @@
 enum { ESF_DT_CUNDALL = 0, ESF_DT_HART = 1, ESF_DT_DAMPED = 2, ESF_DT_RULES = 3 };
 extern const char *const esf_dt_rule_names[]; /* "cundall", "hart", "damped", NULL */
 
+/* How ODE methods treat contact history (integrators/dem_ode.h). */
+enum { ESF_HIST_FROZEN = 0, ESF_HIST_STATE = 1 };
+extern const char *const esf_history_names[]; /* "frozen", "state", NULL */
+
 enum { ESF_LOCAL_OFF = 0, ESF_LOCAL_COMPONENT = 1, ESF_LOCAL_VECTOR = 2 };
 
 /* Everything a scene sets, with SI units. esf_config_default gives the defaults. */
@@ -37,6 +41,10 @@ typedef struct esf_config {
   int dt_rule;        /* ESF_DT_* */
   double frac;        /* dt = frac x critical (auto) */
   int allow_unstable; /* accept dt above the rule's critical value */
+
+  double rtol, atol;       /* adaptive ODE methods: tolerances (rtol 0: fixed step) */
+  int history;             /* ODE methods: ESF_HIST_FROZEN or ESF_HIST_STATE */
+  long max_steps;          /* ODE methods: step limit per call */
 
   double alpha_r, alpha_t;             /* global viscous damping, 1/s */
   int local_form;                      /* ESF_LOCAL_* */

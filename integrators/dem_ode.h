@@ -1,0 +1,51 @@
+/* dem_ode.h — the DEM as an ODE right-hand side y' = f(t, y) for the SUNDIALS methods.
+ *
+ * y = [ x (3n) | v (3n) | w (3n) | Q (ESF_ODE_NQ) ], Q the ledger quadratures
+ * (dissipated by normal and tangential dashpots, global and local damping, and the work
+ * of walls), so that an adaptive method integrates the energy balance to its own
+ * accuracy. f = [ v | a | dw | powers ] with a, dw the damped accelerations
+ * (integ_common.h) from the forces at (x, v, w).
+ *
+ * Contact history, treatment (b) "frozen": within a step the tangential displacement is
+ * the committed one carried linearly, xi(t) = rot(xi_c) + vct(t) (t - t_c), as the
+ * leapfrog would over one step; stage evaluations never write it. After each accepted
+ * step esf_dem_ode_commit evaluates once more at the step's end and commits (Coulomb
+ * return and slip work included), then t_c = t. Treatment (a) "state" (history as ODE
+ * state) is not implemented in this version.
+ *
+ * A failure inside f (a non-finite acceleration, an overlap beyond the limit) returns 1
+ * (recoverable: adaptive methods retry with a smaller step) and keeps the message. */
+#ifndef ESF_DEM_ODE_H
+#define ESF_DEM_ODE_H
+
+#include "sim.h"
+
+enum { ESF_ODE_QN, ESF_ODE_QT, ESF_ODE_QG, ESF_ODE_QL, ESF_ODE_QW, ESF_ODE_NQ };
+
+typedef struct esf_dem_ode {
+  esf_sim *s;
+  size_t n;          /* particles in the layout */
+  size_t len;        /* length of y */
+  double t_commit;   /* time the committed history refers to, s */
+  long nrhs;         /* right-hand-side evaluations */
+  long ncommit;      /* commit evaluations */
+  long nfail;        /* recoverable failures returned */
+  esf_error err;     /* the last failure inside f */
+} esf_dem_ode;
+
+/* Sets up the layout for the sim's particles; y0 (length o->len) gets the state. */
+void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s, double *y0);
+
+/* The stored energy at the start (a trial evaluation at t0 for the elastic energy):
+ * sets the ledger's e0. */
+int esf_dem_ode_start(esf_dem_ode *o, const double *y, esf_error *err);
+
+/* The right-hand side: 0 ok, 1 recoverable failure (message in o->err). */
+int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot);
+
+/* After an accepted step to t with state y: copies x, v, w into the particles, commits
+ * the contact history over [t_commit, t], updates the ledger (stored energies,
+ * dissipation from the quadratures and the slip work) and sets s->t, s->led_time. */
+int esf_dem_ode_commit(esf_dem_ode *o, double t, const double *y, esf_error *err);
+
+#endif

@@ -1,0 +1,233 @@
+/* erk.c — ARKODE ERKStep explicit Runge-Kutta methods on the DEM right-hand side
+ * (dem_ode.h): `erk:<TABLE>` for any explicit table of SUNDIALS 6.4 by name
+ * (ARKODE_HEUN_EULER_2_1_2 ... ARKODE_VERNER_8_5_6, ARKODE_FEHLBERG_13_7_8) and `rk4`,
+ * the classical fourth-order method as a custom Butcher table.
+ *
+ * Fixed step (integrator.rtol = 0): dt from integrator.dt or frac x the critical step.
+ * Adaptive (rtol > 0, tables with an embedding only): tolerances rtol and atol on x, v,
+ * w (the ledger quadratures are excluded from the error test), ARKODE's step limit
+ * raised to integrator.max_steps, and the DEM stability bound given through
+ * ERKStepSetStabilityFn: h_stab = r / omega_max, with r where the table's stability
+ * polynomial R(z) first leaves the unit disc along the ray of the stiffest contact mode
+ * (damping ratio xi: z = r exp(i (pi - acos xi))), and omega_max the highest contact
+ * frequency including the rotation a tangential spring drives:
+ * omega_max^2 = k_max / m_min x (7 for spheres, 6 for disks; 1/m + r^2/I per body).
+ *
+ * Each call of step() takes one internal step (ARK_ONE_STEP) not past t_stop, then
+ * commits the contact history (esf_dem_ode_commit) and refreshes the candidate lists. */
+#include <arkode/arkode_erkstep.h>
+#include <math.h>
+#include <nvector/nvector_serial.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dem_ode.h"
+#include "integ_common.h"
+#include "integrator.h"
+
+typedef struct erk {
+  SUNContext ctx;
+  void *mem;
+  N_Vector y, atol;
+  esf_dem_ode ode;
+  ARKodeButcherTable table; /* owned copy, for the stability polynomial */
+  double h_stab;            /* s; <= 0: no stability bound */
+  char name[128];
+} erk;
+
+static int erk_rhs(realtype t, N_Vector y, N_Vector ydot, void *data) {
+  erk *e = data;
+  return esf_dem_ode_rhs(&e->ode, t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
+}
+
+static int erk_stab(N_Vector y, realtype t, realtype *hstab, void *data) {
+  (void)y;
+  (void)t;
+  erk *e = data;
+  *hstab = e->h_stab;
+  return 0;
+}
+
+/* the classical RK4 */
+static ARKodeButcherTable rk4_table(void) {
+  realtype c[4] = {0, 0.5, 0.5, 1};
+  realtype A[16] = {0, 0, 0, 0, 0.5, 0, 0, 0, 0, 0.5, 0, 0, 0, 0, 1, 0};
+  realtype b[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6};
+  return ARKodeButcherTable_Create(4, 4, 0, c, A, b, NULL);
+}
+
+/* r where |R(r e^{i theta})| first exceeds 1 (0 when it does so at once). */
+static double stability_radius(ARKodeButcherTable B, double xi) {
+  int s = B->stages;
+  double coef[32] = {0}; /* c_k = b^T A^{k-1} 1, R(z) = 1 + sum c_k z^k */
+  double u[32], t[32];
+  for (int i = 0; i < s; i++) u[i] = 1.0;
+  for (int k = 1; k <= s && k < 32; k++) {
+    double ck = 0;
+    for (int i = 0; i < s; i++) ck += B->b[i] * u[i];
+    coef[k] = ck;
+    for (int i = 0; i < s; i++) {
+      t[i] = 0;
+      for (int j = 0; j < s; j++) t[i] += B->A[i][j] * u[j];
+    }
+    memcpy(u, t, (size_t)s * sizeof(double));
+  }
+  double th = acos(-fmin(xi, 1.0)); /* pi - acos(xi) */
+  double ct = cos(th), st = sin(th), last_ok = 0;
+  for (double r = 1e-3; r < 4.0 * s; r += 1e-3) {
+    double re = 1, im = 0, pr = 1, pi = 0; /* z^k accumulated */
+    for (int k = 1; k <= s; k++) {
+      double nr = pr * r * ct - pi * r * st, ni = pr * r * st + pi * r * ct;
+      pr = nr;
+      pi = ni;
+      re += coef[k] * pr;
+      im += coef[k] * pi;
+    }
+    if (re * re + im * im > 1.0 + 1e-10) break;
+    last_ok = r;
+  }
+  return last_ok;
+}
+
+static int fail_flag(erk *e, esf_error *err, int flag, const char *what) {
+  esf_sim *s = e->ode.s;
+  realtype h = 0, t = 0;
+  ERKStepGetCurrentStep(e->mem, &h);
+  ERKStepGetCurrentTime(e->mem, &t);
+  if (e->ode.err.code)
+    return esf_fail(err, ESF_ENUMERIC,
+                    "%s (%s) failed at t = %.6g s with step %.4g s (critical dt %.4g s): "
+                    "%s",
+                    e->name, what, t, h, s->dte.crit[s->cfg.dt_rule], e->ode.err.msg);
+  return esf_fail(err, ESF_ENUMERIC,
+                  "%s (%s) failed at t = %.6g s with step %.4g s: %s (flag %d)", e->name,
+                  what, t, h, ERKStepGetReturnFlagName(flag), flag);
+}
+
+static int erk_create(esf_sim *s, void **state, esf_error *err) {
+  const esf_config *c = &s->cfg;
+  erk *e = calloc(1, sizeof *e);
+  if (!e) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  *state = e;
+  const char *tname = strncmp(c->method, "erk:", 4) == 0 ? c->method + 4 : c->method;
+  snprintf(e->name, sizeof e->name, "%s", c->method);
+  if (SUNContext_Create(NULL, &e->ctx))
+    return esf_fail(err, ESF_EINTERNAL, "cannot create a SUNDIALS context");
+  if (strcmp(tname, "rk4") == 0) e->table = rk4_table();
+  else e->table = ARKodeButcherTable_LoadERKByName(tname);
+  if (!e->table)
+    return esf_fail(err, ESF_EINPUT,
+                    "integrator.method: '%s' is not an explicit Runge-Kutta table of "
+                    "SUNDIALS 6.4 (e.g. erk:ARKODE_DORMAND_PRINCE_7_4_5, or rk4)",
+                    c->method);
+  int adaptive = c->rtol > 0;
+  if (adaptive && !e->table->d)
+    return esf_fail(err, ESF_EINPUT,
+                    "%s has no embedded error estimate: it runs with a fixed step only "
+                    "(set integrator.rtol: 0 and give dt or frac)",
+                    c->method);
+  esf_dem_ode tmp;
+  e->y = N_VNew_Serial((sunindextype)(9 * s->p.n + ESF_ODE_NQ), e->ctx);
+  if (!e->y) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  esf_dem_ode_init(&tmp, s, N_VGetArrayPointer(e->y));
+  e->ode = tmp;
+  int rc = esf_integ_refresh(s, NULL, err);
+  if (!rc) rc = esf_dem_ode_start(&e->ode, N_VGetArrayPointer(e->y), err);
+  if (rc) return rc;
+  e->mem = ERKStepCreate(erk_rhs, s->t, e->y, e->ctx);
+  if (!e->mem) return esf_fail(err, ESF_EINTERNAL, "ERKStepCreate failed");
+  ERKStepSetUserData(e->mem, e);
+  ERKStepSetErrHandlerFn(e->mem, NULL, NULL);
+  int flag = ERKStepSetTable(e->mem, e->table);
+  if (flag) return fail_flag(e, err, flag, "table");
+  ERKStepSetMaxNumSteps(e->mem, c->max_steps);
+  double w2 = (c->dim == 2 ? 6.0 : 7.0) * s->dte.k_max / s->dte.m_min;
+  double r = stability_radius(e->table, s->dte.xi);
+  e->h_stab = (r > 0.05 && w2 > 0) ? r / sqrt(w2) : -1.0;
+  if (adaptive) {
+    e->atol = N_VNew_Serial(N_VGetLength(e->y), e->ctx);
+    double *a = N_VGetArrayPointer(e->atol);
+    for (size_t j = 0; j < 9 * s->p.n; j++) a[j] = c->atol;
+    for (int q = 0; q < ESF_ODE_NQ; q++) a[9 * s->p.n + q] = 1e300; /* not tested */
+    ERKStepSVtolerances(e->mem, c->rtol, e->atol);
+    ERKStepSetInitStep(e->mem, s->dt);
+    ERKStepSetMaxStep(e->mem, 10.0 * s->dte.crit[ESF_DT_HART]);
+    if (e->h_stab > 0) ERKStepSetStabilityFn(e->mem, erk_stab, e);
+  } else {
+    ERKStepSetFixedStep(e->mem, s->dt);
+  }
+  esf_sim_log(s, "%s: %d stages, order %d%s; stability radius %.3f along the xi = %.3f "
+              "ray, omega_max %.4g rad/s: h_stab %.4g s; %s",
+              c->method, e->table->stages, e->table->q,
+              e->table->d ? " with an embedding" : "", r, s->dte.xi, sqrt(w2), e->h_stab,
+              adaptive ? "adaptive" : "fixed step");
+  return ESF_OK;
+}
+
+static int erk_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
+  erk *e = state;
+  ERKStepSetStopTime(e->mem, t_stop);
+  realtype tret = 0;
+  esf_error_clear(&e->ode.err);
+  int flag = ERKStepEvolve(e->mem, t_stop, e->y, &tret, ARK_ONE_STEP);
+  if (flag < 0) return fail_flag(e, err, flag, "step");
+  int rc = esf_dem_ode_commit(&e->ode, tret, N_VGetArrayPointer(e->y), err);
+  if (rc) return rc;
+  realtype h = 0;
+  ERKStepGetLastStep(e->mem, &h);
+  s->step++;
+  if (!(s->cfg.rtol > 0)) s->t = (double)s->step * s->dt; /* fixed step: exact times */
+  size_t n_before = s->p.n;
+  rc = esf_integ_refresh(s, NULL, err);
+  if (!rc && s->p.n != n_before)
+    rc = esf_fail(err, ESF_EINPUT, "%s: particles left the domain; removal is supported "
+                                   "by the leapfrog only in this version", e->name);
+  return rc;
+}
+
+static void erk_stats(const esf_sim *s, void *state, esf_integ_stats *o) {
+  (void)s;
+  erk *e = state;
+  memset(o, 0, sizeof *o);
+  long v = 0;
+  ERKStepGetNumSteps(e->mem, &v);
+  o->steps = v;
+  ERKStepGetNumStepAttempts(e->mem, &v);
+  o->attempts = v;
+  ERKStepGetNumErrTestFails(e->mem, &v);
+  o->rejected = v;
+  ERKStepGetNumRhsEvals(e->mem, &v);
+  o->rhs_evals = v + e->ode.ncommit;
+  ERKStepGetNumAccSteps(e->mem, &v);
+  o->acc_limited = v;
+  ERKStepGetNumExpSteps(e->mem, &v);
+  o->stab_limited = v;
+  realtype h = 0;
+  ERKStepGetLastStep(e->mem, &h);
+  o->h_last = h;
+}
+
+static void erk_destroy(void **state) {
+  erk *e = *state;
+  if (e) {
+    if (e->mem) ERKStepFree(&e->mem);
+    if (e->y) N_VDestroy(e->y);
+    if (e->atol) N_VDestroy(e->atol);
+    if (e->table) ARKodeButcherTable_Free(e->table);
+    if (e->ctx) SUNContext_Free(&e->ctx);
+  }
+  free(e);
+  *state = NULL;
+}
+
+const esf_integrator_type esf_integrator_erk = {
+    .name = "erk",
+    .summary = "erk:<TABLE> or rk4: SUNDIALS ARKODE explicit Runge-Kutta, fixed step or "
+               "adaptive (rtol, atol) with the DEM stability bound",
+    .order = 0, /* the table's */
+    .flags = ESF_INTEG_FIXED_STEP | ESF_INTEG_ADAPTIVE,
+    .create = erk_create,
+    .step = erk_step,
+    .destroy = erk_destroy,
+    .stats = erk_stats,
+};
