@@ -40,6 +40,12 @@ void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s, double *y0);
  * sets the ledger's e0. */
 int esf_dem_ode_start(esf_dem_ode *o, const double *y, esf_error *err);
 
+/* Absolute tolerance for the ledger quadratures: rtol times the energy scale (the
+ * stored energy at the start plus the kinetic energy), so that the energy balance is
+ * integrated as accurately as the motion; left out of the error test, a multistep
+ * method extrapolates the dashpots' power across whole collisions. */
+double esf_dem_ode_qtol(const esf_dem_ode *o, double rtol);
+
 /* The right-hand side: 0 ok, 1 recoverable failure (message in o->err). */
 int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot);
 

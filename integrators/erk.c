@@ -5,7 +5,7 @@
  *
  * Fixed step (integrator.rtol = 0): dt from integrator.dt or frac x the critical step.
  * Adaptive (rtol > 0, tables with an embedding only): tolerances rtol and atol on x, v,
- * w (the ledger quadratures are excluded from the error test), ARKODE's step limit
+ * w (the ledger quadratures take part in the error test with esf_dem_ode_qtol), ARKODE's step limit
  * raised to integrator.max_steps, and the DEM stability bound given through
  * ERKStepSetStabilityFn: h_stab = r / omega_max, with r where the table's stability
  * polynomial R(z) first leaves the unit disc along the ray of the stiffest contact mode
@@ -148,7 +148,7 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
     e->atol = N_VNew_Serial(N_VGetLength(e->y), e->ctx);
     double *a = N_VGetArrayPointer(e->atol);
     for (size_t j = 0; j < 9 * s->p.n; j++) a[j] = c->atol;
-    for (int q = 0; q < ESF_ODE_NQ; q++) a[9 * s->p.n + q] = 1e300; /* not tested */
+    for (int q = 0; q < ESF_ODE_NQ; q++) a[9 * s->p.n + q] = esf_dem_ode_qtol(&e->ode, c->rtol);
     ERKStepSVtolerances(e->mem, c->rtol, e->atol);
     ERKStepSetInitStep(e->mem, s->dt);
     ERKStepSetMaxStep(e->mem, 10.0 * s->dte.crit[ESF_DT_HART]);
