@@ -2,10 +2,10 @@
  * (orders 1-12) on the DEM right-hand side (dem_ode.h), with the fixed-point nonlinear
  * solver (no Jacobian: the DEM right-hand side is non-stiff at the steps Adams takes).
  * Always adaptive: rtol (integrator.rtol, default 1e-6 when 0) and atol on x, v, w; the
- * ledger quadratures take part in the error test (esf_dem_ode_qtol). Each step() takes one internal
- * step (CV_ONE_STEP) not past t_stop, then commits the contact history. The commit
- * changes f's derivative (not its value) at the step's end, which the multistep history
- * sees as non-smoothness: the cost of that is one of the testbed's results. */
+ * ledger quadratures take part in the error test (esf_dem_ode_qtol). Each step() takes
+ * one internal step (CV_ONE_STEP) not past t_stop, then commits the contact history. The
+ * commit changes f's derivative (not its value) at the step's end, which the multistep
+ * history sees as non-smoothness: the cost of that is one of the testbed's results. */
 #include <cvode/cvode.h>
 #include <math.h>
 #include <nvector/nvector_serial.h>
@@ -40,8 +40,9 @@ static int cv_fail(cvadams *c, esf_error *err, int flag) {
                     "cvode-adams failed at t = %.6g s with step %.4g s (critical dt %.4g "
                     "s): %s",
                     t, h, s->dte.crit[s->cfg.dt_rule], c->ode.err.msg);
-  return esf_fail(err, ESF_ENUMERIC, "cvode-adams failed at t = %.6g s with step %.4g s: %s",
-                  t, h, CVodeGetReturnFlagName(flag));
+  return esf_fail(err, ESF_ENUMERIC,
+                  "cvode-adams failed at t = %.6g s with step %.4g s: %s", t, h,
+                  CVodeGetReturnFlagName(flag));
 }
 
 static int cv_create(esf_sim *s, void **state, esf_error *err) {
@@ -92,8 +93,9 @@ static int cv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   size_t n_before = s->p.n;
   rc = esf_integ_refresh(s, NULL, err);
   if (!rc && s->p.n != n_before)
-    rc = esf_fail(err, ESF_EINPUT, "cvode-adams: particles left the domain; removal is "
-                                   "supported by the leapfrog only in this version");
+    rc = esf_fail(err, ESF_EINPUT,
+                  "cvode-adams: particles left the domain; removal is "
+                  "supported by the leapfrog only in this version");
   return rc;
 }
 
@@ -130,8 +132,9 @@ static void cv_destroy(void **state) {
 
 const esf_integrator_type esf_integrator_cvode = {
     .name = "cvode-adams",
-    .summary = "SUNDIALS CVODE variable-order Adams with the fixed-point solver; adaptive "
-               "(rtol, atol)",
+    .summary =
+        "SUNDIALS CVODE variable-order Adams with the fixed-point solver; adaptive "
+        "(rtol, atol)",
     .order = 0, /* variable, 1-12 */
     .flags = ESF_INTEG_ADAPTIVE,
     .create = cv_create,

@@ -59,7 +59,7 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   }
   memcpy(ydot, v, 3 * n * sizeof(double));
   double pd[2];
-  esf_integ_accel(s, v, w, ydot + 3 * n, ydot + 6 * n, pd);
+  esf_integ_accel(s, v, w, ydot + 3 * n, ydot + 6 * n, pd, 1);
   /* orientations are not tracked: spheres need only w */
   for (size_t j = 3 * n; j < 9 * n; j++)
     if (!isfinite(ydot[j])) {

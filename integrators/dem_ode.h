@@ -24,13 +24,13 @@ enum { ESF_ODE_QN, ESF_ODE_QT, ESF_ODE_QG, ESF_ODE_QL, ESF_ODE_QW, ESF_ODE_NQ };
 
 typedef struct esf_dem_ode {
   esf_sim *s;
-  size_t n;          /* particles in the layout */
-  size_t len;        /* length of y */
-  double t_commit;   /* time the committed history refers to, s */
-  long nrhs;         /* right-hand-side evaluations */
-  long ncommit;      /* commit evaluations */
-  long nfail;        /* recoverable failures returned */
-  esf_error err;     /* the last failure inside f */
+  size_t n;        /* particles in the layout */
+  size_t len;      /* length of y */
+  double t_commit; /* time the committed history refers to, s */
+  long nrhs;       /* right-hand-side evaluations */
+  long ncommit;    /* commit evaluations */
+  long nfail;      /* recoverable failures returned */
+  esf_error err;   /* the last failure inside f */
 } esf_dem_ode;
 
 /* Sets up the layout for the sim's particles; y0 (length o->len) gets the state. */

@@ -5,8 +5,8 @@
  *
  * Fixed step (integrator.rtol = 0): dt from integrator.dt or frac x the critical step.
  * Adaptive (rtol > 0, tables with an embedding only): tolerances rtol and atol on x, v,
- * w (the ledger quadratures take part in the error test with esf_dem_ode_qtol), ARKODE's step limit
- * raised to integrator.max_steps, and the DEM stability bound given through
+ * w (the ledger quadratures take part in the error test with esf_dem_ode_qtol), ARKODE's
+ * step limit raised to integrator.max_steps, and the DEM stability bound given through
  * ERKStepSetStabilityFn: h_stab = r / omega_max, with r where the table's stability
  * polynomial R(z) first leaves the unit disc along the ray of the stiffest contact mode
  * (damping ratio xi: z = r exp(i (pi - acos xi))), and omega_max the highest contact
@@ -54,6 +54,39 @@ static ARKodeButcherTable rk4_table(void) {
   realtype A[16] = {0, 0, 0, 0, 0.5, 0, 0, 0, 0, 0.5, 0, 0, 0, 0, 1, 0};
   realtype b[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6};
   return ARKodeButcherTable_Create(4, 4, 0, c, A, b, NULL);
+}
+
+/* SUNDIALS 6.4.1's ERKStep takes any table with c_s = 1 for "first same as last" and
+ * reuses f of the last stage as the next step's first stage, which is only right when
+ * the last row of A is b (llnl/sundials issue #311, fixed in later releases). Affected
+ * here: rk4, HEUN_EULER_2_1_2, VERNER_8_5_6, FEHLBERG_13_7_8 and the ARK*_ERK tables
+ * (measured: Verner's order fell to 3). Workaround: append a stage with row b and zero
+ * weight; it computes f(t + h, y_{n+1}), exactly what the reuse then needs, so the cost
+ * per step stays s evaluations and the method is unchanged. Returns B itself when it is
+ * not affected, else a new table (B is freed). */
+static ARKodeButcherTable fix_fsal(ARKodeButcherTable B) {
+  int s = B->stages;
+  if (fabs(B->c[s - 1] - 1.0) > 1e-14) return B;
+  int fsal = 1;
+  for (int j = 0; j < s; j++)
+    if (B->A[s - 1][j] != B->b[j]) fsal = 0;
+  if (fsal) return B;
+  ARKodeButcherTable N = ARKodeButcherTable_Alloc(s + 1, B->d != NULL);
+  if (!N) return NULL;
+  N->q = B->q;
+  N->p = B->p;
+  for (int i = 0; i < s; i++) {
+    N->c[i] = B->c[i];
+    N->b[i] = B->b[i];
+    if (B->d) N->d[i] = B->d[i];
+    for (int j = 0; j < s; j++) N->A[i][j] = B->A[i][j];
+  }
+  N->c[s] = 1.0;
+  N->b[s] = 0.0;
+  if (B->d) N->d[s] = 0.0;
+  for (int j = 0; j < s; j++) N->A[s][j] = B->b[j];
+  ARKodeButcherTable_Free(B);
+  return N;
 }
 
 /* r where |R(r e^{i theta})| first exceeds 1 (0 when it does so at once). */
@@ -113,8 +146,11 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   snprintf(e->name, sizeof e->name, "%s", c->method);
   if (SUNContext_Create(NULL, &e->ctx))
     return esf_fail(err, ESF_EINTERNAL, "cannot create a SUNDIALS context");
-  if (strcmp(tname, "rk4") == 0) e->table = rk4_table();
-  else e->table = ARKodeButcherTable_LoadERKByName(tname);
+  if (strcmp(tname, "rk4") == 0)
+    e->table = rk4_table();
+  else
+    e->table = ARKodeButcherTable_LoadERKByName(tname);
+  if (e->table) e->table = fix_fsal(e->table);
   if (!e->table)
     return esf_fail(err, ESF_EINPUT,
                     "integrator.method: '%s' is not an explicit Runge-Kutta table of "
@@ -148,7 +184,8 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
     e->atol = N_VNew_Serial(N_VGetLength(e->y), e->ctx);
     double *a = N_VGetArrayPointer(e->atol);
     for (size_t j = 0; j < 9 * s->p.n; j++) a[j] = c->atol;
-    for (int q = 0; q < ESF_ODE_NQ; q++) a[9 * s->p.n + q] = esf_dem_ode_qtol(&e->ode, c->rtol);
+    for (int q = 0; q < ESF_ODE_NQ; q++)
+      a[9 * s->p.n + q] = esf_dem_ode_qtol(&e->ode, c->rtol);
     ERKStepSVtolerances(e->mem, c->rtol, e->atol);
     ERKStepSetInitStep(e->mem, s->dt);
     ERKStepSetMaxStep(e->mem, 10.0 * s->dte.crit[ESF_DT_HART]);
@@ -156,7 +193,8 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   } else {
     ERKStepSetFixedStep(e->mem, s->dt);
   }
-  esf_sim_log(s, "%s: %d stages, order %d%s; stability radius %.3f along the xi = %.3f "
+  esf_sim_log(s,
+              "%s: %d stages, order %d%s; stability radius %.3f along the xi = %.3f "
               "ray, omega_max %.4g rad/s: h_stab %.4g s; %s",
               c->method, e->table->stages, e->table->q,
               e->table->d ? " with an embedding" : "", r, s->dte.xi, sqrt(w2), e->h_stab,
@@ -180,8 +218,10 @@ static int erk_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   size_t n_before = s->p.n;
   rc = esf_integ_refresh(s, NULL, err);
   if (!rc && s->p.n != n_before)
-    rc = esf_fail(err, ESF_EINPUT, "%s: particles left the domain; removal is supported "
-                                   "by the leapfrog only in this version", e->name);
+    rc = esf_fail(err, ESF_EINPUT,
+                  "%s: particles left the domain; removal is supported "
+                  "by the leapfrog only in this version",
+                  e->name);
   return rc;
 }
 

@@ -9,8 +9,9 @@ int esf_integ_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
   if (rebuilt) *rebuilt = 0;
   int rc = esf_neighbor_check(&s->nb, &s->p, &rebuild, err);
   if (rc) {
-    esf_error_prefix(err, "step %ld (t = %.6g s, dt = %.4g s, critical dt %.4g s): ",
-                     s->step, s->t, s->dt, s->dte.crit[s->cfg.dt_rule]);
+    esf_error_prefix(err,
+                     "step %ld (t = %.6g s, dt = %.4g s, critical dt %.4g s): ", s->step,
+                     s->t, s->dt, s->dte.crit[s->cfg.dt_rule]);
     return rc;
   }
   if (!rebuild) return ESF_OK;
@@ -21,10 +22,11 @@ int esf_integ_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
 }
 
 void esf_integ_accel(const esf_sim *s, const double *v, const double *w, double *acc,
-                     double *dw, double p_damp[2]) {
+                     double *dw, double p_damp[2], int with_global) {
   const esf_particles *p = &s->p;
   const esf_local_damping *loc = s->local;
-  const double lc = s->cfg.local_coef, ar = s->alpha_r, at = s->alpha_t;
+  const double lc = s->cfg.local_coef;
+  const double ar = with_global ? s->alpha_r : 0.0, at = with_global ? s->alpha_t : 0.0;
   double pg = 0, pl = 0;
   for (size_t i = 0; i < p->n; i++) {
     const double *vi = v + 3 * i, *wi = w + 3 * i;
@@ -41,7 +43,7 @@ void esf_integ_accel(const esf_sim *s, const double *v, const double *w, double 
       dw[3 * i + q] = (m[q] + md[q]) * p->inv_inertia[i] - at * wi[q];
     }
     if (p_damp) {
-      pg += ar * mass * v3_norm2(vi) + at * I * v3_norm2(wi);
+      pg += s->alpha_r * mass * v3_norm2(vi) + s->alpha_t * I * v3_norm2(wi);
       pl -= v3_dot(fd, vi) + v3_dot(md, wi);
     }
   }

@@ -10,12 +10,13 @@
 int esf_integ_refresh(esf_sim *s, int *rebuilt, esf_error *err);
 
 /* Accelerations from the forces and torques in s->p.f, s->p.t at velocities v, w:
- *   a = (F + F_local(F, v) - alpha_r m v) / m,  dw = (M + M_local(M, w) - alpha_t I w) / I
- * (global damping as a force term: the form the Runge-Kutta methods integrate).
- * Writes 3n values to acc and dw. When p_damp is not NULL it receives the powers
- * dissipated by global and local damping (W) at this state. */
+ *   a = (F + F_local(F, v) - alpha_r m v) / m,  dw = (M + M_local(M, w) - alpha_t I w) /
+ * I (global damping as a force term: the form the Runge-Kutta methods integrate). With
+ * with_global = 0 the global term is left out (the caller treats it itself). Writes 3n
+ * values to acc and dw. When p_damp is not NULL it receives the powers dissipated by
+ * global and local damping (W) at this state. */
 void esf_integ_accel(const esf_sim *s, const double *v, const double *w, double *acc,
-                     double *dw, double p_damp[2]);
+                     double *dw, double p_damp[2], int with_global);
 
 /* Stored energies of the state (x, v, w): kinetic (translational, rotational) and
  * gravitational potential. */

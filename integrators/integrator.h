@@ -24,13 +24,13 @@ enum {
 
 /* Cost accounting of a run (every scheme fills what applies; the rest stays 0). */
 typedef struct esf_integ_stats {
-  long steps;          /* accepted steps */
-  long attempts;       /* step attempts (accepted + rejected) */
-  long rejected;       /* error-test failures */
-  long rhs_evals;      /* right-hand-side (force) evaluations, commits included */
-  long acc_limited;    /* adaptive: steps limited by accuracy */
-  long stab_limited;   /* adaptive: steps limited by the stability bound */
-  double h_last;       /* last step size, s */
+  long steps;        /* accepted steps */
+  long attempts;     /* step attempts (accepted + rejected) */
+  long rejected;     /* error-test failures */
+  long rhs_evals;    /* right-hand-side (force) evaluations, commits included */
+  long acc_limited;  /* adaptive: steps limited by accuracy */
+  long stab_limited; /* adaptive: steps limited by the stability bound */
+  double h_last;     /* last step size, s */
 } esf_integ_stats;
 
 typedef struct esf_integrator_type {

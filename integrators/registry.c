@@ -8,7 +8,8 @@ const esf_integrator_type *const esf_integrators[] = {
     &esf_integrator_cvode, NULL};
 
 const esf_integrator_type *esf_integrator_find(const char *name) {
-  if (strncmp(name, "erk:", 4) == 0 || strcmp(name, "rk4") == 0) return &esf_integrator_erk;
+  if (strncmp(name, "erk:", 4) == 0 || strcmp(name, "rk4") == 0)
+    return &esf_integrator_erk;
   for (int k = 0; esf_integrators[k]; k++)
     if (strcmp(esf_integrators[k]->name, name) == 0) return esf_integrators[k];
   return NULL;

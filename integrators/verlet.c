@@ -7,8 +7,11 @@
  *   2. x_{n+1} = x_n + v_{n+1/2} dt; refresh the candidate lists;
  *   3. F_{n+1} = forces(x_{n+1}, v_{n+1/2}) (dashpots see the half-step velocity, as in
  *      the peers), committing the contact history over dt;
- *   4. a_{n+1} with global damping -alpha m v_{n+1/2} and local damping as force terms;
- *   5. v_{n+1} = v_{n+1/2} + a_{n+1} dt/2.
+ *   4. a_{n+1} = (F + F_local)/m, local damping from the sign of v_{n+1/2};
+ *   5. v_{n+1} = (v_{n+1/2} + a_{n+1} dt/2) / (1 + alpha dt/2): global damping is
+ *      trapezoidal over the step (the first half kick applies -alpha v_n explicitly),
+ *      so the scheme stays second order with it; contact dashpots see v_{n+1/2}, which
+ *      makes them first order, as in the peers.
  * Start: forces at x_0, v_0 with the history committed over a zero interval.
  * Ledger: stored energies on the step; dissipation by the trapezoidal rule over the
  * powers at successive evaluations (second order, so the residual falls as dt^2). */
@@ -68,7 +71,7 @@ static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[5], esf_error *
   rc = reserve(vv, p->n, err);
   if (rc) return rc;
   double pd[2] = {0, 0};
-  esf_integ_accel(s, p->v, p->w, vv->a, vv->dw, s->led.on ? pd : NULL);
+  esf_integ_accel(s, p->v, p->w, vv->a, vv->dw, s->led.on ? pd : NULL, 0);
   if (s->led.on) {
     pw[0] = ty.p_normal;
     pw[1] = ty.p_tangential;
@@ -107,28 +110,34 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     if (rc) return rc;
     if (s->led.on) {
       memcpy(vv->p_prev, pw, 5 * sizeof(double));
-      esf_integ_energies(s, p->x, p->v, p->w, &s->led.kin_t, &s->led.kin_r, &s->led.pot_g);
+      esf_integ_energies(s, p->x, p->v, p->w, &s->led.kin_t, &s->led.kin_r,
+                         &s->led.pot_g);
       s->led.e0 = esf_ledger_stored(&s->led);
       s->led.started = 1;
     }
     vv->started = 1;
   }
   const double dt = s->dt, h = 0.5 * dt;
+  const double ar = s->alpha_r, at = s->alpha_t;
   for (size_t j = 0; j < 3 * p->n; j++) {
-    p->v[j] += h * vv->a[j];
-    p->w[j] += h * vv->dw[j];
+    p->v[j] += h * (vv->a[j] - ar * p->v[j]);
+    p->w[j] += h * (vv->dw[j] - at * p->w[j]);
     p->x[j] += dt * p->v[j];
   }
   size_t n_before = p->n;
   rc = esf_integ_refresh(s, NULL, err);
   if (!rc && p->n != n_before)
-    rc = esf_fail(err, ESF_EINPUT, "the verlet integrator does not support particles "
-                                   "leaving the domain yet; use leapfrog");
+    rc = esf_fail(err, ESF_EINPUT,
+                  "the verlet integrator does not support particles "
+                  "leaving the domain yet; use leapfrog");
   if (!rc) rc = evaluate(s, vv, dt, pw, err);
   if (rc) return rc;
+  /* the second half kick treats global damping implicitly (trapezoidal over the step:
+     second order, unconditionally stable for the damping term) */
+  const double cr = 1.0 / (1.0 + h * ar), ct = 1.0 / (1.0 + h * at);
   for (size_t j = 0; j < 3 * p->n; j++) {
-    p->v[j] += h * vv->a[j];
-    p->w[j] += h * vv->dw[j];
+    p->v[j] = (p->v[j] + h * vv->a[j]) * cr;
+    p->w[j] = (p->w[j] + h * vv->dw[j]) * ct;
   }
   s->step++;
   s->t = (double)s->step * dt;

@@ -46,9 +46,9 @@ static int overlap_failure(const esf_sim *s, long long ida, long long idb, int w
 /* Evaluates the law for candidate k of list c, updates its touching flag and history
  * (commit), records the ledger scratch (when led is not NULL) and adds the slip work
  * to *slip. Returns 1 when the contact carries force. */
-static int eval_contact(esf_sim *s, const esf_pair_params *pp,
-                        const esf_contact_in *in, esf_contacts *c, size_t k, int commit,
-                        double *led, double *slip, esf_contact_out *out) {
+static int eval_contact(esf_sim *s, const esf_pair_params *pp, const esf_contact_in *in,
+                        esf_contacts *c, size_t k, int commit, double *led, double *slip,
+                        esf_contact_out *out) {
   s->law->eval(pp, s->beta, s->cfg.tframe, in, &c->h[k], !c->touch[k],
                commit ? &c->h[k] : NULL, out);
   if (commit) c->touch[k] = (uint8_t)out->touching;

@@ -155,12 +155,14 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   long every_f =
       s->cfg.out_every > 0 ? (long)fmax(1.0, floor(s->cfg.out_every / s->dt + 0.5)) : 0;
   if (adaptive)
-    esf_sim_log(s, "run: adaptive steps to t = %.6g s; frames every %.6g s, energy rows "
-                   "every %.6g s",
+    esf_sim_log(s,
+                "run: adaptive steps to t = %.6g s; frames every %.6g s, energy rows "
+                "every %.6g s",
                 t_end, s->cfg.out_every, s->cfg.energy_every);
   else
-    esf_sim_log(s, "run: %ld steps to t = %.6g s; frames every %ld steps, energy rows "
-                   "every %ld steps",
+    esf_sim_log(s,
+                "run: %ld steps to t = %.6g s; frames every %ld steps, energy rows "
+                "every %ld steps",
                 nsteps, t_end, every_f, every_e);
   double t0 = now_s(), next_prog = t0 + 0.5, psum = 0.0;
   /* adaptive methods are not forced onto the output times (that would cap their
@@ -207,7 +209,8 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   st->contacts_mean = s->step ? s->contacts_sum / (double)s->step : 0.0;
   st->rate = wall > 0 ? psum / wall : 0.0;
   memset(&st->integ, 0, sizeof st->integ);
-  if (ist && it->stats) it->stats(s, ist, &st->integ);
+  if (ist && it->stats)
+    it->stats(s, ist, &st->integ);
   else {
     st->integ.steps = st->integ.attempts = s->step;
     st->integ.rhs_evals = s->rhs_evals;
@@ -219,7 +222,8 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   if (rc)
     esf_sim_log(s, "FAILED: %s", err->msg);
   else
-    esf_sim_log(s, "done: %ld steps, %.3f s of loop, %.4g particle-steps/s, %ld list "
+    esf_sim_log(s,
+                "done: %ld steps, %.3f s of loop, %.4g particle-steps/s, %ld list "
                 "builds, %ld force evaluations, %ld particles removed; integrator: %ld "
                 "steps, %ld attempts, %ld rejected, %ld rhs evaluations, %ld limited "
                 "by accuracy, %ld by stability, last step %.4g s",

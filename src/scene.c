@@ -128,8 +128,9 @@ int esf_scene_material(const esf_ynode *node, const esf_materials *m, int32_t *i
 }
 
 static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err) {
-  static const char *const keys[] = {"method", "dt",   "dt_rule", "frac",      "allow_unstable",
-                                     "rtol",   "atol", "history", "max_steps", NULL};
+  static const char *const keys[] = {"method",         "dt",   "dt_rule", "frac",
+                                     "allow_unstable", "rtol", "atol",    "history",
+                                     "max_steps",      NULL};
   const esf_ynode *in = esf_ymap_get(root, "integrator");
   if (!in) return ESF_OK;
   int rc = esf_ynode_require_map(in, err);

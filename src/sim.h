@@ -42,9 +42,9 @@ typedef struct esf_config {
   double frac;        /* dt = frac x critical (auto) */
   int allow_unstable; /* accept dt above the rule's critical value */
 
-  double rtol, atol;       /* adaptive ODE methods: tolerances (rtol 0: fixed step) */
-  int history;             /* ODE methods: ESF_HIST_FROZEN or ESF_HIST_STATE */
-  long max_steps;          /* ODE methods: step limit per call */
+  double rtol, atol; /* adaptive ODE methods: tolerances (rtol 0: fixed step) */
+  int history;       /* ODE methods: ESF_HIST_FROZEN or ESF_HIST_STATE */
+  long max_steps;    /* ODE methods: step limit per call */
 
   double alpha_r, alpha_t;             /* global viscous damping, 1/s */
   int local_form;                      /* ESF_LOCAL_* */
@@ -93,10 +93,10 @@ typedef struct esf_sim {
   esf_dt_estimate dte;
   esf_rng rng;
   /* counters */
-  long removed;        /* particles removed for leaving the domain */
-  double contacts_sum; /* sum over steps of touching contacts */
-  long rhs_evals;      /* force evaluations */
-  FILE *log;           /* the run's log, or NULL */
+  long removed;                  /* particles removed for leaving the domain */
+  double contacts_sum;           /* sum over steps of touching contacts */
+  long rhs_evals;                /* force evaluations */
+  FILE *log;                     /* the run's log, or NULL */
   struct esf_force_tally *tally; /* filled by force evaluations when not NULL */
 } esf_sim;
 
