@@ -30,6 +30,15 @@ static int cv_rhs(realtype t, N_Vector y, N_Vector ydot, void *data) {
   return esf_dem_ode_rhs(&c->ode, t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
 }
 
+static void cv_silent(int code, const char *module, const char *function, char *msg,
+                      void *data) {
+  (void)code;
+  (void)module;
+  (void)function;
+  (void)msg;
+  (void)data;
+}
+
 static int cv_fail(cvadams *c, esf_error *err, int flag) {
   esf_sim *s = c->ode.s;
   realtype h = 0, t = 0;
@@ -63,7 +72,7 @@ static int cv_create(esf_sim *s, void **state, esf_error *err) {
   if (!c->mem || CVodeInit(c->mem, cv_rhs, s->t, c->y))
     return esf_fail(err, ESF_EINTERNAL, "CVodeCreate/CVodeInit failed");
   CVodeSetUserData(c->mem, c);
-  CVodeSetErrHandlerFn(c->mem, NULL, NULL);
+  CVodeSetErrHandlerFn(c->mem, cv_silent, NULL);
   double *a = N_VGetArrayPointer(c->atol);
   for (size_t j = 0; j < 9 * s->p.n; j++) a[j] = cf->atol;
   for (int q = 0; q < ESF_ODE_NQ; q++)

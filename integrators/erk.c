@@ -28,7 +28,9 @@
 typedef struct erk {
   SUNContext ctx;
   void *mem;
-  N_Vector y, atol;
+  N_Vector y, atol, ysave; /* ysave: the last accepted state, for retries */
+  double t_save;
+  long retries; /* steps retried after a failure inside f */
   esf_dem_ode ode;
   ARKodeButcherTable table; /* owned copy, for the stability polynomial */
   double h_stab;            /* s; <= 0: no stability bound */
@@ -38,6 +40,16 @@ typedef struct erk {
 static int erk_rhs(realtype t, N_Vector y, N_Vector ydot, void *data) {
   erk *e = data;
   return esf_dem_ode_rhs(&e->ode, t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
+}
+
+/* SUNDIALS reports through esfera's messages, never on stderr */
+static void erk_silent(int code, const char *module, const char *function, char *msg,
+                       void *data) {
+  (void)code;
+  (void)module;
+  (void)function;
+  (void)msg;
+  (void)data;
 }
 
 static int erk_stab(N_Vector y, realtype t, realtype *hstab, void *data) {
@@ -173,7 +185,7 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   e->mem = ERKStepCreate(erk_rhs, s->t, e->y, e->ctx);
   if (!e->mem) return esf_fail(err, ESF_EINTERNAL, "ERKStepCreate failed");
   ERKStepSetUserData(e->mem, e);
-  ERKStepSetErrHandlerFn(e->mem, NULL, NULL);
+  ERKStepSetErrHandlerFn(e->mem, erk_silent, NULL);
   int flag = ERKStepSetTable(e->mem, e->table);
   if (flag) return fail_flag(e, err, flag, "table");
   ERKStepSetMaxNumSteps(e->mem, c->max_steps);
@@ -187,6 +199,8 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
     for (int q = 0; q < ESF_ODE_NQ; q++)
       a[9 * s->p.n + q] = esf_dem_ode_qtol(&e->ode, c->rtol);
     ERKStepSVtolerances(e->mem, c->rtol, e->atol);
+    e->ysave = N_VClone(e->y);
+    if (!e->ysave) return esf_fail(err, ESF_ENOMEM, "out of memory");
     ERKStepSetInitStep(e->mem, s->dt);
     ERKStepSetMaxStep(e->mem, 10.0 * s->dte.crit[ESF_DT_HART]);
     if (e->h_stab > 0) ERKStepSetStabilityFn(e->mem, erk_stab, e);
@@ -202,12 +216,29 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   return ESF_OK;
 }
 
+/* ERKStep of SUNDIALS 6.4 does not retry after a recoverable failure of f; an adaptive
+ * run does it here: back to the last accepted state, a quarter of the step, up to 20
+ * times in a row and down to 1e-6 of the critical step; past that (the failure is
+ * physical, not numerical) and in fixed-step runs, the run stops with its message. */
 static int erk_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   erk *e = state;
   ERKStepSetStopTime(e->mem, t_stop);
   realtype tret = 0;
-  esf_error_clear(&e->ode.err);
-  int flag = ERKStepEvolve(e->mem, t_stop, e->y, &tret, ARK_ONE_STEP);
+  int adaptive = s->cfg.rtol > 0;
+  if (adaptive) N_VScale(1.0, e->y, e->ysave);
+  int flag = 0;
+  for (int attempt = 0;; attempt++) {
+    esf_error_clear(&e->ode.err);
+    flag = ERKStepEvolve(e->mem, t_stop, e->y, &tret, ARK_ONE_STEP);
+    if (flag >= 0 || !adaptive || !e->ode.err.code || attempt == 20) break;
+    realtype h = 0;
+    ERKStepGetCurrentStep(e->mem, &h);
+    if (0.25 * h < 1e-6 * s->dte.crit[ESF_DT_HART]) break; /* cannot recover */
+    N_VScale(1.0, e->ysave, e->y);
+    ERKStepSetInitStep(e->mem, 0.25 * h);
+    if (ERKStepReset(e->mem, s->t, e->y) != ARK_SUCCESS) break;
+    e->retries++;
+  }
   if (flag < 0) return fail_flag(e, err, flag, "step");
   int rc = esf_dem_ode_commit(&e->ode, tret, N_VGetArrayPointer(e->y), err);
   if (rc) return rc;
@@ -235,7 +266,7 @@ static void erk_stats(const esf_sim *s, void *state, esf_integ_stats *o) {
   ERKStepGetNumStepAttempts(e->mem, &v);
   o->attempts = v;
   ERKStepGetNumErrTestFails(e->mem, &v);
-  o->rejected = v;
+  o->rejected = v + e->retries;
   ERKStepGetNumRhsEvals(e->mem, &v);
   o->rhs_evals = v + e->ode.ncommit;
   ERKStepGetNumAccSteps(e->mem, &v);
@@ -253,6 +284,7 @@ static void erk_destroy(void **state) {
     if (e->mem) ERKStepFree(&e->mem);
     if (e->y) N_VDestroy(e->y);
     if (e->atol) N_VDestroy(e->atol);
+    if (e->ysave) N_VDestroy(e->ysave);
     if (e->table) ARKodeButcherTable_Free(e->table);
     if (e->ctx) SUNContext_Free(&e->ctx);
   }
