@@ -59,6 +59,10 @@ static int cv_create(esf_sim *s, void **state, esf_error *err) {
   cvadams *c = calloc(1, sizeof *c);
   if (!c) return esf_fail(err, ESF_ENOMEM, "out of memory");
   *state = c;
+  if (cf->history == ESF_HIST_STATE)
+    return esf_fail(err, ESF_EINPUT,
+                    "integrator.history: state (contact history integrated as ODE state) "
+                    "is not available in this version; use frozen");
   if (SUNContext_Create(NULL, &c->ctx))
     return esf_fail(err, ESF_EINTERNAL, "cannot create a SUNDIALS context");
   c->y = N_VNew_Serial((sunindextype)(9 * s->p.n + ESF_ODE_NQ), c->ctx);

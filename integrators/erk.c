@@ -156,6 +156,10 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   *state = e;
   const char *tname = strncmp(c->method, "erk:", 4) == 0 ? c->method + 4 : c->method;
   snprintf(e->name, sizeof e->name, "%s", c->method);
+  if (c->history == ESF_HIST_STATE)
+    return esf_fail(err, ESF_EINPUT,
+                    "integrator.history: state (contact history integrated as ODE state) "
+                    "is not available in this version; use frozen");
   if (SUNContext_Create(NULL, &e->ctx))
     return esf_fail(err, ESF_EINTERNAL, "cannot create a SUNDIALS context");
   if (strcmp(tname, "rk4") == 0)
