@@ -27,7 +27,10 @@ static void usage(FILE *f) {
           "  --quiet   no progress display\n\n"
           "integrators (integrator.method):\n");
   for (int k = 0; esf_integrators[k]; k++)
-    fprintf(f, "  %-10s %s\n", esf_integrators[k]->name, esf_integrators[k]->summary);
+    fprintf(f, "  %-12s %s\n",
+            strcmp(esf_integrators[k]->name, "erk") == 0 ? "erk:<TABLE>"
+                                                         : esf_integrators[k]->name,
+            esf_integrators[k]->summary);
 }
 
 static int fail(int code, const char *msg) {
@@ -85,8 +88,9 @@ static int cmd_run(int argc, char **argv) {
     char list[512] = "";
     for (int k = 0; esf_integrators[k]; k++) {
       size_t l = strlen(list);
+      const char *nm = esf_integrators[k]->name;
       snprintf(list + l, sizeof list - l, "%s%s", k ? ", " : "",
-               esf_integrators[k]->name);
+               strcmp(nm, "erk") == 0 ? "erk:<ARKODE table>, rk4" : nm);
     }
     rc = esf_fail(&err, ESF_EINPUT,
                   "%s: integrator.method: unknown method '%s' "
