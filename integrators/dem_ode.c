@@ -102,7 +102,6 @@ int esf_dem_ode_commit(esf_dem_ode *o, double t, const double *y, esf_error *err
     esf_integ_energies(s, s->p.x, s->p.v, s->p.w, &L->kin_t, &L->kin_r, &L->pot_g);
     L->el_n = ty.e_el_n;
     L->el_t = ty.e_el_t;
-    L->d_friction += ty.slip;
     L->d_normal = q[ESF_ODE_QN];
     L->d_tangential = q[ESF_ODE_QT];
     L->d_global = q[ESF_ODE_QG];

@@ -80,7 +80,6 @@ static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[5], esf_error *
     pw[4] = ty.p_walls;
     s->led.el_n = ty.e_el_n;
     s->led.el_t = ty.e_el_t;
-    s->led.d_friction += ty.slip;
   }
   return ESF_OK;
 }
