@@ -28,7 +28,7 @@ static const char *pack =
     "output: {energy_every: 1.0e-9}\n";
 
 static void settle(const char *label, const char *const *sets, int nsets, int want_local,
-                   int want_global) {
+                   int want_global, double bound) {
   simtest T;
   if (simtest_open(&T, pack, sets, nsets)) {
     CHECK(0, "%s: scene failed", label);
@@ -58,16 +58,25 @@ static void settle(const char *label, const char *const *sets, int nsets, int wa
 }
 
 int main(void) {
-  settle("global damping", NULL, 0, 0, 1);
+  settle("global damping", NULL, 0, 0, 1, 0.01);
   const char *loc[] = {"damping.global.translation=0", "damping.global.rotation=0",
                        "damping.local={coefficient: 0.3, form: component}"};
-  settle("local damping (component)", loc, 3, 1, 0);
+  settle("local damping (component)", loc, 3, 1, 0, 0.01);
   const char *vec[] = {"damping.global.translation=0", "damping.global.rotation=0",
                        "damping.local={coefficient: 0.3, form: vector}"};
-  settle("local damping (vector)", vec, 3, 1, 0);
+  settle("local damping (vector)", vec, 3, 1, 0, 0.01);
   const char *aut[] = {"damping.global.auto=true"};
-  settle("adaptive global damping", aut, 1, 0, 1);
+  settle("adaptive global damping", aut, 1, 0, 1, 0.01);
   const char *prj[] = {"contact.tangential_frame=project"};
-  settle("projected tangential frame", prj, 1, 0, 1);
+  settle("projected tangential frame", prj, 1, 0, 1, 0.01);
+  /* The other integrators' ledgers: a regression guard for the slip work, which was
+     once booked twice outside the leapfrog (residual 35% of dissipated). Their own
+     error is first order at FRAC 0.1 (measured 1.5% and 1.1%): Verlet's trapezoidal
+     quadrature of dashpot powers that jump at every contact onset, and the frozen
+     history's linear carry for rk4. Hence 3% here, not the leapfrog's 1%. */
+  const char *vv[] = {"integrator.method=verlet"};
+  settle("verlet", vv, 1, 0, 1, 0.03);
+  const char *rk[] = {"integrator.method=rk4"};
+  settle("rk4 (frozen history)", rk, 1, 0, 1, 0.03);
   return check_finish("test_ledger");
 }
