@@ -50,10 +50,9 @@ static void settle(const char *label, const char *const *sets, int nsets, int wa
   CHECK(want_global ? L->d_global > 0 : L->d_global == 0, "%s: global damping tally",
         label);
   CHECK(want_local ? L->d_local > 0 : L->d_local == 0, "%s: local damping tally", label);
-  CHECK(fabs(R) < 0.01 * D,
-        "%s: |residual| %.3g J must stay below 1%% of the %.3g J "
-        "dissipated",
-        label, R, D);
+  CHECK(fabs(R) < bound * D,
+        "%s: |residual| %.3g J must stay below %.0f%% of the %.3g J dissipated", label, R,
+        100 * bound, D);
   simtest_close(&T);
 }
 
