@@ -226,7 +226,7 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
  * physical, not numerical) and in fixed-step runs, the run stops with its message. */
 static int erk_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   erk *e = state;
-  ERKStepSetStopTime(e->mem, t_stop);
+  if (s->cfg.rtol > 0) ERKStepSetStopTime(e->mem, t_stop);
   realtype tret = 0;
   int adaptive = s->cfg.rtol > 0;
   if (adaptive) N_VScale(1.0, e->y, e->ysave);
