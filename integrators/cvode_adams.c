@@ -30,15 +30,6 @@ static int cv_rhs(realtype t, N_Vector y, N_Vector ydot, void *data) {
   return esf_dem_ode_rhs(&c->ode, t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
 }
 
-static void cv_silent(int code, const char *module, const char *function, char *msg,
-                      void *data) {
-  (void)code;
-  (void)module;
-  (void)function;
-  (void)msg;
-  (void)data;
-}
-
 static int cv_fail(cvadams *c, esf_error *err, int flag) {
   esf_sim *s = c->ode.s;
   realtype h = 0, t = 0;
@@ -59,10 +50,8 @@ static int cv_create(esf_sim *s, void **state, esf_error *err) {
   cvadams *c = calloc(1, sizeof *c);
   if (!c) return esf_fail(err, ESF_ENOMEM, "out of memory");
   *state = c;
-  if (cf->history == ESF_HIST_STATE)
-    return esf_fail(err, ESF_EINPUT,
-                    "integrator.history: state (contact history integrated as ODE state) "
-                    "is not available in this version; use frozen");
+  int hc = esf_dem_ode_check(s, err);
+  if (hc) return hc;
   if (SUNContext_Create(NULL, &c->ctx))
     return esf_fail(err, ESF_EINTERNAL, "cannot create a SUNDIALS context");
   c->y = N_VNew_Serial((sunindextype)(9 * s->p.n + ESF_ODE_NQ), c->ctx);
@@ -76,12 +65,10 @@ static int cv_create(esf_sim *s, void **state, esf_error *err) {
   if (!c->mem || CVodeInit(c->mem, cv_rhs, s->t, c->y))
     return esf_fail(err, ESF_EINTERNAL, "CVodeCreate/CVodeInit failed");
   CVodeSetUserData(c->mem, c);
-  CVodeSetErrHandlerFn(c->mem, cv_silent, NULL);
-  double *a = N_VGetArrayPointer(c->atol);
-  for (size_t j = 0; j < 9 * s->p.n; j++) a[j] = cf->atol;
-  for (int q = 0; q < ESF_ODE_NQ; q++)
-    a[9 * s->p.n + q] = esf_dem_ode_qtol(&c->ode, cf->rtol > 0 ? cf->rtol : 1e-6);
-  CVodeSVtolerances(c->mem, cf->rtol > 0 ? cf->rtol : 1e-6, c->atol);
+  CVodeSetErrHandlerFn(c->mem, esf_sundials_silent, NULL);
+  double rtol = cf->rtol > 0 ? cf->rtol : 1e-6;
+  esf_dem_ode_atol(&c->ode, N_VGetArrayPointer(c->atol), rtol, cf->atol);
+  CVodeSVtolerances(c->mem, rtol, c->atol);
   c->nls = SUNNonlinSol_FixedPoint(c->y, 0, c->ctx);
   if (!c->nls || CVodeSetNonlinearSolver(c->mem, c->nls))
     return esf_fail(err, ESF_EINTERNAL, "cannot attach the fixed-point solver");

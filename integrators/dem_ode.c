@@ -45,6 +45,28 @@ double esf_dem_ode_qtol(const esf_dem_ode *o, double rtol) {
   return scale > 0 ? rtol * scale : 1e300;
 }
 
+void esf_dem_ode_atol(const esf_dem_ode *o, double *a, double rtol, double atol) {
+  for (size_t j = 0; j < 9 * o->n; j++) a[j] = atol;
+  for (int q = 0; q < ESF_ODE_NQ; q++) a[9 * o->n + q] = esf_dem_ode_qtol(o, rtol);
+}
+
+void esf_sundials_silent(int code, const char *module, const char *function, char *msg,
+                         void *data) {
+  (void)code;
+  (void)module;
+  (void)function;
+  (void)msg;
+  (void)data;
+}
+
+int esf_dem_ode_check(const esf_sim *s, esf_error *err) {
+  if (s->cfg.history == ESF_HIST_STATE)
+    return esf_fail(err, ESF_EINPUT,
+                    "integrator.history: state (contact history integrated as ODE state) "
+                    "is not available in this version; use frozen");
+  return ESF_OK;
+}
+
 int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   esf_sim *s = o->s;
   size_t n = o->n;

@@ -46,6 +46,18 @@ int esf_dem_ode_start(esf_dem_ode *o, const double *y, esf_error *err);
  * method extrapolates the dashpots' power across whole collisions. */
 double esf_dem_ode_qtol(const esf_dem_ode *o, double rtol);
 
+/* Fills the absolute-tolerance vector (length o->len): atol on x, v, w and
+ * esf_dem_ode_qtol on the quadratures. */
+void esf_dem_ode_atol(const esf_dem_ode *o, double *a, double rtol, double atol);
+
+/* A SUNDIALS error handler that prints nothing: failures reach the user through
+ * esfera's own messages (ARKErrHandlerFn and CVErrHandlerFn have this signature). */
+void esf_sundials_silent(int code, const char *module, const char *function, char *msg,
+                         void *data);
+
+/* ESF_EINPUT when the configuration asks for a history treatment not available. */
+int esf_dem_ode_check(const esf_sim *s, esf_error *err);
+
 /* The right-hand side: 0 ok, 1 recoverable failure (message in o->err). */
 int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot);
 

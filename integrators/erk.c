@@ -42,16 +42,6 @@ static int erk_rhs(realtype t, N_Vector y, N_Vector ydot, void *data) {
   return esf_dem_ode_rhs(&e->ode, t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
 }
 
-/* SUNDIALS reports through esfera's messages, never on stderr */
-static void erk_silent(int code, const char *module, const char *function, char *msg,
-                       void *data) {
-  (void)code;
-  (void)module;
-  (void)function;
-  (void)msg;
-  (void)data;
-}
-
 static int erk_stab(N_Vector y, realtype t, realtype *hstab, void *data) {
   (void)y;
   (void)t;
@@ -156,10 +146,8 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   *state = e;
   const char *tname = strncmp(c->method, "erk:", 4) == 0 ? c->method + 4 : c->method;
   snprintf(e->name, sizeof e->name, "%s", c->method);
-  if (c->history == ESF_HIST_STATE)
-    return esf_fail(err, ESF_EINPUT,
-                    "integrator.history: state (contact history integrated as ODE state) "
-                    "is not available in this version; use frozen");
+  int hc = esf_dem_ode_check(s, err);
+  if (hc) return hc;
   if (SUNContext_Create(NULL, &e->ctx))
     return esf_fail(err, ESF_EINTERNAL, "cannot create a SUNDIALS context");
   if (strcmp(tname, "rk4") == 0)
@@ -189,7 +177,7 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   e->mem = ERKStepCreate(erk_rhs, s->t, e->y, e->ctx);
   if (!e->mem) return esf_fail(err, ESF_EINTERNAL, "ERKStepCreate failed");
   ERKStepSetUserData(e->mem, e);
-  ERKStepSetErrHandlerFn(e->mem, erk_silent, NULL);
+  ERKStepSetErrHandlerFn(e->mem, esf_sundials_silent, NULL);
   int flag = ERKStepSetTable(e->mem, e->table);
   if (flag) return fail_flag(e, err, flag, "table");
   ERKStepSetMaxNumSteps(e->mem, c->max_steps);
@@ -198,10 +186,7 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   e->h_stab = (r > 0.05 && w2 > 0) ? r / sqrt(w2) : -1.0;
   if (adaptive) {
     e->atol = N_VNew_Serial(N_VGetLength(e->y), e->ctx);
-    double *a = N_VGetArrayPointer(e->atol);
-    for (size_t j = 0; j < 9 * s->p.n; j++) a[j] = c->atol;
-    for (int q = 0; q < ESF_ODE_NQ; q++)
-      a[9 * s->p.n + q] = esf_dem_ode_qtol(&e->ode, c->rtol);
+    esf_dem_ode_atol(&e->ode, N_VGetArrayPointer(e->atol), c->rtol, c->atol);
     ERKStepSVtolerances(e->mem, c->rtol, e->atol);
     e->ysave = N_VClone(e->y);
     if (!e->ysave) return esf_fail(err, ESF_ENOMEM, "out of memory");
