@@ -15,6 +15,8 @@ void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s, double *y0) {
   o->n = s->p.n;
   o->len = 9 * o->n + ESF_ODE_NQ;
   o->t_commit = s->t;
+  s->nb.carry =
+      1; /* keep each contact's velocity at the commit (before the first build) */
   memcpy(y0, s->p.y, 9 * o->n * sizeof(double));
   memset(y0 + 9 * o->n, 0, ESF_ODE_NQ * sizeof(double));
   esf_error_clear(&o->err);

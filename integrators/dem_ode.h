@@ -7,8 +7,10 @@
  * (integ_common.h) from the forces at (x, v, w).
  *
  * Contact history, treatment (b) "frozen": within a step the tangential displacement is
- * the committed one carried linearly, xi(t) = rot(xi_c) + vct(t) (t - t_c), as the
- * leapfrog would over one step; stage evaluations never write it. After each accepted
+ * the committed one carried by the trapezoidal rule,
+ *   xi(t) = rot(xi_c) + [(vct(t_c) + vct(t))/2] (t - t_c)
+ * (vct(t_c) kept per contact at each commit; a contact new within the step uses vct(t));
+ * stage evaluations never write it. After each accepted
  * step esf_dem_ode_commit evaluates once more at the step's end and commits (Coulomb
  * return and slip work included), then t_c = t. Treatment (a) "state" (history as ODE
  * state) is not implemented in this version.

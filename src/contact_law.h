@@ -22,6 +22,8 @@ typedef struct esf_contact_in {
   double spin_n; /* (w_A + w_B).n / 2, rad/s: the contact plane's spin about n (3-18) */
   double mstar;  /* reduced mass, kg (the particle's mass against a wall) */
   double dt;     /* time over which the tangential increment integrates, s */
+  const double *vinc; /* NULL, or the relative velocity to integrate the increment with
+                         over dt (its tangential part is taken), m/s */
 } esf_contact_in;
 
 /* The history one contact carries between steps. */

@@ -7,7 +7,9 @@
  *   1. bring xi into the current contact plane: xi1 = xi + (n_old x n) x xi, then
  *      xi2 = xi1 + (spin_n dt n) x xi1 (the seed prints 3-18 without dt; the angle is
  *      spin dt); or, with ESF_TFRAME_PROJECT, project on the plane and rescale;
- *   2. xi_trial = xi2 + vct dt, vct = vc - (vc.n) n;
+ *   2. xi_trial = xi2 + vct dt, vct = vc - (vc.n) n (or the tangential part of a
+ *      caller-given mean velocity over dt: ODE methods carry the history with the
+ *      mean of the velocities at the commit and now, a trapezoidal increment);
  *   3. trial force on A: ft = kt xi_trial + ct vct (dashpot while sticking);
  *   4. failure surface (Mohr-Coulomb with tension cut-off, 004 Fig. 2.13):
  *      tau = max(0, c + mu fn), and tau = 0 when fn < -tensile_limit;
@@ -70,7 +72,14 @@ static void linear_eval(const esf_pair_params *pp, double beta, int tframe,
   v3_axpy(vct, -vn, n);
   double xi_rot[3];
   v3_copy(xi_rot, xi);
-  v3_axpy(xi, in->dt, vct); /* trial elastic displacement */
+  if (in->vinc) { /* a caller-given mean velocity over dt (ODE methods' carry) */
+    double vi[3];
+    v3_copy(vi, in->vinc);
+    v3_axpy(vi, -v3_dot(vi, n), n);
+    v3_axpy(xi, in->dt, vi);
+  } else {
+    v3_axpy(xi, in->dt, vct); /* trial elastic displacement */
+  }
 
   double ft[3], fdt[3];
   v3_scale(fdt, ct, vct);

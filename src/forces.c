@@ -49,8 +49,17 @@ static int overlap_failure(const esf_sim *s, long long ida, long long idb, int w
 static int eval_contact(esf_sim *s, const esf_pair_params *pp, const esf_contact_in *in,
                         esf_contacts *c, size_t k, int commit, double *led, double *slip,
                         esf_contact_out *out) {
-  s->law->eval(pp, s->beta, s->cfg.tframe, in, &c->h[k], !c->touch[k],
+  esf_contact_in inc = *in;
+  double vm[3];
+  inc.vinc = NULL;
+  if (c->vc0 && c->touch[k]) { /* ODE methods: trapezoidal history increment */
+    for (int q = 0; q < 3; q++) vm[q] = 0.5 * (c->vc0[3 * k + q] + in->vc[q]);
+    inc.vinc = vm;
+  }
+  s->law->eval(pp, s->beta, s->cfg.tframe, &inc, &c->h[k], !c->touch[k],
                commit ? &c->h[k] : NULL, out);
+  if (commit && c->vc0 && out->touching)
+    memcpy(c->vc0 + 3 * k, in->vc, 3 * sizeof(double));
   if (commit) c->touch[k] = (uint8_t)out->touching;
   if (!out->touching) return 0;
   esf_force_tally *ty = s->tally;

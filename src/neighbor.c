@@ -21,10 +21,12 @@ static void contacts_release(esf_contacts *c) {
   free(c->h);
   free(c->touch);
   free(c->led);
+  free(c->vc0);
   memset(c, 0, sizeof *c);
 }
 
-static int contacts_reserve(esf_contacts *c, size_t n, int ledger, esf_error *err) {
+static int contacts_reserve(esf_contacts *c, size_t n, int ledger, int carry,
+                            esf_error *err) {
   if (n <= c->cap) return ESF_OK;
   size_t cap = c->cap ? c->cap : 64;
   while (cap < n) cap *= 2;
@@ -41,7 +43,12 @@ static int contacts_reserve(esf_contacts *c, size_t n, int ledger, esf_error *er
     l = realloc(c->led, cap * ESF_LED_STRIDE * sizeof *l);
     if (l) c->led = l;
   }
-  if (!a || !b || !h || !t || (ledger && !l))
+  double *v0 = c->vc0;
+  if (carry) {
+    v0 = realloc(c->vc0, cap * 3 * sizeof *v0);
+    if (v0) c->vc0 = v0;
+  }
+  if (!a || !b || !h || !t || (ledger && !l) || (carry && !v0))
     return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact candidates", cap);
   c->cap = cap;
   return ESF_OK;
@@ -130,8 +137,8 @@ static int cand_cmp(const void *x, const void *y) {
 /* Fills dst from candidate keys (pairs of uint32), copying history from the old list. */
 static int fill_from(esf_contacts *dst, const uint32_t *keys, size_t m,
                      const esf_contacts *old, const hkey *idx, size_t nidx, int ledger,
-                     esf_error *err) {
-  int rc = contacts_reserve(dst, m, ledger, err);
+                     int carry, esf_error *err) {
+  int rc = contacts_reserve(dst, m, ledger, carry, err);
   if (rc) return rc;
   for (size_t k = 0; k < m; k++) {
     uint32_t a = keys[2 * k], b = keys[2 * k + 1];
@@ -141,6 +148,8 @@ static int fill_from(esf_contacts *dst, const uint32_t *keys, size_t m,
     if (f) {
       dst->h[k] = old->h[f->k];
       dst->touch[k] = 1;
+      if (carry && old->vc0)
+        memcpy(dst->vc0 + 3 * k, old->vc0 + 3 * f->k, 3 * sizeof(double));
     } else {
       memset(&dst->h[k], 0, sizeof dst->h[k]);
       dst->touch[k] = 0;
@@ -158,14 +167,14 @@ static void contacts_swap(esf_contacts *x, esf_contacts *y) {
 }
 
 static int rebuild_list(esf_contacts *list, uint32_t *keys, size_t m, int ledger,
-                        esf_error *err) {
+                        int carry, esf_error *err) {
   hkey *idx = NULL;
   size_t nidx = 0;
   int rc = index_touching(list, &idx, &nidx, err);
   if (rc) return rc;
   qsort(keys, m, 2 * sizeof(uint32_t), cand_cmp);
   esf_contacts fresh = {0};
-  rc = fill_from(&fresh, keys, m, list, idx, nidx, ledger, err);
+  rc = fill_from(&fresh, keys, m, list, idx, nidx, ledger, carry, err);
   free(idx);
   if (rc) {
     contacts_release(&fresh);
@@ -188,7 +197,7 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
     keys[2 * k] = a < b ? a : b;
     keys[2 * k + 1] = a < b ? b : a;
   }
-  rc = rebuild_list(&nb->pp, keys, m, nb->ledger, err);
+  rc = rebuild_list(&nb->pp, keys, m, nb->ledger, nb->carry, err);
   free(keys);
   if (rc) return rc;
 
@@ -224,7 +233,7 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
       mw++;
     }
   }
-  rc = rebuild_list(&nb->pw, keys, mw, nb->ledger, err);
+  rc = rebuild_list(&nb->pw, keys, mw, nb->ledger, nb->carry, err);
   free(keys);
   if (rc) return rc;
   size_t ws = nb->pw.cap ? nb->pw.cap : 1;
@@ -258,6 +267,7 @@ static void remap_list(esf_contacts *c, const size_t *remap, size_t n_old, int w
     c->b[m] = walls ? b : (uint32_t)remap[b];
     c->h[m] = c->h[k];
     c->touch[m] = c->touch[k];
+    if (c->vc0) memcpy(c->vc0 + 3 * m, c->vc0 + 3 * k, 3 * sizeof(double));
     m++;
   }
   c->n = m;

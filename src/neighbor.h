@@ -29,6 +29,8 @@ typedef struct esf_contacts {
   esf_contact_hist *h; /* history */
   uint8_t *touch;      /* 1: touching at the last committed evaluation */
   double *led;         /* ESF_LED_STRIDE per contact, or NULL */
+  double *vc0;         /* 3 per contact: relative contact velocity at the last commit
+                          (the ODE methods' history carry), or NULL */
 } esf_contacts;
 
 typedef struct esf_neighbor {
@@ -36,6 +38,7 @@ typedef struct esf_neighbor {
   esf_contacts pp; /* particle-particle candidates */
   esf_contacts pw; /* particle-wall candidates */
   int ledger;      /* allocate ledger scratch */
+  int carry;       /* keep vc0 (ODE methods set it before the first build) */
   esf_cells *cells;
   esf_pairbuf buf;
   esf_wall_hit *wall_hits; /* scratch for the wall loop, pw.cap entries */
