@@ -73,8 +73,8 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   esf_sim *s = o->s;
   size_t n = o->n;
   const double *x = y, *v = y + 3 * n, *w = y + 6 * n;
-  esf_force_tally ty;
-  s->tally = &ty;
+  esf_force_tally ty = {0};
+  s->tally = s->led.on ? &ty : NULL; /* the quadratures only feed the ledger */
   int rc = esf_forces_eval(s, x, v, w, t - o->t_commit, ESF_FORCES_TRIAL, NULL, &o->err);
   s->tally = NULL;
   o->nrhs++;
@@ -83,8 +83,8 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
     return 1;
   }
   memcpy(ydot, v, 3 * n * sizeof(double));
-  double pd[2];
-  esf_integ_accel(s, v, w, ydot + 3 * n, ydot + 6 * n, pd, 1);
+  double pd[2] = {0, 0};
+  esf_integ_accel(s, v, w, ydot + 3 * n, ydot + 6 * n, s->led.on ? pd : NULL, 1);
   /* orientations are not tracked: spheres need only w */
   for (size_t j = 3 * n; j < 9 * n; j++)
     if (!isfinite(ydot[j])) {

@@ -43,20 +43,34 @@ static int overlap_failure(const esf_sim *s, long long ida, long long idb, int w
                   100.0 * s->cfg.max_overlap, s->dt, rule, s->dte.crit[s->cfg.dt_rule]);
 }
 
+/* Relative velocity of the contact point (B minus A) for velocities v, w. */
+static inline void contact_velocity(const double *v, const double *w, uint32_t a,
+                                    const double *vb, const double *wb_or_null, double la,
+                                    double lb, const double *n, double vc[3]) {
+  double ra[3], ta[3], tb[3] = {0, 0, 0};
+  v3_scale(ra, la, n);
+  v3_cross(ta, w + 3 * a, ra);
+  if (wb_or_null) {
+    double rb[3];
+    v3_scale(rb, -lb, n);
+    v3_cross(tb, wb_or_null, rb);
+  }
+  for (int q = 0; q < 3; q++) vc[q] = vb[q] + tb[q] - v[3 * a + q] - ta[q];
+}
+
 /* Evaluates the law for candidate k of list c, updates its touching flag and history
  * (commit), records the ledger scratch (when led is not NULL) and adds the slip work
  * to *slip. Returns 1 when the contact carries force. */
-static int eval_contact(esf_sim *s, const esf_pair_params *pp, const esf_contact_in *in,
+static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *in,
                         esf_contacts *c, size_t k, int commit, double *led, double *slip,
                         esf_contact_out *out) {
-  esf_contact_in inc = *in;
   double vm[3];
-  inc.vinc = NULL;
+  in->vinc = NULL;
   if (c->vc0 && c->touch[k]) { /* ODE methods: trapezoidal history increment */
     for (int q = 0; q < 3; q++) vm[q] = 0.5 * (c->vc0[3 * k + q] + in->vc[q]);
-    inc.vinc = vm;
+    in->vinc = vm;
   }
-  s->law->eval(pp, s->beta, s->cfg.tframe, &inc, &c->h[k], !c->touch[k],
+  s->law->eval(pp, s->beta, s->cfg.tframe, in, &c->h[k], !c->touch[k],
                commit ? &c->h[k] : NULL, out);
   if (commit && c->vc0 && out->touching)
     memcpy(c->vc0 + 3 * k, in->vc, 3 * sizeof(double));
@@ -112,13 +126,8 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
       return overlap_failure(s, (long long)p->id[a], (long long)p->id[b], 0, in.un, rmin,
                              err);
     double la = p->radius[a] - 0.5 * in.un, lb = p->radius[b] - 0.5 * in.un;
-    const double *va = v + 3 * a, *vb = v + 3 * b, *wa = w + 3 * a, *wb = w + 3 * b;
-    double ra[3], rb[3], ta[3], tb[3];
-    v3_scale(ra, la, in.n);
-    v3_scale(rb, -lb, in.n);
-    v3_cross(ta, wa, ra);
-    v3_cross(tb, wb, rb);
-    for (int q = 0; q < 3; q++) in.vc[q] = vb[q] + tb[q] - va[q] - ta[q];
+    const double *wa = w + 3 * a, *wb = w + 3 * b;
+    contact_velocity(v, w, a, v + 3 * b, wb, la, lb, in.n, in.vc);
     in.spin_n = 0.5 * (v3_dot(wa, in.n) + v3_dot(wb, in.n));
     in.mstar = p->mass[a] * p->mass[b] / (p->mass[a] + p->mass[b]);
     in.dt = dt;
@@ -213,12 +222,9 @@ static int wall_forces(esf_sim *s, const double *x, const double *v, const doubl
       v3_copy(in.n, hit->n);
       in.un = un[k - k0];
       double la = hit->dist;
-      double ra[3], ta[3], vw[3];
-      v3_scale(ra, la, in.n);
-      v3_cross(ta, w + 3 * a, ra);
+      double vw[3];
       esf_wall_point_velocity(g, hit->q, vw);
-      const double *va = v + 3 * a;
-      for (int q = 0; q < 3; q++) in.vc[q] = vw[q] - va[q] - ta[q];
+      contact_velocity(v, w, a, vw, NULL, la, 0, in.n, in.vc);
       in.spin_n = 0.5 * (v3_dot(w + 3 * a, in.n) + v3_dot(g->omega, in.n));
       in.mstar = p->mass[a];
       in.dt = dt;
@@ -265,21 +271,6 @@ int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *
   s->rhs_evals++;
   if (touching) *touching = nt;
   return ESF_OK;
-}
-
-/* Relative velocity of the contact point (B minus A) for velocities v, w. */
-static void contact_velocity(const double *v, const double *w, uint32_t a,
-                             const double *vb, const double *wb_or_null, double la,
-                             double lb, const double *n, double vc[3]) {
-  double ra[3], ta[3], tb[3] = {0, 0, 0};
-  v3_scale(ra, la, n);
-  v3_cross(ta, w + 3 * a, ra);
-  if (wb_or_null) {
-    double rb[3];
-    v3_scale(rb, -lb, n);
-    v3_cross(tb, wb_or_null, rb);
-  }
-  for (int q = 0; q < 3; q++) vc[q] = vb[q] + tb[q] - v[3 * a + q] - ta[q];
 }
 
 /* Elastic energy of one contact in the leapfrog's own measure: with u_{n+1} and
