@@ -13,6 +13,27 @@
 #include "scene.h"
 #include "vec3.h"
 
+/* The linear spring-dashpot impact with the no-tension cut (test_collision.c derives
+ * it): damping ratio zeta, frequency w = sqrt(k/m*), per unit approach speed. */
+typedef struct cut_impact {
+  double e;     /* restitution */
+  double t_end; /* force duration, s */
+  double t_sep; /* time until the overlap returns to zero, s */
+  double u_max; /* peak overlap per unit approach speed, s */
+} cut_impact;
+
+static inline cut_impact cut_impact_closed_form(double zeta, double w) {
+  double z = zeta, s = sqrt(1 - z * z);
+  double th = ESF_PI - atan2(2 * z * s, 1 - 2 * z * z), thp = atan2(s, z);
+  cut_impact x;
+  x.t_end = th / (w * s);
+  x.e = -exp(-z * th / s) * (cos(th) - z / s * sin(th));
+  x.u_max = exp(-z * thp / s) * sin(thp) / (w * s);
+  /* after the force vanishes the bodies coast apart at e v0 from overlap u(t_end) */
+  x.t_sep = x.t_end + exp(-z * th / s) * sin(th) / (w * s) / x.e;
+  return x;
+}
+
 typedef struct simtest {
   esf_sim s;
   const esf_integrator_type *it;

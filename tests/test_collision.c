@@ -14,22 +14,10 @@
  * at first touch), so dt = 0.002 of the hart step: w dt ~ 0.006. */
 #include "simtest.h"
 
-typedef struct expect {
-  double e, t_end, t_sep, u_max;
-} expect;
+typedef cut_impact expect;
 
 static expect closed_form(double eta, double w) {
-  double z = esf_restitution_gamma(eta), s = sqrt(1 - z * z);
-  double th = ESF_PI - atan2(2 * z * s, 1 - 2 * z * z);
-  double thp = atan2(s, z);
-  expect x;
-  x.t_end = th / (w * s);
-  x.e = -exp(-z * th / s) * (cos(th) - z / s * sin(th));
-  x.u_max = exp(-z * thp / s) * sin(thp) / (w * s); /* per unit approach speed */
-  /* after the force vanishes the bodies coast apart at e v0 from overlap u(t_end) */
-  double u_end = exp(-z * th / s) * sin(th) / (w * s);
-  x.t_sep = x.t_end + u_end / x.e;
-  return x;
+  return cut_impact_closed_form(esf_restitution_gamma(eta), w);
 }
 
 static const char *pair_scene =

@@ -63,12 +63,8 @@ static void convergence(void) {
   double m0 = 4.0 / 3.0 * ESF_PI * 1.25e-7 * 2500,
          m1 = 4.0 / 3.0 * ESF_PI * 6.4e-8 * 2500;
   double ms = m0 * m1 / (m0 + m1), w = sqrt(1.0e5 / ms);
-  double z = esf_restitution_gamma(0.5), s = sqrt(1 - z * z);
-  double th = ESF_PI - atan2(2 * z * s, 1 - 2 * z * z), thp = atan2(s, z);
-  double e_x = -exp(-z * th / s) * (cos(th) - z / s * sin(th));
-  double t_end = th / (w * s), u_end = exp(-z * th / s) * sin(th) / (w * s) * 2.0;
-  double tsep_x = t_end + u_end / (2.0 * e_x);
-  double umax_x = 2.0 * exp(-z * thp / s) * sin(thp) / (w * s);
+  cut_impact x = cut_impact_closed_form(esf_restitution_gamma(0.5), w);
+  double e_x = x.e, tsep_x = x.t_sep, umax_x = 2.0 * x.u_max; /* approach speed 2 m/s */
   const char *methods[] = {"leapfrog",
                            "verlet",
                            "rk4",
