@@ -1,219 +1,282 @@
-/* frames.c — the HDF5 frames writer (frames.h, INTERFACE.md "Output directory").
+/* frames.c — the frames writer: frames.h5 and frames.xdmf (frames.h, INTERFACE.md
+ * "Output directory").
  *
- * Layout: root attributes `scene` and `esfera_version` (variable-length UTF-8 strings,
- * so h5py reads them as str); group /frames; frame k is the group /frames/%06d (k from
- * 0, more digits past 999999) with a scalar double attribute `time` (s) and the
- * datasets id (N, int64), position, velocity, angular_velocity, force (N x 3, double:
- * the particles' x, v, w, f in m, m/s, rad/s, N), radius (N, double, m) and material
- * (N, int32). File types are little-endian IEEE/two's complement. A frame with N = 0
- * particles has every dataset, with zero rows. Datasets with N >= CHUNK_MIN rows are
- * chunked (at most CHUNK_ROWS rows per chunk) with the shuffle and deflate (level 1)
- * filters; smaller ones are contiguous. The file is flushed after every frame, so a run
- * that dies leaves every completed frame readable; a frame that fails half-way is
- * unlinked again (best effort) so the frame count stays consistent.
- *
- * HDF5 errors: HDF5 prints its error stack to stderr by default, which a library must
- * not do. The automatic printing is process-global state, so every public function here
- * saves the current handler (H5Eget_auto2), disables it, and restores it before
- * returning; nothing is changed outside these calls. The innermost HDF5 error message
- * (H5Ewalk2) is appended to our ESF_EIO message, which always names the file. (Serial
- * HDF5 is not thread-safe anyway, so the save/restore needs no locking.)
- *
- * Every identifier opened here is closed before returning; the file and the /frames
- * group stay open between esf_frames_open and esf_frames_close. */
+ * Each esf_frames_write creates the group /frames/%06ld (k from 0, more digits past
+ * 999999) with its time attribute and datasets (h5io.h: chunked with shuffle + deflate
+ * from 1024 rows), the walls mesh (wall_mesh.h) sized to the particles' bounding box
+ * (centres +- radii) and the contacts, flushes the pending /energy rows and the file,
+ * then rewrites frames.xdmf (xdmf.h) from the list of frames kept here. A frame that
+ * fails half-way is unlinked again (best effort) so the frame count stays consistent.
+ * Every public function keeps HDF5 from printing (esf_h5_quiet) and adds its wall time
+ * to `seconds`. The file, /frames and the /energy table stay open between
+ * esf_frames_open and esf_frames_close; every other identifier is closed before
+ * returning. */
 #include "frames.h"
 
 #include <hdf5.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
-enum { CHUNK_MIN = 1024, CHUNK_ROWS = 32768, DEFLATE_LEVEL = 1 };
+#include "h5io.h"
+#include "h5table.h"
+#include "wall_mesh.h"
+#include "xdmf.h"
+
+enum { XDMF_EVERY_FRAME_MAX = 1000 }; /* past this many frames: at most once a second */
 
 struct esf_frames {
   hid_t file, frames;
   long count;
-  char *path;
+  char *path, *xdmf_path, *h5_name; /* h5_name: the base name, as the XDMF says it */
+  esf_h5table *energy;
+  esf_wall_mesh mesh;
+  esf_xdmf_frame *xf; /* one record per frame written */
+  size_t xf_cap;
+  long xdmf_written; /* frames the XDMF on disk describes */
+  double xdmf_last;  /* monotonic time of its last rewrite, s */
+  double seconds;    /* wall time spent writing */
 };
 
-/* Saved automatic error reporting of HDF5 (restored on leaving each public function). */
-typedef struct h5_quiet {
-  H5E_auto2_t func;
-  void *data;
-  int saved;
-} h5_quiet;
-
-static void quiet_begin(h5_quiet *q) {
-  q->saved = H5Eget_auto2(H5E_DEFAULT, &q->func, &q->data) >= 0;
-  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static void quiet_end(const h5_quiet *q) {
-  if (q->saved) H5Eset_auto2(H5E_DEFAULT, q->func, q->data);
+static char *dup_str(const char *s, size_t extra) {
+  size_t n = strlen(s);
+  char *c = malloc(n + extra + 1);
+  if (c) memcpy(c, s, n + 1);
+  return c;
 }
 
-/* H5Ewalk2 callback keeping the innermost (first, walking upward) description. */
-static herr_t walk_first(unsigned n, const H5E_error2_t *e, void *data) {
-  char *buf = data;
-  if (n == 0 && e->desc) snprintf(buf, 256, "%s", e->desc);
-  return 0;
-}
-
-/* ESF_EIO "WHAT 'PATH': hdf5 detail" from the current HDF5 error stack. */
-static int h5_fail(esf_error *err, const char *what, const char *path) {
-  char detail[256] = "";
-  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, walk_first, detail);
-  H5Eclear2(H5E_DEFAULT);
-  if (detail[0]) return esf_fail(err, ESF_EIO, "%s '%s': %s", what, path, detail);
-  return esf_fail(err, ESF_EIO, "%s '%s'", what, path);
-}
-
-/* Writes a variable-length string attribute on obj. */
-static int write_string_attr(hid_t obj, const char *name, const char *value) {
-  hid_t type = H5Tcopy(H5T_C_S1), space = H5Screate(H5S_SCALAR), attr = -1;
-  int ok = type >= 0 && space >= 0 && H5Tset_size(type, H5T_VARIABLE) >= 0 &&
-           H5Tset_cset(type, H5T_CSET_UTF8) >= 0;
-  if (ok) attr = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
-  ok = ok && attr >= 0 && H5Awrite(attr, type, &value) >= 0;
-  if (attr >= 0) ok = (H5Aclose(attr) >= 0) && ok;
-  if (space >= 0) H5Sclose(space);
-  if (type >= 0) H5Tclose(type);
-  return ok ? 0 : -1;
-}
-
-static int write_double_attr(hid_t obj, const char *name, double value) {
-  hid_t space = H5Screate(H5S_SCALAR), attr = -1;
-  int ok = space >= 0;
-  if (ok) attr = H5Acreate2(obj, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT);
-  ok = ok && attr >= 0 && H5Awrite(attr, H5T_NATIVE_DOUBLE, &value) >= 0;
-  if (attr >= 0) ok = (H5Aclose(attr) >= 0) && ok;
-  if (space >= 0) H5Sclose(space);
-  return ok ? 0 : -1;
-}
-
-/* Creates and writes dataset `name` of n rows (cols 1: rank 1, else n x cols). */
-static int write_dataset(hid_t group, const char *name, hid_t ftype, hid_t mtype,
-                         size_t n, int cols, const void *data) {
-  hsize_t dims[2] = {(hsize_t)n, (hsize_t)cols};
-  int rank = cols == 1 ? 1 : 2;
-  hid_t space = H5Screate_simple(rank, dims, NULL), dcpl = H5Pcreate(H5P_DATASET_CREATE);
-  hid_t dset = -1;
-  int ok = space >= 0 && dcpl >= 0;
-  if (ok && n >= CHUNK_MIN && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
-    hsize_t chunk[2] = {(hsize_t)(n < CHUNK_ROWS ? n : CHUNK_ROWS), (hsize_t)cols};
-    ok = H5Pset_chunk(dcpl, rank, chunk) >= 0 && H5Pset_shuffle(dcpl) >= 0 &&
-         H5Pset_deflate(dcpl, DEFLATE_LEVEL) >= 0;
-  }
-  if (ok) dset = H5Dcreate2(group, name, ftype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
-  ok = ok && dset >= 0;
-  if (ok && n > 0) ok = H5Dwrite(dset, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0;
-  if (dset >= 0) ok = (H5Dclose(dset) >= 0) && ok;
-  if (dcpl >= 0) H5Pclose(dcpl);
-  if (space >= 0) H5Sclose(space);
-  return ok ? 0 : -1;
+static void destroy(esf_frames *fr) {
+  if (fr->frames >= 0) H5Gclose(fr->frames);
+  if (fr->file >= 0) H5Fclose(fr->file);
+  esf_wall_mesh_release(&fr->mesh);
+  free(fr->xf);
+  free(fr->path);
+  free(fr->xdmf_path);
+  free(fr->h5_name);
+  free(fr);
 }
 
 int esf_frames_open(const char *path, const char *scene_name, const char *version,
                     esf_frames **out, esf_error *err) {
   *out = NULL;
   esf_frames *fr = calloc(1, sizeof *fr);
-  size_t len = strlen(path);
-  char *copy = malloc(len + 1);
-  if (!fr || !copy) {
-    free(fr);
-    free(copy);
+  if (fr) {
+    fr->file = fr->frames = -1;
+    fr->path = dup_str(path, 0);
+    fr->xdmf_path = dup_str(path, 5);
+    const char *slash = strrchr(path, '/');
+    fr->h5_name = dup_str(slash ? slash + 1 : path, 0);
+  }
+  if (!fr || !fr->path || !fr->xdmf_path || !fr->h5_name) {
+    if (fr) destroy(fr);
     return esf_fail(err, ESF_ENOMEM, "out of memory opening '%s'", path);
   }
-  memcpy(copy, path, len + 1);
-  fr->path = copy;
-  fr->frames = -1;
-  h5_quiet q;
-  quiet_begin(&q);
+  size_t len = strlen(path);
+  if (len >= 3 && strcmp(path + len - 3, ".h5") == 0) fr->xdmf_path[len - 3] = '\0';
+  strcat(fr->xdmf_path, ".xdmf");
+  esf_h5_quiet q;
+  esf_h5_quiet_begin(&q);
   int rc = ESF_OK;
   fr->file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (fr->file < 0) {
-    rc = h5_fail(err, "cannot create frames file", path);
-  } else if (write_string_attr(fr->file, "scene", scene_name ? scene_name : "") < 0 ||
-             write_string_attr(fr->file, "esfera_version", version ? version : "") < 0) {
-    rc = h5_fail(err, "cannot write the root attributes of", path);
+    rc = esf_h5_fail(err, "cannot create frames file", path);
+  } else if (esf_h5_attr_write_string(fr->file, "scene", scene_name ? scene_name : "") <
+                 0 ||
+             esf_h5_attr_write_string(fr->file, "esfera_version",
+                                      version ? version : "") < 0 ||
+             esf_h5_attr_write_string(fr->file, "kind", "frames") < 0) {
+    rc = esf_h5_fail(err, "cannot write the root attributes of", path);
   } else {
     fr->frames = H5Gcreate2(fr->file, "frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    if (fr->frames < 0) rc = h5_fail(err, "cannot create group /frames in", path);
+    if (fr->frames < 0) rc = esf_h5_fail(err, "cannot create group /frames in", path);
   }
   if (rc) {
-    if (fr->frames >= 0) H5Gclose(fr->frames);
-    if (fr->file >= 0) H5Fclose(fr->file);
+    destroy(fr);
     H5Eclear2(H5E_DEFAULT);
-    free(fr->path);
-    free(fr);
   } else {
     *out = fr;
   }
-  quiet_end(&q);
+  esf_h5_quiet_end(&q);
   return rc;
 }
 
+/* The particles' bounding box (centres +- radii); 0 when there are none. */
+static int particle_box(const esf_particles *p, double lo[3], double hi[3]) {
+  for (size_t i = 0; i < p->n; i++)
+    for (int q = 0; q < 3; q++) {
+      double a = p->x[3 * i + q] - p->radius[i], b = p->x[3 * i + q] + p->radius[i];
+      lo[q] = i ? (a < lo[q] ? a : lo[q]) : a;
+      hi[q] = i ? (b > hi[q] ? b : hi[q]) : b;
+    }
+  return p->n > 0;
+}
+
+static int write_particles(hid_t g, const esf_particles *p) {
+  size_t n = p->n;
+  hid_t f64 = H5T_IEEE_F64LE, d = H5T_NATIVE_DOUBLE;
+  return esf_h5_dataset_write(g, "id", H5T_STD_I64LE, H5T_NATIVE_INT64, n, 1, p->id) ||
+         esf_h5_dataset_write(g, "position", f64, d, n, 3, p->x) ||
+         esf_h5_dataset_write(g, "velocity", f64, d, n, 3, p->v) ||
+         esf_h5_dataset_write(g, "angular_velocity", f64, d, n, 3, p->w) ||
+         esf_h5_dataset_write(g, "force", f64, d, n, 3, p->f) ||
+         esf_h5_dataset_write(g, "radius", f64, d, n, 1, p->radius) ||
+         esf_h5_dataset_write(g, "material", H5T_STD_I32LE, H5T_NATIVE_INT32, n, 1,
+                              p->material);
+}
+
+static int write_walls(hid_t frame, const esf_wall_mesh *m) {
+  hid_t g = H5Gcreate2(frame, "walls", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  hid_t i32 = H5T_STD_I32LE, ni32 = H5T_NATIVE_INT32;
+  int bad = g < 0 ||
+            esf_h5_dataset_write(g, "points", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, m->np, 3,
+                                 m->points) ||
+            esf_h5_dataset_write(g, "triangles", i32, ni32, m->nt, 3, m->tri) ||
+            esf_h5_dataset_write(g, "group", i32, ni32, m->nt, 1, m->group) ||
+            esf_h5_dataset_write(g, "material", i32, ni32, m->nt, 1, m->material);
+  if (g >= 0 && H5Gclose(g) < 0) bad = 1;
+  return bad ? -1 : 0;
+}
+
+static int write_contacts(hid_t frame, const esf_contact_net *c) {
+  hid_t g = H5Gcreate2(frame, "contacts", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  int bad = g < 0 ||
+            esf_h5_dataset_write(g, "pairs", H5T_STD_I64LE, H5T_NATIVE_INT64, c->n, 2,
+                                 c->pair) ||
+            esf_h5_dataset_write(g, "normal_force", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                                 c->n, 1, c->fn);
+  if (g >= 0 && H5Gclose(g) < 0) bad = 1;
+  return bad ? -1 : 0;
+}
+
+/* Rewrites the XDMF when due (force: always, if it is behind). */
+static int update_xdmf(esf_frames *fr, int force, esf_error *err) {
+  if (fr->xdmf_written == fr->count) return ESF_OK;
+  double t = now_s();
+  if (!force && fr->count > XDMF_EVERY_FRAME_MAX && t - fr->xdmf_last < 1.0)
+    return ESF_OK;
+  int rc = esf_xdmf_write(fr->xdmf_path, fr->h5_name, fr->xf, (size_t)fr->count, err);
+  if (!rc) {
+    fr->xdmf_written = fr->count;
+    fr->xdmf_last = t;
+  }
+  return rc;
+}
+
+/* Appends the XDMF record of the frame being written. */
+static int record(esf_frames *fr, const esf_xdmf_frame *x, esf_error *err) {
+  if ((size_t)fr->count == fr->xf_cap) {
+    size_t cap = fr->xf_cap ? 2 * fr->xf_cap : 64;
+    esf_xdmf_frame *n = realloc(fr->xf, cap * sizeof *n);
+    if (!n) return esf_fail(err, ESF_ENOMEM, "out of memory for the frame list");
+    fr->xf = n;
+    fr->xf_cap = cap;
+  }
+  fr->xf[fr->count] = *x;
+  return ESF_OK;
+}
+
 int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
+                     const esf_walls *walls, const esf_contact_net *contacts,
                      esf_error *err) {
   if (!fr) return esf_fail(err, ESF_EINTERNAL, "frames: write on a closed file");
+  double t0 = now_s();
   char name[32];
   snprintf(name, sizeof name, "%06ld", fr->count);
-  h5_quiet q;
-  quiet_begin(&q);
-  size_t n = p->n;
+  esf_xdmf_frame x = {time, fr->count, p->n, 0, 0, 0, 0, 0};
+  int with_walls = walls && walls->n > 0;
+  double lo[3], hi[3];
+  int have_box = particle_box(p, lo, hi);
+  int rc = with_walls ? esf_wall_mesh_build(walls, have_box ? lo : NULL,
+                                            have_box ? hi : NULL, &fr->mesh, err)
+                      : ESF_OK;
+  if (!rc) rc = record(fr, &x, err);
+  if (rc) return rc;
+  esf_h5_quiet q;
+  esf_h5_quiet_begin(&q);
   hid_t g = H5Gcreate2(fr->frames, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  int ok =
-      g >= 0 && write_double_attr(g, "time", time) == 0 &&
-      write_dataset(g, "id", H5T_STD_I64LE, H5T_NATIVE_INT64, n, 1, p->id) == 0 &&
-      write_dataset(g, "position", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, n, 3, p->x) == 0 &&
-      write_dataset(g, "velocity", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, n, 3, p->v) == 0 &&
-      write_dataset(g, "angular_velocity", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, n, 3,
-                    p->w) == 0 &&
-      write_dataset(g, "force", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, n, 3, p->f) == 0 &&
-      write_dataset(g, "radius", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, n, 1, p->radius) ==
-          0 &&
-      write_dataset(g, "material", H5T_STD_I32LE, H5T_NATIVE_INT32, n, 1, p->material) ==
-          0;
-  int rc = ESF_OK;
+  int ok = g >= 0 && esf_h5_attr_write_double(g, "time", time) == 0 &&
+           write_particles(g, p) == 0 &&
+           (!with_walls || write_walls(g, &fr->mesh) == 0) &&
+           (!contacts || write_contacts(g, contacts) == 0);
   if (!ok) {
     char what[96];
     snprintf(what, sizeof what, "cannot write frame %s to", name);
-    rc = h5_fail(err, what, fr->path);
+    rc = esf_h5_fail(err, what, fr->path);
   }
-  if (g >= 0 && H5Gclose(g) < 0 && rc == ESF_OK) {
-    rc = h5_fail(err, "cannot close a frame group in", fr->path);
-    ok = 0;
-  }
-  if (ok && H5Fflush(fr->file, H5F_SCOPE_LOCAL) < 0)
-    rc = h5_fail(err, "cannot flush", fr->path);
+  if (g >= 0 && H5Gclose(g) < 0 && rc == ESF_OK)
+    rc = esf_h5_fail(err, "cannot close a frame group in", fr->path);
+  if (!rc) rc = esf_h5table_flush(fr->energy, err);
+  if (!rc && H5Fflush(fr->file, H5F_SCOPE_LOCAL) < 0)
+    rc = esf_h5_fail(err, "cannot flush", fr->path);
   if (rc == ESF_OK) {
+    fr->xf[fr->count].has_walls = with_walls;
+    fr->xf[fr->count].wall_points = with_walls ? fr->mesh.np : 0;
+    fr->xf[fr->count].wall_triangles = with_walls ? fr->mesh.nt : 0;
+    fr->xf[fr->count].has_contacts = contacts != NULL;
+    fr->xf[fr->count].contacts = contacts ? contacts->n : 0;
     fr->count++;
+    rc = update_xdmf(fr, 0, err);
   } else if (g >= 0) {
     H5Ldelete(fr->frames, name, H5P_DEFAULT); /* best effort: keep the count coherent */
     H5Eclear2(H5E_DEFAULT);
   }
-  quiet_end(&q);
+  esf_h5_quiet_end(&q);
+  fr->seconds += now_s() - t0;
+  return rc;
+}
+
+int esf_frames_energy(esf_frames *fr, int ncols, const char *const *names,
+                      const double *row, esf_error *err) {
+  if (!fr) return esf_fail(err, ESF_EINTERNAL, "frames: energy row on a closed file");
+  if (fr->energy && esf_h5table_ncols(fr->energy) != ncols)
+    return esf_fail(err, ESF_EINTERNAL, "frames: energy rows of %d and %d columns",
+                    esf_h5table_ncols(fr->energy), ncols);
+  double t0 = now_s();
+  esf_h5_quiet q;
+  esf_h5_quiet_begin(&q);
+  int rc = ESF_OK;
+  if (!fr->energy)
+    rc = esf_h5table_create(fr->file, "energy", ncols, names, fr->path, &fr->energy, err);
+  if (!rc) rc = esf_h5table_append(fr->energy, row, err);
+  esf_h5_quiet_end(&q);
+  fr->seconds += now_s() - t0;
   return rc;
 }
 
 long esf_frames_count(const esf_frames *fr) { return fr ? fr->count : 0; }
 
+long esf_frames_energy_rows(const esf_frames *fr) {
+  return fr ? (long)esf_h5table_rows(fr->energy) : 0;
+}
+
+double esf_frames_seconds(const esf_frames *fr) { return fr ? fr->seconds : 0.0; }
+
 int esf_frames_close(esf_frames **frp, esf_error *err) {
   if (!frp || !*frp) return ESF_OK;
   esf_frames *fr = *frp;
   *frp = NULL;
-  h5_quiet q;
-  quiet_begin(&q);
-  int rc = ESF_OK;
-  if (fr->frames >= 0 && H5Gclose(fr->frames) < 0)
-    rc = h5_fail(err, "cannot close group /frames in", fr->path);
-  if (fr->file >= 0 && H5Fflush(fr->file, H5F_SCOPE_LOCAL) < 0 && rc == ESF_OK)
-    rc = h5_fail(err, "cannot flush", fr->path);
-  if (fr->file >= 0 && H5Fclose(fr->file) < 0 && rc == ESF_OK)
-    rc = h5_fail(err, "cannot close", fr->path);
+  esf_h5_quiet q;
+  esf_h5_quiet_begin(&q);
+  int rc = esf_h5table_close(&fr->energy, err);
+  int rc2 = update_xdmf(fr, 1, rc ? NULL : err);
+  if (!rc) rc = rc2;
+  if (H5Gclose(fr->frames) < 0 && rc == ESF_OK)
+    rc = esf_h5_fail(err, "cannot close group /frames in", fr->path);
+  fr->frames = -1;
+  if (H5Fflush(fr->file, H5F_SCOPE_LOCAL) < 0 && rc == ESF_OK)
+    rc = esf_h5_fail(err, "cannot flush", fr->path);
+  if (H5Fclose(fr->file) < 0 && rc == ESF_OK)
+    rc = esf_h5_fail(err, "cannot close", fr->path);
+  fr->file = -1;
   H5Eclear2(H5E_DEFAULT);
-  quiet_end(&q);
-  free(fr->path);
-  free(fr);
+  esf_h5_quiet_end(&q);
+  destroy(fr);
   return rc;
 }

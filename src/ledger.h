@@ -29,6 +29,14 @@ double esf_ledger_stored(const esf_ledger *l);
 double esf_ledger_dissipated(const esf_ledger *l);
 double esf_ledger_total_error(const esf_ledger *l);
 
+/* The columns of an energy row (energy.csv and /energy in frames.h5), in order. */
+enum { ESF_LEDGER_NCOLS = 18 };
+extern const char *const esf_ledger_columns[ESF_LEDGER_NCOLS];
+
+/* One row's values at time t (s) with global damping alpha (1/s), in column order. */
+void esf_ledger_values(double t, const esf_ledger *l, double alpha,
+                       double row[ESF_LEDGER_NCOLS]);
+
 /* energy.csv: header, and one row. */
 void esf_ledger_header(FILE *f);
 void esf_ledger_row(FILE *f, double t, const esf_ledger *l, double alpha);

@@ -232,7 +232,7 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
   static const char *const frames[] = {"rotate", "project", NULL};
   static const char *const skeys[] = {"skin", NULL};
   static const char *const rkeys[] = {"duration", "steps", NULL};
-  static const char *const okeys[] = {"every", "energy_every", "dir", NULL};
+  static const char *const okeys[] = {"every", "energy_every", "dir", "contacts", NULL};
   int rc = ESF_OK;
   const esf_ynode *ct = esf_ymap_get(root, "contact");
   if (ct) {
@@ -277,6 +277,7 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
     if (!rc) rc = esf_yget_string(ou, "dir", 0, &dir, err);
     if (!rc && dir) snprintf(c->out_dir, sizeof c->out_dir, "%s", dir);
   }
+    if (!rc) rc = esf_yget_bool(ou, "contacts", 0, &c->out_contacts, err);
   return rc;
 }
 

@@ -64,6 +64,7 @@ typedef struct esf_config {
   double energy_every; /* s between energy rows; 0: no ledger */
   int energy_off;      /* energy_every: 0 given explicitly */
   char out_dir[1024];
+  int out_contacts;    /* output.contacts: the contact network in every frame */
 } esf_config;
 
 void esf_config_default(esf_config *c);

@@ -158,12 +158,12 @@ static void test_roundtrip(void) {
   const double times[3] = {0.0, 1.0e-4, 2.5e-4};
   for (int f = 0; f < 3; f++) {
     fill(&p, f);
-    rc = esf_frames_write(fr, times[f], &p, &err);
+    rc = esf_frames_write(fr, times[f], &p, NULL, NULL, &err);
     CHECK_OK(rc, err);
   }
   fill(&big, 7);
-  CHECK_OK(esf_frames_write(fr, 1.0, &big, &err), err);
-  CHECK_OK(esf_frames_write(fr, 2.0, &none, &err), err);
+  CHECK_OK(esf_frames_write(fr, 1.0, &big, NULL, NULL, &err), err);
+  CHECK_OK(esf_frames_write(fr, 2.0, &none, NULL, NULL, &err), err);
   CHECK(esf_frames_count(fr) == 5, "%ld frames written, expected 5",
         esf_frames_count(fr));
   rc = esf_frames_close(&fr, &err);
