@@ -50,16 +50,19 @@ static int cv_create(esf_sim *s, void **state, esf_error *err) {
   cvadams *c = calloc(1, sizeof *c);
   if (!c) return esf_fail(err, ESF_ENOMEM, "out of memory");
   *state = c;
-  int hc = esf_dem_ode_check(s, err);
+  int hc = esf_dem_ode_check(s, "cvode-adams", 0, 0, err);
   if (hc) return hc;
   if (SUNContext_Create(NULL, &c->ctx))
     return esf_fail(err, ESF_EINTERNAL, "cannot create a SUNDIALS context");
-  c->y = N_VNew_Serial((sunindextype)(9 * s->p.n + ESF_ODE_NQ), c->ctx);
-  c->atol = N_VNew_Serial((sunindextype)(9 * s->p.n + ESF_ODE_NQ), c->ctx);
-  if (!c->y || !c->atol) return esf_fail(err, ESF_ENOMEM, "out of memory");
-  esf_dem_ode_init(&c->ode, s, N_VGetArrayPointer(c->y));
+  esf_dem_ode_init(&c->ode, s);
   int rc = esf_integ_refresh(s, NULL, err);
-  if (!rc) rc = esf_dem_ode_start(&c->ode, N_VGetArrayPointer(c->y), err);
+  if (rc) return rc;
+  sunindextype len = (sunindextype)esf_dem_ode_layout(&c->ode);
+  c->y = N_VNew_Serial(len, c->ctx);
+  c->atol = N_VNew_Serial(len, c->ctx);
+  if (!c->y || !c->atol) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  esf_dem_ode_pack(&c->ode, NULL, N_VGetArrayPointer(c->y));
+  rc = esf_dem_ode_start(&c->ode, N_VGetArrayPointer(c->y), err);
   if (rc) return rc;
   c->mem = CVodeCreate(CV_ADAMS, c->ctx);
   if (!c->mem || CVodeInit(c->mem, cv_rhs, s->t, c->y))

@@ -9,17 +9,58 @@
 #include "integ_common.h"
 #include "vec3.h"
 
-void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s, double *y0) {
+void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s) {
   memset(o, 0, sizeof *o);
   o->s = s;
   o->n = s->p.n;
-  o->len = 9 * o->n + ESF_ODE_NQ;
+  o->state = s->cfg.history == ESF_HIST_STATE;
   o->t_commit = s->t;
-  s->nb.carry =
-      1; /* keep each contact's velocity at the commit (before the first build) */
-  memcpy(y0, s->p.y, 9 * o->n * sizeof(double));
-  memset(y0 + 9 * o->n, 0, ESF_ODE_NQ * sizeof(double));
+  /* frozen history keeps each contact's velocity at the commit (before the first
+     build, so that the lists allocate it) */
+  s->nb.carry = !o->state;
   esf_error_clear(&o->err);
+  esf_dem_ode_layout(o);
+}
+
+size_t esf_dem_ode_layout(esf_dem_ode *o) {
+  const esf_neighbor *nb = &o->s->nb;
+  o->nxi = o->state ? 3 * (nb->pp.n + nb->pw.n) : 0;
+  o->len = 9 * o->n + ESF_ODE_NQ + o->nxi;
+  return o->len;
+}
+
+static void pack_xi(const esf_contacts *c, double *xi) {
+  for (size_t k = 0; k < c->n; k++)
+    for (int q = 0; q < 3; q++) xi[3 * k + q] = c->touch[k] ? c->h[k].xi[q] : 0.0;
+}
+
+void esf_dem_ode_pack(const esf_dem_ode *o, const double *q, double *y) {
+  const esf_sim *s = o->s;
+  size_t n9 = 9 * o->n;
+  memcpy(y, s->p.y, n9 * sizeof(double));
+  for (int j = 0; j < ESF_ODE_NQ; j++) y[n9 + j] = q ? q[j] : 0.0;
+  if (!o->state) return;
+  double *xi = y + n9 + ESF_ODE_NQ;
+  pack_xi(&s->nb.pp, xi);
+  pack_xi(&s->nb.pw, xi + 3 * s->nb.pp.n);
+}
+
+/* Points the contact lists at the XI block of y (and of ydot, may be NULL). */
+static void attach_xi(esf_dem_ode *o, const double *y, double *ydot) {
+  esf_neighbor *nb = &o->s->nb;
+  if (!o->state) return;
+  size_t off = 9 * o->n + ESF_ODE_NQ, npp = 3 * nb->pp.n;
+  nb->pp.xs = y + off;
+  nb->pw.xs = y + off + npp;
+  nb->pp.xsdot = ydot ? ydot + off : NULL;
+  nb->pw.xsdot = ydot ? ydot + off + npp : NULL;
+  if (ydot) memset(ydot + off, 0, o->nxi * sizeof(double));
+}
+
+static void detach_xi(esf_dem_ode *o) {
+  esf_neighbor *nb = &o->s->nb;
+  nb->pp.xs = nb->pw.xs = NULL;
+  nb->pp.xsdot = nb->pw.xsdot = NULL;
 }
 
 int esf_dem_ode_start(esf_dem_ode *o, const double *y, esf_error *err) {
@@ -29,7 +70,9 @@ int esf_dem_ode_start(esf_dem_ode *o, const double *y, esf_error *err) {
   size_t n = o->n;
   esf_force_tally ty;
   s->tally = &ty;
+  attach_xi(o, y, NULL);
   int rc = esf_forces_eval(s, y, y + 3 * n, y + 6 * n, 0.0, ESF_FORCES_TRIAL, NULL, err);
+  detach_xi(o);
   s->tally = NULL;
   if (rc) return rc;
   esf_integ_energies(s, y, y + 3 * n, y + 6 * n, &L->kin_t, &L->kin_r, &L->pot_g);
@@ -50,6 +93,7 @@ double esf_dem_ode_qtol(const esf_dem_ode *o, double rtol) {
 void esf_dem_ode_atol(const esf_dem_ode *o, double *a, double rtol, double atol) {
   for (size_t j = 0; j < 9 * o->n; j++) a[j] = atol;
   for (int q = 0; q < ESF_ODE_NQ; q++) a[9 * o->n + q] = esf_dem_ode_qtol(o, rtol);
+  for (size_t j = 0; j < o->nxi; j++) a[9 * o->n + ESF_ODE_NQ + j] = atol; /* m */
 }
 
 void esf_sundials_silent(int code, const char *module, const char *function, char *msg,
@@ -61,11 +105,20 @@ void esf_sundials_silent(int code, const char *module, const char *function, cha
   (void)data;
 }
 
-int esf_dem_ode_check(const esf_sim *s, esf_error *err) {
-  if (s->cfg.history == ESF_HIST_STATE)
+int esf_dem_ode_check(const esf_sim *s, const char *name, int state_ok, int roots_ok,
+                      esf_error *err) {
+  if (s->cfg.history == ESF_HIST_STATE && !state_ok)
     return esf_fail(err, ESF_EINPUT,
-                    "integrator.history: state (contact history integrated as ODE state) "
-                    "is not available in this version; use frozen");
+                    "integrator.history: state (contact history as ODE state) is not "
+                    "available with %s: its length changes whenever the candidate lists "
+                    "are rebuilt, which this method cannot follow; use frozen, or an "
+                    "erk: method",
+                    name);
+  if (s->cfg.roots && !roots_ok)
+    return esf_fail(err, ESF_EINPUT,
+                    "integrator.roots: rootfinding at contact onset and separation is "
+                    "available with the adaptive erk: methods only (rtol > 0), not %s",
+                    name);
   return ESF_OK;
 }
 
@@ -75,7 +128,9 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   const double *x = y, *v = y + 3 * n, *w = y + 6 * n;
   esf_force_tally ty = {0};
   s->tally = s->led.on ? &ty : NULL; /* the quadratures only feed the ledger */
+  attach_xi(o, y, ydot);
   int rc = esf_forces_eval(s, x, v, w, t - o->t_commit, ESF_FORCES_TRIAL, NULL, &o->err);
+  detach_xi(o);
   s->tally = NULL;
   o->nrhs++;
   if (rc) {
@@ -111,8 +166,10 @@ int esf_dem_ode_commit(esf_dem_ode *o, double t, const double *y, esf_error *err
   esf_force_tally ty;
   s->tally = &ty;
   size_t touching = 0;
+  attach_xi(o, y, NULL);
   int rc = esf_forces_eval(s, s->p.x, s->p.v, s->p.w, t - o->t_commit, ESF_FORCES_COMMIT,
                            &touching, err);
+  detach_xi(o);
   s->tally = NULL;
   o->ncommit++;
   if (rc) return rc;

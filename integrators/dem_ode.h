@@ -6,14 +6,23 @@
  * accuracy. f = [ v | a | dw | powers ] with a, dw the damped accelerations
  * (integ_common.h) from the forces at (x, v, w).
  *
- * Contact history, treatment (b) "frozen": within a step the tangential displacement is
- * the committed one carried by the trapezoidal rule,
+ * Contact history, treatment (b) "frozen" (integrator.history: frozen): within a step
+ * the tangential displacement is the committed one carried by the trapezoidal rule,
  *   xi(t) = rot(xi_c) + [(vct(t_c) + vct(t))/2] (t - t_c)
  * (vct(t_c) kept per contact at each commit; a contact new within the step uses vct(t));
- * stage evaluations never write it. After each accepted
- * step esf_dem_ode_commit evaluates once more at the step's end and commits (Coulomb
- * return and slip work included), then t_c = t. Treatment (a) "state" (history as ODE
- * state) is not implemented in this version.
+ * stage evaluations never write it. After each accepted step esf_dem_ode_commit
+ * evaluates once more at the step's end and commits (Coulomb return and slip work
+ * included), then t_c = t.
+ *
+ * Treatment (a) "state" (integrator.history: state): y gains a block XI of 3 entries
+ * per candidate contact (pair list, then wall list), the live tangential displacement,
+ * with rate xi' = vct + spin_n n x xi while touching and 0 otherwise; the law tilts xi
+ * from the committed normal into the current plane at every evaluation and caps the
+ * force at the Coulomb limit, so stages never write history and xi is integrated to
+ * the method's own order. At each commit the Coulomb return, the tilt and the reset of
+ * ended contacts are applied to the committed history and XI is rebuilt from it
+ * (esf_dem_ode_pack); when that changes y or its length (after a list rebuild) the
+ * method is resized or reset to the new y, which costs an ARKODE restart.
  *
  * A failure inside f (a non-finite acceleration, an overlap beyond the limit) returns 1
  * (recoverable: adaptive methods retry with a smaller step) and keeps the message. */
@@ -27,7 +36,9 @@ enum { ESF_ODE_QN, ESF_ODE_QT, ESF_ODE_QG, ESF_ODE_QL, ESF_ODE_QW, ESF_ODE_NQ };
 typedef struct esf_dem_ode {
   esf_sim *s;
   size_t n;        /* particles in the layout */
-  size_t len;      /* length of y */
+  size_t nxi;      /* entries of the XI block (0 for frozen history) */
+  size_t len;      /* length of y: 9 n + ESF_ODE_NQ + nxi */
+  int state;       /* 1: history as ODE state */
   double t_commit; /* time the committed history refers to, s */
   long nrhs;       /* right-hand-side evaluations */
   long ncommit;    /* commit evaluations */
@@ -35,8 +46,17 @@ typedef struct esf_dem_ode {
   esf_error err;   /* the last failure inside f */
 } esf_dem_ode;
 
-/* Sets up the layout for the sim's particles; y0 (length o->len) gets the state. */
-void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s, double *y0);
+/* Prepares the ODE view of the sim; call before the first candidate-list build. */
+void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s);
+
+/* Sets o->nxi and o->len for the current candidate lists (after each build); returns
+ * o->len. */
+size_t esf_dem_ode_layout(esf_dem_ode *o);
+
+/* Writes y (length o->len): x, v, w from the particles, the quadratures from q
+ * (ESF_ODE_NQ values, NULL: zero) and XI from the committed history (zero where not
+ * touching). */
+void esf_dem_ode_pack(const esf_dem_ode *o, const double *q, double *y);
 
 /* The stored energy at the start (a trial evaluation at t0 for the elastic energy):
  * sets the ledger's e0. */
@@ -57,8 +77,10 @@ void esf_dem_ode_atol(const esf_dem_ode *o, double *a, double rtol, double atol)
 void esf_sundials_silent(int code, const char *module, const char *function, char *msg,
                          void *data);
 
-/* ESF_EINPUT when the configuration asks for a history treatment not available. */
-int esf_dem_ode_check(const esf_sim *s, esf_error *err);
+/* ESF_EINPUT when the configuration asks for what the method (named `name`) cannot do:
+ * history as state without state_ok, rootfinding without roots_ok. */
+int esf_dem_ode_check(const esf_sim *s, const char *name, int state_ok, int roots_ok,
+                      esf_error *err);
 
 /* The right-hand side: 0 ok, 1 recoverable failure (message in o->err). */
 int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot);

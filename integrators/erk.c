@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "contact_events.h"
 #include "dem_ode.h"
 #include "integ_common.h"
 #include "integrator.h"
@@ -34,12 +35,41 @@ typedef struct erk {
   esf_dem_ode ode;
   ARKodeButcherTable table; /* owned copy, for the stability polynomial */
   double h_stab;            /* s; <= 0: no stability bound */
+  long resizes;             /* history as state: restarts on a new y */
+  int nroots;               /* event functions registered (integrator.roots) */
+  int roots_off;            /* events disabled until t_event (a step being redone) */
+  double t_event;           /* s: the located event the redone step ends at */
+  long events;              /* events located (each costs a redone step) */
   char name[128];
 } erk;
 
 static int erk_rhs(realtype t, N_Vector y, N_Vector ydot, void *data) {
   erk *e = data;
   return esf_dem_ode_rhs(&e->ode, t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
+}
+
+static int erk_events(realtype t, N_Vector y, realtype *g, void *data) {
+  (void)t;
+  erk *e = data;
+  const double *yy = N_VGetArrayPointer(y);
+  esf_events_eval(e->ode.s, yy, yy + 3 * e->ode.n, g);
+  return 0;
+}
+
+/* Registers one event function per candidate contact (none while events are off).
+ * ARKODE takes the signs to watch at its initial set-up, so every change of the
+ * functions (a new count, a list rebuild, events back on) is followed by a restart on
+ * the current state at the current step size, unless one was just made. */
+static int erk_roots_init(erk *e, int changed, int restarted) {
+  int m = e->roots_off ? 0 : (int)esf_events_count(e->ode.s);
+  if (m == e->nroots && !changed) return 0;
+  e->nroots = m;
+  if (ERKStepRootInit(e->mem, m, m ? erk_events : NULL) != ARK_SUCCESS) return -1;
+  if (restarted) return 0;
+  realtype h = 0;
+  ERKStepGetLastStep(e->mem, &h);
+  if (h > 0) ERKStepSetInitStep(e->mem, h);
+  return ERKStepReset(e->mem, e->ode.s->t, e->y) == ARK_SUCCESS ? 0 : -1;
 }
 
 static int erk_stab(N_Vector y, realtype t, realtype *hstab, void *data) {
@@ -146,7 +176,7 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   *state = e;
   const char *tname = strncmp(c->method, "erk:", 4) == 0 ? c->method + 4 : c->method;
   snprintf(e->name, sizeof e->name, "%s", c->method);
-  int hc = esf_dem_ode_check(s, err);
+  int hc = esf_dem_ode_check(s, c->method, 1, c->rtol > 0, err);
   if (hc) return hc;
   if (SUNContext_Create(NULL, &e->ctx))
     return esf_fail(err, ESF_EINTERNAL, "cannot create a SUNDIALS context");
@@ -166,13 +196,13 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
                     "%s has no embedded error estimate: it runs with a fixed step only "
                     "(set integrator.rtol: 0 and give dt or frac)",
                     c->method);
-  esf_dem_ode tmp;
-  e->y = N_VNew_Serial((sunindextype)(9 * s->p.n + ESF_ODE_NQ), e->ctx);
-  if (!e->y) return esf_fail(err, ESF_ENOMEM, "out of memory");
-  esf_dem_ode_init(&tmp, s, N_VGetArrayPointer(e->y));
-  e->ode = tmp;
+  esf_dem_ode_init(&e->ode, s);
   int rc = esf_integ_refresh(s, NULL, err);
-  if (!rc) rc = esf_dem_ode_start(&e->ode, N_VGetArrayPointer(e->y), err);
+  if (rc) return rc;
+  e->y = N_VNew_Serial((sunindextype)esf_dem_ode_layout(&e->ode), e->ctx);
+  if (!e->y) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  esf_dem_ode_pack(&e->ode, NULL, N_VGetArrayPointer(e->y));
+  rc = esf_dem_ode_start(&e->ode, N_VGetArrayPointer(e->y), err);
   if (rc) return rc;
   e->mem = ERKStepCreate(erk_rhs, s->t, e->y, e->ctx);
   if (!e->mem) return esf_fail(err, ESF_EINTERNAL, "ERKStepCreate failed");
@@ -193,32 +223,99 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
     ERKStepSetInitStep(e->mem, s->dt);
     ERKStepSetMaxStep(e->mem, 10.0 * s->dte.crit[ESF_DT_HART]);
     if (e->h_stab > 0) ERKStepSetStabilityFn(e->mem, erk_stab, e);
+    if (c->roots && erk_roots_init(e, 1, 1))
+      return esf_fail(err, ESF_EINTERNAL, "ERKStepRootInit failed");
   } else {
     ERKStepSetFixedStep(e->mem, s->dt);
   }
   esf_sim_log(s,
               "%s: %d stages, order %d%s; stability radius %.3f along the xi = %.3f "
-              "ray, omega_max %.4g rad/s: h_stab %.4g s; %s",
+              "ray, omega_max %.4g rad/s: h_stab %.4g s; %s; history %s%s",
               c->method, e->table->stages, e->table->q,
               e->table->d ? " with an embedding" : "", r, s->dte.xi, sqrt(w2), e->h_stab,
-              adaptive ? "adaptive" : "fixed step");
+              adaptive ? "adaptive" : "fixed step", esf_history_names[c->history],
+              c->roots ? "; steps end at contact onset and separation (roots)" : "");
+  return ESF_OK;
+}
+
+/* History as state: after a commit and a possible list rebuild, y is rebuilt from the
+ * committed history; when it differs from the integrator's (values or length) the
+ * integrator restarts on it (ERKStepResize keeps the step size; the tolerance vector
+ * and the retry copy follow the length). */
+static int erk_sync(erk *e, int *restarted, esf_error *err) {
+  esf_sim *s = e->ode.s;
+  size_t old = e->ode.len, len = esf_dem_ode_layout(&e->ode);
+  N_Vector yn = len == old ? N_VClone(e->y) : N_VNew_Serial((sunindextype)len, e->ctx);
+  if (!yn) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  const double *y = N_VGetArrayPointer(e->y);
+  double *ny = N_VGetArrayPointer(yn);
+  esf_dem_ode_pack(&e->ode, y + 9 * e->ode.n, ny);
+  int same = len == old;
+  for (size_t j = 9 * e->ode.n + ESF_ODE_NQ; same && j < len; j++)
+    same = ny[j] == y[j]; /* by value: -0 and 0 are the same history */
+  if (same) {
+    N_VDestroy(yn);
+    return ESF_OK;
+  }
+  N_VDestroy(e->y);
+  e->y = yn;
+  if (ERKStepResize(e->mem, e->y, 1.0, s->t, NULL, NULL) != ARK_SUCCESS)
+    return esf_fail(err, ESF_EINTERNAL, "%s: ERKStepResize failed", e->name);
+  e->resizes++;
+  *restarted = 1;
+  if (e->atol && len != old) {
+    N_VDestroy(e->atol);
+    N_VDestroy(e->ysave);
+    e->atol = N_VClone(e->y);
+    e->ysave = N_VClone(e->y);
+    if (!e->atol || !e->ysave) return esf_fail(err, ESF_ENOMEM, "out of memory");
+    esf_dem_ode_atol(&e->ode, N_VGetArrayPointer(e->atol), s->cfg.rtol, s->cfg.atol);
+  }
+  if (e->atol) ERKStepSVtolerances(e->mem, s->cfg.rtol, e->atol);
+  return ESF_OK;
+}
+
+/* A located event at t_ev inside the step just taken: the step is undone and redone
+ * from its start to end exactly at t_ev (events off until then), so that the
+ * non-smoothness falls on a step boundary. An event at the step's very start (the one
+ * just landed on) is only stepped over. */
+static int erk_redo(erk *e, double t_ev, esf_error *err) {
+  esf_sim *s = e->ode.s;
+  N_VScale(1.0, e->ysave, e->y);
+  e->roots_off = 1;
+  if (t_ev - s->t > 1e-6 * s->dte.crit[ESF_DT_HART]) {
+    e->t_event = t_ev;
+    e->events++;
+    ERKStepSetInitStep(e->mem, t_ev - s->t);
+  } else {
+    e->t_event = s->t; /* events back on after the next step */
+  }
+  if (erk_roots_init(e, 1, 1) || ERKStepReset(e->mem, s->t, e->y) != ARK_SUCCESS)
+    return esf_fail(err, ESF_EINTERNAL, "%s: cannot restart at an event", e->name);
   return ESF_OK;
 }
 
 /* ERKStep of SUNDIALS 6.4 does not retry after a recoverable failure of f; an adaptive
  * run does it here: back to the last accepted state, a quarter of the step, up to 20
  * times in a row and down to 1e-6 of the critical step; past that (the failure is
- * physical, not numerical) and in fixed-step runs, the run stops with its message. */
+ * physical, not numerical) and in fixed-step runs, the run stops with its message.
+ * Order per call: one internal step to at most t_stop (or the pending event), commit,
+ * list refresh, then (history as state) the restart on the rebuilt y and (roots) the
+ * event functions for the new lists. */
 static int erk_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   erk *e = state;
-  if (s->cfg.rtol > 0) ERKStepSetStopTime(e->mem, t_stop);
-  realtype tret = 0;
   int adaptive = s->cfg.rtol > 0;
-  if (adaptive) N_VScale(1.0, e->y, e->ysave);
+  double t_to = t_stop;
+  if (e->roots_off && e->t_event > s->t && e->t_event < t_to) t_to = e->t_event;
+  if (adaptive) {
+    ERKStepSetStopTime(e->mem, t_to);
+    N_VScale(1.0, e->y, e->ysave);
+  }
+  realtype tret = 0;
   int flag = 0;
   for (int attempt = 0;; attempt++) {
     esf_error_clear(&e->ode.err);
-    flag = ERKStepEvolve(e->mem, t_stop, e->y, &tret, ARK_ONE_STEP);
+    flag = ERKStepEvolve(e->mem, t_to, e->y, &tret, ARK_ONE_STEP);
     if (flag >= 0 || !adaptive || !e->ode.err.code || attempt == 20) break;
     realtype h = 0;
     ERKStepGetCurrentStep(e->mem, &h);
@@ -229,19 +326,24 @@ static int erk_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     e->retries++;
   }
   if (flag < 0) return fail_flag(e, err, flag, "step");
+  if (flag == ARK_ROOT_RETURN) return erk_redo(e, tret, err);
   int rc = esf_dem_ode_commit(&e->ode, tret, N_VGetArrayPointer(e->y), err);
   if (rc) return rc;
-  realtype h = 0;
-  ERKStepGetLastStep(e->mem, &h);
   s->step++;
-  if (!(s->cfg.rtol > 0)) s->t = (double)s->step * s->dt; /* fixed step: exact times */
+  if (!adaptive) s->t = (double)s->step * s->dt; /* fixed step: exact times */
+  int events_back = e->roots_off && tret >= e->t_event;
+  if (events_back) e->roots_off = 0;
   size_t n_before = s->p.n;
-  rc = esf_integ_refresh(s, NULL, err);
+  int rebuilt = 0, restarted = 0;
+  rc = esf_integ_refresh(s, &rebuilt, err);
   if (!rc && s->p.n != n_before)
     rc = esf_fail(err, ESF_EINPUT,
                   "%s: particles left the domain; removal is supported "
                   "by the leapfrog only in this version",
                   e->name);
+  if (!rc && e->ode.state) rc = erk_sync(e, &restarted, err);
+  if (!rc && s->cfg.roots && erk_roots_init(e, rebuilt || events_back, restarted))
+    rc = esf_fail(err, ESF_EINTERNAL, "%s: ERKStepRootInit failed", e->name);
   return rc;
 }
 
@@ -265,6 +367,8 @@ static void erk_stats(const esf_sim *s, void *state, esf_integ_stats *o) {
   realtype h = 0;
   ERKStepGetLastStep(e->mem, &h);
   o->h_last = h;
+  o->events = e->events;
+  o->restarts = e->resizes;
 }
 
 static void erk_destroy(void **state) {

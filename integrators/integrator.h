@@ -30,6 +30,8 @@ typedef struct esf_integ_stats {
   long rhs_evals;    /* right-hand-side (force) evaluations, commits included */
   long acc_limited;  /* adaptive: steps limited by accuracy */
   long stab_limited; /* adaptive: steps limited by the stability bound */
+  long events;       /* contact onsets and separations located (integrator.roots) */
+  long restarts;     /* restarts on a changed state (history as ODE state) */
   double h_last;     /* last step size, s */
 } esf_integ_stats;
 

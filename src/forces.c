@@ -64,14 +64,30 @@ static inline void contact_velocity(const double *v, const double *w, uint32_t a
 static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *in,
                         esf_contacts *c, size_t k, int commit, double *led, double *slip,
                         esf_contact_out *out) {
-  double vm[3];
-  in->vinc = NULL;
-  if (c->vc0 && c->touch[k]) { /* ODE methods: trapezoidal history increment */
-    for (int q = 0; q < 3; q++) vm[q] = 0.5 * (c->vc0[3 * k + q] + in->vc[q]);
-    in->vinc = vm;
+  if (c->xs) { /* history as ODE state: xi is y's, its rate goes to ydot */
+    esf_contact_hist h;
+    v3_copy(h.xi, c->xs + 3 * k);
+    v3_copy(h.n, c->touch[k] ? c->h[k].n : in->n);
+    in->dt = 0.0; /* the law tilts xi into the current plane; no increment */
+    in->vinc = NULL;
+    s->law->eval(pp, s->beta, s->cfg.tframe, in, &h, 0, commit ? &c->h[k] : NULL, out);
+    if (c->xsdot && out->touching) { /* xi' = vct + spin_n n x xi */
+      double *r = c->xsdot + 3 * k, sp[3];
+      v3_copy(r, in->vc);
+      v3_axpy(r, -v3_dot(in->vc, in->n), in->n);
+      v3_cross(sp, in->n, h.xi);
+      v3_axpy(r, in->spin_n, sp);
+    }
+  } else {
+    double vm[3];
+    in->vinc = NULL;
+    if (c->vc0 && c->touch[k]) { /* ODE methods: trapezoidal history increment */
+      for (int q = 0; q < 3; q++) vm[q] = 0.5 * (c->vc0[3 * k + q] + in->vc[q]);
+      in->vinc = vm;
+    }
+    s->law->eval(pp, s->beta, s->cfg.tframe, in, &c->h[k], !c->touch[k],
+                 commit ? &c->h[k] : NULL, out);
   }
-  s->law->eval(pp, s->beta, s->cfg.tframe, in, &c->h[k], !c->touch[k],
-               commit ? &c->h[k] : NULL, out);
   if (commit && c->vc0 && out->touching)
     memcpy(c->vc0 + 3 * k, in->vc, 3 * sizeof(double));
   if (commit) c->touch[k] = (uint8_t)out->touching;

@@ -31,6 +31,9 @@ typedef struct esf_contacts {
   double *led;         /* ESF_LED_STRIDE per contact, or NULL */
   double *vc0;         /* 3 per contact: relative contact velocity at the last commit
                           (the ODE methods' history carry), or NULL */
+  const double *xs;    /* history as ODE state (dem_ode.h): 3 per contact, the live
+                          tangential displacement, m; NULL otherwise (not owned) */
+  double *xsdot;       /* its rate, m/s, written by evaluations when not NULL */
 } esf_contacts;
 
 typedef struct esf_neighbor {

@@ -17,7 +17,6 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "contact_net.h"
 #include "frames.h"
 #include "vec3.h"
 #include "version.h"
@@ -106,25 +105,6 @@ static int check_energy(const esf_sim *s, esf_error *err) {
                   s->dt, esf_dt_rule_names[s->cfg.dt_rule], s->dte.crit[s->cfg.dt_rule]);
 }
 
-/* A frame of the current state: particles, walls, and the contact network when the
- * scene asks for it (output.contacts). */
-static int write_frame(const esf_sim *s, esf_frames *fr, esf_contact_net *net,
-                       esf_error *err) {
-  int rc = s->cfg.out_contacts ? esf_contact_net_build(s, net, err) : ESF_OK;
-  if (!rc)
-    rc = esf_frames_write(fr, s->t, &s->p, &s->walls, s->cfg.out_contacts ? net : NULL,
-                          err);
-  return rc;
-}
-
-/* An energy row: energy.csv and the /energy table of frames.h5. */
-static int energy_row(const esf_sim *s, FILE *ef, esf_frames *fr, esf_error *err) {
-  double row[ESF_LEDGER_NCOLS];
-  esf_ledger_values(s->led_time, &s->led, s->alpha_r, row);
-  esf_ledger_row(ef, s->led_time, &s->led, s->alpha_r);
-  return esf_frames_energy(fr, ESF_LEDGER_NCOLS, esf_ledger_columns, row, err);
-}
-
 static void progress(const esf_sim *s, double t_end, double t0, double ps) {
   double el = now_s() - t0;
   double frac = t_end > 0 ? s->t / t_end : 1.0;
@@ -148,7 +128,6 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   s->log = logf;
   FILE *ef = NULL;
   esf_frames *fr = NULL;
-  esf_contact_net net = {0};
   void *ist = NULL;
   log_setup(s, it);
   if (s->led.on) {
@@ -163,7 +142,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   snprintf(path, sizeof path, "%s/frames.h5", o->out_dir);
   rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, &fr, err);
   if (!rc) rc = it->create(s, &ist, err);
-  if (!rc) rc = write_frame(s, fr, &net, err);
+  if (!rc) rc = esf_frames_write(fr, s->t, &s->p, err);
   if (rc) goto done;
 
   int adaptive = (it->flags & ESF_INTEG_ADAPTIVE) && s->cfg.rtol > 0;
@@ -191,9 +170,14 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   double te = s->cfg.energy_every, tf = s->cfg.out_every;
   double next_e = te > 0 ? te : INFINITY, next_f = tf > 0 ? tf : INFINITY;
   for (long n = 0; adaptive ? s->t < t_end * (1 - 1e-12) : n < nsteps; n++) {
-    psum += (double)s->p.n;
+    long step_before = s->step;
     rc = it->step(s, ist, t_end, err);
     if (rc) break;
+    if (s->step == step_before) { /* no step taken (an ODE method redoing one) */
+      n--;
+      continue;
+    }
+    psum += (double)s->p.n;
     int row, frame;
     if (adaptive) {
       double tol = 1e-9 * t_end;
@@ -206,12 +190,12 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       frame = every_f && (n + 1) % every_f == 0 && n + 1 < nsteps;
     }
     if (row) {
-      rc = energy_row(s, ef, fr, err);
-      if (!rc) rc = check_energy(s, err);
+      esf_ledger_row(ef, s->led_time, &s->led, s->alpha_r);
+      rc = check_energy(s, err);
       if (rc) break;
     }
     if (frame) {
-      rc = write_frame(s, fr, &net, err);
+      rc = esf_frames_write(fr, s->t, &s->p, err);
       if (rc) break;
     }
     if (o->progress && !o->quiet && (n & 63) == 0) {
@@ -239,11 +223,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   }
   st->energy_error = s->led.on ? esf_ledger_total_error(&s->led) : 0.0;
   st->dissipated = s->led.on ? esf_ledger_dissipated(&s->led) : 0.0;
-  if (!rc) rc = write_frame(s, fr, &net, err);
-  if (!rc)
-    esf_sim_log(s,
-                "output: %ld frames, %ld energy rows in frames.h5; %.3f s writing them",
-                esf_frames_count(fr), esf_frames_energy_rows(fr), esf_frames_seconds(fr));
+  if (!rc) rc = esf_frames_write(fr, s->t, &s->p, err);
   if (rc)
     esf_sim_log(s, "FAILED: %s", err->msg);
   else
@@ -251,11 +231,12 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                 "done: %ld steps, %.3f s of loop, %.4g particle-steps/s, %ld list "
                 "builds, %ld force evaluations, %ld particles removed; integrator: %ld "
                 "steps, %ld attempts, %ld rejected, %ld rhs evaluations, %ld limited "
-                "by accuracy, %ld by stability, last step %.4g s",
+                "by accuracy, %ld by stability, last step %.4g s, %ld events located, "
+                "%ld restarts",
                 st->steps, wall, st->rate, s->nb.builds, s->rhs_evals, s->removed,
                 st->integ.steps, st->integ.attempts, st->integ.rejected,
                 st->integ.rhs_evals, st->integ.acc_limited, st->integ.stab_limited,
-                st->integ.h_last);
+                st->integ.h_last, st->integ.events, st->integ.restarts);
 done:
   if (ist) it->destroy(&ist);
   {
@@ -273,5 +254,4 @@ done:
   if (fclose(logf) != 0 && !rc)
     rc = esf_fail(err, ESF_EIO, "cannot finish log.txt: %s", strerror(errno));
   return rc;
-  esf_contact_net_release(&net);
 }

@@ -45,6 +45,7 @@ typedef struct esf_config {
   double rtol, atol; /* adaptive ODE methods: tolerances (rtol 0: fixed step) */
   int history;       /* ODE methods: ESF_HIST_FROZEN or ESF_HIST_STATE */
   long max_steps;    /* ODE methods: step limit per call */
+  int roots;         /* adaptive ERK: end steps at contact onset and separation */
 
   double alpha_r, alpha_t;             /* global viscous damping, 1/s */
   int local_form;                      /* ESF_LOCAL_* */
@@ -63,8 +64,8 @@ typedef struct esf_config {
   double out_every;    /* s between frames; 0: final frame only */
   double energy_every; /* s between energy rows; 0: no ledger */
   int energy_off;      /* energy_every: 0 given explicitly */
-  char out_dir[1024];
   int out_contacts;    /* output.contacts: the contact network in every frame */
+  char out_dir[1024];
 } esf_config;
 
 void esf_config_default(esf_config *c);
