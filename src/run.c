@@ -17,6 +17,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "contact_net.h"
 #include "frames.h"
 #include "vec3.h"
 #include "version.h"
@@ -105,6 +106,25 @@ static int check_energy(const esf_sim *s, esf_error *err) {
                   s->dt, esf_dt_rule_names[s->cfg.dt_rule], s->dte.crit[s->cfg.dt_rule]);
 }
 
+/* A frame of the current state: particles, walls, and the contact network when the
+ * scene asks for it (output.contacts). */
+static int write_frame(const esf_sim *s, esf_frames *fr, esf_contact_net *net,
+                       esf_error *err) {
+  int rc = s->cfg.out_contacts ? esf_contact_net_build(s, net, err) : ESF_OK;
+  if (!rc)
+    rc = esf_frames_write(fr, s->t, &s->p, &s->walls, s->cfg.out_contacts ? net : NULL,
+                          err);
+  return rc;
+}
+
+/* An energy row: energy.csv and the /energy table of frames.h5. */
+static int energy_row(const esf_sim *s, FILE *ef, esf_frames *fr, esf_error *err) {
+  double row[ESF_LEDGER_NCOLS];
+  esf_ledger_values(s->led_time, &s->led, s->alpha_r, row);
+  esf_ledger_row(ef, s->led_time, &s->led, s->alpha_r);
+  return esf_frames_energy(fr, ESF_LEDGER_NCOLS, esf_ledger_columns, row, err);
+}
+
 static void progress(const esf_sim *s, double t_end, double t0, double ps) {
   double el = now_s() - t0;
   double frac = t_end > 0 ? s->t / t_end : 1.0;
@@ -128,6 +148,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   s->log = logf;
   FILE *ef = NULL;
   esf_frames *fr = NULL;
+  esf_contact_net net = {0};
   void *ist = NULL;
   log_setup(s, it);
   if (s->led.on) {
@@ -142,7 +163,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   snprintf(path, sizeof path, "%s/frames.h5", o->out_dir);
   rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, &fr, err);
   if (!rc) rc = it->create(s, &ist, err);
-  if (!rc) rc = esf_frames_write(fr, s->t, &s->p, err);
+  if (!rc) rc = write_frame(s, fr, &net, err);
   if (rc) goto done;
 
   int adaptive = (it->flags & ESF_INTEG_ADAPTIVE) && s->cfg.rtol > 0;
@@ -190,12 +211,12 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       frame = every_f && (n + 1) % every_f == 0 && n + 1 < nsteps;
     }
     if (row) {
-      esf_ledger_row(ef, s->led_time, &s->led, s->alpha_r);
-      rc = check_energy(s, err);
+      rc = energy_row(s, ef, fr, err);
+      if (!rc) rc = check_energy(s, err);
       if (rc) break;
     }
     if (frame) {
-      rc = esf_frames_write(fr, s->t, &s->p, err);
+      rc = write_frame(s, fr, &net, err);
       if (rc) break;
     }
     if (o->progress && !o->quiet && (n & 63) == 0) {
@@ -223,7 +244,11 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   }
   st->energy_error = s->led.on ? esf_ledger_total_error(&s->led) : 0.0;
   st->dissipated = s->led.on ? esf_ledger_dissipated(&s->led) : 0.0;
-  if (!rc) rc = esf_frames_write(fr, s->t, &s->p, err);
+  if (!rc) rc = write_frame(s, fr, &net, err);
+  if (!rc)
+    esf_sim_log(s,
+                "output: %ld frames, %ld energy rows in frames.h5; %.3f s writing them",
+                esf_frames_count(fr), esf_frames_energy_rows(fr), esf_frames_seconds(fr));
   if (rc)
     esf_sim_log(s, "FAILED: %s", err->msg);
   else
@@ -248,6 +273,7 @@ done:
       *err = e2;
     }
   }
+  esf_contact_net_release(&net);
   if (ef && fclose(ef) != 0 && !rc)
     rc = esf_fail(err, ESF_EIO, "cannot finish energy.csv: %s", strerror(errno));
   s->log = NULL;

@@ -233,8 +233,7 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
   static const char *const frames[] = {"rotate", "project", NULL};
   static const char *const skeys[] = {"skin", NULL};
   static const char *const rkeys[] = {"duration", "steps", NULL};
-  static const char *const okeys[] = {"every", "energy_every", "dir", "contacts",
-                                      NULL};
+  static const char *const okeys[] = {"every", "energy_every", "dir", "contacts", NULL};
   int rc = ESF_OK;
   const esf_ynode *ct = esf_ymap_get(root, "contact");
   if (ct) {
