@@ -8,6 +8,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "info.h"
 #include "integrator.h"
 #include "run.h"
 #include "scene.h"
@@ -137,8 +138,13 @@ int main(int argc, char **argv) {
     return 0;
   }
   if (strcmp(argv[1], "run") == 0) return cmd_run(argc - 2, argv + 2);
-  if (strcmp(argv[1], "info") == 0)
-    return fail(ESF_EINPUT, "'esfera info' is not available in this version");
+  if (strcmp(argv[1], "info") == 0) {
+    esf_error err;
+    esf_error_clear(&err);
+    int rc = argc == 3 ? esf_info_print(argv[2], stdout, &err)
+                       : esf_fail(&err, ESF_EINPUT, "usage: esfera info FILE.h5");
+    return rc ? fail(rc, err.msg) : 0;
+  }
   fprintf(stderr, "esfera: unknown command '%s'\n", argv[1]);
   usage(stderr);
   return 2;
