@@ -46,12 +46,11 @@ static int sizing_box(const esf_walls *w, const double *lo, const double *hi,
   int any = 0;
   for (size_t k = 0; k < w->n; k++) {
     const esf_wall_elem *e = &w->e[k];
-    for (int j = 0; e->kind == ESF_WALL_POLYGON && j < e->nv; j++)
+    for (int j = 0; e->kind == ESF_WALL_POLYGON && j < e->nv; j++, any = 1)
       for (int q = 0; q < 3; q++) {
         blo[q] = any ? fmin(blo[q], e->v[j][q]) : e->v[j][q];
         bhi[q] = any ? fmax(bhi[q], e->v[j][q]) : e->v[j][q];
       }
-    any = any || e->kind == ESF_WALL_POLYGON;
   }
   return any;
 }

@@ -1,11 +1,16 @@
 /* test_frames.c — the HDF5 frames writer: three frames of a small set, a large frame
  * (chunked and compressed) and an empty one are read back with the HDF5 C API and
  * compared exactly (every dataset, its shape and type class, the time attribute, the
- * root attributes, the group names); an unwritable path is an ESF_EIO error naming the
- * file; HDF5's automatic error printing is left as it was found. */
+ * root attributes, the group names); frames with walls and a contact network give back
+ * the wall mesh (wall_mesh.h) and the pairs and forces exactly; 600 energy rows (more
+ * than one buffer) come back exactly from /energy with their column names; frames.xdmf
+ * describes every frame flushed so far after each write; an unwritable path is an
+ * ESF_EIO error naming the file; HDF5's automatic error printing is left as it was
+ * found. (tests/check_xdmf.py parses the XDMF of a real run.) */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 
 #include <hdf5.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,6 +19,7 @@
 
 #include "check.h"
 #include "frames.h"
+#include "wall_mesh.h"
 
 static char tmpdir[256];
 
@@ -83,7 +89,8 @@ static int is_compressed(hid_t g, const char *name) {
 }
 
 /* Compares frame group `name` with p and time t exactly. */
-static void check_frame(hid_t file, const char *name, const esf_particles *p, double t) {
+static void check_frame(hid_t file, const char *name, const esf_particles *p, double t,
+                        int nlinks) {
   hid_t g = H5Gopen2(file, name, H5P_DEFAULT);
   CHECK(g >= 0, "no group %s", name);
   if (g < 0) return;
@@ -116,7 +123,8 @@ static void check_frame(hid_t file, const char *name, const esf_particles *p, do
   H5G_info_t info = {0};
   H5Gget_info(g, &info);
   hsize_t nobj = info.nlinks;
-  CHECK(nobj == 7, "%s: %llu datasets, expected 7", name, (unsigned long long)nobj);
+  CHECK(nobj == (hsize_t)nlinks, "%s: %llu links, expected %d", name,
+        (unsigned long long)nobj, nlinks);
   free(id);
   free(mat);
   free(r);
@@ -176,6 +184,8 @@ static void test_roundtrip(void) {
   if (file >= 0) {
     check_string_attr(file, "scene", "hopper");
     check_string_attr(file, "esfera_version", "0.1.0");
+    check_string_attr(file, "kind", "frames");
+    CHECK(H5Lexists(file, "energy", H5P_DEFAULT) == 0, "no energy rows: no /energy");
     hid_t g = H5Gopen2(file, "frames", H5P_DEFAULT);
     H5G_info_t info = {0};
     H5Gget_info(g, &info);
@@ -186,10 +196,10 @@ static void test_roundtrip(void) {
       fill(&p, f);
       char name[32];
       snprintf(name, sizeof name, "/frames/%06d", f);
-      check_frame(file, name, &p, times[f]);
+      check_frame(file, name, &p, times[f], 7);
     }
-    check_frame(file, "/frames/000003", &big, 1.0);
-    check_frame(file, "/frames/000004", &none, 2.0);
+    check_frame(file, "/frames/000003", &big, 1.0, 7);
+    check_frame(file, "/frames/000004", &none, 2.0, 7);
     hid_t g3 = H5Gopen2(file, "/frames/000003", H5P_DEFAULT);
     CHECK(is_compressed(g3, "position") == 1 && is_compressed(g3, "id") == 1,
           "a 3000-particle frame must be deflate-compressed");
@@ -203,6 +213,168 @@ static void test_roundtrip(void) {
   esf_particles_release(&big);
   esf_particles_release(&none);
   unlink(path);
+  snprintf(path, sizeof path, "%s/frames.xdmf", tmpdir);
+  unlink(path);
+}
+
+/* Reads dataset `name` of loc (rank 1 or 2) into a new buffer as mtype. */
+static void *read_all(hid_t loc, const char *name, hid_t mtype, size_t *rows,
+                      size_t *cols) {
+  *rows = *cols = 0;
+  hid_t d = H5Dopen2(loc, name, H5P_DEFAULT);
+  CHECK(d >= 0, "no dataset %s", name);
+  if (d < 0) return NULL;
+  hid_t sp = H5Dget_space(d);
+  hsize_t dims[2] = {0, 1};
+  int rank = H5Sget_simple_extent_dims(sp, dims, NULL);
+  *rows = (size_t)dims[0];
+  *cols = rank == 2 ? (size_t)dims[1] : 1;
+  void *buf = calloc(*rows * *cols + 1, H5Tget_size(mtype));
+  if (*rows && H5Dread(d, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf) < 0)
+    CHECK(0, "cannot read %s", name);
+  H5Sclose(sp);
+  H5Dclose(d);
+  return buf;
+}
+
+/* Compares dataset `name` of g with n x cols values of data (size bytes each). */
+static void check_exact(hid_t g, const char *name, hid_t mtype, const void *data,
+                        size_t n, size_t cols, const char *what) {
+  size_t rows, c;
+  void *buf = read_all(g, name, mtype, &rows, &c);
+  CHECK(rows == n && (n == 0 || c == cols), "%s/%s: %zu x %zu, expected %zu x %zu", what,
+        name, rows, c, n, cols);
+  if (buf && rows == n && c == cols && n > 0)
+    CHECK(memcmp(buf, data, n * cols * H5Tget_size(mtype)) == 0, "%s/%s differs", what,
+          name);
+  free(buf);
+}
+
+static int count_in_file(const char *path, const char *needle) {
+  FILE *f = fopen(path, "r");
+  if (!f) return -1;
+  static char text[1 << 16];
+  size_t n = fread(text, 1, sizeof text - 1, f);
+  fclose(f);
+  text[n] = '\0';
+  int count = 0;
+  for (const char *c = strstr(text, needle); c; c = strstr(c + 1, needle)) count++;
+  return count;
+}
+
+static void test_walls_contacts_energy(void) {
+  char path[512], xdmf[512];
+  snprintf(path, sizeof path, "%s/run.h5", tmpdir);
+  snprintf(xdmf, sizeof xdmf, "%s/run.xdmf", tmpdir);
+  esf_error err = {0};
+  esf_walls w = {0};
+  int gb, gp;
+  esf_wall_elem faces[6], plane;
+  int nf = 0;
+  const double lo[3] = {-0.01, -0.01, 0}, hi[3] = {0.5, 0.4, 0.3};
+  const double pt[3] = {0, 0, -0.5}, up[3] = {0.1, 0, 1};
+  CHECK_OK(esf_walls_add_group(&w, "box", &gb, &err), err);
+  CHECK_OK(esf_wall_box(lo, hi, 32, 1, gb, faces, &nf, &err), err);
+  for (int k = 0; k < nf; k++) CHECK_OK(esf_walls_add_elem(&w, &faces[k], &err), err);
+  CHECK_OK(esf_walls_add_group(&w, "plane", &gp, &err), err);
+  CHECK_OK(esf_wall_plane_init(&plane, pt, up, 2, gp, &err), err);
+  CHECK_OK(esf_walls_add_elem(&w, &plane, &err), err);
+
+  esf_particles p;
+  CHECK_OK(esf_particles_alloc(&p, 5, &err), err);
+  int64_t pairs[4] = {0, 1, 2, 4};
+  double fn[2] = {1.5, 0.0};
+  esf_contact_net net = {2, pairs, fn, 2}, empty = {0, NULL, NULL, 0};
+  const esf_contact_net *nets[3] = {&net, NULL, &empty};
+  const char *cols[3] = {"time", "a", "b"};
+  esf_frames *fr = NULL;
+  CHECK_OK(esf_frames_open(path, "walls", "9.9", &fr, &err), err);
+  if (!fr) return;
+  for (int f = 0; f < 3; f++) {
+    fill(&p, f);
+    for (int k = 200 * f; k < 200 * (f + 1); k++) {
+      double row[3] = {1e-3 * k, sin((double)k), k * 1e300};
+      CHECK_OK(esf_frames_energy(fr, 3, cols, row, &err), err);
+    }
+    CHECK_OK(esf_frames_write(fr, 0.5 * f, &p, &w, nets[f], &err), err);
+    CHECK(count_in_file(xdmf, "<Grid Name=\"particles_") == f + 1,
+          "after frame %d the XDMF describes %d frames", f,
+          count_in_file(xdmf, "<Grid Name=\"particles_"));
+  }
+  double row2[2] = {0, 0};
+  CHECK(esf_frames_energy(fr, 2, cols, row2, &err) == ESF_EINTERNAL,
+        "a row of another width must be refused");
+  CHECK(esf_frames_energy_rows(fr) == 600, "%ld energy rows", esf_frames_energy_rows(fr));
+  CHECK(esf_frames_seconds(fr) > 0, "writing time must be measured");
+  CHECK_OK(esf_frames_close(&fr, &err), err);
+  CHECK(count_in_file(xdmf, "<Grid Name=\"walls_") == 3 &&
+            count_in_file(xdmf, "<Grid Name=\"contacts_") == 2,
+        "XDMF: %d wall grids (want 3), %d contact grids (want 2)",
+        count_in_file(xdmf, "<Grid Name=\"walls_"),
+        count_in_file(xdmf, "<Grid Name=\"contacts_"));
+
+  hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  CHECK(file >= 0, "cannot reopen %s", path);
+  if (file < 0) return;
+  esf_wall_mesh m = {0};
+  for (int f = 0; f < 3; f++) {
+    fill(&p, f);
+    double blo[3], bhi[3];
+    for (size_t i = 0; i < p.n; i++)
+      for (int q = 0; q < 3; q++) {
+        double a = p.x[3 * i + q] - p.radius[i], b = p.x[3 * i + q] + p.radius[i];
+        blo[q] = i ? fmin(blo[q], a) : a;
+        bhi[q] = i ? fmax(bhi[q], b) : b;
+      }
+    CHECK_OK(esf_wall_mesh_build(&w, blo, bhi, &m, &err), err);
+    char name[64];
+    snprintf(name, sizeof name, "/frames/%06d", f);
+    check_frame(file, name, &p, 0.5 * f, nets[f] ? 9 : 8);
+    hid_t g = H5Gopen2(file, name, H5P_DEFAULT);
+    hid_t wg = H5Gopen2(g, "walls", H5P_DEFAULT);
+    CHECK(m.np == 24 && m.nt == 12, "mesh: %zu points, %zu triangles", m.np, m.nt);
+    check_exact(wg, "points", H5T_NATIVE_DOUBLE, m.points, m.np, 3, name);
+    check_exact(wg, "triangles", H5T_NATIVE_INT32, m.tri, m.nt, 3, name);
+    check_exact(wg, "group", H5T_NATIVE_INT32, m.group, m.nt, 1, name);
+    check_exact(wg, "material", H5T_NATIVE_INT32, m.material, m.nt, 1, name);
+    H5Gclose(wg);
+    if (nets[f]) {
+      hid_t cg = H5Gopen2(g, "contacts", H5P_DEFAULT);
+      check_exact(cg, "pairs", H5T_NATIVE_INT64, nets[f]->pair, nets[f]->n, 2, name);
+      check_exact(cg, "normal_force", H5T_NATIVE_DOUBLE, nets[f]->fn, nets[f]->n, 1,
+                  name);
+      H5Gclose(cg);
+    }
+    H5Gclose(g);
+  }
+  esf_wall_mesh_release(&m);
+  hid_t eg = H5Gopen2(file, "energy", H5P_DEFAULT);
+  CHECK(eg >= 0, "no /energy group");
+  if (eg >= 0) {
+    double want[600];
+    for (int c = 0; c < 3; c++) {
+      for (int k = 0; k < 600; k++)
+        want[k] = c == 0 ? 1e-3 * k : c == 1 ? sin((double)k) : k * 1e300;
+      check_exact(eg, cols[c], H5T_NATIVE_DOUBLE, want, 600, 1, "/energy");
+    }
+    hid_t a = H5Aopen(eg, "columns", H5P_DEFAULT), t = H5Aget_type(a);
+    char *names[3] = {NULL, NULL, NULL};
+    CHECK(H5Aread(a, t, names) >= 0, "cannot read /energy's columns");
+    for (int c = 0; c < 3; c++) {
+      CHECK(names[c] && strcmp(names[c], cols[c]) == 0,
+            "column %d is '%s', expected '%s'", c, names[c] ? names[c] : "(null)",
+            cols[c]);
+      if (names[c]) H5free_memory(names[c]);
+    }
+    H5Tclose(t);
+    H5Aclose(a);
+    H5Gclose(eg);
+  }
+  H5Fclose(file);
+  esf_particles_release(&p);
+  esf_walls_release(&w);
+  unlink(path);
+  unlink(xdmf);
 }
 
 static void test_errors(void) {
@@ -238,6 +410,7 @@ int main(void) {
     return 1;
   }
   test_roundtrip();
+  test_walls_contacts_energy();
   test_errors();
   if (rmdir(tmpdir) != 0) fprintf(stderr, "could not remove %s\n", tmpdir);
   return check_finish("test_frames");
