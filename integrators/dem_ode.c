@@ -78,6 +78,7 @@ int esf_dem_ode_start(esf_dem_ode *o, const double *y, esf_error *err) {
   esf_integ_energies(s, y, y + 3 * n, y + 6 * n, &L->kin_t, &L->kin_r, &L->pot_g);
   L->el_n = ty.e_el_n;
   L->el_t = ty.e_el_t;
+  o->el_t0 = ty.e_el_t;
   L->e0 = esf_ledger_stored(L);
   L->started = 1;
   return ESF_OK;
@@ -156,6 +157,7 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   q[ESF_ODE_QG] = pd[0];
   q[ESF_ODE_QL] = pd[1];
   q[ESF_ODE_QW] = ty.p_walls;
+  q[ESF_ODE_QF] = ty.p_spring_t;
   return 0;
 }
 
@@ -188,6 +190,8 @@ int esf_dem_ode_commit(esf_dem_ode *o, double t, const double *y, esf_error *err
     L->d_global = q[ESF_ODE_QG];
     L->d_local = q[ESF_ODE_QL];
     L->w_walls = q[ESF_ODE_QW];
+    if (o->state) /* work into the springs less what they hold (the returns included) */
+      L->d_friction = q[ESF_ODE_QF] - (L->el_t - o->el_t0);
   }
   return ESF_OK;
 }

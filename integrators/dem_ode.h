@@ -1,10 +1,12 @@
 /* dem_ode.h — the DEM as an ODE right-hand side y' = f(t, y) for the SUNDIALS methods.
  *
  * y = [ x (3n) | v (3n) | w (3n) | Q (ESF_ODE_NQ) ], Q the ledger quadratures
- * (dissipated by normal and tangential dashpots, global and local damping, and the work
- * of walls), so that an adaptive method integrates the energy balance to its own
- * accuracy. f = [ v | a | dw | powers ] with a, dw the damped accelerations
- * (integ_common.h) from the forces at (x, v, w).
+ * (dissipated by normal and tangential dashpots, global and local damping, the work
+ * of walls, and with history as state the power into the tangential springs: Coulomb
+ * dissipation is then that work less the change of their stored energy), so that an
+ * adaptive method integrates the energy balance to its own accuracy. f = [ v | a | dw |
+ * powers ] with a, dw the damped accelerations (integ_common.h) from the forces at (x, v,
+ * w).
  *
  * Contact history, treatment (b) "frozen" (integrator.history: frozen): within a step
  * the tangential displacement is the committed one carried by the trapezoidal rule,
@@ -16,7 +18,8 @@
  *
  * Treatment (a) "state" (integrator.history: state): y gains a block XI of 3 entries
  * per candidate contact (pair list, then wall list), the live tangential displacement,
- * with rate xi' = vct + spin_n n x xi while touching and 0 otherwise; the law tilts xi
+ * with rate xi' = vct + spin_n n x xi while touching and 0 otherwise (smooth: within a
+ * step xi may pass the Coulomb cap, the force does not); the law tilts xi
  * from the committed normal into the current plane at every evaluation and caps the
  * force at the Coulomb limit, so stages never write history and xi is integrated to
  * the method's own order. At each commit the Coulomb return, the tilt and the reset of
@@ -31,7 +34,15 @@
 
 #include "sim.h"
 
-enum { ESF_ODE_QN, ESF_ODE_QT, ESF_ODE_QG, ESF_ODE_QL, ESF_ODE_QW, ESF_ODE_NQ };
+enum {
+  ESF_ODE_QN,
+  ESF_ODE_QT,
+  ESF_ODE_QG,
+  ESF_ODE_QL,
+  ESF_ODE_QW,
+  ESF_ODE_QF,
+  ESF_ODE_NQ
+};
 
 typedef struct esf_dem_ode {
   esf_sim *s;
@@ -43,6 +54,7 @@ typedef struct esf_dem_ode {
   long nrhs;       /* right-hand-side evaluations */
   long ncommit;    /* commit evaluations */
   long nfail;      /* recoverable failures returned */
+  double el_t0;    /* tangential elastic energy at the start, J (history as state) */
   esf_error err;   /* the last failure inside f */
 } esf_dem_ode;
 

@@ -223,6 +223,8 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
     ERKStepSetInitStep(e->mem, s->dt);
     ERKStepSetMaxStep(e->mem, 10.0 * s->dte.crit[ESF_DT_HART]);
     if (e->h_stab > 0) ERKStepSetStabilityFn(e->mem, erk_stab, e);
+    ERKStepSetCFLFraction(e->mem,
+                          0.5); /* ARKODE's default, stated: steps <= h_stab / 2 */
     if (c->roots && erk_roots_init(e, 1, 1))
       return esf_fail(err, ESF_EINTERNAL, "ERKStepRootInit failed");
   } else {
@@ -367,6 +369,7 @@ static void erk_stats(const esf_sim *s, void *state, esf_integ_stats *o) {
   realtype h = 0;
   ERKStepGetLastStep(e->mem, &h);
   o->h_last = h;
+  o->h_stab = e->h_stab > 0 ? e->h_stab : 0.0;
   o->events = e->events;
   o->restarts = e->resizes;
 }

@@ -33,6 +33,7 @@ typedef struct esf_integ_stats {
   long events;       /* contact onsets and separations located (integrator.roots) */
   long restarts;     /* restarts on a changed state (history as ODE state) */
   double h_last;     /* last step size, s */
+  double h_stab;     /* adaptive ERK: the stability bound given to ARKODE, s (0: none) */
 } esf_integ_stats;
 
 typedef struct esf_integrator_type {

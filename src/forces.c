@@ -72,9 +72,13 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
     in->vinc = NULL;
     s->law->eval(pp, s->beta, s->cfg.tframe, in, &h, 0, commit ? &c->h[k] : NULL, out);
     if (c->xsdot && out->touching) { /* xi' = vct + spin_n n x xi */
-      double *r = c->xsdot + 3 * k, sp[3];
+      double *r = c->xsdot + 3 * k, sp[3], fs[3];
       v3_copy(r, in->vc);
       v3_axpy(r, -v3_dot(in->vc, in->n), in->n);
+      if (s->tally) { /* power into the tangential spring as applied (capped) */
+        v3_sub(fs, out->ft, out->fd_t);
+        s->tally->p_spring_t += v3_dot(fs, r);
+      }
       v3_cross(sp, in->n, h.xi);
       v3_axpy(r, in->spin_n, sp);
     }

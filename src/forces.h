@@ -15,6 +15,8 @@ typedef struct esf_force_tally {
   double e_el_n;       /* elastic energy (1/2) kn u^2, J */
   double e_el_t;       /* elastic energy (1/2) kt |xi|^2, J */
   double slip;         /* Coulomb slip work of this evaluation (committing), J */
+  double p_spring_t;   /* power into the tangential springs as applied (Coulomb cap
+                          included), W; history as ODE state only */
 } esf_force_tally;
 
 enum {

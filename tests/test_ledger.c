@@ -56,6 +56,49 @@ static void settle(const char *label, const char *const *sets, int nsets, int wa
   simtest_close(&T);
 }
 
+/* Issue 3, test 4: Dormand-Prince 5(4) with the adaptive controller at a loose
+ * tolerance on the same pack to the same time: most steps are limited by the DEM
+ * stability bound (ERKStepSetStabilityFn; ARKODE takes at most half of it, its CFL
+ * fraction, which erk.c states), no step exceeds that, the run stays stable
+ * (completes without a failure) and its ledger closes (1% of the dissipated energy). */
+static void adaptive_at_limit(const char *history, double bound) {
+  char hs[48];
+  snprintf(hs, sizeof hs, "integrator.history=%s", history);
+  const char *sets[] = {"integrator.method=erk:ARKODE_DORMAND_PRINCE_7_4_5",
+                        "integrator.rtol=1e-3", "integrator.atol=1e-6", hs};
+  simtest T;
+  if (simtest_open(&T, pack, sets, 4)) {
+    CHECK(0, "DP5 %s: scene failed", history);
+    return;
+  }
+  double t_end = 0.063, h_max = 0;
+  esf_integ_stats st = {0};
+  int rc = 0;
+  while (!rc && T.s.t < t_end * (1 - 1e-12)) {
+    rc = T.it->step(&T.s, T.ist, t_end, &T.err);
+    T.it->stats(&T.s, T.ist, &st);
+    h_max = fmax(h_max, st.h_last);
+  }
+  CHECK(rc == 0, "DP5 %s: the run completes (%s)", history, T.err.msg);
+  const esf_ledger *L = &T.s.led;
+  double D = esf_ledger_dissipated(L), R = esf_ledger_total_error(L);
+  printf("DP5 adaptive, rtol 1e-3, history %s: %ld steps (%ld limited by stability, %ld "
+         "by accuracy), %ld rejected, %ld rhs, %ld restarts; h_max %.4g s, h_stab %.4g s "
+         "(leapfrog dt %.4g s); residual %.3g J = %.3g of the %.4g J dissipated\n",
+         history, st.steps, st.stab_limited, st.acc_limited, st.rejected, st.rhs_evals,
+         st.restarts, h_max, st.h_stab, T.s.dt, R, R / D, D);
+  CHECK(st.h_stab > 0 && h_max <= 0.5 * st.h_stab * (1 + 1e-9),
+        "DP5 %s: no step above the stability bound (%.4g > %.4g)", history, h_max,
+        st.h_stab);
+  CHECK(st.stab_limited > st.steps / 2,
+        "DP5 %s: most steps at the stability limit "
+        "(%ld of %ld)",
+        history, st.stab_limited, st.steps);
+  CHECK(fabs(R) < bound * D, "DP5 %s: |residual| %.3g J below %.0f%% of %.3g J", history,
+        R, 100 * bound, D);
+  simtest_close(&T);
+}
+
 int main(void) {
   settle("global damping", NULL, 0, 0, 1, 0.01);
   const char *loc[] = {"damping.global.translation=0", "damping.global.rotation=0",
@@ -77,5 +120,7 @@ int main(void) {
   settle("verlet", vv, 1, 0, 1, 0.03);
   const char *rk[] = {"integrator.method=rk4"};
   settle("rk4 (frozen history)", rk, 1, 0, 1, 0.01);
+  adaptive_at_limit("frozen", 0.01);
+  adaptive_at_limit("state", 0.01);
   return check_finish("test_ledger");
 }
