@@ -110,10 +110,10 @@ int esf_dem_ode_check(const esf_sim *s, const char *name, int state_ok, int root
                       esf_error *err) {
   if (s->cfg.history == ESF_HIST_STATE && !state_ok)
     return esf_fail(err, ESF_EINPUT,
-                    "integrator.history: state (contact history as ODE state) is not "
-                    "available with %s: its length changes whenever the candidate lists "
-                    "are rebuilt, which this method cannot follow; use frozen, or an "
-                    "erk: method",
+                    "integrator.history: state (contact history as ODE state) is "
+                    "available with the erk: methods only, not %s (CVODE cannot follow "
+                    "a state whose length changes at every list rebuild; the leapfrog "
+                    "and Verlet commit history every step)",
                     name);
   if (s->cfg.roots && !roots_ok)
     return esf_fail(err, ESF_EINPUT,

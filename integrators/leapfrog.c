@@ -24,6 +24,7 @@
 #include <string.h>
 
 #include "forces.h"
+#include "dem_ode.h"
 #include "integ_common.h"
 #include "integrator.h"
 #include "vec3.h"
@@ -35,7 +36,8 @@ typedef struct leapfrog {
 } leapfrog;
 
 static int lf_create(esf_sim *s, void **state, esf_error *err) {
-  (void)s;
+  int rc = esf_dem_ode_check(s, "leapfrog", 0, 0, err); /* ODE-only options refused */
+  if (rc) return rc;
   leapfrog *lf = calloc(1, sizeof *lf);
   if (!lf) return esf_fail(err, ESF_ENOMEM, "out of memory");
   *state = lf;

@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "forces.h"
+#include "dem_ode.h"
 #include "integ_common.h"
 #include "integrator.h"
 
@@ -30,7 +31,8 @@ typedef struct verlet {
 } verlet;
 
 static int vv_create(esf_sim *s, void **state, esf_error *err) {
-  (void)s;
+  int rc = esf_dem_ode_check(s, "verlet", 0, 0, err); /* ODE-only options refused */
+  if (rc) return rc;
   verlet *vv = calloc(1, sizeof *vv);
   if (!vv) return esf_fail(err, ESF_ENOMEM, "out of memory");
   *state = vv;

@@ -94,6 +94,10 @@ expect "unknown option" 2 "unknown or incomplete option '--frobnicate'" -- run "
 
 good "" "dimension: 4" > "$tmp/s15.yaml"
 expect "bad dimension" 2 "s15.yaml:11:[0-9]+: dimension: must be 2 or 3, got 4" -- run "$tmp/s15.yaml"
+expect "history as state with the leapfrog" 2 "integrator.history: state .* erk: methods only, not leapfrog" \
+  -- run "$tmp/ok.yaml" --out "$tmp/o17" --set integrator.history=state
+expect "roots without an adaptive erk" 2 "integrator.roots: .*adaptive erk: methods only \(rtol > 0\), not rk4" \
+  -- run "$tmp/ok.yaml" --out "$tmp/o18" --set integrator.roots=true --set integrator.method=rk4
 
 # numerical failure: exit 1, with the step, particle, dt and critical dt; frames so far kept
 cat > "$tmp/s16.yaml" <<'YAML'
