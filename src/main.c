@@ -1,6 +1,7 @@
 /* main.c — the esfera command line (INTERFACE.md):
  *   esfera run SCENE.yaml [--out DIR] [--set KEY=VALUE]... [--threads N] [--quiet]
  *   esfera info FILE.h5
+ *   esfera modes SCENE.yaml [--set KEY=VALUE]...   (highest contact frequency)
  *   esfera --help | --version
  * Exit status: 0 success, 1 the simulation failed, 2 bad input. */
 #include <stdio.h>
@@ -10,6 +11,7 @@
 
 #include "info.h"
 #include "integrator.h"
+#include "modes.h"
 #include "run.h"
 #include "scene.h"
 #include "version.h"
@@ -19,6 +21,7 @@ static void usage(FILE *f) {
           "usage: esfera run SCENE.yaml [--out DIR] [--set KEY=VALUE]... [--threads N] "
           "[--quiet]\n"
           "       esfera info FILE.h5\n"
+          "       esfera modes SCENE.yaml [--set KEY=VALUE]...\n"
           "       esfera --help | --version\n\n"
           "  run       integrate a scene; writes log.txt, energy.csv and frames.h5 into\n"
           "            DIR (default: output.dir of the scene, else out/<scene name>)\n"
@@ -39,53 +42,57 @@ static int fail(int code, const char *msg) {
   return esf_error_exit_status(code);
 }
 
-static int cmd_run(int argc, char **argv) {
-  const char *scene = NULL, *out = NULL;
-  const char **sets = calloc((size_t)argc, sizeof *sets);
-  int nsets = 0, quiet = 0;
-  if (!sets) return fail(ESF_ENOMEM, "out of memory");
+/* The options `run` and `modes` share. */
+typedef struct cli_args {
+  const char *scene, *out;
+  const char **sets;
+  int nsets, quiet;
+} cli_args;
+
+/* Parses the arguments after the command; 0 ok, else the exit status (message given).
+ * a->sets is allocated (free it). */
+static int parse_args(int argc, char **argv, cli_args *a) {
+  memset(a, 0, sizeof *a);
+  a->sets = calloc((size_t)argc + 1, sizeof *a->sets);
+  if (!a->sets) return fail(ESF_ENOMEM, "out of memory");
   for (int k = 0; k < argc; k++) {
-    const char *a = argv[k];
-    if (strcmp(a, "--out") == 0 && k + 1 < argc)
-      out = argv[++k];
-    else if (strcmp(a, "--set") == 0 && k + 1 < argc)
-      sets[nsets++] = argv[++k];
-    else if (strncmp(a, "--set=", 6) == 0)
-      sets[nsets++] = a + 6;
-    else if (strcmp(a, "--threads") == 0 && k + 1 < argc) {
+    const char *o = argv[k];
+    if (strcmp(o, "--out") == 0 && k + 1 < argc)
+      a->out = argv[++k];
+    else if (strcmp(o, "--set") == 0 && k + 1 < argc)
+      a->sets[a->nsets++] = argv[++k];
+    else if (strncmp(o, "--set=", 6) == 0)
+      a->sets[a->nsets++] = o + 6;
+    else if (strcmp(o, "--threads") == 0 && k + 1 < argc) {
       char *end = NULL;
       long t = strtol(argv[++k], &end, 10);
-      if (!end || *end || t < 1) {
-        free(sets);
+      if (!end || *end || t < 1)
         return fail(ESF_EINPUT, "--threads takes a positive whole number");
-      }
-    } else if (strcmp(a, "--quiet") == 0)
-      quiet = 1;
-    else if (a[0] == '-') {
-      fprintf(stderr, "esfera: unknown or incomplete option '%s'\n", a);
+    } else if (strcmp(o, "--quiet") == 0)
+      a->quiet = 1;
+    else if (o[0] == '-') {
+      fprintf(stderr, "esfera: unknown or incomplete option '%s'\n", o);
       usage(stderr);
-      free(sets);
       return 2;
-    } else if (!scene)
-      scene = a;
+    } else if (!a->scene)
+      a->scene = o;
     else {
-      fprintf(stderr, "esfera: more than one scene given ('%s' and '%s')\n", scene, a);
-      free(sets);
+      fprintf(stderr, "esfera: more than one scene given ('%s' and '%s')\n", a->scene, o);
       return 2;
     }
   }
-  if (!scene) {
+  if (!a->scene) {
     usage(stderr);
-    free(sets);
     return 2;
   }
-  esf_sim s;
-  memset(&s, 0, sizeof s);
-  esf_error err;
-  esf_error_clear(&err);
-  int rc = esf_scene_load(scene, sets, nsets, &s, &err);
-  free(sets);
-  if (!rc && !esf_integrator_find(s.cfg.method)) {
+  return 0;
+}
+
+/* Loads the scene with its overrides and checks the method name. */
+static int load_scene(const cli_args *a, esf_sim *s, esf_error *err) {
+  memset(s, 0, sizeof *s);
+  int rc = esf_scene_load(a->scene, a->sets, a->nsets, s, err);
+  if (!rc && !esf_integrator_find(s->cfg.method)) {
     char list[512] = "";
     for (int k = 0; esf_integrators[k]; k++) {
       size_t l = strlen(list);
@@ -93,11 +100,59 @@ static int cmd_run(int argc, char **argv) {
       snprintf(list + l, sizeof list - l, "%s%s", k ? ", " : "",
                strcmp(nm, "erk") == 0 ? "erk:<ARKODE table>, rk4" : nm);
     }
-    rc = esf_fail(&err, ESF_EINPUT,
+    rc = esf_fail(err, ESF_EINPUT,
                   "%s: integrator.method: unknown method '%s' "
                   "(available: %s)",
-                  scene, s.cfg.method, list);
+                  a->scene, s->cfg.method, list);
   }
+  return rc;
+}
+
+/* esfera modes SCENE: the assembled contact system's highest frequency at the scene's
+ * initial state against the seeds' critical-step rules (modes.h). */
+static int cmd_modes(int argc, char **argv) {
+  cli_args a;
+  int st = parse_args(argc, argv, &a);
+  if (st) {
+    free(a.sets);
+    return st;
+  }
+  esf_sim s;
+  esf_error err;
+  esf_error_clear(&err);
+  int rc = load_scene(&a, &s, &err);
+  free(a.sets);
+  if (!rc) rc = esf_sim_setup(&s, &err);
+  esf_modes m;
+  if (!rc) rc = esf_modes_compute(&s, &m, &err);
+  if (rc) {
+    esf_sim_release(&s);
+    return fail(rc, err.msg);
+  }
+  printf("modes: particles=%zu dofs=%zu contacts=%zu omega_max=%.10g xi_max=%.6g "
+         "dt_2_over_omega=%.10g dt_damped=%.10g cundall=%.10g hart=%.10g damped=%.10g "
+         "argmax_particle=%zu\n",
+         s.p.n, m.dofs, m.contacts, m.omega_max, m.xi_max, m.dt_undamped, m.dt_damped,
+         s.dte.crit[ESF_DT_CUNDALL], s.dte.crit[ESF_DT_HART], s.dte.crit[ESF_DT_DAMPED],
+         m.dofs ? m.argmax_dof / (m.dofs / s.p.n) : 0);
+  esf_sim_release(&s);
+  return 0;
+}
+
+static int cmd_run(int argc, char **argv) {
+  cli_args a;
+  int status = parse_args(argc, argv, &a);
+  if (status) {
+    free(a.sets);
+    return status;
+  }
+  const char *out = a.out;
+  int quiet = a.quiet;
+  esf_sim s;
+  esf_error err;
+  esf_error_clear(&err);
+  int rc = load_scene(&a, &s, &err);
+  free(a.sets);
   if (!rc) rc = esf_sim_setup(&s, &err);
   if (rc) {
     esf_sim_release(&s);
@@ -138,6 +193,7 @@ int main(int argc, char **argv) {
     return 0;
   }
   if (strcmp(argv[1], "run") == 0) return cmd_run(argc - 2, argv + 2);
+  if (strcmp(argv[1], "modes") == 0) return cmd_modes(argc - 2, argv + 2);
   if (strcmp(argv[1], "info") == 0) {
     esf_error err;
     esf_error_clear(&err);

@@ -1,0 +1,109 @@
+/* test_modes.c — the assembled contact system's highest frequency (modes.h) against
+ * closed forms:
+ * 1. a sphere pressed on a wall: omega^2 = max(kn/m, kt (1/m + l^2/I)), l the lever arm
+ *    to the contact point (the tangential spring drives translation and rotation);
+ * 2. the same for a 2D disk (I = m r^2 / 2: kt (1/m + 2 l^2 / r^2 / m));
+ * 3. a free unequal pair: kn/m* along the line, and kt (1/mA + 1/mB + lA^2/IA + lB^2/IB)
+ *    across it;
+ * 4. a free chain of N equal spheres touching in a line with a negligible tangential
+ *    stiffness: the free-free chain's top mode 2 sqrt(kn/m) sin((N - 1) pi / (2N));
+ * and the damped bound (2/omega)(sqrt(1 + xi^2) - xi) with xi the contacts' ratio.
+ * Relative tolerance 1e-9 (a dense symmetric eigensolve of at most 48 dofs). */
+#include "modes.h"
+#include "simtest.h"
+
+static double modes_of(const char *yaml, simtest *T, esf_modes *m) {
+  if (simtest_open(T, yaml, NULL, 0)) {
+    CHECK(0, "scene opens");
+    return -1;
+  }
+  esf_error err;
+  esf_error_clear(&err);
+  int rc = esf_modes_compute(&T->s, m, &err);
+  CHECK(rc == 0, "modes computed: %s", err.msg);
+  return rc;
+}
+
+static void check_close(const char *what, double got, double want) {
+  CHECK(fabs(got / want - 1) < 1e-9, "%s: %.12g against %.12g", what, got, want);
+  printf("%-34s omega_max %.10g rad/s (closed form %.10g)\n", what, got, want);
+}
+
+static void on_wall(int dim) {
+  char yaml[1024];
+  snprintf(yaml, sizeof yaml,
+           "name: w\ndimension: %d\ngravity: [0, 0, 0]\n"
+           "materials: {g: {density: 2500, kn: 1.0e5, kt: %s, restitution: 0.5, "
+           "friction: 0.3}}\n"
+           "particles:\n  - {material: g, radius: 0.005, position: [0, 0, 0.00499]}\n"
+           "walls:\n  - {plane: {point: [0, 0, 0], normal: [0, 0, 1]}, material: g}\n"
+           "run: {steps: 1}\n",
+           dim, "0.5e5");
+  simtest T;
+  esf_modes m;
+  if (modes_of(yaml, &T, &m) == 0) {
+    double mass = T.s.p.mass[0], I = T.s.p.inertia[0], l = 0.005 - 1e-5;
+    double w2 = fmax(1.0e5 / mass, 0.5e5 * (1 / mass + l * l / I));
+    check_close(dim == 3 ? "sphere on a wall" : "disk on a wall", m.omega_max, sqrt(w2));
+    CHECK(m.contacts == 1 && m.dofs == (dim == 3 ? 6u : 3u), "one contact, %zu dofs",
+          m.dofs);
+    double xi = esf_restitution_gamma(0.5);
+    CHECK(fabs(m.xi_max / xi - 1) < 1e-12, "damping ratio %.6g (%.6g)", m.xi_max, xi);
+    double dd = 2 / sqrt(w2) * (sqrt(1 + xi * xi) - xi);
+    CHECK(fabs(m.dt_damped / dd - 1) < 1e-9, "damped bound %.6g s (%.6g s)", m.dt_damped,
+          dd);
+  }
+  simtest_close(&T);
+}
+
+static void free_pair(void) {
+  const char *yaml = "name: p\ngravity: [0, 0, 0]\n"
+                     "materials: {g: {density: 2500, kn: 1.0e5, kt: 0.8e5, restitution: "
+                     "0.5, friction: 0.3}}\n"
+                     "particles:\n"
+                     "  - {material: g, radius: 0.005, position: [0, 0, 0]}\n"
+                     "  - {material: g, radius: 0.003, position: [0.00795, 0, 0]}\n"
+                     "contact: {allow_initial_overlap: true}\nrun: {steps: 1}\n";
+  simtest T;
+  esf_modes m;
+  if (modes_of(yaml, &T, &m) == 0) {
+    const esf_particles *p = &T.s.p;
+    double un = 0.008 - 0.00795, la = 0.005 - un / 2, lb = 0.003 - un / 2;
+    double ms = p->mass[0] * p->mass[1] / (p->mass[0] + p->mass[1]);
+    double wt2 = 0.8e5 * (1 / p->mass[0] + 1 / p->mass[1] + la * la / p->inertia[0] +
+                          lb * lb / p->inertia[1]);
+    check_close("free unequal pair", m.omega_max, sqrt(fmax(1.0e5 / ms, wt2)));
+  }
+  simtest_close(&T);
+}
+
+static void chain(void) {
+  enum { N = 8 };
+  char yaml[2048];
+  int l = snprintf(yaml, sizeof yaml,
+                   "name: c\ngravity: [0, 0, 0]\n"
+                   "materials: {g: {density: 2500, kn: 1.0e5, kt: 1.0e-3, restitution: "
+                   "0.5, friction: 0.3}}\nparticles:\n");
+  for (int i = 0; i < N; i++)
+    l += snprintf(yaml + l, sizeof yaml - (size_t)l,
+                  "  - {material: g, radius: 0.005, position: [%.6f, 0, 0]}\n",
+                  i * 0.00999);
+  snprintf(yaml + l, sizeof yaml - (size_t)l,
+           "contact: {allow_initial_overlap: true}\nrun: {steps: 1}\n");
+  simtest T;
+  esf_modes m;
+  if (modes_of(yaml, &T, &m) == 0) {
+    double want = 2 * sqrt(1.0e5 / T.s.p.mass[0]) * sin((N - 1) * ESF_PI / (2.0 * N));
+    check_close("free chain of 8", m.omega_max, want);
+    CHECK(m.contacts == N - 1, "%zu contacts", m.contacts);
+  }
+  simtest_close(&T);
+}
+
+int main(void) {
+  on_wall(3);
+  on_wall(2);
+  free_pair();
+  chain();
+  return check_finish("test_modes");
+}
