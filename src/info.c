@@ -1,14 +1,15 @@
 /* info.c — `esfera info` (info.h): describe an esfera HDF5 file.
  *
- * Order of checks: the file opens (else ESF_EIO with the system's reason), carries
- * the HDF5 signature (else ESF_EINPUT "not an HDF5 file"), has the root attribute
- * esfera_version (else "not an esfera file"), and its kind (root attribute `kind`, or
- * "frames" for files from before that attribute when /frames exists) has a describer
- * in `kinds` (else "unknown kind"). The frames describer prints the scene, version,
- * frame count, time span, particle counts of the first and last frames, the datasets
- * of the first frame with type and shape, the energy table's rows and columns and the
- * file size per particle and frame. Only metadata, the frame times and the energy time
- * column are read. HDF5 is kept silent (esf_h5_quiet); everything opened is closed. */
+ * A directory stands for the frames.h5 in it. Order of checks: the file opens (else
+ * ESF_EIO with the system's reason), carries the HDF5 signature (else ESF_EINPUT "not an
+ * HDF5 file"), has the root attribute esfera_version (else "not an esfera file"), and its
+ * kind (root attribute `kind`, or "frames" for files from before that attribute when
+ * /frames exists) has a describer in `kinds` (else "unknown kind"). The frames describer
+ * prints the scene, version, frame count, time span, particle counts of the first and
+ * last frames, the datasets of the first frame with type and shape, the energy table's
+ * rows and columns and the file size per particle and frame. Only metadata, the frame
+ * times and the energy time column are read. HDF5 is kept silent (esf_h5_quiet);
+ * everything opened is closed. */
 #include "info.h"
 
 #include <errno.h>
@@ -194,6 +195,12 @@ static int describe(hid_t file, const char *path, FILE *out, esf_error *err) {
 }
 
 int esf_info_print(const char *path, FILE *out, esf_error *err) {
+  char in_dir[1200];
+  struct stat sb;
+  if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode)) { /* a result directory */
+    snprintf(in_dir, sizeof in_dir, "%s/frames.h5", path);
+    path = in_dir;
+  }
   FILE *probe = fopen(path, "rb");
   if (!probe)
     return esf_fail(err, ESF_EIO, "cannot open '%s': %s", path, strerror(errno));

@@ -11,7 +11,8 @@
 
 #include "esf_error.h"
 
-/* Prints a description of the esfera file at path to out, one `key: value` per line.
+/* Prints a description of the esfera file at path (a directory: its frames.h5) to out,
+ * one `key: value` per line.
  * Errors: ESF_EIO when the file cannot be opened or read (missing, unreadable), naming
  * it; ESF_EINPUT when it is not HDF5, is HDF5 but not written by esfera, or is of a
  * kind this version does not know. */
