@@ -71,6 +71,7 @@ int esf_dem_ode_start(esf_dem_ode *o, const double *y, esf_error *err) {
   esf_force_tally ty;
   s->tally = &ty;
   attach_xi(o, y, NULL);
+  esf_walls_set_time(&s->walls, s->t);
   int rc = esf_forces_eval(s, y, y + 3 * n, y + 6 * n, 0.0, ESF_FORCES_TRIAL, NULL, err);
   detach_xi(o);
   s->tally = NULL;
@@ -130,6 +131,7 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   esf_force_tally ty = {0};
   s->tally = s->led.on ? &ty : NULL; /* the quadratures only feed the ledger */
   attach_xi(o, y, ydot);
+  esf_walls_set_time(&s->walls, t);
   int rc = esf_forces_eval(s, x, v, w, t - o->t_commit, ESF_FORCES_TRIAL, NULL, &o->err);
   detach_xi(o);
   s->tally = NULL;
@@ -169,6 +171,7 @@ int esf_dem_ode_commit(esf_dem_ode *o, double t, const double *y, esf_error *err
   s->tally = &ty;
   size_t touching = 0;
   attach_xi(o, y, NULL);
+  esf_walls_set_time(&s->walls, t);
   int rc = esf_forces_eval(s, s->p.x, s->p.v, s->p.w, t - o->t_commit, ESF_FORCES_COMMIT,
                            &touching, err);
   detach_xi(o);

@@ -49,9 +49,9 @@ static int erk_rhs(realtype t, N_Vector y, N_Vector ydot, void *data) {
 }
 
 static int erk_events(realtype t, N_Vector y, realtype *g, void *data) {
-  (void)t;
   erk *e = data;
   const double *yy = N_VGetArrayPointer(y);
+  esf_walls_set_time(&e->ode.s->walls, t);
   esf_events_eval(e->ode.s, yy, yy + 3 * e->ode.n, g);
   return 0;
 }

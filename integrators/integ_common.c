@@ -7,7 +7,7 @@
 int esf_integ_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
   int rebuild = 0;
   if (rebuilt) *rebuilt = 0;
-  int rc = esf_neighbor_check(&s->nb, &s->p, &rebuild, err);
+  int rc = esf_neighbor_check(&s->nb, &s->p, esf_walls_moved(&s->walls), &rebuild, err);
   if (rc) {
     esf_error_prefix(err,
                      "step %ld (t = %.6g s, dt = %.4g s, critical dt %.4g s): ", s->step,
@@ -17,6 +17,7 @@ int esf_integ_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
   if (!rebuild) return ESF_OK;
   rc = esf_sim_remove_escaped(s, err);
   if (!rc) rc = esf_neighbor_build(&s->nb, &s->p, &s->walls, err);
+  if (!rc) esf_walls_mark(&s->walls);
   if (!rc && rebuilt) *rebuilt = 1;
   return rc;
 }

@@ -129,6 +129,7 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   (void)t_stop;
   leapfrog *lf = state;
   esf_particles *p = &s->p;
+  esf_walls_set_time(&s->walls, s->t); /* moving walls at x_n's time */
   int rc = esf_integ_refresh(s, NULL, err);
   if (rc) return rc;
   if (!lf->started) {

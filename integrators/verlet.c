@@ -106,6 +106,7 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   double pw[5] = {0, 0, 0, 0, 0};
   int rc;
   if (!vv->started) {
+    esf_walls_set_time(&s->walls, s->t);
     rc = esf_integ_refresh(s, NULL, err);
     if (!rc) rc = evaluate(s, vv, 0.0, pw, err);
     if (rc) return rc;
@@ -126,6 +127,7 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     p->x[j] += dt * p->v[j];
   }
   size_t n_before = p->n;
+  esf_walls_set_time(&s->walls, (double)(s->step + 1) * dt); /* x_{n+1}'s time */
   rc = esf_integ_refresh(s, NULL, err);
   if (!rc && p->n != n_before)
     rc = esf_fail(err, ESF_EINPUT,

@@ -73,8 +73,8 @@ void esf_neighbor_release(esf_neighbor *nb) {
   memset(nb, 0, sizeof *nb);
 }
 
-int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, int *rebuild,
-                       esf_error *err) {
+int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wall_moved,
+                       int *rebuild, esf_error *err) {
   *rebuild = nb->xref == NULL || nb->nref != p->n;
   double lim2 = 0.25 * nb->skin * nb->skin, max2 = 0.0;
   for (size_t i = 0; i < p->n; i++) {
@@ -90,6 +90,7 @@ int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, int *rebu
     if (d2 > max2) max2 = d2;
   }
   if (max2 > lim2) *rebuild = 1;
+  if (wall_moved > 0 && sqrt(max2) + wall_moved > 0.5 * nb->skin) *rebuild = 1;
   return ESF_OK;
 }
 

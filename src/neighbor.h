@@ -55,11 +55,12 @@ typedef struct esf_neighbor {
 int esf_neighbor_init(esf_neighbor *nb, double skin, int ledger, esf_error *err);
 void esf_neighbor_release(esf_neighbor *nb);
 
-/* Sets *rebuild when a particle moved more than skin/2 since the last build (or none
- * was made, or the count changed). A non-finite position is an ESF_ENUMERIC error
- * naming the particle (by id). */
-int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, int *rebuild,
-                       esf_error *err);
+/* Sets *rebuild when a particle moved more than skin/2 since the last build, or the
+ * largest particle displacement plus wall_moved (how far a moving wall went, m) exceeds
+ * skin/2 (or no build was made, or the count changed). A non-finite position is an
+ * ESF_ENUMERIC error naming the particle (by id). */
+int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wall_moved,
+                       int *rebuild, esf_error *err);
 
 /* Rebuilds both lists from the current positions, carrying the history of contacts
  * that were touching over to the new lists. */

@@ -1,11 +1,15 @@
 /* scene_walls.c — the `walls:` list of a scene (INTERFACE.md): an infinite plane, a
  * polygon (triangle or quadrilateral) and the box helper (inward quadrilaterals less
  * the open faces). Each entry becomes one wall group; its material must be defined.
- * Prescribed motion (`motion:`) is recognised but refused until moving walls land. */
+ * Prescribed motion (`motion:`): translate {velocity}, rotate {axis, center, rpm or
+ * omega}, oscillate {direction, frequency, amplitude or acceleration in g, phase (rad)};
+ * the whole wall (a box: all its faces) moves rigidly (wall_motion.c). */
 #include <stdio.h>
+#include <math.h>
 #include <string.h>
 
 #include "scene.h"
+#include "vec3.h"
 
 static int wall_material(const esf_ynode *e, const esf_sim *s, int32_t *m,
                          esf_error *err) {
@@ -92,6 +96,75 @@ static int read_polygon(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
   return esf_walls_add_elem(&s->walls, &el, err);
 }
 
+/* A unit vector from key `key` of map m (required). */
+static int unit_vector(const esf_ynode *m, const char *key, double u[3], esf_error *err) {
+  int rc = esf_yget_doubles(m, key, 1, u, 3, err);
+  if (rc) return rc;
+  double len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  if (!(len > 0) || !isfinite(len))
+    return esf_ynode_fail(esf_ymap_get(m, key), err, "must be a non-zero vector");
+  for (int q = 0; q < 3; q++) u[q] /= len;
+  return ESF_OK;
+}
+
+/* motion: {translate: {velocity}} | {rotate: {axis, center, rpm | omega}} |
+ * {oscillate: {direction, frequency, amplitude | acceleration (peak, in g), phase}} */
+static int read_motion(const esf_ynode *mo, esf_wall_motion *m, esf_error *err) {
+  static const char *const kinds[] = {"translate", "rotate", "oscillate", NULL};
+  static const char *const tkeys[] = {"velocity", NULL};
+  static const char *const rkeys[] = {"axis", "center", "rpm", "omega", NULL};
+  static const char *const okeys[] = {"direction",    "frequency", "amplitude",
+                                      "acceleration", "phase",     NULL};
+  int rc = esf_ynode_require_map(mo, err);
+  if (!rc) rc = esf_ymap_check_keys(mo, kinds, err);
+  if (rc) return rc;
+  if (mo->n != 1)
+    return esf_ynode_fail(mo, err,
+                          "a motion is exactly one of translate, rotate, oscillate");
+  memset(m, 0, sizeof *m);
+  const esf_ynode *t = esf_ymap_get(mo, "translate"), *r = esf_ymap_get(mo, "rotate"),
+                  *o = esf_ymap_get(mo, "oscillate");
+  if (t) {
+    m->kind = ESF_MOTION_TRANSLATE;
+    rc = esf_ynode_require_map(t, err);
+    if (!rc) rc = esf_ymap_check_keys(t, tkeys, err);
+    if (!rc) rc = esf_yget_doubles(t, "velocity", 1, m->vel, 3, err);
+  } else if (r) {
+    m->kind = ESF_MOTION_ROTATE;
+    rc = esf_ynode_require_map(r, err);
+    if (!rc) rc = esf_ymap_check_keys(r, rkeys, err);
+    if (!rc) rc = unit_vector(r, "axis", m->axis, err);
+    if (!rc) rc = esf_yget_doubles(r, "center", 0, m->pivot, 3, err);
+    const esf_ynode *rpm = esf_ymap_get(r, "rpm"), *om = esf_ymap_get(r, "omega");
+    if (!rc && (rpm != NULL) == (om != NULL))
+      return esf_ynode_fail(r, err,
+                            "give the angular speed as exactly one of rpm, omega");
+    double v = 0;
+    if (!rc) rc = esf_yget_double(r, rpm ? "rpm" : "omega", 1, &v, err);
+    m->rate = rpm ? v * 2.0 * ESF_PI / 60.0 : v;
+  } else {
+    m->kind = ESF_MOTION_OSCILLATE;
+    rc = esf_ynode_require_map(o, err);
+    if (!rc) rc = esf_ymap_check_keys(o, okeys, err);
+    if (!rc) rc = unit_vector(o, "direction", m->dir, err);
+    if (!rc) rc = esf_yget_double(o, "frequency", 1, &m->freq, err);
+    if (!rc && !(m->freq > 0))
+      return esf_ynode_fail(esf_ymap_get(o, "frequency"), err, "must be positive (Hz)");
+    const esf_ynode *am = esf_ymap_get(o, "amplitude"),
+                    *ac = esf_ymap_get(o, "acceleration");
+    if (!rc && (am != NULL) == (ac != NULL))
+      return esf_ynode_fail(o, err,
+                            "give exactly one of amplitude (m) or acceleration (peak, in "
+                            "units of g = 9.81 m/s^2)");
+    double v = 0;
+    if (!rc) rc = esf_yget_double(o, am ? "amplitude" : "acceleration", 1, &v, err);
+    double w = 2.0 * ESF_PI * m->freq;
+    m->amp = am ? v : v * 9.81 / (w * w);
+    if (!rc) rc = esf_yget_double(o, "phase", 0, &m->phase, err);
+  }
+  return rc;
+}
+
 int esf_scene_walls(const esf_ynode *seq, esf_sim *s, esf_error *err) {
   static const char *const keys[] = {"box",      "plane",  "polygon", "open",
                                      "material", "motion", NULL};
@@ -102,11 +175,6 @@ int esf_scene_walls(const esf_ynode *seq, esf_sim *s, esf_error *err) {
     rc = esf_ynode_require_map(e, err);
     if (!rc) rc = esf_ymap_check_keys(e, keys, err);
     if (rc) break;
-    const esf_ynode *mo = esf_ymap_get(e, "motion");
-    if (mo)
-      return esf_ynode_fail(mo, err,
-                            "prescribed wall motion is not available in this "
-                            "version of esfera; walls are fixed");
     int nkind = (esf_ymap_get(e, "box") != NULL) + (esf_ymap_get(e, "plane") != NULL) +
                 (esf_ymap_get(e, "polygon") != NULL);
     if (nkind != 1)
@@ -130,6 +198,13 @@ int esf_scene_walls(const esf_ynode *seq, esf_sim *s, esf_error *err) {
       rc = read_plane(e, s, group, mat, err);
     else
       rc = read_polygon(e, s, group, mat, err);
+    const esf_ynode *mo = esf_ymap_get(e, "motion");
+    if (!rc && mo) {
+      rc = read_motion(mo, &s->walls.g[group].motion, err);
+      if (!rc && kind[1] == 'l' && s->walls.g[group].motion.kind == ESF_MOTION_ROTATE)
+        return esf_ynode_fail(mo, err,
+                              "an infinite plane cannot rotate; use a polygon or a box");
+    }
   }
   return rc;
 }

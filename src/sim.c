@@ -97,6 +97,7 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
   }
   int rc = esf_materials_mix(&s->mats, err);
   if (!rc) rc = set_masses(s, err);
+  if (!rc) rc = esf_walls_freeze(&s->walls, s->t, err); /* moving walls placed at t0 */
   if (rc) return rc;
 
   esf_dt_estimate_compute(s, &s->dte);

@@ -31,6 +31,7 @@ int esf_walls_add_elem(esf_walls *w, const esf_wall_elem *e, esf_error *err) {
 
 void esf_walls_release(esf_walls *w) {
   free(w->e);
+  free(w->e0);
   free(w->g);
   memset(w, 0, sizeof *w);
 }

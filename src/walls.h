@@ -10,12 +10,37 @@
 #include "esf_error.h"
 #include "wall_geom.h"
 
+/* Prescribed rigid motions (wall_motion.c). */
+enum {
+  ESF_MOTION_NONE = 0,
+  ESF_MOTION_TRANSLATE,
+  ESF_MOTION_ROTATE,
+  ESF_MOTION_OSCILLATE
+};
+
+typedef struct esf_wall_motion {
+  int kind;
+  double vel[3];   /* translate: velocity, m/s */
+  double axis[3];  /* rotate: unit axis (right hand) */
+  double pivot[3]; /* rotate: a point of the axis at t = 0, m */
+  double rate;     /* rotate: angular speed, rad/s */
+  double dir[3];   /* oscillate: unit direction */
+  double freq;     /* oscillate: Hz */
+  double amp;      /* oscillate: m; displacement amp sin(2 pi freq t + phase) dir */
+  double phase;    /* oscillate: rad */
+} esf_wall_motion;
+
 typedef struct esf_wall_group {
   char label[32];   /* "plane", "box", "polygon" + index, for messages */
   int moving;       /* 0: static (vel, omega zero) */
   double vel[3];    /* translational velocity, m/s */
   double omega[3];  /* angular velocity about `center`, rad/s */
   double center[3]; /* m */
+  esf_wall_motion motion;
+  double disp[3]; /* displacement at the current time, m */
+  double angle;   /* rotation angle at the current time, rad */
+  double reach;   /* largest distance of its vertices from the rotation axis, m */
+  double disp_mark[3], angle_mark; /* the same at the last candidate-list build */
 } esf_wall_group;
 
 typedef struct esf_walls {
@@ -23,6 +48,9 @@ typedef struct esf_walls {
   esf_wall_elem *e; /* the elements */
   int ngroups;
   esf_wall_group *g;
+  int moving;        /* some group moves */
+  esf_wall_elem *e0; /* the elements at t = 0 (moving walls only), else NULL */
+  double t;          /* time the elements are placed at, s */
 } esf_walls;
 
 /* Adds a group; returns its index. */
@@ -30,6 +58,20 @@ int esf_walls_add_group(esf_walls *w, const char *label, int *group, esf_error *
 /* Adds an element (copied; its group must exist). */
 int esf_walls_add_elem(esf_walls *w, const esf_wall_elem *e, esf_error *err);
 void esf_walls_release(esf_walls *w);
+
+/* After the scene is read: keeps the reference geometry when a group moves and places
+ * the walls at time t0. */
+int esf_walls_freeze(esf_walls *w, double t0, esf_error *err);
+
+/* Places every moving group at time t (elements, velocities); nothing when none moves
+ * or t is the current time. */
+void esf_walls_set_time(esf_walls *w, double t);
+
+/* Upper bound of how far any wall point moved since the last esf_walls_mark, m. */
+double esf_walls_moved(const esf_walls *w);
+
+/* Records the current placement as the reference of esf_walls_moved. */
+void esf_walls_mark(esf_walls *w);
 
 /* Velocity of wall group g's material at point q, m/s. */
 static inline void esf_wall_point_velocity(const esf_wall_group *g, const double q[3],
