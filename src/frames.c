@@ -84,7 +84,12 @@ int esf_frames_open(const char *path, const char *scene_name, const char *versio
   esf_h5_quiet q;
   esf_h5_quiet_begin(&q);
   int rc = ESF_OK;
-  fr->file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  /* chunk-index B-tree nodes of 8 entries, not 64: most datasets have one chunk, and
+     the default node (~2.5 kB each) made up 11% of a 3000-particle frame */
+  hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
+  if (fcpl >= 0) H5Pset_istore_k(fcpl, 4);
+  fr->file = H5Fcreate(path, H5F_ACC_TRUNC, fcpl >= 0 ? fcpl : H5P_DEFAULT, H5P_DEFAULT);
+  if (fcpl >= 0) H5Pclose(fcpl);
   if (fr->file < 0) {
     rc = esf_h5_fail(err, "cannot create frames file", path);
   } else if (esf_h5_attr_write_string(fr->file, "scene", scene_name ? scene_name : "") <
