@@ -24,7 +24,10 @@
 #include "wall_mesh.h"
 #include "xdmf.h"
 
-enum { XDMF_EVERY_FRAME_MAX = 1000 }; /* past this many frames: at most once a second */
+/* The XDMF is rewritten after each of the first XDMF_EVERY_FRAME_MAX frames; later
+ * only once the time since the last rewrite is XDMF_COST_RATIO times what that rewrite
+ * took (its whole-file cost then stays near 1% of the run), and at close. */
+enum { XDMF_EVERY_FRAME_MAX = 100, XDMF_COST_RATIO = 100 };
 
 struct esf_frames {
   hid_t file, frames;
@@ -35,7 +38,8 @@ struct esf_frames {
   esf_xdmf_frame *xf; /* one record per frame written */
   size_t xf_cap;
   long xdmf_written; /* frames the XDMF on disk describes */
-  double xdmf_last;  /* monotonic time of its last rewrite, s */
+  double xdmf_last;  /* monotonic time at the end of its last rewrite, s */
+  double xdmf_cost;  /* what that rewrite took, s */
   double seconds;    /* wall time spent writing */
 };
 
@@ -164,12 +168,14 @@ static int write_contacts(hid_t frame, const esf_contact_net *c) {
 static int update_xdmf(esf_frames *fr, int force, esf_error *err) {
   if (fr->xdmf_written == fr->count) return ESF_OK;
   double t = now_s();
-  if (!force && fr->count > XDMF_EVERY_FRAME_MAX && t - fr->xdmf_last < 1.0)
+  if (!force && fr->count > XDMF_EVERY_FRAME_MAX &&
+      t - fr->xdmf_last < XDMF_COST_RATIO * fr->xdmf_cost)
     return ESF_OK;
   int rc = esf_xdmf_write(fr->xdmf_path, fr->h5_name, fr->xf, (size_t)fr->count, err);
   if (!rc) {
     fr->xdmf_written = fr->count;
-    fr->xdmf_last = t;
+    fr->xdmf_last = now_s();
+    fr->xdmf_cost = fr->xdmf_last - t;
   }
   return rc;
 }

@@ -32,7 +32,8 @@ int esf_frames_open(const char *path, const char *scene_name, const char *versio
 /* Appends a frame: the particles, the walls (NULL or none: no walls group) and the
  * contact network (NULL: no contacts group) at `time`. Then flushes the file and
  * rewrites the XDMF, so a run that dies leaves both describing every complete frame.
- * (Past 1000 frames the XDMF is rewritten at most once a second, and at close.) */
+ * (After 100 frames the XDMF is rewritten only when that costs no more than about 1%
+ * of the time since its last rewrite, and at close.) */
 int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
                      const esf_walls *walls, const esf_contact_net *contacts,
                      esf_error *err);

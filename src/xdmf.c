@@ -166,8 +166,11 @@ int esf_xdmf_write(const char *path, const char *h5_name, const esf_xdmf_frame *
   collection(f, "contacts", contacts, 0, 1, h5_name, frames, nframes);
   fputs("  </Domain>\n</Xdmf>\n", f);
   int ok = fflush(f) == 0 && !ferror(f) && fsync(fileno(f)) == 0;
-  int e = errno;
-  ok = (fclose(f) == 0) && ok;
+  int e = ok ? 0 : errno;
+  if (fclose(f) != 0 && ok) {
+    ok = 0;
+    e = errno;
+  }
   if (ok && rename(tmp, path) != 0) {
     ok = 0;
     e = errno;

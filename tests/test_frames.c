@@ -4,9 +4,10 @@
  * root attributes, the group names); frames with walls and a contact network give back
  * the wall mesh (wall_mesh.h) and the pairs and forces exactly; 600 energy rows (more
  * than one buffer) come back exactly from /energy with their column names; frames.xdmf
- * describes every frame flushed so far after each write; an unwritable path is an
- * ESF_EIO error naming the file; HDF5's automatic error printing is left as it was
- * found. (tests/check_xdmf.py parses the XDMF of a real run.) */
+ * describes every frame flushed so far after each of the first 100 writes, never more
+ * than were flushed later, and all of them after close; an unwritable path is an
+ * ESF_EIO error naming the file (for the XDMF too); HDF5's automatic error printing is
+ * left as it was found. (tests/check_xdmf.py parses the XDMF of a real run.) */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 
 #include <hdf5.h>
@@ -20,6 +21,7 @@
 #include "check.h"
 #include "frames.h"
 #include "wall_mesh.h"
+#include "xdmf.h"
 
 static char tmpdir[256];
 
@@ -253,7 +255,7 @@ static void check_exact(hid_t g, const char *name, hid_t mtype, const void *data
 static int count_in_file(const char *path, const char *needle) {
   FILE *f = fopen(path, "r");
   if (!f) return -1;
-  static char text[1 << 16];
+  static char text[1 << 20];
   size_t n = fread(text, 1, sizeof text - 1, f);
   fclose(f);
   text[n] = '\0';
@@ -377,6 +379,38 @@ static void test_walls_contacts_energy(void) {
   unlink(xdmf);
 }
 
+/* 150 small frames: the XDMF follows every one of the first 100, may lag after that
+ * (it is rewritten only when cheap against the time since the last rewrite), and is
+ * complete after close. */
+static void test_xdmf_schedule(void) {
+  char path[512], xdmf[512];
+  snprintf(path, sizeof path, "%s/many.h5", tmpdir);
+  snprintf(xdmf, sizeof xdmf, "%s/many.xdmf", tmpdir);
+  esf_error err = {0};
+  esf_particles p;
+  CHECK_OK(esf_particles_alloc(&p, 2, &err), err);
+  fill(&p, 0);
+  esf_frames *fr = NULL;
+  CHECK_OK(esf_frames_open(path, "many", "0", &fr, &err), err);
+  if (!fr) return;
+  int lag_ok = 1, first_ok = 1;
+  for (int f = 0; f < 150; f++) {
+    CHECK_OK(esf_frames_write(fr, 1e-3 * f, &p, NULL, NULL, &err), err);
+    int described = count_in_file(xdmf, "<Grid Name=\"particles_");
+    if (f < 100 && described != f + 1) first_ok = 0;
+    if (f >= 100 && (described < 100 || described > f + 1)) lag_ok = 0;
+  }
+  CHECK(first_ok, "the XDMF must follow each of the first 100 frames");
+  CHECK(lag_ok, "later the XDMF may lag, never lead or fall below 100 frames");
+  CHECK_OK(esf_frames_close(&fr, &err), err);
+  CHECK(count_in_file(xdmf, "<Grid Name=\"particles_") == 150,
+        "after close the XDMF describes %d frames, expected 150",
+        count_in_file(xdmf, "<Grid Name=\"particles_"));
+  esf_particles_release(&p);
+  unlink(path);
+  unlink(xdmf);
+}
+
 static void test_errors(void) {
   H5E_auto2_t before_func = NULL;
   void *before_data = NULL;
@@ -401,6 +435,13 @@ static void test_errors(void) {
   CHECK(after_func == before_func && after_data == before_data,
         "HDF5's automatic error printing must be restored");
   CHECK(esf_frames_count(NULL) == 0, "count of NULL");
+
+  /* the XDMF writer: an unwritable place is ESF_EIO naming the file */
+  esf_xdmf_frame x = {0.5, 0, 3, 0, 0, 0, 0, 0};
+  snprintf(path, sizeof path, "%s/no/such/dir/frames.xdmf", tmpdir);
+  rc = esf_xdmf_write(path, "frames.h5", &x, 1, &err);
+  CHECK(rc == ESF_EIO && strstr(err.msg, path) != NULL, "XDMF to '%s': %d '%s'", path, rc,
+        err.msg);
 }
 
 int main(void) {
@@ -411,6 +452,7 @@ int main(void) {
   }
   test_roundtrip();
   test_walls_contacts_energy();
+  test_xdmf_schedule();
   test_errors();
   if (rmdir(tmpdir) != 0) fprintf(stderr, "could not remove %s\n", tmpdir);
   return check_finish("test_frames");
