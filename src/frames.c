@@ -243,8 +243,8 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
   return rc;
 }
 
-int esf_frames_energy(esf_frames *fr, int ncols, const char *const *names,
-                      const double *row, esf_error *err) {
+int esf_frames_append_energy(esf_frames *fr, int ncols, const char *const *names,
+                             const double *row, esf_error *err) {
   if (!fr) return esf_fail(err, ESF_EINTERNAL, "frames: energy row on a closed file");
   if (fr->energy && esf_h5table_ncols(fr->energy) != ncols)
     return esf_fail(err, ESF_EINTERNAL, "frames: energy rows of %d and %d columns",

@@ -40,14 +40,14 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
 
 /* Appends a row to /energy (created at the first row with these column names; ncols
  * must not change). Rows reach the file in blocks, at the latest with the next frame. */
-int esf_frames_energy(esf_frames *fr, int ncols, const char *const *names,
-                      const double *row, esf_error *err);
+int esf_frames_append_energy(esf_frames *fr, int ncols, const char *const *names,
+                             const double *row, esf_error *err);
 
 /* Number of frames written so far; energy rows appended so far. */
 long esf_frames_count(const esf_frames *fr);
 long esf_frames_energy_rows(const esf_frames *fr);
 
-/* Wall time spent in esf_frames_write and esf_frames_energy so far, s. */
+/* Wall time spent in esf_frames_write and esf_frames_append_energy so far, s. */
 double esf_frames_seconds(const esf_frames *fr);
 
 /* Flushes, writes the final XDMF and closes; sets *fr to NULL. Safe on NULL. */

@@ -122,7 +122,7 @@ static int energy_row(const esf_sim *s, FILE *ef, esf_frames *fr, esf_error *err
   double row[ESF_LEDGER_NCOLS];
   esf_ledger_values(s->led_time, &s->led, s->alpha_r, row);
   esf_ledger_row(ef, s->led_time, &s->led, s->alpha_r);
-  return esf_frames_energy(fr, ESF_LEDGER_NCOLS, esf_ledger_columns, row, err);
+  return esf_frames_append_energy(fr, ESF_LEDGER_NCOLS, esf_ledger_columns, row, err);
 }
 
 static void progress(const esf_sim *s, double t_end, double t0, double ps) {

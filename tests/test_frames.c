@@ -296,7 +296,7 @@ static void test_walls_contacts_energy(void) {
     fill(&p, f);
     for (int k = 200 * f; k < 200 * (f + 1); k++) {
       double row[3] = {1e-3 * k, sin((double)k), k * 1e300};
-      CHECK_OK(esf_frames_energy(fr, 3, cols, row, &err), err);
+      CHECK_OK(esf_frames_append_energy(fr, 3, cols, row, &err), err);
     }
     CHECK_OK(esf_frames_write(fr, 0.5 * f, &p, &w, nets[f], &err), err);
     CHECK(count_in_file(xdmf, "<Grid Name=\"particles_") == f + 1,
@@ -304,7 +304,7 @@ static void test_walls_contacts_energy(void) {
           count_in_file(xdmf, "<Grid Name=\"particles_"));
   }
   double row2[2] = {0, 0};
-  CHECK(esf_frames_energy(fr, 2, cols, row2, &err) == ESF_EINTERNAL,
+  CHECK(esf_frames_append_energy(fr, 2, cols, row2, &err) == ESF_EINTERNAL,
         "a row of another width must be refused");
   CHECK(esf_frames_energy_rows(fr) == 600, "%ld energy rows", esf_frames_energy_rows(fr));
   CHECK(esf_frames_seconds(fr) > 0, "writing time must be measured");
