@@ -204,7 +204,7 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
   int with_walls = walls && walls->n > 0;
   double lo[3], hi[3];
   int have_box = particle_box(p, lo, hi);
-  int rc = with_walls ? esf_wall_mesh_build(walls, have_box ? lo : NULL,
+  int rc = with_walls ? esf_wall_mesh_build(walls, time, have_box ? lo : NULL,
                                             have_box ? hi : NULL, &fr->mesh, err)
                       : ESF_OK;
   if (!rc) rc = record(fr, &x, err);

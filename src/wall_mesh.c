@@ -5,7 +5,9 @@
  * in-plane axes u = unit(n x a), a the coordinate axis least aligned with n, and
  * v = n x u, so u x v = n; corners c + (s/2)(-u-v, u-v, u+v, -u+v) and triangles
  * (0,1,2), (0,2,3) face along n. s is the box's diagonal, or 1 m when the box is
- * empty. Entry: walls as they are at the frame's time; exit: m holds the mesh. */
+ * empty. Moving walls not at time t are placed at t in a copy (esf_walls_set_time on
+ * copies of the elements and groups, sharing the read-only reference geometry e0).
+ * Entry: walls as the sim holds them; exit: m holds the mesh at t, walls unchanged. */
 #include "wall_mesh.h"
 
 #include <math.h>
@@ -85,16 +87,48 @@ static void plane_patch(const esf_wall_elem *e, int have_box, const double blo[3
       out[j][q] = c[q] + 0.5 * s * (su[j] * u[q] + sv[j] * v[q]);
 }
 
-int esf_wall_mesh_build(const esf_walls *w, const double *box_lo, const double *box_hi,
-                        esf_wall_mesh *m, esf_error *err) {
+/* w placed at time t: w itself, or a copy in m's scratch storage. */
+static int walls_at(const esf_walls *w, double t, esf_wall_mesh *m, esf_walls *copy,
+                    const esf_walls **out, esf_error *err) {
+  *out = w;
+  if (!w->moving || t == w->t) return ESF_OK;
+  if (w->n > m->cap_se) {
+    esf_wall_elem *e = realloc(m->scratch_e, w->n * sizeof *e);
+    if (!e) return esf_fail(err, ESF_ENOMEM, "out of memory for the wall mesh");
+    m->scratch_e = e;
+    m->cap_se = w->n;
+  }
+  if (w->ngroups > m->cap_sg) {
+    esf_wall_group *g = realloc(m->scratch_g, (size_t)w->ngroups * sizeof *g);
+    if (!g) return esf_fail(err, ESF_ENOMEM, "out of memory for the wall mesh");
+    m->scratch_g = g;
+    m->cap_sg = w->ngroups;
+  }
+  *copy = *w;
+  copy->e = m->scratch_e;
+  copy->g = m->scratch_g;
+  copy->cap = w->n;
+  memcpy(copy->e, w->e, w->n * sizeof *w->e);
+  memcpy(copy->g, w->g, (size_t)w->ngroups * sizeof *w->g);
+  esf_walls_set_time(copy, t);
+  *out = copy;
+  return ESF_OK;
+}
+
+int esf_wall_mesh_build(const esf_walls *walls, double t, const double *box_lo,
+                        const double *box_hi, esf_wall_mesh *m, esf_error *err) {
   m->np = m->nt = 0;
+  esf_walls copy;
+  const esf_walls *w = NULL;
+  int rc = walls_at(walls, t, m, &copy, &w, err);
+  if (rc) return rc;
   size_t np = 0, nt = 0;
   for (size_t k = 0; k < w->n; k++) {
     int nv = w->e[k].kind == ESF_WALL_PLANE ? 4 : w->e[k].nv;
     np += (size_t)nv;
     nt += (size_t)(nv - 2);
   }
-  int rc = reserve(m, np, nt, err);
+  rc = reserve(m, np, nt, err);
   if (rc) return rc;
   double blo[3], bhi[3];
   int have_box = sizing_box(w, box_lo, box_hi, blo, bhi);
@@ -128,5 +162,7 @@ void esf_wall_mesh_release(esf_wall_mesh *m) {
   free(m->tri);
   free(m->group);
   free(m->material);
+  free(m->scratch_e);
+  free(m->scratch_g);
   memset(m, 0, sizeof *m);
 }

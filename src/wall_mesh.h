@@ -6,7 +6,9 @@
  * square patch of 4 points and 2 triangles, wound the same way: centred on the
  * projection onto the plane of the centre of a box (the particles' bounding box, see
  * esf_wall_mesh_build), with side = the box's diagonal, so the patch covers the box's
- * whole shadow on the plane. Each triangle carries its element's group and material. */
+ * whole shadow on the plane. Each triangle carries its element's group and material.
+ * Moving walls (walls.h) are drawn where their motion puts them at the time asked for,
+ * from a private copy: the walls handed in are not changed. */
 #ifndef ESF_WALL_MESH_H
 #define ESF_WALL_MESH_H
 
@@ -24,13 +26,17 @@ typedef struct esf_wall_mesh {
   int32_t *group;    /* nt: the wall group of each triangle */
   int32_t *material; /* nt: its material index */
   size_t cap_p, cap_t;
+  esf_wall_elem *scratch_e; /* moving walls: elements placed at the mesh's time */
+  esf_wall_group *scratch_g;
+  size_t cap_se;
+  int cap_sg;
 } esf_wall_mesh;
 
-/* Fills m (reusing its storage) with the mesh of walls as they are now. box_lo,
+/* Fills m (reusing its storage) with the mesh of walls at time t (s). box_lo,
  * box_hi: the box that sizes plane patches, usually the particles' bounding box; when
  * NULL (or empty) the finite elements' box is used, and without those a 1 m square
  * about each plane's point. */
-int esf_wall_mesh_build(const esf_walls *walls, const double *box_lo,
+int esf_wall_mesh_build(const esf_walls *walls, double t, const double *box_lo,
                         const double *box_hi, esf_wall_mesh *m, esf_error *err);
 
 void esf_wall_mesh_release(esf_wall_mesh *m);

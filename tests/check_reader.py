@@ -6,7 +6,9 @@ the last one; load_energy from frames.h5's /energy, from energy.csv and from the
 result directory give the same 18 columns and rows, equal within the CSV's printed
 precision (relative 1e-9: time has 10 significant digits, energies 13);
 the CLI summary exits 0 and names the frame count, a missing file exits 2; render.py
-writes a PNG of the last frame that is not blank (hundreds of distinct colours)."""
+writes a PNG of the last frame that is not blank (hundreds of distinct colours); the
+walls in the frames of a run with an oscillating box are displaced by A sin(2 pi f t)
+at each frame's time (1e-12 m)."""
 import os
 import subprocess
 import sys
@@ -26,6 +28,20 @@ walls:
 integrator: {method: leapfrog, dt: auto, frac: 0.2}
 run: {duration: 0.15}
 output: {every: 0.03, energy_every: 1.0e-3, contacts: true}
+"""
+
+MOVING = """name: move
+materials:
+  g: {density: 2500, kn: 1.0e4, restitution: 0.5, friction: 0.4}
+particles:
+  - {generate: random, region: {min: [0.003, 0.003, 0.004], max: [0.027, 0.027, 0.03]},
+     count: 50, radius: 0.0015, material: g, seed: 1}
+walls:
+  - {box: {min: [0, 0, 0], max: [0.03, 0.03, 0.06]}, open: [top], material: g,
+     motion: {oscillate: {direction: [1, 0, 0], frequency: 20, amplitude: 0.002}}}
+integrator: {method: leapfrog, dt: auto, frac: 0.2}
+run: {duration: 0.05}
+output: {every: 0.01, energy_every: 0}
 """
 
 failures = []
@@ -114,6 +130,21 @@ def main():
             print(f"render: {img.shape[1]} x {img.shape[0]} px, {colours} colours")
             check(img.shape[0] > 150 and img.shape[1] > 150, "picture size")
             check(colours > 200, f"the picture looks blank ({colours} colours)")
+        # walls are written at each frame's time: an oscillating box
+        scene = os.path.join(tmp, "move.yaml")
+        with open(scene, "w") as fh:
+            fh.write(MOVING)
+        out = os.path.join(tmp, "move")
+        r = subprocess.run([esfera, "run", scene, "--out", out, "--quiet"],
+                           capture_output=True, text=True)
+        check(r.returncode == 0, f"moving-wall run: exit {r.returncode} {r.stderr}")
+        worst, seen = 0.0, set()
+        for fr in esfera_h5.load_frames(out):
+            x0 = fr.data["walls/points"][:, 0].min()
+            worst = max(worst, abs(x0 - 0.002 * np.sin(2 * np.pi * 20 * fr.time)))
+            seen.add(round(x0, 6))
+        print(f"moving box: wall x in the frames off the motion by at most {worst:.3g} m")
+        check(worst < 1e-12 and len(seen) >= 4, f"moving walls in frames ({worst}, {seen})")
     print(f"check_reader: {checks} checks, {len(failures)} failed")
     return 1 if failures else 0
 

@@ -328,7 +328,7 @@ static void test_walls_contacts_energy(void) {
         blo[q] = i ? fmin(blo[q], a) : a;
         bhi[q] = i ? fmax(bhi[q], b) : b;
       }
-    CHECK_OK(esf_wall_mesh_build(&w, blo, bhi, &m, &err), err);
+    CHECK_OK(esf_wall_mesh_build(&w, 0.5 * f, blo, bhi, &m, &err), err);
     char name[64];
     snprintf(name, sizeof name, "/frames/%06d", f);
     check_frame(file, name, &p, 0.5 * f, nets[f] ? 9 : 8);

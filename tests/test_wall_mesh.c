@@ -5,7 +5,8 @@
  * the plane, centred on the projection of the sizing box's centre, with side = the box's
  * diagonal, covering the projection of every corner of the box; without a box it falls
  * back to the finite elements' box, and with none at all to a 1 m square about the
- * plane's point. Storage is reused across builds. */
+ * plane's point; a moving wall is drawn where its motion puts it at the time asked for
+ * while the walls handed in stay put. Storage is reused across builds. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -38,7 +39,7 @@ static void test_box(void) {
   CHECK(nf == 5, "open box: %d faces", nf);
   for (int k = 0; k < nf; k++) CHECK_OK(esf_walls_add_elem(&w, &faces[k], &err), err);
   esf_wall_mesh m = {0};
-  CHECK_OK(esf_wall_mesh_build(&w, NULL, NULL, &m, &err), err);
+  CHECK_OK(esf_wall_mesh_build(&w, 0.0, NULL, NULL, &m, &err), err);
   CHECK(m.np == 20 && m.nt == 10, "box mesh: %zu points, %zu triangles", m.np, m.nt);
   double area = 0, worst = 0;
   for (size_t k = 0; k < m.nt; k++) {
@@ -67,7 +68,7 @@ static void test_box(void) {
   const double tv[3][3] = {{0, 0, 1}, {1, 0, 1}, {0, 2, 1}};
   CHECK_OK(esf_wall_polygon_init(&tri, 3, tv, 2, g2, &err), err);
   CHECK_OK(esf_walls_add_elem(&w, &tri, &err), err);
-  CHECK_OK(esf_wall_mesh_build(&w, NULL, NULL, &m, &err), err);
+  CHECK_OK(esf_wall_mesh_build(&w, 0.0, NULL, NULL, &m, &err), err);
   CHECK(m.np == 23 && m.nt == 11, "box + triangle: %zu points, %zu triangles", m.np,
         m.nt);
   for (int j = 0; j < 3; j++)
@@ -117,7 +118,7 @@ static void test_plane(void) {
   CHECK_OK(esf_walls_add_elem(&w, &pl, &err), err);
   const double lo[3] = {-0.02, 0.01, 0.2}, hi[3] = {0.03, 0.07, 0.26};
   esf_wall_mesh m = {0};
-  CHECK_OK(esf_wall_mesh_build(&w, lo, hi, &m, &err), err);
+  CHECK_OK(esf_wall_mesh_build(&w, 0.0, lo, hi, &m, &err), err);
   double mid[3], d[3], c[3], diag[3];
   for (int q = 0; q < 3; q++) {
     mid[q] = 0.5 * (lo[q] + hi[q]);
@@ -146,10 +147,10 @@ static void test_plane(void) {
          side, worst);
 
   /* no box: the finite elements' box; none either: 1 m about the plane's point */
-  CHECK_OK(esf_wall_mesh_build(&w, NULL, NULL, &m, &err), err);
+  CHECK_OK(esf_wall_mesh_build(&w, 0.0, NULL, NULL, &m, &err), err);
   check_patch(&m, &pl, pl.p, 1.0, "plane without a box");
   const double empty_lo[3] = {1, 1, 1}, empty_hi[3] = {0, 0, 0};
-  CHECK_OK(esf_wall_mesh_build(&w, empty_lo, empty_hi, &m, &err), err);
+  CHECK_OK(esf_wall_mesh_build(&w, 0.0, empty_lo, empty_hi, &m, &err), err);
   check_patch(&m, &pl, pl.p, 1.0, "plane with an empty box");
   int g2;
   CHECK_OK(esf_walls_add_group(&w, "polygon", &g2, &err), err);
@@ -157,7 +158,7 @@ static void test_plane(void) {
   const double sv[4][3] = {{0, 0, 2}, {2, 0, 2}, {2, 2, 2}, {0, 2, 2}};
   CHECK_OK(esf_wall_polygon_init(&sq, 4, sv, 1, g2, &err), err);
   CHECK_OK(esf_walls_add_elem(&w, &sq, &err), err);
-  CHECK_OK(esf_wall_mesh_build(&w, NULL, NULL, &m, &err), err);
+  CHECK_OK(esf_wall_mesh_build(&w, 0.0, NULL, NULL, &m, &err), err);
   CHECK(m.np == 8 && m.nt == 4, "plane + square: %zu points, %zu triangles", m.np, m.nt);
   /* the square's box is [0,2]^2 x {2}: centre (1,1,2), diagonal sqrt(8) */
   double sc[3] = {1, 1, 2}, dd[3];
@@ -171,8 +172,47 @@ static void test_plane(void) {
   esf_walls_release(&w);
 }
 
+/* A translating triangle beside a static one: the mesh at t = 0.25 s has the moving
+ * one's points displaced by vel t and the static one's unchanged; the walls handed in
+ * stay at their own time. */
+static void test_moving(void) {
+  esf_walls w = {0};
+  esf_error err = {0};
+  int gs, gm;
+  esf_wall_elem a, b;
+  const double va[3][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const double vb[3][3] = {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+  CHECK_OK(esf_walls_add_group(&w, "static", &gs, &err), err);
+  CHECK_OK(esf_walls_add_group(&w, "moving", &gm, &err), err);
+  CHECK_OK(esf_wall_polygon_init(&a, 3, va, 0, gs, &err), err);
+  CHECK_OK(esf_wall_polygon_init(&b, 3, vb, 0, gm, &err), err);
+  CHECK_OK(esf_walls_add_elem(&w, &a, &err), err);
+  CHECK_OK(esf_walls_add_elem(&w, &b, &err), err);
+  w.g[gm].motion.kind = ESF_MOTION_TRANSLATE;
+  v3_set(w.g[gm].motion.vel, 0.2, -0.1, 0.4);
+  CHECK_OK(esf_walls_freeze(&w, 0.0, &err), err);
+  esf_wall_mesh m = {0};
+  CHECK_OK(esf_wall_mesh_build(&w, 0.25, NULL, NULL, &m, &err), err);
+  double worst = 0;
+  for (int j = 0; j < 3; j++)
+    for (int q = 0; q < 3; q++) {
+      worst = fmax(worst, fabs(m.points[3 * j + q] - va[j][q]));
+      double want = vb[j][q] + 0.25 * w.g[gm].motion.vel[q];
+      worst = fmax(worst, fabs(m.points[3 * (3 + j) + q] - want));
+    }
+  CHECK(worst < 1e-15, "moving wall mesh off by %.3g m", worst);
+  CHECK(w.t == 0.0 && memcmp(w.e[1].v, vb, sizeof vb) == 0,
+        "the walls handed in must stay at t = 0 (t = %g)", w.t);
+  CHECK_OK(esf_wall_mesh_build(&w, 0.0, NULL, NULL, &m, &err), err);
+  CHECK(memcmp(m.points + 9, vb, sizeof vb) == 0, "at t = 0 the moving wall is in place");
+  printf("moving: mesh off the prescribed motion by %.2g m\n", worst);
+  esf_wall_mesh_release(&m);
+  esf_walls_release(&w);
+}
+
 int main(void) {
   test_box();
   test_plane();
+  test_moving();
   return check_finish("test_wall_mesh");
 }
