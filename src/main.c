@@ -131,10 +131,10 @@ static int cmd_modes(int argc, char **argv) {
   }
   printf("modes: particles=%zu dofs=%zu contacts=%zu omega_max=%.10g xi_max=%.6g "
          "dt_2_over_omega=%.10g dt_damped=%.10g cundall=%.10g hart=%.10g damped=%.10g "
-         "argmax_particle=%zu\n",
+         "argmax_particle=%zu xi_mode=%.6g dt_mode=%.10g\n",
          s.p.n, m.dofs, m.contacts, m.omega_max, m.xi_max, m.dt_undamped, m.dt_damped,
          s.dte.crit[ESF_DT_CUNDALL], s.dte.crit[ESF_DT_HART], s.dte.crit[ESF_DT_DAMPED],
-         m.dofs ? m.argmax_dof / (m.dofs / s.p.n) : 0);
+         m.dofs ? m.argmax_dof / (m.dofs / s.p.n) : 0, m.xi_mode, m.dt_mode);
   esf_sim_release(&s);
   return 0;
 }

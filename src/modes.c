@@ -10,8 +10,11 @@
  * omega_max^2 is the largest eigenvalue of D K D, D = M^{-1/2} (mass for translations,
  * moment of inertia for rotations); GSL's symmetric eigensolver (gsl_eigen_symm).
  * In 2D only x, z and the rotation about y are degrees of freedom.
- * The damped bound uses the largest contact damping ratio among the touching contacts:
- * dt = (2/omega_max)(sqrt(1 + xi^2) - xi), the central-difference limit with damping.
+ * Damped bounds dt = (2/omega_max)(sqrt(1 + xi^2) - xi), the central-difference limit
+ * of a damped mode: with xi the largest contact damping ratio (dt_damped), and with the
+ * top mode's own ratio xi_mode = phi^T (D C D) phi / (2 omega_max), C the dashpots
+ * assembled like K (dt_mode; a tangential mode on a wall is damped sqrt(3.5) times the
+ * contact's ratio, so dt_damped is unsafe there: studies/results/critical_dt).
  * Units: SI. Entry: a set-up sim (the candidate lists are built here if needed); the
  * state is not changed, the force accumulators and contact flags are. */
 #include "modes.h"
@@ -39,6 +42,17 @@ static void cross_matrix(double m[3][3], const double *n) {
 }
 
 /* Adds G^T S G for one contact: bodies[0] = A (sign -1 on dxA), bodies[1] = B or none. */
+static void add_contact(gsl_matrix *K, int dim, const double *n, double kn, double kt,
+                        size_t a, double la, long b, double lb);
+
+/* Adds one contact to the stiffness K and the damping C (the dashpots cn, ct in the
+ * same geometry): C's top-mode quadratic form gives that mode's damping ratio. */
+static void add_contact_kc(gsl_matrix *K, gsl_matrix *C, int dim, const double *n,
+                           const double kc[4], size_t a, double la, long b, double lb) {
+  add_contact(K, dim, n, kc[0], kc[1], a, la, b, lb);
+  add_contact(C, dim, n, kc[2], kc[3], a, la, b, lb);
+}
+
 static void add_contact(gsl_matrix *K, int dim, const double *n, double kn, double kt,
                         size_t a, double la, long b, double lb) {
   double S[3][3], N[3][3];
@@ -80,6 +94,14 @@ static double damping_ratio(const esf_pair_params *pp, double beta, double mstar
   return pp->gamma_n;
 }
 
+/* kn, kt, cn, ct of a contact with reduced mass mstar (contact_linear.c's dashpots) */
+static void springs(const esf_pair_params *pp, double beta, double mstar, double kc[4]) {
+  kc[0] = pp->kn;
+  kc[1] = pp->kt;
+  kc[2] = beta > 0 ? beta * pp->kn : pp->cn_factor * sqrt(mstar);
+  kc[3] = beta > 0 ? beta * pp->kt : pp->ct_factor * sqrt(mstar);
+}
+
 int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
   const esf_particles *p = &s->p;
   int dim = s->cfg.dim;
@@ -97,7 +119,13 @@ int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
     rc = esf_forces_eval(s, p->x, p->v, p->w, 0.0, ESF_FORCES_COMMIT, &touching, err);
   if (rc) return rc;
   gsl_matrix *K = gsl_matrix_calloc(nd ? nd : 1, nd ? nd : 1);
-  if (!K) return esf_fail(err, ESF_ENOMEM, "modes: out of memory for %zu dofs", nd);
+  gsl_matrix *C = gsl_matrix_calloc(nd ? nd : 1, nd ? nd : 1);
+  if (!K || !C) {
+    gsl_matrix_free(K);
+    gsl_matrix_free(C);
+    return esf_fail(err, ESF_ENOMEM, "modes: out of memory for %zu dofs", nd);
+  }
+  double kc[4];
   const esf_materials *mt = &s->mats;
   const esf_contacts *c = &s->nb.pp;
   for (size_t k = 0; k < c->n; k++) {
@@ -108,9 +136,10 @@ int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
     v3_sub(d, p->x + 3 * b, p->x + 3 * a);
     double dist = v3_norm(d), un = p->radius[a] + p->radius[b] - dist;
     v3_scale(d, 1.0 / dist, d);
-    add_contact(K, dim, d, pp->kn, pp->kt, a, p->radius[a] - 0.5 * un, (long)b,
-                p->radius[b] - 0.5 * un);
     double ms = p->mass[a] * p->mass[b] / (p->mass[a] + p->mass[b]);
+    springs(pp, s->beta, ms, kc);
+    add_contact_kc(K, C, dim, d, kc, a, p->radius[a] - 0.5 * un, (long)b,
+                   p->radius[b] - 0.5 * un);
     out->xi_max = fmax(out->xi_max, damping_ratio(pp, s->beta, ms));
     out->contacts++;
   }
@@ -122,7 +151,8 @@ int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
     esf_wall_hit hit;
     esf_wall_nearest(el, p->x + 3 * a, &hit);
-    add_contact(K, dim, hit.n, pp->kn, pp->kt, a, hit.dist, -1, 0.0);
+    springs(pp, s->beta, p->mass[a], kc);
+    add_contact_kc(K, C, dim, hit.n, kc, a, hit.dist, -1, 0.0);
     out->xi_max = fmax(out->xi_max, damping_ratio(pp, s->beta, p->mass[a]));
     out->contacts++;
   }
@@ -141,22 +171,33 @@ int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
       if (g >= 0) dscale[g] = j < 3 ? sqrt(p->inv_mass[i]) : sqrt(p->inv_inertia[i]);
     }
   for (size_t r = 0; r < nd; r++)
-    for (size_t q = 0; q < nd; q++) *gsl_matrix_ptr(K, r, q) *= dscale[r] * dscale[q];
+    for (size_t q = 0; q < nd; q++) {
+      *gsl_matrix_ptr(K, r, q) *= dscale[r] * dscale[q];
+      *gsl_matrix_ptr(C, r, q) *= dscale[r] * dscale[q];
+    }
   if (nd && out->contacts) {
     gsl_eigen_symmv(K, eval, evec, ws);
     size_t imax = gsl_vector_max_index(eval);
     double lam = gsl_vector_get(eval, imax);
     out->omega_max = lam > 0 ? sqrt(lam) : 0.0;
-    double best = -1;
+    double best = -1, cq = 0;
     for (size_t r = 0; r < nd; r++) {
       double v = fabs(gsl_matrix_get(evec, r, imax));
       if (v > best) best = v, out->argmax_dof = r;
+      double row = 0;
+      for (size_t q = 0; q < nd; q++)
+        row += gsl_matrix_get(C, r, q) * gsl_matrix_get(evec, q, imax);
+      cq += gsl_matrix_get(evec, r, imax) * row;
     }
+    /* the top mode's own damping ratio phi^T (D C D) phi / (2 omega), phi unit */
+    if (out->omega_max > 0) out->xi_mode = cq / (2 * out->omega_max);
   }
   if (out->omega_max > 0) {
     out->dt_undamped = 2.0 / out->omega_max;
     double x = out->xi_max;
     out->dt_damped = out->dt_undamped * (sqrt(1 + x * x) - x);
+    x = out->xi_mode;
+    out->dt_mode = out->dt_undamped * (sqrt(1 + x * x) - x);
   }
 done:
   if (ws) gsl_eigen_symmv_free(ws);
@@ -164,5 +205,6 @@ done:
   gsl_vector_free(eval);
   free(dscale);
   gsl_matrix_free(K);
+  gsl_matrix_free(C);
   return rc;
 }

@@ -14,6 +14,8 @@ typedef struct esf_modes {
   double xi_max;      /* the largest contact damping ratio among the touching ones */
   double dt_undamped; /* 2 / omega_max, s */
   double dt_damped;   /* 2 / omega_max (sqrt(1 + xi^2) - xi) with xi_max, s */
+  double xi_mode;     /* the top mode's own damping ratio (the dashpots in its shape) */
+  double dt_mode;     /* 2 / omega_max (sqrt(1 + xi^2) - xi) with xi_mode, s */
   size_t argmax_dof;  /* the degree of freedom with the largest share in that mode */
 } esf_modes;
 

@@ -7,7 +7,9 @@
  *    across it;
  * 4. a free chain of N equal spheres touching in a line with a negligible tangential
  *    stiffness: the free-free chain's top mode 2 sqrt(kn/m) sin((N - 1) pi / (2N));
- * and the damped bound (2/omega)(sqrt(1 + xi^2) - xi) with xi the contacts' ratio.
+ * and the damped bound (2/omega)(sqrt(1 + xi^2) - xi) with xi the contacts' ratio, and
+ * the top mode's own damping ratio (sphere on a wall: the contact's times
+ * sqrt(1 + m l^2/I); the chain: sqrt(2) gamma sin((N - 1) pi / (2N))).
  * Relative tolerance 1e-9 (a dense symmetric eigensolve of at most 48 dofs). */
 #include "modes.h"
 #include "simtest.h"
@@ -52,6 +54,13 @@ static void on_wall(int dim) {
     double dd = 2 / sqrt(w2) * (sqrt(1 + xi * xi) - xi);
     CHECK(fabs(m.dt_damped / dd - 1) < 1e-9, "damped bound %.6g s (%.6g s)", m.dt_damped,
           dd);
+    /* the top mode is the tangential one: its dashpot acts through the same lever, so
+       its ratio is the contact's times sqrt(1 + m l^2 / I) */
+    double xm = xi * sqrt(1 + mass * l * l / I);
+    CHECK(fabs(m.xi_mode / xm - 1) < 1e-9, "top mode's damping ratio %.9g (%.9g)",
+          m.xi_mode, xm);
+    printf("%-34s xi contact %.6f, xi of the top mode %.6f (closed form %.6f)\n",
+           dim == 3 ? "sphere on a wall" : "disk on a wall", m.xi_max, m.xi_mode, xm);
   }
   simtest_close(&T);
 }
@@ -95,6 +104,12 @@ static void chain(void) {
   if (modes_of(yaml, &T, &m) == 0) {
     double want = 2 * sqrt(1.0e5 / T.s.p.mass[0]) * sin((N - 1) * ESF_PI / (2.0 * N));
     check_close("free chain of 8", m.omega_max, want);
+    /* normal dashpots in proportion to the springs: xi = c_n omega / (2 kn) with
+       c_n = 2 gamma sqrt(kn m/2), i.e. sqrt(2) gamma sin((N - 1) pi / (2N)) */
+    double xm =
+        sqrt(2.0) * esf_restitution_gamma(0.5) * sin((N - 1) * ESF_PI / (2.0 * N));
+    CHECK(fabs(m.xi_mode / xm - 1) < 1e-6, "chain's top mode damping ratio %.9g (%.9g)",
+          m.xi_mode, xm);
     CHECK(m.contacts == N - 1, "%zu contacts", m.contacts);
   }
   simtest_close(&T);
