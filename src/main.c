@@ -108,23 +108,38 @@ static int load_scene(const cli_args *a, esf_sim *s, esf_error *err) {
   return rc;
 }
 
+/* Parses the arguments, loads the scene and sets the sim up; 0 ok, else the exit
+ * status (the message printed; the sim released). */
+static int prepare(int argc, char **argv, cli_args *a, esf_sim *s) {
+  int status = parse_args(argc, argv, a);
+  if (status) {
+    free(a->sets);
+    return status;
+  }
+  esf_error err;
+  esf_error_clear(&err);
+  int rc = load_scene(a, s, &err);
+  free(a->sets);
+  a->sets = NULL;
+  if (!rc) rc = esf_sim_setup(s, &err);
+  if (rc) {
+    esf_sim_release(s);
+    return fail(rc, err.msg);
+  }
+  return 0;
+}
+
 /* esfera modes SCENE: the assembled contact system's highest frequency at the scene's
  * initial state against the seeds' critical-step rules (modes.h). */
 static int cmd_modes(int argc, char **argv) {
   cli_args a;
-  int st = parse_args(argc, argv, &a);
-  if (st) {
-    free(a.sets);
-    return st;
-  }
   esf_sim s;
+  int status = prepare(argc, argv, &a, &s);
+  if (status) return status;
   esf_error err;
   esf_error_clear(&err);
-  int rc = load_scene(&a, &s, &err);
-  free(a.sets);
-  if (!rc) rc = esf_sim_setup(&s, &err);
   esf_modes m;
-  if (!rc) rc = esf_modes_compute(&s, &m, &err);
+  int rc = esf_modes_compute(&s, &m, &err);
   if (rc) {
     esf_sim_release(&s);
     return fail(rc, err.msg);
@@ -141,28 +156,16 @@ static int cmd_modes(int argc, char **argv) {
 
 static int cmd_run(int argc, char **argv) {
   cli_args a;
-  int status = parse_args(argc, argv, &a);
-  if (status) {
-    free(a.sets);
-    return status;
-  }
-  const char *out = a.out;
-  int quiet = a.quiet;
   esf_sim s;
+  int status = prepare(argc, argv, &a, &s);
+  if (status) return status;
   esf_error err;
   esf_error_clear(&err);
-  int rc = load_scene(&a, &s, &err);
-  free(a.sets);
-  if (!rc) rc = esf_sim_setup(&s, &err);
-  if (rc) {
-    esf_sim_release(&s);
-    return fail(rc, err.msg);
-  }
-  esf_run_opts o = {out ? out : s.cfg.out_dir, quiet, isatty(STDOUT_FILENO)};
+  esf_run_opts o = {a.out ? a.out : s.cfg.out_dir, a.quiet, isatty(STDOUT_FILENO)};
   esf_run_stats st;
-  rc = esf_run(&s, &o, &st, &err);
+  int rc = esf_run(&s, &o, &st, &err);
   if (rc) {
-    int status = fail(rc, err.msg);
+    status = fail(rc, err.msg);
     fprintf(stderr, "esfera: output so far is in %s\n", o.out_dir);
     esf_sim_release(&s);
     return status;
