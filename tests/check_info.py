@@ -15,6 +15,8 @@ import tempfile
 
 import h5py
 
+from pycheck import check, finish
+
 SCENE = """name: info-check
 domain: {min: [-0.01, -0.01, -0.01], max: [0.04, 0.04, 0.1]}
 materials:
@@ -30,16 +32,6 @@ run: {duration: 0.02}
 output: {every: 0.005, energy_every: 5.0e-4}
 """
 
-failures = []
-checks = 0
-
-
-def check(cond, msg):
-    global checks
-    checks += 1
-    if not cond:
-        failures.append(msg)
-        print("FAIL:", msg)
 
 
 def info(esfera, *args):
@@ -130,8 +122,7 @@ def main():
         expect_error(esfera, other, r"kind 'checkpoint'", "unknown kind")
         rc, _, err = info(esfera)
         check(rc == 2 and "usage: esfera info FILE.h5" in err, f"no argument: {rc} {err!r}")
-    print(f"check_info: {checks} checks, {len(failures)} failed")
-    return 1 if failures else 0
+    return finish("check_info")
 
 
 if __name__ == "__main__":

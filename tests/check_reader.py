@@ -17,6 +17,8 @@ import tempfile
 import h5py
 import numpy as np
 
+from pycheck import check, finish
+
 SCENE = """name: reader-check
 materials:
   g: {density: 2500, kn: 1.0e4, restitution: 0.5, friction: 0.4}
@@ -44,16 +46,6 @@ run: {duration: 0.05}
 output: {every: 0.01, energy_every: 0}
 """
 
-failures = []
-checks = 0
-
-
-def check(cond, msg):
-    global checks
-    checks += 1
-    if not cond:
-        failures.append(msg)
-        print("FAIL:", msg)
 
 
 def main():
@@ -145,8 +137,7 @@ def main():
             seen.add(round(x0, 6))
         print(f"moving box: wall x in the frames off the motion by at most {worst:.3g} m")
         check(worst < 1e-12 and len(seen) >= 4, f"moving walls in frames ({worst}, {seen})")
-    print(f"check_reader: {checks} checks, {len(failures)} failed")
-    return 1 if failures else 0
+    return finish("check_reader")
 
 
 if __name__ == "__main__":

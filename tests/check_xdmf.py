@@ -19,6 +19,8 @@ import xml.etree.ElementTree as ET
 import h5py
 import numpy as np
 
+from pycheck import check, finish
+
 SCENE = """name: xdmf-check
 materials:
   g: {density: 2500, kn: 1.0e4, restitution: 0.5, friction: 0.4}
@@ -33,16 +35,6 @@ run: {duration: %(duration)s}
 output: {every: %(every)s, energy_every: 1.0e-3, contacts: true}
 """
 
-failures = []
-checks = 0
-
-
-def check(cond, msg):
-    global checks
-    checks += 1
-    if not cond:
-        failures.append(msg)
-        print("FAIL:", msg)
 
 
 def validate(xdmf, complete=True):
@@ -178,8 +170,7 @@ def main():
         out = run(esfera, tmp, "killed", 5.0, 2.0e-4, kill_after=3)
         counts = validate(os.path.join(out, "frames.xdmf"), complete=False)
         print("killed run:", counts)
-    print(f"check_xdmf: {checks} checks, {len(failures)} failed")
-    return 1 if failures else 0
+    return finish("check_xdmf")
 
 
 if __name__ == "__main__":
