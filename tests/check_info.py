@@ -15,7 +15,7 @@ import tempfile
 
 import h5py
 
-from pycheck import check, finish
+from pycheck import check, finish, run_scene
 
 SCENE = """name: info-check
 domain: {min: [-0.01, -0.01, -0.01], max: [0.04, 0.04, 0.1]}
@@ -49,13 +49,7 @@ def expect_error(esfera, path, pattern, what):
 def main():
     esfera = sys.argv[1]
     with tempfile.TemporaryDirectory() as tmp:
-        scene = os.path.join(tmp, "s.yaml")
-        with open(scene, "w") as fh:
-            fh.write(SCENE)
-        out = os.path.join(tmp, "out")
-        r = subprocess.run([esfera, "run", scene, "--out", out, "--quiet"],
-                           capture_output=True, text=True)
-        check(r.returncode == 0, f"run: exit {r.returncode} {r.stderr}")
+        out = run_scene(esfera, tmp, SCENE)
         h5 = os.path.join(out, "frames.h5")
         rc, text, err = info(esfera, h5)
         check(rc == 0 and err == "", f"info on a result: exit {rc}, stderr {err!r}")

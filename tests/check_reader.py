@@ -17,7 +17,7 @@ import tempfile
 import h5py
 import numpy as np
 
-from pycheck import check, finish
+from pycheck import check, finish, run_scene
 
 SCENE = """name: reader-check
 materials:
@@ -54,13 +54,7 @@ def main():
     import esfera_h5
 
     with tempfile.TemporaryDirectory() as tmp:
-        scene = os.path.join(tmp, "s.yaml")
-        with open(scene, "w") as fh:
-            fh.write(SCENE)
-        out = os.path.join(tmp, "out")
-        r = subprocess.run([esfera, "run", scene, "--out", out, "--quiet"],
-                           capture_output=True, text=True)
-        check(r.returncode == 0, f"run: exit {r.returncode} {r.stderr}")
+        out = run_scene(esfera, tmp, SCENE)
         h5 = os.path.join(out, "frames.h5")
         frames = esfera_h5.load_frames(out)
         with h5py.File(h5, "r") as f:

@@ -17,3 +17,19 @@ def finish(name):
     """Prints the tally; returns the exit status (1 when any check failed)."""
     print(f"{name}: {counted[0]} checks, {len(failures)} failed")
     return 1 if failures else 0
+
+
+def run_scene(esfera, tmp, text, *extra):
+    """Writes the scene text into tmp, runs `esfera run` on it into tmp/out with
+    --quiet (and extra arguments); checks the exit status; returns the output dir."""
+    import os
+    import subprocess
+
+    scene = os.path.join(tmp, "s.yaml")
+    with open(scene, "w") as fh:
+        fh.write(text)
+    out = os.path.join(tmp, "out")
+    r = subprocess.run([esfera, "run", scene, "--out", out, "--quiet", *extra],
+                       capture_output=True, text=True)
+    check(r.returncode == 0, f"run: exit {r.returncode} {r.stderr}")
+    return out
