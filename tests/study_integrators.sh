@@ -3,7 +3,10 @@
 # temporary directory and checks its outputs: the CSVs with their columns, the PNGs, the
 # report, and basic sanity (the leapfrog's error falls as frac falls, the adaptive
 # Dormand-Prince's falls as rtol falls, the head-on errors are against the closed form
-# and small at the finest settings, the report names a cheapest method per error level).
+# and small at the finest settings, the report names a cheapest method per error level);
+# then --replot (the report rebuilt from the CSV and JSON files alone must be the same)
+# and --scenes oblique (one scene measured again, the other kept). Finally the committed
+# full-mode results hold every scene, the vibrated bed (moving wall) included.
 # Exit 77 (skipped) when Debian's python lacks numpy, matplotlib or h5py.
 set -u
 esfera=${1:?usage: study_integrators.sh ESFERA REPO_ROOT}
@@ -37,7 +40,7 @@ check $rc "integrators.py --quick exits 0 (took ${took} s)"
 [ "$took" -le 60 ]
 check $? "--quick finishes within 60 s (${took} s)"
 
-for f in head_on.csv oblique.csv report.md; do
+for f in head_on.csv oblique.csv head_on.json oblique.json report.md; do
   [ -s "$out/$f" ]
   check $? "$f written"
 done
@@ -116,6 +119,66 @@ print(f"csv/report sanity: {len(bad)} problems")
 sys.exit(1 if bad else 0)
 EOF
 check $? "CSV and report sanity"
+
+cp "$out/report.md" "$out/report.first"
+"$py" "$root/studies/integrators.py" --quick --replot --out "$out" --esfera /nonexistent \
+  >"$out/stdout.txt" 2>"$out/stderr.txt"
+check $? "--replot exits 0 (no esfera needed)"
+cmp -s "$out/report.md" "$out/report.first"
+check $? "--replot rebuilds the same report from the CSV and JSON files"
+
+head_sum=$(md5sum <"$out/head_on.csv")
+"$py" "$root/studies/integrators.py" --quick --scenes oblique --out "$out" \
+  --esfera "$esfera" >"$out/stdout.txt" 2>"$out/stderr.txt"
+rc=$?
+check $rc "--scenes oblique exits 0"
+[ $rc -eq 0 ] && [ "$(md5sum <"$out/head_on.csv")" = "$head_sum" ] &&
+  grep -q "^## Head-on collision" "$out/report.md" &&
+  grep -q "^## Oblique frictional impact" "$out/report.md"
+check $? "--scenes oblique keeps head_on.csv and reports both scenes"
+"$py" "$root/studies/integrators.py" --quick --scenes nosuch --out "$out" \
+  --esfera "$esfera" >/dev/null 2>&1
+[ $? -eq 2 ]
+check $? "--scenes with an unknown scene exits 2"
+
+# The committed full-mode results (studies/results/integrators): every scene, the
+# vibrated bed with its methods and reference floor, and its rows in the report.
+"$py" - "$root/studies/results/integrators" <<'EOF'
+import csv, json, os, sys
+
+res = sys.argv[1]
+bad = []
+for name in ("head_on", "oblique", "pack", "vibrated_bed"):
+    for ext in (".csv", ".json", "_rhs.png", "_wall.png"):
+        if not os.path.exists(os.path.join(res, name + ext)):
+            bad.append(f"committed results lack {name}{ext}")
+try:
+    with open(os.path.join(res, "vibrated_bed.csv")) as fh:
+        ok = [r for r in csv.DictReader(fh) if r["status"] == "ok"]
+    with open(os.path.join(res, "vibrated_bed.json")) as fh:
+        meta = json.load(fh)
+    methods = {r["method"] for r in ok}
+    for m in ("leapfrog", "verlet", "rk4", "cvode-adams",
+              "erk:ARKODE_DORMAND_PRINCE_7_4_5", "erk:ARKODE_BOGACKI_SHAMPINE_4_2_3"):
+        if m not in methods:
+            bad.append(f"vibrated_bed.csv: no measured {m} run")
+    if not {r["history"] for r in ok} >= {"frozen", "state"}:
+        bad.append("vibrated_bed.csv: not both histories")
+    if not 0 < meta["floor"] < 1e-5:
+        bad.append(f"vibrated_bed.json: reference floor {meta['floor']}")
+    with open(os.path.join(res, "report.md")) as fh:
+        rep = fh.read()
+    row = [l for l in rep.splitlines()
+           if l.startswith("| Vibrated bed (moving wall) | 0.01 |")]
+    if "## Vibrated bed (moving wall)" not in rep or not row or "not reached" in row[0]:
+        bad.append(f"report.md: no vibrated-bed section or headline row: {row}")
+except (OSError, KeyError, ValueError) as e:
+    bad.append(f"committed vibrated-bed results unreadable: {e}")
+for b in bad:
+    print("FAIL:", b)
+sys.exit(1 if bad else 0)
+EOF
+check $? "committed full-mode results hold every scene, the vibrated bed included"
 
 echo "study_integrators: $fail failed"
 [ $fail -eq 0 ]
