@@ -113,6 +113,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
+from scene_io import yaml_flow  # noqa: E402
+
 try:
     import esfera_h5  # someone else's reader; used when present and working
 except Exception:  # pragma: no cover - fallback below
@@ -174,26 +176,10 @@ def leapfrog_limit(modes):
 
 
 # -------------------------------------------------------------------------------- YAML
-def yaml_value(v):
-    """A flow-style YAML scalar or collection (plain scalars: esfera wants `auto`,
-    not "auto")."""
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, (int, np.integer)):
-        return str(int(v))
-    if isinstance(v, (float, np.floating)):
-        return repr(float(v))
-    if isinstance(v, dict):
-        return "{" + ", ".join(f"{k}: {yaml_value(x)}" for k, x in v.items()) + "}"
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(yaml_value(x) for x in v) + "]"
-    return str(v)
-
-
 def write_scene(path, scene):
     with open(path, "w") as fh:
         for key, value in scene.items():
-            fh.write(f"{key}: {yaml_value(value)}\n")
+            fh.write(f"{key}: {yaml_flow(value)}\n")
 
 
 def material(kt_ratio, eta, friction, cohesion):

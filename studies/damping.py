@@ -91,6 +91,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 G = 9.81
+sys.path.insert(0, os.path.join(REPO, "studies"))
+from scene_io import parse_summary, to_yaml  # noqa: E402
 
 # --- reading results ------------------------------------------------------------------
 
@@ -136,40 +138,6 @@ def load_energy(outdir):
 # --- writing scenes and running esfera ------------------------------------------------
 
 
-def yaml_scalar(v):
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, (int, np.integer)):
-        return str(int(v))
-    if isinstance(v, (float, np.floating)):
-        return repr(float(v))
-    return str(v)
-
-
-def yaml_flow(v):
-    """A value in flow style: scalars, [lists], {maps}."""
-    if isinstance(v, dict):
-        return "{" + ", ".join(f"{k}: {yaml_flow(x)}" for k, x in v.items()) + "}"
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(yaml_flow(x) for x in v) + "]"
-    return yaml_scalar(v)
-
-
-def to_yaml(scene):
-    """Top-level keys in block style; lists one item a line; the rest flow style."""
-    lines = []
-    for key, val in scene.items():
-        if isinstance(val, list) and val and isinstance(val[0], dict):
-            lines.append(f"{key}:")
-            lines += [f"  - {yaml_flow(item)}" for item in val]
-        elif isinstance(val, dict):
-            lines.append(f"{key}:")
-            lines += [f"  {k}: {yaml_flow(x)}" for k, x in val.items()]
-        else:
-            lines.append(f"{key}: {yaml_flow(val)}")
-    return "\n".join(lines) + "\n"
-
-
 class Runner:
     """Writes scenes to tmp/ and runs esfera on them, jobs at a time."""
 
@@ -196,19 +164,6 @@ class Runner:
         """fn(item) for every item, in parallel, results in order."""
         with concurrent.futures.ThreadPoolExecutor(self.jobs) as ex:
             return list(ex.map(fn, items))
-
-
-def parse_summary(stdout):
-    """The last line `summary: k=v ...` as a dict (floats where they parse)."""
-    lines = [ln for ln in stdout.strip().splitlines() if ln.startswith("summary:")]
-    out = {}
-    for tok in (lines[-1].split()[1:] if lines else []):
-        k, _, v = tok.partition("=")
-        try:
-            out[k] = float(v)
-        except ValueError:
-            out[k] = v
-    return out
 
 
 def write_csv(path, header, rows):

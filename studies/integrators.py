@@ -119,6 +119,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
+from scene_io import parse_summary  # noqa: E402
+
 try:
     import esfera_h5  # a reader written alongside; used when present and working
 except Exception:  # noqa: BLE001 - any failure: fall back to h5py
@@ -280,13 +282,6 @@ def pack_error(obs, ref):
 
 Run = collections.namedtuple(
     "Run", "status summary frame elapsed")
-
-
-def parse_summary(stdout):
-    for line in stdout.splitlines():
-        if line.startswith("summary:"):
-            return dict(kv.split("=", 1) for kv in line.split()[1:] if "=" in kv)
-    return None
 
 
 def read_last_frame(outdir):
