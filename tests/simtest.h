@@ -34,6 +34,21 @@ static inline cut_impact cut_impact_closed_form(double zeta, double w) {
   return x;
 }
 
+/* A head-on collision of unequal glass spheres (r 5 and 4 mm, 1 m/s each) in free
+ * space, eta = 0.5: test_collision and test_testbed measure it. */
+static const char *const simtest_pair_scene =
+    "name: pair\n"
+    "gravity: [0, 0, 0]\n"
+    "materials: {glass: {density: 2500, kn: 1.0e5, restitution: 0.5, friction: 0.3}}\n"
+    "particles:\n"
+    "  - {material: glass, radius: 0.005, position: [-0.00502, 0, 0], velocity: [1, 0, "
+    "0]}\n"
+    "  - {material: glass, radius: 0.004, position: [0.00402, 0, 0], velocity: [-1, 0, "
+    "0]}\n"
+    "integrator: {dt: auto, frac: 0.002}\n"
+    "run: {duration: 1}\n"
+    "output: {energy_every: 0}\n";
+
 typedef struct simtest {
   esf_sim s;
   const esf_integrator_type *it;

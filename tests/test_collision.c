@@ -20,19 +20,6 @@ static expect closed_form(double eta, double w) {
   return cut_impact_closed_form(esf_restitution_gamma(eta), w);
 }
 
-static const char *pair_scene =
-    "name: pair\n"
-    "gravity: [0, 0, 0]\n"
-    "materials: {glass: {density: 2500, kn: 1.0e5, restitution: 0.5, friction: 0.3}}\n"
-    "particles:\n"
-    "  - {material: glass, radius: 0.005, position: [-0.00502, 0, 0], velocity: [1, 0, "
-    "0]}\n"
-    "  - {material: glass, radius: 0.004, position: [0.00402, 0, 0], velocity: [-1, 0, "
-    "0]}\n"
-    "integrator: {dt: auto, frac: 0.002}\n"
-    "run: {duration: 1}\n"
-    "output: {energy_every: 0}\n";
-
 static const char *wall_scene =
     "name: wall\n"
     "gravity: [0, 0, 0]\n"
@@ -187,7 +174,7 @@ int main(void) {
   const double etas[] = {0.1, 0.3, 0.5, 0.7, 0.9, 0.95, 1.0};
   for (size_t k = 0; k < sizeof etas / sizeof *etas; k++) {
     if (etas[k] < 1.0) {
-      run_case(pair_scene, etas[k], 0);
+      run_case(simtest_pair_scene, etas[k], 0);
       run_case(wall_scene, etas[k], 1);
     }
   }
