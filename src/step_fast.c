@@ -70,7 +70,7 @@ void esf_step_fast_free(esf_step_fast **f) {
 }
 
 int esf_step_fast_eligible(const esf_sim *s) {
-  return !s->led.on && !s->cfg.autod.on && !s->tally && s->law == &esf_contact_linear &&
+  return s->cfg.fused && !s->led.on && !s->cfg.autod.on && !s->tally && s->law == &esf_contact_linear &&
          !s->nb.pp.vc0 && !s->nb.pp.xs && !s->nb.pw.xs;
 }
 
