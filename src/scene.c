@@ -163,7 +163,7 @@ static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err)
   if (!rc && c->max_steps <= 0)
     return esf_ynode_fail(esf_ymap_get(in, "max_steps"), err, "must be positive");
   if (!rc) rc = esf_yget_bool(in, "roots", 0, &c->roots, err);
-  if (!rc) rc = esf_yget_bool(in, "fused", 1, &c->fused, err);
+  if (!rc) rc = esf_yget_bool(in, "fused", 0, &c->fused, err);
   return rc;
 }
 
