@@ -11,8 +11,10 @@
  *   0. after a list rebuild: per-pair dashpot coefficients, the particles' ranges in
  *      the pair list as A (contiguous, the list is sorted by (a, b)), the ascending
  *      list of pairs each particle is B of, and the wall candidates' ranges;
- *   1. threads split the pairs: pair k's force on A and the torques on A and B go to
- *      slot k (zero when not touching), history and touching flag committed;
+ *   1. threads split the pairs in equal shares: each screens its share for
+ *      overlapping spheres into a list without branches (a pair that stopped
+ *      touching gets a zero slot), then computes the listed contacts: pair k's force
+ *      on A and the torques on A and B go to slot k, history and flag committed;
  *   2. threads split the particles: particle i sums m_i g, then its slots as B (minus
  *      the force) and as A, both ascending in k, then its wall contacts
  *      (esf_forces_wall_particle, forces.c); in 2D drops the out-of-plane parts; local
@@ -28,6 +30,10 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "forces.h"
 #include "vec3.h"
@@ -45,6 +51,7 @@ struct esf_step_fast {
   size_t *astart; /* n+1: pairs k in [astart[i], astart[i+1]) have a == i */
   size_t *bstart; /* n+1: bidx[bstart[i] .. bstart[i+1]) are the pairs with b == i */
   uint32_t *bidx; /* ascending within each particle */
+  uint32_t *list; /* per pair: the overlapping pairs of each thread's share */
   size_t *wstart; /* n+1: wall candidates of particle i */
 };
 
@@ -64,14 +71,15 @@ void esf_step_fast_free(esf_step_fast **f) {
   free(q->astart);
   free(q->bstart);
   free(q->bidx);
+  free(q->list);
   free(q->wstart);
   free(q);
   *f = NULL;
 }
 
 int esf_step_fast_eligible(const esf_sim *s) {
-  return s->cfg.fused && !s->led.on && !s->cfg.autod.on && !s->tally && s->law == &esf_contact_linear &&
-         !s->nb.pp.vc0 && !s->nb.pp.xs && !s->nb.pw.xs;
+  return s->cfg.fused && !s->led.on && !s->cfg.autod.on && !s->tally &&
+         s->law == &esf_contact_linear && !s->nb.pp.vc0 && !s->nb.pp.xs && !s->nb.pw.xs;
 }
 
 static int grow(void **p, size_t n, size_t size) {
@@ -90,7 +98,8 @@ static int index_lists(esf_sim *s, esf_step_fast *f, esf_error *err) {
     if (!grow((void **)&f->slot, m, SLOT * sizeof(double)) ||
         !grow((void **)&f->cn, m, sizeof(double)) ||
         !grow((void **)&f->ct, m, sizeof(double)) ||
-        !grow((void **)&f->bidx, m, sizeof(uint32_t)))
+        !grow((void **)&f->bidx, m, sizeof(uint32_t)) ||
+        !grow((void **)&f->list, m, sizeof(uint32_t)))
       return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact slots", m);
     f->cap_k = m;
   }
@@ -140,9 +149,35 @@ static int index_lists(esf_sim *s, esf_step_fast *f, esf_error *err) {
   return ESF_OK;
 }
 
-/* Step 1 for pair k. Returns 1 when the overlap exceeds the limit (nothing written). */
+/* Step 1a for the pairs [k0, k1): the candidates whose spheres overlap go to
+ * list[0 .. return value); pairs that stopped touching get a zero slot. Branch-free
+ * for the common cases, so the contact pass below runs without the distance test. */
+static size_t screen_pairs(esf_sim *s, esf_step_fast *f, size_t k0, size_t k1,
+                           uint32_t *list) {
+  const esf_particles *p = &s->p;
+  esf_contacts *c = &s->nb.pp;
+  const double *x = p->x, *r = p->radius;
+  size_t cnt = 0;
+  for (size_t k = k0; k < k1; k++) {
+    const size_t a = c->a[k], b = c->b[k];
+    const double dx = x[3 * b] - x[3 * a], dy = x[3 * b + 1] - x[3 * a + 1],
+                 dz = x[3 * b + 2] - x[3 * a + 2], R = r[a] + r[b];
+    const int in = dx * dx + dy * dy + dz * dz < R * R;
+    list[cnt] = (uint32_t)k;
+    cnt += (size_t)in;
+    if ((in ^ 1) & c->touch[k]) { /* the contact ended (rare; no branch on `in`) */
+      c->touch[k] = 0;
+      double *sl = f->slot + SLOT * k;
+      for (int q = 0; q < SLOT; q++) sl[q] = 0.0;
+    }
+  }
+  return cnt;
+}
+
+/* Step 1b for an overlapping pair k. Returns 1 when the overlap exceeds the limit
+ * (nothing written). */
 static inline int pair_kernel(esf_sim *s, esf_step_fast *f, size_t k, int rotate,
-                              double dt, size_t *nt) {
+                              double dt) {
   const esf_particles *p = &s->p;
   esf_contacts *c = &s->nb.pp;
   const uint32_t a = c->a[k], b = c->b[k];
@@ -151,13 +186,6 @@ static inline int pair_kernel(esf_sim *s, esf_step_fast *f, size_t k, int rotate
   const double ra = p->radius[a], rb = p->radius[b], R = ra + rb;
   const double d2 = dx * dx + dy * dy + dz * dz;
   double *sl = f->slot + SLOT * k;
-  if (d2 >= R * R) {
-    if (c->touch[k]) {
-      c->touch[k] = 0;
-      for (int q = 0; q < SLOT; q++) sl[q] = 0.0;
-    }
-    return 0;
-  }
   const double dist = sqrt(d2);
   double n[3];
   if (dist > 0) {
@@ -235,7 +263,6 @@ static inline int pair_kernel(esf_sim *s, esf_step_fast *f, size_t k, int rotate
     sl[3 + q] = la * m[q];
     sl[6 + q] = lb * m[q];
   }
-  (*nt)++;
   return 0;
 }
 
@@ -265,9 +292,21 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
 #pragma omp parallel num_threads(threads) reduction(+ : nt_pp, nt_pw) \
     reduction(min : bad_pair, bad_part) reduction(max : max2) reduction(| : nonfinite)
   {
-#pragma omp for schedule(static)
-    for (size_t k = 0; k < m; k++)
-      if (pair_kernel(s, f, k, rotate, dt, &nt_pp) && k < bad_pair) bad_pair = k;
+    {
+#ifdef _OPENMP
+      const size_t nth = (size_t)omp_get_num_threads(), me = (size_t)omp_get_thread_num();
+#else
+      const size_t nth = 1, me = 0;
+#endif
+      const size_t k0 = m * me / nth, k1 = m * (me + 1) / nth;
+      uint32_t *list = f->list + k0;
+      const size_t cnt = screen_pairs(s, f, k0, k1, list);
+      nt_pp += cnt;
+      for (size_t j = 0; j < cnt; j++)
+        if (pair_kernel(s, f, list[j], rotate, dt) && list[j] < bad_pair)
+          bad_pair = list[j];
+    }
+#pragma omp barrier
 
 #pragma omp for schedule(static)
     for (size_t i = 0; i < n; i++) {
