@@ -1,8 +1,10 @@
 """check_kill.py -- a run killed with SIGKILL at random moments, again and again, and
 resumed each time (`esfera run --resume`), ends with output identical bit for bit to an
 uninterrupted run (every frame dataset, /energy, energy.csv). Checkpoints come every
-1 ms of simulated time (about every 30 ms of wall time), so kills land before, during
-and after checkpoint writes and during the resumes' own rebuilding of frames.h5; after
+1 ms of simulated time (about every 50 ms of wall time); every other kill comes at a
+random moment, the others as soon as a checkpoint.esf.tmp appears (a checkpoint being
+written, synced or renamed), so kills land before, during and after checkpoint writes
+and during the resumes' own rebuilding of frames.h5; after
 every kill the checkpoint must still load (`esfera info` exits 0). Counts the kills
 that found a checkpoint.esf.tmp (killed while writing one) or a frames.h5.prev (killed
 while a resume rebuilt frames.h5). Usage: check_kill.py ESFERA"""
@@ -43,7 +45,14 @@ def main():
                 if not os.path.exists(ck):  # the first run: wait for a checkpoint
                     while not os.path.exists(ck) and p.poll() is None:
                         time.sleep(0.005)
-                time.sleep(rng.uniform(0.0, 0.12))
+                if kills % 2:  # at a random moment
+                    time.sleep(rng.uniform(0.0, 0.12))
+                else:  # as soon as a checkpoint is being written (its .tmp exists)
+                    t_end = time.monotonic() + 5
+                    while (not os.path.exists(ck + ".tmp") and p.poll() is None
+                           and time.monotonic() < t_end):
+                        pass
+                    time.sleep(rng.uniform(0.0, 0.0005))
                 if p.poll() is None:
                     p.send_signal(signal.SIGKILL)
                     kills += 1
