@@ -10,6 +10,7 @@
  * Signals: the handlers only set `stop_signal`, which the run polls once per step
  * (esf_run_opts.stop); SIGXFSZ is ignored so that a file-size limit reaches the writers
  * as EFBIG, a clear error, instead of killing the process. */
+#include <limits.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -224,7 +225,7 @@ static int cmd_run(int argc, char **argv) {
   /* what the checkpoints store: the scene's text and its overrides (a resumed run's
      are the stored ones followed by this command's --checkpoint-every) */
   esf_ckpt_scene sc = {0};
-  char *text = NULL, dir[1200];
+  char *text = NULL, dir[1200], scene_abs[PATH_MAX];
   const char **sets = NULL;
   int rc = ESF_OK;
   if (ck) {
@@ -240,7 +241,8 @@ static int cmd_run(int argc, char **argv) {
     resume_dir(a.resume, dir, sizeof dir);
   } else {
     rc = esf_read_file(a.scene, &text, &sc.len, &err);
-    sc.path = a.scene;
+    /* absolute, so that a resume from elsewhere finds the scene's relative files */
+    sc.path = realpath(a.scene, scene_abs) ? scene_abs : a.scene;
     sc.text = text;
     sc.sets = a.sets;
     sc.nsets = a.nsets;
