@@ -1,7 +1,8 @@
 """check_restart.py -- restart identity (issue 5): N steps in one run against N/2, a
 checkpoint, `esfera run --resume` and N/2 more, compared bit for bit (every frame
 dataset, /energy, energy.csv), for the leapfrog with friction, global and local damping
-and a moving wall, and for adaptive Dormand-Prince (ARKODE, rtol 1e-5); a run stopped
+and a moving wall, for adaptive Dormand-Prince (ARKODE, rtol 1e-5), and for spheres
+leaving the domain (the count changes either side of the checkpoint); a run stopped
 by SIGTERM resumes to the same output; esfera info on the checkpoint names the resume
 command. Usage: check_restart.py ESFERA"""
 import os
@@ -12,7 +13,9 @@ import sys
 import tempfile
 import time
 
-from ckpt_common import ERK, esfera, identical, run_ok, write_scene
+import h5py
+
+from ckpt_common import DROP, ERK, esfera, identical, run_ok, write_scene
 from pycheck import check, finish
 
 
@@ -46,6 +49,11 @@ def main():
         check(not diffs, f"leapfrog: a run with checkpoints differs from one without: "
               f"{diffs[:3]}")
         halves(exe, tmp, scene, "erk_dp5", "0.003", *ERK)
+        drop = halves(exe, tmp, write_scene(tmp, DROP, "drop.yaml"), "domain_exit", "0.031")
+        with h5py.File(os.path.join(drop, "frames.h5"), "r") as f:
+            n = [len(f["frames"][k]["id"]) for k in sorted(f["frames"])]
+        check(n[0] == 120 and 60 < n[len(n) // 2] < 120 and n[-1] < 60,
+              f"domain_exit: particle counts {n}")
 
         # SIGTERM: finish the step, checkpoint, exit 128 + 15 with the resume command
         term = os.path.join(tmp, "term")

@@ -33,6 +33,26 @@ run: {duration: 0.04}
 output: {every: 0.002, energy_every: 1.0e-4}
 """
 
+# spheres falling out of the domain: the particle count changes before and after the
+# checkpoint (117 at it, 58 at the end)
+DROP = """name: ckpt_drop
+dimension: 3
+gravity: [0, 0, -9.81]
+domain: {min: [-0.1, -0.1, -0.002], max: [0.1, 0.1, 0.2]}
+materials:
+  glass: {density: 2500, kn: 5.0e4, kt: 4.0e4, restitution: 0.7, friction: 0.3}
+particles:
+  - generate: random
+    region: {min: [0, 0, 0.0005], max: [0.016, 0.004, 0.03]}
+    count: 120
+    radius: {uniform_diameter: [0.0009, 0.0011]}
+    material: glass
+    seed: 4
+integrator: {method: leapfrog, dt: auto, dt_rule: hart, frac: 0.2}
+run: {duration: 0.06}
+output: {every: 0.003, energy_every: 1.0e-4}
+"""
+
 # adaptive Dormand-Prince on the same bed (local damping off: its sign switches make
 # the error controller crawl)
 ERK = ["--set", "integrator.method=erk:ARKODE_DORMAND_PRINCE_7_4_5",
@@ -40,8 +60,8 @@ ERK = ["--set", "integrator.method=erk:ARKODE_DORMAND_PRINCE_7_4_5",
        "--set", "damping.local.coefficient=0", "--set", "output.every=0.0005"]
 
 
-def write_scene(tmp, text=BED):
-    path = os.path.join(tmp, "bed.yaml")
+def write_scene(tmp, text=BED, name="bed.yaml"):
+    path = os.path.join(tmp, name)
     with open(path, "w") as fh:
         fh.write(text)
     return path
