@@ -172,6 +172,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     esf_ledger_header(ef);
   }
   if (!o->resume) {
+    esf_run_ckpt_forget(o->out_dir); /* a new run: an old checkpoint no longer fits */
     snprintf(path, sizeof path, "%s/frames.h5", o->out_dir);
     rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, &fr, err);
     if (!rc) rc = it->create(s, &ist, err);

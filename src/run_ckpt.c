@@ -101,3 +101,12 @@ int esf_run_ckpt_reopen(const char *out_dir, const esf_sim *s, const esf_ckpt_ru
   }
   return rc;
 }
+
+void esf_run_ckpt_forget(const char *out_dir) {
+  const char *names[] = {ESF_CKPT_NAME, ESF_CKPT_NAME ".tmp", "frames.h5.prev"};
+  char path[1200];
+  for (int k = 0; k < 3; k++) {
+    snprintf(path, sizeof path, "%s/%s", out_dir, names[k]);
+    unlink(path); /* absent is fine */
+  }
+}

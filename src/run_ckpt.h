@@ -23,4 +23,8 @@ int esf_run_ckpt_save(const char *out_dir, esf_sim *s, const esf_integrator_type
 int esf_run_ckpt_reopen(const char *out_dir, const esf_sim *s, const esf_ckpt_run *run,
                         FILE **ef, esf_frames **fr, esf_error *err);
 
+/* A new run into out_dir: removes a checkpoint, its temporary and a frames.h5.prev an
+ * earlier run left there (they describe output this run overwrites). */
+void esf_run_ckpt_forget(const char *out_dir);
+
 #endif
