@@ -18,14 +18,22 @@
 #include <errno.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "atomic_file.h"
 #include "version.h"
 
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 int esf_run_ckpt_save(const char *out_dir, esf_sim *s, const esf_integrator_type *it,
                       void *ist, const esf_ckpt_scene *sc, esf_ckpt_run *run, FILE *ef,
                       esf_frames *fr, esf_error *err) {
+  double t0 = now_s();
   char path[1200];
   run->csv_bytes = -1;
   if (ef) {
@@ -43,7 +51,13 @@ int esf_run_ckpt_save(const char *out_dir, esf_sim *s, const esf_integrator_type
   run->count++;
   snprintf(path, sizeof path, "%s/%s", out_dir, ESF_CKPT_NAME);
   rc = esf_ckpt_write(path, s, it, ist, sc, run, err);
-  if (rc) run->count--;
+  if (rc)
+    run->count--;
+  else
+    esf_sim_log(s,
+                "checkpoint %ld at step %ld, t = %.9g s: %.3f s to sync the output "
+                "and write it",
+                run->count, s->step, s->t, now_s() - t0);
   return rc;
 }
 
