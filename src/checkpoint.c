@@ -111,7 +111,11 @@ static void put_contacts(esf_blob *b, const char *tag, const esf_contacts *c) {
   esf_blob_put(b, c->b, n * sizeof *c->b);
   esf_blob_put(b, c->h, n * sizeof *c->h);
   esf_blob_put(b, c->touch, n * sizeof *c->touch);
-  if (has_vc0) esf_blob_put(b, c->vc0, 3 * n * sizeof *c->vc0);
+  /* vc0 is meaningful only while touching (a candidate new since the last build has
+     none yet: its entry is uninitialised memory); zeros are written for the others */
+  static const double zero[3] = {0, 0, 0};
+  for (uint64_t k = 0; has_vc0 && k < n; k++)
+    esf_blob_put(b, c->touch[k] ? c->vc0 + 3 * k : zero, 3 * sizeof *c->vc0);
   sec_end(b, s);
 }
 
