@@ -12,7 +12,10 @@
  * removes frames.h5.prev. Killed anywhere in between, the next resume finds .prev and
  * starts over from it. The frames copied are the ones the checkpoint's fsync made
  * durable, so a kill during later appends costs only frames after the checkpoint,
- * which the resumed run writes again. */
+ * which the resumed run writes again. Should the old file still be unreadable (HDF5
+ * does not promise an in-place append is atomic), it is kept as frames.h5.damaged with a
+ * warning in log.txt and the resumed run starts a new frames.h5 at the checkpoint, so
+ * the resume itself does not fail. */
 #include "run_ckpt.h"
 
 #include <errno.h>
@@ -104,6 +107,24 @@ int esf_run_ckpt_reopen(const char *out_dir, const esf_sim *s, const esf_ckpt_ru
   if (!rc)
     rc = esf_frames_copy(*fr, prev, run->frames, run->erows, ESF_LEDGER_NCOLS,
                          esf_ledger_columns, err);
+  if (rc == ESF_EIO && *fr) { /* the old file is damaged: keep it aside, go on */
+    char damaged[1220];
+    snprintf(damaged, sizeof damaged, "%s.damaged", path);
+    esf_sim_log(s,
+                "WARNING: %s; it is kept as %s and the resumed run writes a new "
+                "frames.h5 from the checkpoint on (energy.csv keeps every row)",
+                err->msg, damaged);
+    esf_error e2;
+    esf_frames_close(fr, &e2);
+    rc = rename(prev, damaged) != 0
+             ? esf_fail(err, ESF_EIO, "cannot move '%s' aside: %s", prev, strerror(errno))
+             : esf_fsync_parent(path, err);
+    if (!rc) rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, fr, err);
+    if (!rc) {
+      esf_error_clear(err);
+      return esf_frames_sync(*fr, err);
+    }
+  }
   if (!rc && unlink(prev) != 0)
     rc = esf_fail(err, ESF_EIO, "cannot remove '%s': %s", prev, strerror(errno));
   if (!rc) rc = esf_fsync_parent(path, err);

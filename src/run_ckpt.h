@@ -19,7 +19,8 @@ int esf_run_ckpt_save(const char *out_dir, esf_sim *s, const esf_integrator_type
  * checkpoint's size and opened for appending; frames.h5 rebuilt with the checkpoint's
  * frames and energy rows (rows and frames a killed run wrote after it are dropped),
  * crash-safely: the old file is first renamed frames.h5.prev, and a resume that finds
- * a frames.h5.prev (an earlier resume died while copying) copies from it. */
+ * a frames.h5.prev (an earlier resume died while copying) copies from it; an unreadable
+ * old file is kept as frames.h5.damaged (warning in log.txt) and a new one started. */
 int esf_run_ckpt_reopen(const char *out_dir, const esf_sim *s, const esf_ckpt_run *run,
                         FILE **ef, esf_frames **fr, esf_error *err);
 

@@ -4,7 +4,8 @@ written (its temporary name taken by a directory) fail with status 2 and a messa
 naming the path, earlier output intact; a file-size limit (RLIMIT_FSIZE with SIGXFSZ
 ignored: EFBIG, as a full disk) stops the run with status 2, leaves the previous
 checkpoint valid, and resuming without the limit ends identical to an uninterrupted
-run; `--resume` and `esfera info` on a missing, empty, truncated, corrupted, foreign
+run; a frames.h5 damaged after its checkpoint is kept as frames.h5.damaged and the
+resume still succeeds; `--resume` with a scene or --set is refused; `--resume` and `esfera info` on a missing, empty, truncated, corrupted, foreign
 (text, HDF5) checkpoint, or one from a build with another esf_contact_hist layout, exit
 2 naming the cause. Usage: check_ckpt_errors.py ESFERA"""
 import os
@@ -82,6 +83,23 @@ def main():
         check(n > 5 and not diffs, f"EFBIG then resume: output differs: {diffs[:5]}")
         print(f"EFBIG: checkpoint at {step} intact, resumed: {n} frames identical")
 
+        # a frames.h5 damaged after the checkpoint: kept aside, the resume goes on
+        dmg = os.path.join(tmp, "damaged")
+        shutil.copytree(big, dmg)
+        fh5 = os.path.join(dmg, "frames.h5")
+        with open(fh5, "r+b") as fh:
+            fh.truncate(os.path.getsize(fh5) // 3)
+        run_ok(exe, "run", "--resume", dmg, "--quiet")
+        log = open(os.path.join(dmg, "log.txt")).read()
+        check(os.path.exists(fh5 + ".damaged") and "WARNING" in log and
+              "frames.h5.damaged" in log, "damaged frames.h5: kept aside with a warning")
+        with h5py.File(fh5, "r") as f:
+            check(len(f["frames"]) >= 1, "damaged frames.h5: the new file has frames")
+        with open(os.path.join(dmg, "energy.csv"), "rb") as fa, \
+                open(os.path.join(ref, "energy.csv"), "rb") as fb:
+            check(fa.read() == fb.read(), "damaged frames.h5: energy.csv still identical")
+        print("damaged frames.h5: resumed, old file kept as frames.h5.damaged")
+
         # bad checkpoint files
         ck = os.path.join(ref, "checkpoint.esf")
         run_ok(exe, "run", scene, "--out", ref, "--quiet", "--checkpoint-every", "0.02")
@@ -97,6 +115,8 @@ def main():
             if info_words != []:  # info knows foreign files as not HDF5 (or as frames)
                 expect_fail(exe, ["info", bck], info_words or words, "info " + what)
 
+        expect_fail(exe, ["run", "--resume", big, "--set", "run.duration=1"],
+                    ["--resume DIR continues"], "resume with --set")
         expect_fail(exe, ["run", "--resume", os.path.join(tmp, "nowhere"), "--quiet"],
                     ["cannot open", "nowhere"], "resume missing")
         trial(b"", ["not an esfera checkpoint"], "empty", ["not an HDF5 file"])
