@@ -295,3 +295,21 @@ size_t esf_neighbor_touching(const esf_neighbor *nb) {
   for (size_t k = 0; k < nb->pw.n; k++) m += nb->pw.touch[k];
   return m;
 }
+
+/* Checkpoint restore (checkpoint.c): room for npp and npw candidates, scratch
+ * included. */
+int esf_neighbor_reserve(esf_neighbor *nb, size_t npp, size_t npw, esf_error *err) {
+  int rc = contacts_reserve(&nb->pp, npp, nb->ledger, nb->carry, err);
+  if (!rc) rc = contacts_reserve(&nb->pw, npw, nb->ledger, nb->carry, err);
+  if (rc) return rc;
+  size_t ws = nb->pw.cap ? nb->pw.cap : 1;
+  esf_wall_hit *wh = realloc(nb->wall_hits, ws * sizeof *wh);
+  if (wh) nb->wall_hits = wh;
+  double *wu = realloc(nb->wall_un, ws * sizeof *wu);
+  if (wu) nb->wall_un = wu;
+  unsigned char *wk = realloc(nb->wall_keep, ws);
+  if (wk) nb->wall_keep = wk;
+  if (!wh || !wu || !wk)
+    return esf_fail(err, ESF_ENOMEM, "out of memory for wall contacts");
+  return ESF_OK;
+}

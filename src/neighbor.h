@@ -77,6 +77,11 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
  * until the next check. */
 void esf_neighbor_remap(esf_neighbor *nb, const size_t *remap, size_t n_old);
 
+/* Makes room for npp particle-particle and npw particle-wall candidates (and the wall
+ * loop's scratch); the lists' contents and counts are untouched. For checkpoint
+ * restore, which then fills the lists. */
+int esf_neighbor_reserve(esf_neighbor *nb, size_t npp, size_t npw, esf_error *err);
+
 /* Number of contacts touching at the last committed evaluation. */
 size_t esf_neighbor_touching(const esf_neighbor *nb);
 
