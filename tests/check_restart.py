@@ -1,7 +1,8 @@
 """check_restart.py -- restart identity (issue 5): N steps in one run against N/2, a
 checkpoint, `esfera run --resume` and N/2 more, compared bit for bit (every frame
 dataset, /energy, energy.csv), for the leapfrog with friction, global and local damping
-and a moving wall, for adaptive Dormand-Prince (ARKODE, rtol 1e-5), and for spheres
+and a moving wall (general path with the ledger, and the fused step without it,
+checkpointed on two threads and resumed on one), for adaptive Dormand-Prince (ARKODE, rtol 1e-5), and for spheres
 leaving the domain (the count changes either side of the checkpoint); a run stopped
 by SIGTERM resumes to the same output; esfera info on the checkpoint names the resume
 command. Usage: check_restart.py ESFERA"""
@@ -48,6 +49,9 @@ def main():
         n, diffs = identical(ref, plain)
         check(not diffs, f"leapfrog: a run with checkpoints differs from one without: "
               f"{diffs[:3]}")
+        # the fused threaded step (no ledger): checkpoint on 2 threads, resume on 1
+        halves(exe, tmp, scene, "leapfrog_fused", "0.0201", "--set",
+               "output.energy_every=0", "--threads", "2")
         halves(exe, tmp, scene, "erk_dp5", "0.003", *ERK)
         drop = halves(exe, tmp, write_scene(tmp, DROP, "drop.yaml"), "domain_exit", "0.031")
         with h5py.File(os.path.join(drop, "frames.h5"), "r") as f:
