@@ -72,6 +72,18 @@ static void log_setup(const esf_sim *s, const esf_integrator_type *it) {
               s->local ? s->local->name : "off", c->local_coef, s->beta);
   esf_sim_log(s, "contact law: %s, tangential frame: %s; skin %.6g m", s->law->name,
               c->tframe == ESF_TFRAME_ROTATE ? "rotate (seed)" : "project", c->skin);
+  for (int a = 0; s->bonds.on && a < s->mats.n; a++)
+    for (int b = a; b < s->mats.n; b++) {
+      const esf_pair_params *pp = &s->mats.pair[a * s->mats.n + b];
+      const esf_adhesion *A = &pp->adh;
+      if (pp->law->flags & ESF_LAW_TENSION)
+        esf_sim_log(s,
+                    "adhesive law %s-%s: F %.6g N, epsilon %.6g, delta %.6g m, alpha "
+                    "%.6g 1/m, peak tension at u %.6g m, rupture at u %.6g m, rest u "
+                    "%.6g m, largest tangent stiffness %.6g N/m",
+                    s->mats.m[a].name, s->mats.m[b].name, A->F, A->eps, A->delta,
+                    A->alpha, A->u_peak, A->u_rupture, A->u_eq, A->k_max);
+    }
   if (it->flags & ESF_INTEG_HALF_STEP_V)
     esf_sim_log(s, "note: frame velocities are the half-step ones, v(t - dt/2); energy "
                    "rows: kinetic at t + dt/2, elastic at t");
@@ -249,6 +261,11 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     esf_sim_log(s,
                 "output: %ld frames, %ld energy rows in frames.h5; %.3f s writing them",
                 esf_frames_count(fr), esf_frames_energy_rows(fr), esf_frames_seconds(fr));
+  if (s->bonds.on)
+    esf_sim_log(s,
+                "bonds: %ld at the start, %ld broken, %ld intact; %.6g J released by "
+                "ruptures",
+                s->bonds.formed, s->bonds.broken, esf_bonds_alive(s), s->led.d_bonds);
   if (rc)
     esf_sim_log(s, "FAILED: %s", err->msg);
   else

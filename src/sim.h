@@ -6,6 +6,7 @@
 
 #include <stdio.h>
 
+#include "bonds.h"
 #include "contact_law.h"
 #include "damping.h"
 #include "esf_error.h"
@@ -58,6 +59,7 @@ typedef struct esf_config {
   double max_overlap;        /* failure when overlap > this x the smaller radius */
   int allow_initial_overlap; /* explicit particles may start overlapping */
   double skin;               /* m; <= 0: 0.2 x mean radius */
+  double bond_gap;           /* m: pairs within this gap at the start bond (bonds.h) */
 
   double duration;     /* s (when steps == 0) */
   long steps;          /* steps, or 0 */
@@ -85,6 +87,7 @@ typedef struct esf_sim {
   esf_walls walls;
   esf_neighbor nb;
   esf_ledger led;
+  esf_bonds bonds; /* the adhesive law's bonds (bonds.h) */
   const esf_contact_law *law;
   const esf_local_damping *local; /* NULL when off */
   double beta;                    /* Rayleigh stiffness-proportional factor (0: off), s */
