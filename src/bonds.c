@@ -25,12 +25,12 @@ int esf_bonds_setup(esf_sim *s, int skin_auto, esf_error *err) {
   unsigned char *used = calloc((size_t)(mt->n ? mt->n : 1), 1);
   if (!used) return esf_fail(err, ESF_ENOMEM, "out of memory");
   for (size_t i = 0; i < s->p.n; i++) used[s->p.material[i]] = 1;
-  double G = s->cfg.bond_gap;
   for (int a = 0; a < mt->n; a++)
     for (int b = 0; b < mt->n; b++) {
       const esf_pair_params *pp = &mt->pair[a * mt->n + b];
       if (!used[a] || !used[b] || !(pp->law->flags & ESF_LAW_TENSION)) continue;
       B->on = 1;
+      double G = pp->adh.gap;
       double r = (G > 0 ? G + pp->adh.u_eq : 0.0) - pp->adh.u_rupture;
       if (r > B->reach) B->reach = r;
     }
@@ -42,11 +42,12 @@ int esf_bonds_setup(esf_sim *s, int skin_auto, esf_error *err) {
     return ESF_OK;
   }
   return esf_fail(err, ESF_EINPUT,
-                  "search.skin = %.6g m does not exceed the bond reach %.6g m (bond_gap "
-                  "%.6g m plus the rest overlap and rupture opening of the adhesive "
-                  "law): bonded pairs opening in tension would drop out of the contact "
-                  "candidates. Set search.skin above %.6g m, or leave it automatic",
-                  s->cfg.skin, B->reach, G, B->reach);
+                  "search.skin = %.6g m does not exceed the bond reach %.6g m (the "
+                  "largest bond_gap plus the rest overlap and rupture opening of the "
+                  "adhesive law): bonded pairs opening in tension would drop out of the "
+                  "contact candidates. Set search.skin above %.6g m, or leave it "
+                  "automatic",
+                  s->cfg.skin, B->reach, B->reach);
 }
 
 int esf_bonds_form(esf_sim *s, esf_error *err) {
@@ -55,7 +56,6 @@ int esf_bonds_form(esf_sim *s, esf_error *err) {
   const esf_particles *p = &s->p;
   const esf_materials *mt = &s->mats;
   esf_contacts *c = &s->nb.pp;
-  double G = s->cfg.bond_gap;
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
@@ -64,7 +64,7 @@ int esf_bonds_form(esf_sim *s, esf_error *err) {
     v3_sub(d, p->x + 3 * b, p->x + 3 * a);
     double dist = v3_norm(d);
     double u0 = p->radius[a] + p->radius[b] - dist;
-    double off = 0.0;
+    double off = 0.0, G = pp->adh.gap;
     if (G > 0) {
       if (u0 < -G) continue;
       if (u0 < pp->adh.u_eq) off = pp->adh.u_eq - u0;
@@ -79,9 +79,9 @@ int esf_bonds_form(esf_sim *s, esf_error *err) {
   }
   B->pending = 0;
   esf_sim_log(s,
-              "bonds: %ld formed at t = %.6g s (bond_gap %.6g m); the largest gap a "
-              "bond opens to before rupture is %.6g m, skin %.6g m",
-              B->formed, s->t, G, B->reach, s->nb.skin);
+              "bonds: %ld formed at t = %.6g s; the largest gap a bond opens to "
+              "before rupture is %.6g m, skin %.6g m",
+              B->formed, s->t, B->reach, s->nb.skin);
   return ESF_OK;
 }
 

@@ -2,10 +2,11 @@
  *
  * Bonds are the contacts that exist at the start of the analysis between particles of
  * an adhesive material pair (both materials have `adhesion`). "Exist" is defined with
- * the pair's law (contact_adhesive.c), u0 the initial overlap (> 0 interpenetrating):
- *   contact.bond_gap = 0 (default, the seed's rule): u0 >= u_rupture, i.e. touching or
+ * the pair's law (contact_adhesive.c) and its bond_gap (materials' adhesion.bond_gap,
+ * mixed by min), u0 the initial overlap (> 0 interpenetrating):
+ *   bond_gap = 0 (default, the seed's rule): u0 >= u_rupture, i.e. touching or
  *     overlapping, or (eps > 1/e) within the law's tensile range of gaps; no offset;
- *   contact.bond_gap = G > 0 (packings that are not exactly touching): u0 >= -G, and
+ *   bond_gap = G > 0 (packings that are not exactly touching): u0 >= -G, and
  *     each such bond is set at rest: the law sees u = un + s with the offset
  *     s = max(0, u_eq - u0) (u_eq the law's rest overlap), so the bond starts at its
  *     equilibrium instead of being pulled shut or torn at once.

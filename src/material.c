@@ -28,6 +28,7 @@ void esf_mixing_default(esf_mixing *m) {
   m->tensile_limit = ESF_MIX_MIN;
   m->adhesion_force = ESF_MIX_MIN;
   m->adhesion_epsilon = ESF_MIX_GEOMETRIC; /* the mean of ln eps */
+  m->adhesion_gap = ESF_MIX_MIN;
 }
 
 double esf_mix(int rule, double a, double b) {
@@ -123,6 +124,7 @@ int esf_materials_mix(esf_materials *t, esf_error *err) {
                            B->name);
           return rc;
         }
+        p->adh.gap = esf_mix(r->adhesion_gap, A->adhesion_gap, B->adhesion_gap);
         if (F > 0) p->law = &esf_contact_adhesive;
       }
     }

@@ -26,6 +26,7 @@ typedef struct esf_material {
   double tensile_limit;          /* tension cut-off, N (>= 0); < 0: none given */
   double adhesion_force;         /* F of the adhesive law (004 2.23), N; 0: none */
   double adhesion_epsilon;       /* its epsilon, (0, 1) without 1/e */
+  double adhesion_gap;           /* bond_gap: pairs this close at the start bond, m */
 } esf_material;
 
 /* Mixing rules. For equal values every rule returns that value. */
@@ -42,7 +43,7 @@ extern const char *const esf_mix_names[]; /* "harmonic", ..., NULL */
 /* One rule per mixed property. */
 typedef struct esf_mixing {
   int kn, kt, restitution, tangential_restitution, friction, cohesion, tensile_limit;
-  int adhesion_force, adhesion_epsilon; /* default min and geometric (bonds.h) */
+  int adhesion_force, adhesion_epsilon, adhesion_gap; /* min, geometric, min */
 } esf_mixing;
 
 /* The defaults: kn, kt harmonic (001 3.45, series springs); restitution, tangential
@@ -61,6 +62,7 @@ typedef struct esf_adhesion {
   double u_rupture; /* where a bond opens: 0 (eps < 1/e) or the negative root, m */
   double u_eq;      /* stable rest overlap of a bond: the positive root, or 0, m */
   double k_max;     /* largest |df/du| over u >= u_rupture, N/m */
+  double gap;       /* bond_gap of the pair (bonds.h), m */
 } esf_adhesion;
 
 struct esf_contact_law;

@@ -59,7 +59,6 @@ typedef struct esf_config {
   double max_overlap;        /* failure when overlap > this x the smaller radius */
   int allow_initial_overlap; /* explicit particles may start overlapping */
   double skin;               /* m; <= 0: 0.2 x mean radius */
-  double bond_gap;           /* m: pairs within this gap at the start bond (bonds.h) */
 
   double duration;     /* s (when steps == 0) */
   long steps;          /* steps, or 0 */
