@@ -38,6 +38,7 @@
  * Tangential: esf_contact_tangential with the total normal force (tension negative).
  * Units: SI. Forces are those on A. */
 #include "contact_law.h"
+#include "contact_tangential.h"
 
 #include <math.h>
 

@@ -81,21 +81,8 @@ typedef struct esf_contact_law {
 extern const esf_contact_law esf_contact_linear;
 extern const esf_contact_law esf_contact_adhesive; /* PHYSICS.md §3.4, 004 2.22-2.25 */
 
-/* The tangential part shared by the laws (contact_tangential.c): carries xi into the
- * current plane, adds the increment, applies the dashpot ct and the failure surface
- * tau = max(0, c + mu fn) (tau = 0 when fn < -tensile_limit), fn the total normal
- * force (> 0 compressive; negative in tension). Writes xi_new and out's ft, fd_t,
- * slip_work, sliding and e_el_t. vn = vc.n. */
-void esf_contact_tangential(const esf_pair_params *pp, double ct, int tframe,
-                            const esf_contact_in *in, const esf_contact_hist *hist,
-                            int first, double vn, double fn, double xi_new[3],
-                            esf_contact_out *out);
-
-/* Completes out for a touching contact: f = -fn n + ft, fn, fd_n, touching = 1; and
- * writes the history (xi, n, bond state) when hist_out is not NULL. */
-void esf_contact_finish(const esf_contact_in *in, double fn, double fd_n,
-                        const double xi[3], int bond, double bond_s,
-                        esf_contact_hist *hist_out, esf_contact_out *out);
+/* The tangential part shared by the laws and the force assembly: contact_tangential.h
+ * (esf_contact_tangential, esf_contact_finish). */
 
 /* The adhesive law's parameters from the user's F, epsilon and kn (contact_adhesive.c):
  * fills *a, or returns ESF_EINPUT with a message in err for epsilon outside (0, 1),

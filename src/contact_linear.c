@@ -3,12 +3,13 @@
  *
  * Normal (004 2.19): fn = kn un + cn dun/dt with dun/dt = -vc.n; no tension: when the
  * sum is negative the force is zero (the dashpot's applied share is then -kn un).
- * Tangential: esf_contact_tangential (contact_tangential.c), capped by the Coulomb /
+ * Tangential: esf_contact_tangential (contact_tangential.h), capped by the Coulomb /
  * Mohr-Coulomb surface of the normal force.
  * Dashpots: c = 2 gamma sqrt(m* k) (Tsuji, 004 2.27–2.29), or c = beta k (Rayleigh).
  * Elastic energy: (1/2) kn un^2 and (1/2) kt |xi|^2.
  * Units: SI. Forces are those on A. The history written never carries a bond. */
 #include "contact_law.h"
+#include "contact_tangential.h"
 
 #include <math.h>
 

@@ -1,5 +1,6 @@
-/* contact_tangential.c — the tangential force every contact law shares (PHYSICS.md
- * §3.1), and the assembly of the total contact force.
+/* contact_tangential.h — the tangential force every contact law shares (PHYSICS.md
+ * §3.1), and the assembly of the total contact force; static inline so that each law
+ * compiles them into its own evaluation (no call in the per-contact path).
  *
  * Per evaluation (000 3-17..3-26, 004 2.16, 2.26):
  *   1. bring xi into the current contact plane: xi1 = xi + (n_old x n) x xi, then
@@ -18,16 +19,19 @@
  *      slip xi_trial - xi times the mean elastic force kt (xi2 + xi)/2.
  * A contact that was not touching (first) starts from xi = 0.
  * Units: SI. Forces are those on A. */
-#include "contact_law.h"
+#ifndef ESF_CONTACT_TANGENTIAL_H
+#define ESF_CONTACT_TANGENTIAL_H
 
 #include <math.h>
 
+#include "contact_law.h"
 #include "vec3.h"
 
-void esf_contact_tangential(const esf_pair_params *pp, double ct, int tframe,
-                            const esf_contact_in *in, const esf_contact_hist *hist,
-                            int first, double vn, double fn, double xi_new[3],
-                            esf_contact_out *out) {
+static inline void esf_contact_tangential(const esf_pair_params *pp, double ct,
+                                          int tframe, const esf_contact_in *in,
+                                          const esf_contact_hist *hist, int first,
+                                          double vn, double fn, double xi_new[3],
+                                          esf_contact_out *out) {
   const double *n = in->n;
   double xi[3] = {0, 0, 0};
   if (!first) {
@@ -95,9 +99,9 @@ void esf_contact_tangential(const esf_pair_params *pp, double ct, int tframe,
   v3_copy(xi_new, xi);
 }
 
-void esf_contact_finish(const esf_contact_in *in, double fn, double fd_n,
-                        const double xi[3], int bond, double bond_s,
-                        esf_contact_hist *hist_out, esf_contact_out *out) {
+static inline void esf_contact_finish(const esf_contact_in *in, double fn, double fd_n,
+                                      const double xi[3], int bond, double bond_s,
+                                      esf_contact_hist *hist_out, esf_contact_out *out) {
   const double *n = in->n;
   out->fn = fn;
   out->fd_n = fd_n;
@@ -115,3 +119,5 @@ void esf_contact_finish(const esf_contact_in *in, double fn, double fd_n,
     hist_out->bond_s = bond_s;
   }
 }
+
+#endif
