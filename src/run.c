@@ -95,7 +95,7 @@ static int check_energy(const esf_sim *s, esf_error *err) {
   double budget = fabs(L->e0) + fabs(L->d_normal) + fabs(L->d_tangential) +
                   fabs(L->d_friction) + fabs(L->d_global) + fabs(L->d_local) +
                   fabs(L->w_walls) + fabs(L->e_removed) + fabs(L->pot_g) + fabs(L->el_n) +
-                  fabs(L->el_t);
+                  fabs(L->el_t) + fabs(L->d_bonds);
   if (!(err_e > 0.25 * budget && err_e > 1e-30) && isfinite(err_e)) return ESF_OK;
   /* name the particle with the most kinetic energy: where the blow-up is */
   const esf_particles *p = &s->p;
