@@ -4,7 +4,9 @@
  * esf_bonds_setup, on entry: pair table mixed, cfg.skin set. It scans the particle
  * material pairs for the adhesive law and takes the bond reach
  *   reach = max over those pairs of (bond_gap > 0 ? bond_gap + u_eq : 0) - u_rupture,
- * an upper bound of the gap at which any bond ruptures (m).
+ * an upper bound of the gap at which any bond ruptures (m). With bonds, s->law (the
+ * scene's law family, which the fused linear step of step_fast.c requires to be the
+ * linear law) becomes the adhesive law; pairs still use their own pp->law.
  * esf_bonds_form, on entry: the candidate list just built at the initial positions,
  * no force evaluated yet. For each candidate of an adhesive pair that meets the rule
  * of bonds.h it sets touch = 1, xi = 0, n = the current normal, bond = 1 and the
@@ -36,6 +38,8 @@ int esf_bonds_setup(esf_sim *s, int skin_auto, esf_error *err) {
     }
   free(used);
   B->pending = B->on;
+  /* the scene's law family: the fused linear step (step_fast.c) is then not taken */
+  if (B->on) s->law = &esf_contact_adhesive;
   if (!B->on || s->cfg.skin > B->reach) return ESF_OK;
   if (skin_auto) {
     s->cfg.skin = 1.25 * B->reach;

@@ -27,7 +27,8 @@ static void usage(FILE *f) {
           "            DIR (default: output.dir of the scene, else out/<scene name>)\n"
           "  --set     override a scene key by its dotted path, e.g.\n"
           "            --set integrator.frac=0.2 --set gravity=[0,0,-9.81]\n"
-          "  --threads worker threads (this version computes on one)\n"
+          "  --threads worker threads of the leapfrog's fused step (results do not "
+          "depend on it)\n"
           "  --quiet   no progress display\n\n"
           "integrators (integrator.method):\n");
   for (int k = 0; esf_integrators[k]; k++)
@@ -47,6 +48,7 @@ typedef struct cli_args {
   const char *scene, *out;
   const char **sets;
   int nsets, quiet;
+  int threads; /* --threads, 0 when not given */
 } cli_args;
 
 /* Parses the arguments after the command; 0 ok, else the exit status (message given).
@@ -66,8 +68,9 @@ static int parse_args(int argc, char **argv, cli_args *a) {
     else if (strcmp(o, "--threads") == 0 && k + 1 < argc) {
       char *end = NULL;
       long t = strtol(argv[++k], &end, 10);
-      if (!end || *end || t < 1)
-        return fail(ESF_EINPUT, "--threads takes a positive whole number");
+      if (!end || *end || t < 1 || t > 1024)
+        return fail(ESF_EINPUT, "--threads takes a whole number from 1 to 1024");
+      a->threads = (int)t;
     } else if (strcmp(o, "--quiet") == 0)
       a->quiet = 1;
     else if (o[0] == '-') {
@@ -121,6 +124,7 @@ static int prepare(int argc, char **argv, cli_args *a, esf_sim *s) {
   int rc = load_scene(a, s, &err);
   free(a->sets);
   a->sets = NULL;
+  if (!rc && a->threads) s->cfg.threads = a->threads;
   if (!rc) rc = esf_sim_setup(s, &err);
   if (rc) {
     esf_sim_release(s);

@@ -77,6 +77,12 @@ int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wa
                        int *rebuild, esf_error *err) {
   *rebuild = nb->xref == NULL || nb->nref != p->n;
   double lim2 = 0.25 * nb->skin * nb->skin, max2 = 0.0;
+  if (!*rebuild && nb->disp_valid) { /* measured during the drift, all finite */
+    max2 = nb->max_disp2;
+    if (max2 > lim2) *rebuild = 1;
+    if (wall_moved > 0 && sqrt(max2) + wall_moved > 0.5 * nb->skin) *rebuild = 1;
+    return ESF_OK;
+  }
   for (size_t i = 0; i < p->n; i++) {
     const double *x = p->x + 3 * i;
     if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2]))
@@ -255,6 +261,7 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
   }
   memcpy(nb->xref, p->x, p->n * 3 * sizeof(double));
   nb->builds++;
+  nb->disp_valid = 0;
   return ESF_OK;
 }
 

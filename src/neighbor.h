@@ -50,6 +50,11 @@ typedef struct esf_neighbor {
   double *xref; /* positions at the last build, 3 * nref */
   size_t nref;
   long builds; /* rebuild count */
+  /* Set by a step that drifted the particles and measured their displacement on the
+   * way (step_fast.c); the next esf_neighbor_check uses it instead of its own pass.
+   * Cleared after every check (esf_integ_refresh). */
+  int disp_valid;
+  double max_disp2; /* largest squared displacement since the build, m^2 */
 } esf_neighbor;
 
 int esf_neighbor_init(esf_neighbor *nb, double skin, int ledger, esf_error *err);

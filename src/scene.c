@@ -171,9 +171,9 @@ int esf_scene_material(const esf_ynode *node, const esf_materials *m, int32_t *i
 }
 
 static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err) {
-  static const char *const keys[] = {"method",         "dt",    "dt_rule", "frac",
-                                     "allow_unstable", "rtol",  "atol",    "history",
-                                     "max_steps",      "roots", NULL};
+  static const char *const keys[] = {"method",         "dt",   "dt_rule", "frac",
+                                     "allow_unstable", "rtol", "atol",    "history",
+                                     "max_steps",      "roots",   "fused", NULL};
   const esf_ynode *in = esf_ymap_get(root, "integrator");
   if (!in) return ESF_OK;
   int rc = esf_ynode_require_map(in, err);
@@ -206,6 +206,7 @@ static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err)
   if (!rc && c->max_steps <= 0)
     return esf_ynode_fail(esf_ymap_get(in, "max_steps"), err, "must be positive");
   if (!rc) rc = esf_yget_bool(in, "roots", 0, &c->roots, err);
+  if (!rc) rc = esf_yget_bool(in, "fused", 0, &c->fused, err);
   return rc;
 }
 

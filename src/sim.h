@@ -67,6 +67,8 @@ typedef struct esf_config {
   int energy_off;      /* energy_every: 0 given explicitly */
   int out_contacts;    /* output.contacts: the contact network in every frame */
   char out_dir[1024];
+  int threads; /* worker threads (step_fast.h; results independent of it), >= 1 */
+  int fused;   /* leapfrog: take the fused step when the scene allows (default 1) */
 } esf_config;
 
 void esf_config_default(esf_config *c);
