@@ -126,6 +126,9 @@ static int write_frame(const esf_sim *s, esf_frames *fr, esf_contact_net *net,
   if (!rc)
     rc = esf_frames_write(fr, s->t, &s->p, &s->walls, s->cfg.out_contacts ? net : NULL,
                           err);
+  if (!rc && s->bonds.on && !s->bonds.pending) /* bond counts per frame (bonds.h) */
+    esf_sim_log(s, "frame t = %.6g s: %ld bonds intact, %ld broken", s->t,
+                esf_bonds_alive(s), s->bonds.broken);
   return rc;
 }
 
