@@ -21,14 +21,16 @@ const char *const esf_ledger_columns[ESF_LEDGER_NCOLS] = {"time",
                                                           "dissipated_global",
                                                           "dissipated_local",
                                                           "energy_removed",
-                                                          "alpha_global"};
+                                                          "alpha_global",
+                                                          "dissipated_bonds"};
 
 double esf_ledger_stored(const esf_ledger *l) {
   return l->kin_t + l->kin_r + l->pot_g + l->el_n + l->el_t;
 }
 
 double esf_ledger_dissipated(const esf_ledger *l) {
-  return l->d_normal + l->d_tangential + l->d_friction + l->d_global + l->d_local;
+  return l->d_normal + l->d_tangential + l->d_friction + l->d_global + l->d_local +
+         l->d_bonds;
 }
 
 double esf_ledger_total_error(const esf_ledger *l) {
@@ -55,7 +57,8 @@ void esf_ledger_values(double t, const esf_ledger *l, double alpha,
                                       l->d_global,
                                       l->d_local,
                                       l->e_removed,
-                                      alpha};
+                                      alpha,
+                                      l->d_bonds};
   for (int k = 0; k < ESF_LEDGER_NCOLS; k++) row[k] = v[k];
 }
 
@@ -68,6 +71,7 @@ void esf_ledger_row(FILE *f, double t, const esf_ledger *l, double alpha) {
   double row[ESF_LEDGER_NCOLS];
   esf_ledger_values(t, l, alpha, row);
   fprintf(f, "%.9e", row[0]);
-  for (int k = 1; k + 1 < ESF_LEDGER_NCOLS; k++) fprintf(f, ",%.12e", row[k]);
-  fprintf(f, ",%.6e\n", row[ESF_LEDGER_NCOLS - 1]);
+  for (int k = 1; k < ESF_LEDGER_NCOLS; k++)
+    fprintf(f, k == ESF_LEDGER_ALPHA ? ",%.6e" : ",%.12e", row[k]);
+  fputc('\n', f);
 }

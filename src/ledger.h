@@ -21,6 +21,7 @@ typedef struct esf_ledger {
   double d_local;      /* local non-viscous damping, J */
   double w_walls;      /* work done by walls on the particles, J */
   double e_removed;    /* energy carried away by particles leaving the domain, J */
+  double d_bonds;      /* energy bonds held when they ruptured (adhesive law), J */
   double e0;           /* stored energy at the start, J */
   int started;         /* e0 set */
 } esf_ledger;
@@ -30,8 +31,9 @@ double esf_ledger_dissipated(const esf_ledger *l);
 double esf_ledger_total_error(const esf_ledger *l);
 
 /* The columns of an energy row (energy.csv and /energy in frames.h5), in order. */
-enum { ESF_LEDGER_NCOLS = 18 };
+enum { ESF_LEDGER_NCOLS = 19 };
 extern const char *const esf_ledger_columns[ESF_LEDGER_NCOLS];
+enum { ESF_LEDGER_ALPHA = 17 }; /* the column of alpha_global */
 
 /* One row's values at time t (s) with global damping alpha (1/s), in column order. */
 void esf_ledger_values(double t, const esf_ledger *l, double alpha,

@@ -99,6 +99,29 @@ expect "history as state with the leapfrog" 2 "integrator.history: state .* erk:
 expect "roots without an adaptive erk" 2 "integrator.roots: .*adaptive erk: methods only \(rtol > 0\), not rk4" \
   -- run "$tmp/ok.yaml" --out "$tmp/o18" --set integrator.roots=true --set integrator.method=rk4
 
+# bond: the adhesive law's parameters (PHYSICS.md 3.4): epsilon in (0, 1) but not 1/e,
+# F >= 0, and a skin that keeps bonds in tension as candidates
+sed 's/friction: 0.3}/friction: 0.3, adhesion: {force: 1, epsilon: 0.36787944117144233}}/' \
+  "$tmp/ok.yaml" > "$tmp/b1.yaml"
+expect "adhesion epsilon 1/e" 2 "b1.yaml:3:[0-9]+: materials.glass.adhesion.epsilon: .*1/e" \
+  -- run "$tmp/b1.yaml" --out "$tmp/ob1"
+sed 's/friction: 0.3}/friction: 0.3, adhesion: {force: 1, epsilon: 1.0}}/' \
+  "$tmp/ok.yaml" > "$tmp/b2.yaml"
+expect "adhesion epsilon 1" 2 "b2.yaml:3:[0-9]+: materials.glass.adhesion.epsilon: epsilon must lie in \(0, 1\)" \
+  -- run "$tmp/b2.yaml" --out "$tmp/ob2"
+sed 's/friction: 0.3}/friction: 0.3, adhesion: {force: -2, epsilon: 0.5}}/' \
+  "$tmp/ok.yaml" > "$tmp/b3.yaml"
+expect "adhesion negative force" 2 "b3.yaml:3:[0-9]+: materials.glass.adhesion.force: must be a non-negative force" \
+  -- run "$tmp/b3.yaml" --out "$tmp/ob3"
+sed 's/friction: 0.3}/friction: 0.3, adhesion: {force: 1, epsilon: 0.5, bond_gap: 0.01}}/' \
+  "$tmp/ok.yaml" > "$tmp/b4.yaml"
+expect "skin below the bond reach" 2 "search.skin = 0.001 m does not exceed the bond reach" \
+  -- run "$tmp/b4.yaml" --out "$tmp/ob4" --set search.skin=0.001
+sed 's/friction: 0.3}/friction: 0.3, adhesion: {force: 1, epsilon: 0.5, bond_gp: 0}}/' \
+  "$tmp/ok.yaml" > "$tmp/b5.yaml"
+expect "adhesion misspelt key" 2 "b5.yaml:3:[0-9]+: unknown key 'bond_gp'" \
+  -- run "$tmp/b5.yaml" --out "$tmp/ob5"
+
 # numerical failure: exit 1, with the step, particle, dt and critical dt; frames so far kept
 cat > "$tmp/s16.yaml" <<'YAML'
 name: column
