@@ -50,6 +50,8 @@ typedef struct esf_neighbor {
   double *xref; /* positions at the last build, 3 * nref */
   size_t nref;
   long builds; /* rebuild count */
+  /* the wall element index (wall_index.h) */
+  struct esf_wall_index *widx;
 } esf_neighbor;
 
 int esf_neighbor_init(esf_neighbor *nb, double skin, int ledger, esf_error *err);
