@@ -340,6 +340,38 @@ static void test_rest(void) {
   }
 }
 
+/* the scene's mesh key: a relative file beside the scene, scale, rotate, translate */
+static void test_scene_mesh(void) {
+  const double h[3] = {0.3, 0.2, 0.1};
+  write_box_stl("part.stl", h);
+  write_text("part.yaml",
+             "name: part\nmaterials: {g: {density: 2500, kn: 1.0e5}}\n"
+             "particles:\n  - {material: g, radius: 0.01, position: [5, 5, 5]}\n"
+             "walls:\n  - {mesh: {file: part.stl, scale: 2, rotate: {axis: [0, 0, 1], "
+             "degrees: 90}, translate: [1, 2, 3]}, material: g}\nrun: {steps: 1}\n");
+  esf_sim s;
+  memset(&s, 0, sizeof s);
+  esf_error err = {0};
+  esf_config_default(&s.cfg);
+  int rc = esf_scene_load(path_of("part.yaml"), NULL, 0, &s, &err);
+  CHECK_OK(rc, err);
+  CHECK(s.walls.n == 12 && s.walls.ngroups == 1, "mesh wall: %zu elements, %d groups",
+        s.walls.n, s.walls.ngroups);
+  esf_stl f;
+  CHECK_OK(esf_stl_read(path_of("part.stl"), &f, &err), err);
+  double worst = 0;
+  for (size_t t = 0; t < s.walls.n && t < f.n; t++)
+    for (int k = 0; k < 3; k++) {
+      const double *x = f.v[t][k], *y = s.walls.e[t].v[k];
+      /* 2 x turned 90 degrees about z: (x, y, z) -> (-y, x, z), then translated */
+      double want[3] = {-2 * x[1] + 1, 2 * x[0] + 2, 2 * x[2] + 3};
+      for (int q = 0; q < 3; q++) worst = fmax(worst, fabs(y[q] - want[q]));
+    }
+  CHECK(worst < 1e-15, "mesh placement off by %.3g m", worst);
+  esf_stl_release(&f);
+  esf_sim_release(&s);
+}
+
 int main(void) {
   snprintf(dir, sizeof dir, "/tmp/esf_stlXXXXXX");
   if (!mkdtemp(dir)) return 1;
@@ -347,6 +379,7 @@ int main(void) {
   test_errors();
   test_nearest();
   test_rest();
+  test_scene_mesh();
   char cmd[128];
   snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
   if (system(cmd)) fprintf(stderr, "could not remove %s\n", dir);
