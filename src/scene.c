@@ -374,7 +374,7 @@ int esf_scene_read(esf_ydoc *doc, esf_sim *s, esf_error *err) {
   if (!rc) rc = read_integrator(root, c, err);
   if (!rc) rc = read_damping(root, c, err);
   if (!rc) rc = read_misc(root, c, err);
-  if (!rc) rc = esf_scene_walls(esf_ymap_get(root, "walls"), s, err);
+  if (!rc) rc = esf_scene_walls(esf_ymap_get(root, "walls"), esf_ydoc_dir(doc), s, err);
   if (!rc) {
     const esf_ynode *ps = esf_ymap_get(root, "particles");
     if (!ps) return esf_ynode_fail(root, err, "missing key 'particles'");

@@ -144,5 +144,25 @@ else
   fail=$((fail + 1)); echo "FAIL failed run keeps frames.h5 and logs the failure"
 fi
 
+# mesh walls (STL files, generators): errors name the scene key and the file's line or
+# triangle; exit 2
+printf 'solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\nvertex 2 2 0\nendloop\nendfacet\nendsolid\n' > "$tmp/flat.stl"
+good "" "" | sed 's|  - {plane: {point: \[0, 0, 0\], normal: \[0, 0, 1\]}, material: glass}|  - {mesh: {file: flat.stl, scale: 0.1}, material: glass}|' > "$tmp/m1.yaml"
+expect "degenerate STL triangle" 2 "m1.yaml:8:[0-9]+: wall mesh: .*flat.stl:9: ASCII STL facet 2: degenerate triangle \(zero or near-zero area" \
+  -- run "$tmp/m1.yaml" --out "$tmp/om1"
+head -c 150 /dev/zero > "$tmp/trunc.stl"
+sed 's/flat.stl/trunc.stl/' "$tmp/m1.yaml" > "$tmp/m2.yaml"
+expect "truncated binary STL" 2 "m2.yaml:8:[0-9]+: wall mesh: .*trunc.stl: binary STL of 150 bytes, but its header announces 0 triangles = 84 bytes" \
+  -- run "$tmp/m2.yaml" --out "$tmp/om2"
+sed 's/flat.stl/none.stl/' "$tmp/m1.yaml" > "$tmp/m3.yaml"
+expect "missing STL file" 2 "m3.yaml:8:[0-9]+: wall mesh: .*none.stl: cannot open STL file" \
+  -- run "$tmp/m3.yaml" --out "$tmp/om3"
+good "" "" | sed 's|  - {plane: {point: \[0, 0, 0\], normal: \[0, 0, 1\]}, material: glass}|  - {screw: {base: [0, 0, 0], shaft_radius: 0.02, radius: 0.01, pitch: 0.1, turns: 2}, material: glass}|' > "$tmp/m4.yaml"
+expect "screw thinner than its shaft" 2 "m4.yaml:8:[0-9]+: walls.0.screw: a screw needs 0 < shaft_radius \(0.02 m\) < radius \(0.01 m\)" \
+  -- run "$tmp/m4.yaml" --out "$tmp/om4"
+sed 's/pitch: 0.1/pich: 0.1/' "$tmp/m4.yaml" > "$tmp/m5.yaml"
+expect "misspelt screw key" 2 "m5.yaml:8:[0-9]+: unknown key 'pich' in walls.0.screw \(did you mean 'pitch'\?\)" \
+  -- run "$tmp/m5.yaml" --out "$tmp/om5"
+
 echo "bad_input: $pass passed, $fail failed"
 [ "$fail" = 0 ]
