@@ -188,7 +188,10 @@ static void log_stage(FILE *log, const char *name, const esf_settle_report *r,
           "ke_ratio=%.4g target=%.4g %s top=%.6g wall_s=%.3f\n",
           name, r->particles, r->steps, r->time, r->ke, r->e_ref,
           r->e_ref > 0 ? r->ke / r->e_ref : 0.0, ke_fraction,
-          r->settled ? "settled" : "time_limit", r->top, r->wall_s);
+          r->steps == 0 ? "skipped"
+          : r->settled  ? "settled"
+                        : "time_limit",
+          r->top, r->wall_s);
 }
 
 /* Positions (3n), radii and materials of a sim's particles in id order. */
