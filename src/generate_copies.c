@@ -23,12 +23,12 @@
  * particle positions, radii and materials. The library never prints except to `log`. */
 #include "generate_copies.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
+#include "atomic_file.h"
 #include "integrator.h"
 #include "scene.h"
 #include "vec3.h"
@@ -208,31 +208,28 @@ static int by_id(const esf_particles *p, double *x, double *r, int32_t *mat,
   return ESF_OK;
 }
 
+/* The packing as CSV text, written with esf_atomic_write (PATH.tmp, fsync, rename):
+ * an earlier file survives any failure. */
 static int write_csv(const char *path, const esf_sim *s, esf_error *err) {
-  size_t n = s->p.n;
+  size_t n = s->p.n, len = 0;
   double *x = malloc(3 * n * sizeof *x), *r = malloc(n * sizeof *r);
   int32_t *mat = malloc(n * sizeof *mat);
+  char *text = NULL;
+  FILE *f = NULL;
   int rc = x && r && mat ? by_id(&s->p, x, r, mat, err)
                          : esf_fail(err, ESF_ENOMEM, "out of memory");
-  char tmp[1100];
-  FILE *f = NULL;
-  if (!rc && snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp)
-    rc = esf_fail(err, ESF_EIO, "output path too long: %s", path);
-  if (!rc && !(f = fopen(tmp, "w")))
-    rc = esf_fail(err, ESF_EIO, "cannot write '%s': %s", tmp, strerror(errno));
+  if (!rc && !(f = open_memstream(&text, &len)))
+    rc = esf_fail(err, ESF_ENOMEM, "out of memory for the packing's text");
   if (!rc) {
     fprintf(f, "# esfera generate: %s (%s), %zu particles\nx,y,z,radius,material\n",
             s->cfg.name, s->cfg.source, n);
     for (size_t i = 0; i < n; i++)
       fprintf(f, "%.17g,%.17g,%.17g,%.17g,%s\n", x[3 * i], x[3 * i + 1], x[3 * i + 2],
               r[i], s->mats.m[mat[i]].name);
-    if (fclose(f) != 0)
-      rc = esf_fail(err, ESF_EIO, "cannot finish '%s': %s", tmp, strerror(errno));
-    else if (rename(tmp, path) != 0)
-      rc = esf_fail(err, ESF_EIO, "cannot rename '%s' to '%s': %s", tmp, path,
-                    strerror(errno));
-    if (rc) remove(tmp);
+    if (fclose(f) != 0) rc = esf_fail(err, ESF_ENOMEM, "out of memory for the packing");
   }
+  if (!rc) rc = esf_atomic_write(path, text, len, err);
+  free(text);
   free(x);
   free(r);
   free(mat);
