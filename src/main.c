@@ -245,6 +245,7 @@ static int cmd_run(int argc, char **argv) {
     return status;
   }
   if (s.cfg.duration <= 0 && s.cfg.steps <= 0) { /* a generate scene has no run */
+    free(a.sets);
     esf_ckpt_free(&ck);
     esf_sim_release(&s);
     return fail(ESF_EINPUT, "the scene has no 'run' section (a generate scene: use "
