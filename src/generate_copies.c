@@ -16,7 +16,9 @@
  *     walls n_z L_z high (open top).
  *  4. Settle again (generate.resettle, default the settle values; max_time 0 skips
  *     it), write the CSV in id order with velocities dropped.
- * Compaction by moving walls (the seed's option) is not implemented here.
+ *  5. Optionally compact (generate.compact: strain, time): the four lateral walls move
+ *     inward at constant speed by strain L / 2 each over `time`, the floor stays; then
+ *     the particles settle (resettle values) in a static box of the compacted size.
  *
  * Units: SI. State: each stage builds its own esf_sim from the same parsed scene
  * (materials, damping, integrator), so nothing of a stage leaks into the next but the
@@ -44,6 +46,7 @@ typedef struct gen_spec {
   long copies[3];
   int32_t material; /* wall material */
   settle_spec settle, resettle;
+  double strain, compact_time; /* compaction: lateral strain, its duration (s); 0: off */
 } gen_spec;
 
 static double now_s(void) {
@@ -73,8 +76,8 @@ static int read_settle(const esf_ynode *g, const char *key, settle_spec *sp,
 
 static int read_spec(const esf_ynode *root, const esf_sim *s, gen_spec *gs,
                      esf_error *err) {
-  static const char *const keys[] = {"box",    "copies",   "material",
-                                     "settle", "resettle", NULL};
+  static const char *const keys[] = {"box",      "copies",  "material", "settle",
+                                     "resettle", "compact", NULL};
   static const char *const bkeys[] = {"min", "max", NULL};
   const esf_ynode *g = esf_ymap_get(root, "generate");
   if (!g)
@@ -109,6 +112,16 @@ static int read_spec(const esf_ynode *root, const esf_sim *s, gen_spec *gs,
   if (!rc) rc = read_settle(g, "settle", &gs->settle, err);
   gs->resettle = gs->settle;
   if (!rc) rc = read_settle(g, "resettle", &gs->resettle, err);
+  static const char *const ckeys[] = {"strain", "time", NULL};
+  const esf_ynode *c = esf_ymap_get(g, "compact");
+  gs->strain = gs->compact_time = 0;
+  if (!rc && c) rc = esf_ymap_check_keys(c, ckeys, err);
+  if (!rc && c) rc = esf_yget_double(c, "strain", 1, &gs->strain, err);
+  if (!rc && c && !(gs->strain > 0 && gs->strain < 0.5))
+    return esf_ynode_fail(esf_ymap_get(c, "strain"), err, "must be in (0, 0.5)");
+  if (!rc && c) rc = esf_yget_double(c, "time", 1, &gs->compact_time, err);
+  if (!rc && c && !(gs->compact_time > 0))
+    return esf_ynode_fail(esf_ymap_get(c, "time"), err, "must be positive (s)");
   if (!rc && esf_ymap_get(root, "walls"))
     return esf_ynode_fail(esf_ymap_get(root, "walls"), err,
                           "a generate scene takes its walls from generate.box; remove "
@@ -116,15 +129,26 @@ static int read_spec(const esf_ynode *root, const esf_sim *s, gen_spec *gs,
   return rc;
 }
 
-/* The box walls, open at the top, as one static group. */
-static int add_box(esf_sim *s, const double min[3], const double max[3], int32_t mat,
-                   esf_error *err) {
+/* Faces of a box as one group (faces: wall_geom.h's bits of the faces kept), moving at
+ * vel (m/s) when it is not NULL. */
+static int add_faces(esf_sim *s, const double min[3], const double max[3], unsigned faces,
+                     int32_t mat, const double *vel, esf_error *err) {
   int group = 0, count = 0;
   esf_wall_elem e[6];
   int rc = esf_walls_add_group(&s->walls, "box", &group, err);
-  if (!rc) rc = esf_wall_box(min, max, 32u, mat, group, e, &count, err);
+  if (!rc) rc = esf_wall_box(min, max, 63u & ~faces, mat, group, e, &count, err);
   for (int k = 0; k < count && !rc; k++) rc = esf_walls_add_elem(&s->walls, &e[k], err);
+  if (!rc && vel) {
+    s->walls.g[group].motion.kind = ESF_MOTION_TRANSLATE;
+    v3_copy(s->walls.g[group].motion.vel, vel);
+  }
   return rc;
+}
+
+/* The box walls, open at the top, as one static group. */
+static int add_box(esf_sim *s, const double min[3], const double max[3], int32_t mat,
+                   esf_error *err) {
+  return add_faces(s, min, max, 31u, mat, NULL, err);
 }
 
 static void energies(const esf_sim *s, double *ek, double *ep) {
@@ -236,10 +260,11 @@ static int write_csv(const char *path, const esf_sim *s, esf_error *err) {
   return rc;
 }
 
-/* Replaces b's particles by the copies of a's settled set; returns b's box height. */
-static int make_copies(const esf_sim *a, const gen_spec *gs, esf_sim *b, double top,
-                       esf_error *err) {
-  size_t n0 = a->p.n, nc = (size_t)(gs->copies[0] * gs->copies[1] * gs->copies[2]);
+/* Replaces b's particles by n[0] x n[1] x n[2] copies of a's (copy (i, j, k) moved by
+ * (i L_x, j L_y, k (top - box floor)), L the edges of gs->box), in id order. */
+static int make_copies(const esf_sim *a, const gen_spec *gs, const long n[3], esf_sim *b,
+                       double top, esf_error *err) {
+  size_t n0 = a->p.n, nc = (size_t)(n[0] * n[1] * n[2]);
   double *x = malloc(3 * n0 * sizeof *x), *r = malloc(n0 * sizeof *r);
   int32_t *mat = malloc(n0 * sizeof *mat);
   int rc = x && r && mat ? by_id(&a->p, x, r, mat, err)
@@ -248,9 +273,8 @@ static int make_copies(const esf_sim *a, const gen_spec *gs, esf_sim *b, double 
   if (!rc) rc = esf_particles_alloc(&b->p, n0 * nc, err);
   double L[3] = {gs->max[0] - gs->min[0], gs->max[1] - gs->min[1], top - gs->min[2]};
   for (size_t c = 0; c < nc && !rc; c++) {
-    size_t i = c % (size_t)gs->copies[0],
-           j = (c / (size_t)gs->copies[0]) % (size_t)gs->copies[1],
-           k = c / (size_t)(gs->copies[0] * gs->copies[1]);
+    size_t i = c % (size_t)n[0], j = (c / (size_t)n[0]) % (size_t)n[1],
+           k = c / (size_t)(n[0] * n[1]);
     double off[3] = {(double)i * L[0], (double)j * L[1], (double)k * L[2]};
     for (size_t q = 0; q < n0; q++) {
       size_t d = c * n0 + q;
@@ -288,6 +312,48 @@ static int check_inside(const esf_sim *s, const gen_spec *gs, esf_error *err) {
   return ESF_OK;
 }
 
+/* Compaction (optional): the lateral walls of the box [min, max] move inward by
+ * strain L / 2 each over compact_time (the floor stays), then a box that size holds
+ * the particles while they settle (resettle values). Replaces *b by the result. */
+static int compact(esf_ydoc *doc, const char *path, const gen_spec *gs, double min[3],
+                   double max[3], esf_sim *b, FILE *log, esf_error *err) {
+  static const long one[3] = {1, 1, 1};
+  static const unsigned face[4] = {1u, 2u, 4u, 8u}; /* xmin, xmax, ymin, ymax */
+  esf_sim c, d;
+  memset(&c, 0, sizeof c);
+  memset(&d, 0, sizeof d);
+  esf_settle_report r;
+  settle_spec push = {0, gs->compact_time, gs->compact_time};
+  int rc = stage_sim(doc, path, &c, err);
+  if (!rc) rc = make_copies(b, gs, one, &c, max[2], err);
+  if (!rc) rc = add_faces(&c, min, max, 16u, gs->material, NULL, err); /* the floor */
+  for (int k = 0; k < 4 && !rc; k++) {
+    double v[3] = {0, 0, 0}, L = max[k / 2] - min[k / 2];
+    v[k / 2] = (k % 2 ? -1 : 1) * gs->strain * L / (2 * gs->compact_time);
+    rc = add_faces(&c, min, max, face[k], gs->material, v, err);
+  }
+  c.cfg.energy_every = 0;
+  if (!rc) rc = esf_sim_setup(&c, err);
+  if (!rc) rc = settle(&c, &push, &r, err);
+  if (!rc) log_stage(log, "compact", &r, 0.0);
+  for (int k = 0; k < 2; k++) {
+    double dl = 0.5 * gs->strain * (max[k] - min[k]);
+    min[k] += dl;
+    max[k] -= dl;
+  }
+  if (!rc) rc = stage_sim(doc, path, &d, err);
+  if (!rc) rc = make_copies(&c, gs, one, &d, max[2], err);
+  if (!rc) rc = add_box(&d, min, max, gs->material, err);
+  d.cfg.energy_every = 0;
+  if (!rc) rc = esf_sim_setup(&d, err);
+  if (!rc) rc = settle(&d, &gs->resettle, &r, err);
+  if (!rc) log_stage(log, "compacted", &r, gs->resettle.ke_fraction);
+  esf_sim_release(&c);
+  esf_sim_release(b);
+  *b = d;
+  return rc;
+}
+
 int esf_generate_copies(const char *path, const char *const *sets, int nsets,
                         const char *out_csv, FILE *log, esf_error *err) {
   esf_ydoc *doc = NULL;
@@ -296,6 +362,9 @@ int esf_generate_copies(const char *path, const char *const *sets, int nsets,
   memset(&b, 0, sizeof b);
   gen_spec gs;
   esf_settle_report r1, r2;
+  memset(&gs, 0, sizeof gs);
+  memset(&r1, 0, sizeof r1);
+  memset(&r2, 0, sizeof r2);
   int rc = esf_ydoc_load(path, &doc, err);
   for (int k = 0; k < nsets && !rc; k++) rc = esf_ydoc_override(doc, sets[k], err);
   if (!rc) rc = stage_sim(doc, path, &a, err);
@@ -310,18 +379,17 @@ int esf_generate_copies(const char *path, const char *const *sets, int nsets,
   if (!rc) log_stage(log, "primary", &r1, gs.settle.ke_fraction);
   if (!rc) rc = stage_sim(doc, path, &b, err);
   double H = r1.top - gs.min[2];
-  if (!rc) rc = make_copies(&a, &gs, &b, r1.top, err);
-  if (!rc) {
-    double bmax[3];
-    for (int k = 0; k < 3; k++)
-      bmax[k] = gs.min[k] + (double)gs.copies[k] * (gs.max[k] - gs.min[k]);
-    bmax[2] = gs.min[2] + (double)gs.copies[2] * fmax(H, gs.max[2] - gs.min[2]);
-    rc = add_box(&b, gs.min, bmax, gs.material, err);
-  }
+  if (!rc) rc = make_copies(&a, &gs, gs.copies, &b, r1.top, err);
+  double bmin[3] = {gs.min[0], gs.min[1], gs.min[2]}, bmax[3];
+  for (int k = 0; k < 3; k++)
+    bmax[k] = gs.min[k] + (double)gs.copies[k] * (gs.max[k] - gs.min[k]);
+  bmax[2] = gs.min[2] + (double)gs.copies[2] * fmax(H, gs.max[2] - gs.min[2]);
+  if (!rc) rc = add_box(&b, bmin, bmax, gs.material, err);
   b.cfg.energy_every = 0;
   if (!rc) rc = esf_sim_setup(&b, err);
   if (!rc) rc = settle(&b, &gs.resettle, &r2, err);
   if (!rc) log_stage(log, "copies", &r2, gs.resettle.ke_fraction);
+  if (!rc && gs.strain > 0) rc = compact(doc, path, &gs, bmin, bmax, &b, log, err);
   if (!rc) rc = write_csv(out_csv, &b, err);
   if (!rc && log)
     fprintf(log, "generate: wrote %s: %zu particles (%ld x %ld x %ld copies of %zu)\n",

@@ -15,6 +15,10 @@ are copied 2 x 2 x 2 and settle again (1200 spheres). Checks:
   surface) lies in 0.36-0.45, the range of random monodisperse packings (dense random
   0.36, poured frictional ~0.40-0.44);
 - the same seed gives a byte-identical file; the file loads in a run scene;
+- compaction (copies 2 x 2 x 1, lateral strain 0.1 over 0.1 s, then resettling): every
+  particle inside the compacted box, no overlap above 1% of r, and the bulk solid
+  fraction N V / (A 2 z_mean) rises (measured 0.520 -> 0.541): a poured pack, looser
+  than random close packing, compacts under slow lateral compression;
 - `esfera run` on a generate scene and a bad generate key exit 2."""
 import os
 import re
@@ -144,6 +148,29 @@ integrator: {{method: leapfrog, dt: auto, frac: 0.3}}
 run: {{steps: 20}}
 output: {{energy_every: 0}}
 """)
+
+        # compaction against the same copies without it
+        sf = {}
+        for name, sets in (("plain", ()),
+                           ("compacted", ("generate.compact={strain: 0.1, time: 0.1}",))):
+            p = os.path.join(tmp, name + ".csv")
+            _, log = generate(esfera, scene, p, "generate.copies=[2,2,1]", *sets)
+            Q, _ = load(p)
+            lo, hi = (0.0012, 0.0228) if sets else (0.0, 2 * L)
+            q, rq = Q[:, :3], Q[:, 3]
+            sf[name] = (4 / 3 * np.pi * rq ** 3).sum() / ((hi - lo) ** 2 * 2 * q[:, 2].mean())
+            inside = ((q[:, :2] - rq[:, None]).min() >= lo - 0.01 * R
+                      and (q[:, :2] + rq[:, None]).max() <= hi + 0.01 * R)
+            check(inside, f"{name}: particles inside [{lo}, {hi}]")
+            dq = q[:, None, :] - q[None, :, :]
+            dd = np.sqrt((dq ** 2).sum(-1)) + np.eye(len(Q))
+            ovq = (rq[:, None] + rq[None, :] - dd).max()
+            check(ovq < 0.01 * R, f"{name}: largest overlap {ovq} m")
+            if sets:
+                check("stage=compact " in log and "stage=compacted " in log, log)
+        print(f"bulk solid fraction: {sf['plain']:.4f} plain, {sf['compacted']:.4f} "
+              f"compacted")
+        check(sf["compacted"] > sf["plain"], f"compaction raises the solid fraction {sf}")
 
         # bad input
         r = subprocess.run([esfera, "run", scene, "--quiet"], capture_output=True, text=True)
