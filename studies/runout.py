@@ -3,19 +3,21 @@
 runout distance and front speed of a debris flow, an avalanche or a dam break.
 
     /usr/bin/python3 studies/runout.py RESULT [--direction 1,0,0] [--origin 0,0,0]
-                                       [--percentiles 50,95,99] [--width W]
-                                       [--min-thickness H] [--out CSV]
+                                       [--percentiles 50,95,99] [--width W | --2d]
+                                       [--min-layers F] [--out CSV]
 
 For every frame of RESULT (a result directory or frames.h5) each particle's distance
 s = (x - origin) . n along the unit direction n is taken, and the front is given as
 percentiles of s (the 95th and 99th are robust to a few runaway spheres, the maximum is
 not) and the maximum. Percentiles are fractions of the particles, so they do not
 compare masses of different sizes: a small mass's few strays are a larger fraction of
-it. With --width W (the channel's width, m) the deposit front is also given the way
-one measures a deposit with a ruler: the farthest s at which the solid thickness
-(the particles' volume, 4/3 pi r^3, in the window [s - 2 d, s] along n, divided by
-W 2 d; d the mean diameter) is at least --min-thickness (default d/4, about half a
-loose monolayer, whose solid thickness is pi d / 6), column front_deposit. Front speed: the central difference of the 95th percentile over
+it. With --width W (the channel's width, m; 3D) or --2d (disks) the deposit front is
+also given the way one measures a deposit with a ruler: the farthest s at which the
+solid thickness (the particles' volume 4/3 pi r^3 in the window [s - 2 d, s] along n,
+over W 2 d; in 2D their area pi r^2 over 2 d; d the mean diameter) is at least
+--min-layers (default 0.6) of a monolayer's (square packing: pi d / 6 in 3D,
+pi d / 4 in 2D, so that in 2D one stray disk, 0.5 of a monolayer in the window, does
+not count), column front_deposit. Front speed: the central difference of the 95th percentile over
 the frame times (one-sided at the ends), m/s. Kinetic energy (translational plus
 rotational, J) comes from the run's energy table at the frame's time when the run kept
 one. Particles that left the domain are no longer in the frames: the count column says
@@ -23,8 +25,8 @@ how many remain. Writes RESULT/runout.csv (or --out) with the columns
 time, particles, front_pXX..., front_max, front_speed, kinetic and prints one summary
 line: final front, its peak speed, the kinetic energy at the end against its peak.
 
-As a module: front_table(frames, direction, origin, percentiles, width) -> dict of
-arrays; deposit_front(s, radius, width) for one frame."""
+As a module: front_table(frames, direction, origin, percentiles, width, disks) -> dict
+of arrays; deposit_front(s, radius, width) for one frame (width None: disks)."""
 import argparse
 import os
 import sys
@@ -35,23 +37,25 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from esfera_h5 import frames_path, load_energy, load_frames  # noqa: E402
 
 
-def deposit_front(s, radius, width, min_thickness=None):
-    """The farthest s* with solid thickness >= min_thickness in [s* - 2d, s*] (m)."""
+def deposit_front(s, radius, width=None, min_layers=0.6):
+    """The farthest s* where the solid thickness in [s* - 2d, s*] is at least
+    min_layers of a square monolayer's; width None means disks (2D)."""
     if len(s) == 0:
         return np.nan
     d = 2 * radius.mean()
-    hmin = d / 4 if min_thickness is None else min_thickness
+    hmin = min_layers * np.pi * d / (4 if width is None else 6)
     step = d / 8
     edges = np.arange(s.min() - step, s.max() + 2 * step, step)
-    vol, _ = np.histogram(s, bins=edges, weights=4 / 3 * np.pi * radius ** 3)
+    w = np.pi * radius ** 2 if width is None else 4 / 3 * np.pi * radius ** 3 / width
+    vol, _ = np.histogram(s, bins=edges, weights=w)
     k = 16  # 2 d = 16 steps
-    run = np.convolve(vol, np.ones(k))[: len(vol)] / (width * k * step)
+    run = np.convolve(vol, np.ones(k))[: len(vol)] / (k * step)
     ok = np.flatnonzero(run >= hmin)
     return edges[ok[-1] + 1] if len(ok) else np.nan
 
 
 def front_table(frames, direction=(1, 0, 0), origin=(0, 0, 0), percentiles=(50, 95, 99),
-                width=None, min_thickness=None):
+                width=None, disks=False, min_layers=0.6):
     n = np.asarray(direction, float)
     n /= np.linalg.norm(n)
     o = np.asarray(origin, float)
@@ -62,9 +66,9 @@ def front_table(frames, direction=(1, 0, 0), origin=(0, 0, 0), percentiles=(50, 
         out[f"front_p{p:g}"] = np.array([np.percentile(x, p) if len(x) else np.nan
                                          for x in s])
     out["front_max"] = np.array([x.max() if len(x) else np.nan for x in s])
-    if width:
-        out["front_deposit"] = np.array([deposit_front(x, f.data["radius"], width,
-                                                       min_thickness)
+    if width or disks:
+        out["front_deposit"] = np.array([deposit_front(x, f.data["radius"],
+                                                       None if disks else width, min_layers)
                                          for x, f in zip(s, frames)])
     key = f"front_p{95 if 95 in percentiles else percentiles[-1]:g}"
     out["front_speed"] = np.gradient(out[key], t) if len(t) > 1 else np.zeros_like(t)
@@ -87,8 +91,10 @@ def main(argv):
     ap.add_argument("--direction", default="1,0,0")
     ap.add_argument("--origin", default="0,0,0")
     ap.add_argument("--percentiles", default="50,95,99")
-    ap.add_argument("--width", type=float, help="channel width, m (deposit front)")
-    ap.add_argument("--min-thickness", type=float, help="m of solid (default d/4)")
+    ap.add_argument("--width", type=float, help="channel width, m (3D deposit front)")
+    ap.add_argument("--2d", dest="disks", action="store_true", help="disks (2D scenes)")
+    ap.add_argument("--min-layers", type=float, default=0.6,
+                    help="deposit front threshold, fraction of a monolayer")
     ap.add_argument("--out")
     a = ap.parse_args(argv[1:])
     try:
@@ -101,7 +107,7 @@ def main(argv):
     except (OSError, KeyError, ValueError) as e:
         print(f"runout: {a.result}: {e}", file=sys.stderr)
         return 2
-    table = front_table(frames, d, o, ps, a.width, a.min_thickness)
+    table = front_table(frames, d, o, ps, a.width, a.disks, a.min_layers)
     add_kinetic(table, a.result)
     res = os.path.dirname(frames_path(a.result)) or "."
     out = a.out or os.path.join(res, "runout.csv")
@@ -112,7 +118,8 @@ def main(argv):
     k = int(np.argmax(table["front_speed"]))
     line = (f"runout: frames={len(frames)} {key}={table[key][-1]:.6g} "
             f"front_max={table['front_max'][-1]:.6g} "
-            + (f"front_deposit={table['front_deposit'][-1]:.6g} " if a.width else "") +
+            + (f"front_deposit={table['front_deposit'][-1]:.6g} "
+               if "front_deposit" in table else "") +
             f"peak_front_speed={table['front_speed'][k]:.6g} at_t={table['time'][k]:.6g} "
             f"particles={table['particles'][0]}->{table['particles'][-1]}")
     if "kinetic" in table:

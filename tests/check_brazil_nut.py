@@ -6,14 +6,16 @@ same scene unshaken (--set walls.0.motion.oscillate.acceleration=0), run to 2 s.
 Measure: the intruder's height minus the mean height of the small spheres, in small
 diameters d, from t = 0.5 s (the poured bed has settled) to the end (4 s, 70 cycles
 later), with frames taken once per cycle at the same phase. The shaken bed convects
-(walls drag the outer spheres down, the centre rises) and carries the intruder up;
-measured, about 2.5 d, steadily (0.4-0.6 d per 10 cycles), while the shaking compacts
-the bed (its mean height drops ~0.4 d; the relative measure is immune to that).
-Passing needs a rise of at least 2 d by 4 s and a drop of the fraction of small
-spheres above it by at least 0.1. Unshaken, nothing drives motion after settling:
-over the same 0.5-2 s window in both runs, the control moves under 0.25 d (creep) and
-its bed's mean height under 0.1 d, while the shaken intruder rises at least three
-times as much. The bed must stay in the box (no particle removed) in both runs."""
+(walls drag the outer spheres down, the centre rises) and carries the intruder up,
+while the shaking compacts the bed (its mean height drops ~0.4 d; the relative
+measure is immune to that). Measured rises by 4 s for three random fills of the bed:
+2.49 d (seed 2004, the scene's), 1.71 d (seed 7), 1.27 d (seed 11); the fraction of
+small spheres above the intruder dropped by 0.25, 0.18, 0.12. Passing needs a rise of
+at least 1 d and a drop of at least 0.05: below every fill's, and four times the
+control's limit. Unshaken, nothing drives motion after settling: over 0.5-2 s the
+control moves under 0.25 d (measured 0.05 d, creep) and its bed's mean height under
+0.1 d, while the shaken intruder rises at least three times as much (0.88-1.27 d over
+the three fills). The bed must stay in the box (no particle removed) in both runs."""
 import os
 import subprocess
 import sys
@@ -70,8 +72,8 @@ def main():
                       f"fraction of small spheres above it {a[2]:.3f} -> {b[2]:.3f}; "
                       f"bed mean {a[3]:.2f} d -> {b[3]:.2f} d")
         rise, drop, _ = res["shaken", 4.0]
-        check(rise >= 2.0, f"shaken: the intruder rises {rise:.2f} d by 4 s (>= 2 d)")
-        check(drop >= 0.1, f"shaken: the fraction above it drops by {drop:.3f} (>= 0.1)")
+        check(rise >= 1.0, f"shaken: the intruder rises {rise:.2f} d by 4 s (>= 1 d)")
+        check(drop >= 0.05, f"shaken: the fraction above it drops by {drop:.3f} (>= 0.05)")
         rise2 = res["shaken", 2.0][0]
         rise, drop, bed = res["control", 2.0]
         check(abs(rise) < 0.25, f"control: the intruder moves {rise:.2f} d (< 0.25 d)")
