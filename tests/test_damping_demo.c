@@ -20,29 +20,13 @@
 
 #include "simtest.h"
 
-static char *slurp(const char *path) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *b = malloc((size_t)n + 1);
-  if (b && fread(b, 1, (size_t)n, f) != (size_t)n) {
-    free(b);
-    b = NULL;
-  }
-  if (b) b[n] = 0;
-  fclose(f);
-  return b;
-}
-
 enum { NMAX = 4096 };
 
 int main(int argc, char **argv) {
   char path[1024];
   snprintf(path, sizeof path, "%s/scenes/damping_demo-quick.yaml",
            argc > 1 ? argv[1] : ".");
-  char *yaml = slurp(path);
+  char *yaml = simtest_slurp(path);
   CHECK(yaml != NULL, "read %s", path);
   if (!yaml) return check_finish("test_damping_demo");
   const char *sets[] = {"output.energy_every=0"};

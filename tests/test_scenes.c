@@ -15,22 +15,6 @@
 
 #include "simtest.h"
 
-static char *slurp(const char *path) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *b = malloc((size_t)n + 1);
-  if (b && fread(b, 1, (size_t)n, f) != (size_t)n) {
-    free(b);
-    b = NULL;
-  }
-  if (b) b[n] = 0;
-  fclose(f);
-  return b;
-}
-
 /* flight time of the inelastic bouncing ball, in periods, for Gamma */
 static double model_flight(double G) {
   double w = 2 * ESF_PI * 25, g = 9.81, A = G * g / (w * w), t0 = asin(1 / G) / w;
@@ -52,7 +36,7 @@ static int floor_contacts(const esf_sim *s) {
 static void vibrated_bed(const char *dir) {
   char path[1024];
   snprintf(path, sizeof path, "%s/scenes/vibrated_bed-quick.yaml", dir);
-  char *yaml = slurp(path);
+  char *yaml = simtest_slurp(path);
   CHECK(yaml != NULL, "read %s", path);
   if (!yaml) return;
   const char *sets[] = {"output.energy_every=0"};
