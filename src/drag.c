@@ -56,12 +56,41 @@ int esf_drag_field(const esf_drag *d, const double x[3], double *p, double gradp
 
 double esf_drag_beta(const esf_drag *d, double dp, double slip) {
   double e = d->porosity, s = 1.0 - e;
-  if (e < 0.8) return 150.0 * s * s / e * d->mu / (dp * dp) + 1.75 * s * d->rho * slip / dp;
+  if (e < 0.8)
+    return 150.0 * s * s / e * d->mu / (dp * dp) + 1.75 * s * d->rho * slip / dp;
   double re = e * d->rho * slip * dp / d->mu;
   /* C_d |u - v|, finite as the slip vanishes */
-  double cds = re < 1000.0 ? 24.0 * d->mu / (e * d->rho * dp) * (1.0 + 0.15 * pow(re, 0.687))
-                           : 0.44 * slip;
+  double cds = re < 1000.0
+                   ? 24.0 * d->mu / (e * d->rho * dp) * (1.0 + 0.15 * pow(re, 0.687))
+                   : 0.44 * slip;
   return 0.75 * cds * e * s * d->rho / dp * pow(e, -2.65);
+}
+
+int esf_drag_setup(esf_sim *s, esf_error *err) {
+  esf_drag *d = s->drag;
+  if (!d) return ESF_OK;
+  const esf_particles *p = &s->p;
+  double tau = INFINITY;
+  for (size_t i = 0; i < p->n; i++) {
+    double r = p->radius[i];
+    double vol = s->cfg.dim == 2 ? ESF_PI * r * r * s->cfg.disk_thickness
+                                 : 4.0 / 3.0 * ESF_PI * r * r * r;
+    double t = p->mass[i] * (1.0 - d->porosity) / (vol * esf_drag_beta(d, 2.0 * r, 0.0));
+    if (t < tau) tau = t;
+  }
+  esf_sim_log(s,
+              "fluid: %s field from t = %.6g s, porosity %.4g, viscosity %.6g Pa s, "
+              "density %.6g kg/m^3; shortest drag relaxation time %.6g s",
+              d->kind == ESF_DRAG_RADIAL ? "radial" : "uniform", d->start, d->porosity,
+              d->mu, d->rho, tau);
+  if (s->dt > tau && !s->cfg.allow_unstable)
+    return esf_fail(err, ESF_EINPUT,
+                    "dt = %.6g s exceeds the shortest drag relaxation time m (1 - eps) / "
+                    "(V beta) = %.6g s: the explicit drag would be inaccurate, and "
+                    "unstable above twice that. Lower dt, or check the fluid viscosity "
+                    "and porosity",
+                    s->dt, tau);
+  return ESF_OK;
 }
 
 int esf_drag_apply(esf_sim *s, const double *x, const double *v, esf_error *err) {
@@ -102,7 +131,8 @@ int esf_drag_apply(esf_sim *s, const double *x, const double *v, esf_error *err)
 double esf_drag_work(const esf_sim *s, const double *vbar, double dt) {
   const esf_drag *d = s->drag;
   double wsum = 0.0;
-  for (size_t i = 0; i < d->n && i < s->p.n; i++) wsum += v3_dot(d->f + 3 * i, vbar + 3 * i);
+  for (size_t i = 0; i < d->n && i < s->p.n; i++)
+    wsum += v3_dot(d->f + 3 * i, vbar + 3 * i);
   return wsum * dt;
 }
 

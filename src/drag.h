@@ -39,6 +39,12 @@ int esf_drag_field(const esf_drag *d, const double x[3], double *p, double gradp
  * and slip speed |u - v| (m/s): Ergun for porosity < 0.8, Wen-Yu above. */
 double esf_drag_beta(const esf_drag *d, double dp, double slip);
 
+/* At set-up (dt chosen): the shortest drag relaxation time of any particle,
+ * tau = m (1 - eps) / (V beta_0), beta_0 the slip-free beta (the viscous Ergun or
+ * Stokes-limit Wen-Yu term); an explicit step must stay below it (the drag is
+ * integrated explicitly; dt > 2 tau diverges). Refused unless allow_unstable. */
+int esf_drag_setup(esf_sim *s, esf_error *err);
+
 /* Adds the fluid force to s->p.f at state (x, v) when t >= start, records it for the
  * ledger, and its power into s->tally (p_fluid) when set. */
 int esf_drag_apply(esf_sim *s, const double *x, const double *v, esf_error *err);

@@ -107,8 +107,9 @@ static int apply_one(esf_sim *s, esf_event *ev, esf_error *err) {
   ev->done = 1;
   ev->deleted = (long)out;
   ev->t_done = s->t;
-  esf_sim_log(s, "t = %.6g s (step %ld): event at %.6g s deleted %zu particles inside the "
-                 "%s; %zu remain",
+  esf_sim_log(s,
+              "t = %.6g s (step %ld): event at %.6g s deleted %zu particles inside the "
+              "%s; %zu remain",
               s->t, s->step, ev->at, out,
               ev->region.kind == ESF_REGION_BOX ? "box" : "cylinder", p->n);
   return ESF_OK;

@@ -16,11 +16,11 @@ typedef struct esf_region {
 } esf_region;
 
 typedef struct esf_event {
-  double at;       /* s */
+  double at; /* s */
   esf_region region;
-  int done;        /* applied */
-  long deleted;    /* particles it deleted */
-  double t_done;   /* time it was applied, s */
+  int done;      /* applied */
+  long deleted;  /* particles it deleted */
+  double t_done; /* time it was applied, s */
 } esf_event;
 
 typedef struct esf_events {

@@ -72,11 +72,10 @@ int esf_servo_setup(esf_sim *s, esf_error *err) {
     }
     if (!(mo->area > 0)) {
       if (plane || s->cfg.dim == 2)
-        return esf_fail(err, ESF_EINPUT,
-                        "servo wall '%s': give motion.servo.area (m^2) for %s",
-                        w->g[k].label,
-                        plane ? "an infinite plane"
-                              : "a 2D scene (wall length x disk_thickness)");
+        return esf_fail(
+            err, ESF_EINPUT, "servo wall '%s': give motion.servo.area (m^2) for %s",
+            w->g[k].label,
+            plane ? "an infinite plane" : "a 2D scene (wall length x disk_thickness)");
       if (!(area > 0))
         return esf_fail(err, ESF_EINPUT,
                         "servo wall '%s' has no area across its direction; give "
@@ -89,8 +88,8 @@ int esf_servo_setup(esf_sim *s, esf_error *err) {
                 "servo wall '%s': target %.6g Pa over %.6g m^2 along (%g, %g, %g), "
                 "gain %s %.6g, max speed %.6g m/s",
                 w->g[k].label, mo->stress, mo->area, mo->dir[0], mo->dir[1], mo->dir[2],
-                mo->gain > 0 ? "fixed" : "auto, alpha", mo->gain > 0 ? mo->gain : mo->alpha,
-                mo->vmax);
+                mo->gain > 0 ? "fixed" : "auto, alpha",
+                mo->gain > 0 ? mo->gain : mo->alpha, mo->vmax);
   }
   free(w->gforce);
   w->gforce = calloc(4 * (size_t)w->ngroups, sizeof *w->gforce);

@@ -20,7 +20,8 @@ void esf_servo_update(esf_sim *s);
 /* Adds one wall contact's spring force on the particle (the total less the dashpot
  * forces: the normal dashpot acts as -fd_n n on the particle, n toward the wall) to a
  * group's accumulator (4 doubles: force, contacts). */
-static inline void esf_servo_add(double *acc, const esf_contact_out *o, const double n[3]) {
+static inline void esf_servo_add(double *acc, const esf_contact_out *o,
+                                 const double n[3]) {
   for (int q = 0; q < 3; q++) acc[q] += o->f[q] + o->fd_n * n[q] - o->fd_t[q];
   acc[3] += 1.0;
 }

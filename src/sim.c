@@ -143,6 +143,7 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
   s->led.on = c->energy_every > 0;
   rc = esf_servo_setup(s, err); /* servo walls (servo.c) */
   if (!rc) rc = esf_events_setup(s, err); /* scene events (events.c) */
+  if (!rc) rc = esf_drag_setup(s, err);   /* fluid force (drag.c) */
   if (rc) return rc;
   return esf_neighbor_init(&s->nb, c->skin, s->led.on, err);
 }

@@ -7,8 +7,9 @@
  *    within 1e-4 relative, and held (stress within 1e-3 over the last half).
  * 2. A packing of 80 frictionless spheres under gravity in a box whose top is a servo
  *    plate at 2e4 Pa: the plate's stress reaches the target within 1% and stays within
- *    2% over t > 0.4 s (the lid arrives at about 0.2 s); the floor (a fixed wall, frictionless side walls)
- *    carries sigma A plus the weight of the spheres within 1% (force balance).
+ *    2% over t > 0.4 s (the lid arrives at about 0.2 s); the floor (a fixed wall,
+ * frictionless side walls) carries sigma A plus the weight of the spheres within 1%
+ * (force balance).
  * 3. Drilling: the same packing, an event deletes the centres inside a cylinder at
  *    t_d. Nothing is deleted before t_d; the count deleted equals a brute-force count
  *    of centres inside the cylinder at the step it applies, at the step nearest t_d; the
@@ -163,9 +164,10 @@ static void drilling(void) {
   }
   CHECK(rc == 0, "drilling run");
   CHECK(!early, "nothing deleted before the event");
-  CHECK(ev->done && ev->deleted == expect && expect > 0, "event deleted %ld (expected %ld)",
-        ev->deleted, expect);
-  CHECK(fabs(ev->t_done - 0.45) <= 0.5 * s->dt + 1e-12, "applied at t = %.6g", ev->t_done);
+  CHECK(ev->done && ev->deleted == expect && expect > 0,
+        "event deleted %ld (expected %ld)", ev->deleted, expect);
+  CHECK(fabs(ev->t_done - 0.45) <= 0.5 * s->dt + 1e-12, "applied at t = %.6g",
+        ev->t_done);
   double carried = s->led.e_removed - removed_before;
   CHECK(fabs(err_after - err_before) < 0.01 * carried,
         "balance across the event: residual %.4g -> %.4g J, removed %.4g J", err_before,
