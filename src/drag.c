@@ -78,11 +78,7 @@ int esf_drag_setup(esf_sim *s, esf_error *err) {
     double t = p->mass[i] * (1.0 - d->porosity) / (vol * esf_drag_beta(d, 2.0 * r, 0.0));
     if (t < tau) tau = t;
   }
-  esf_sim_log(s,
-              "fluid: %s field from t = %.6g s, porosity %.4g, viscosity %.6g Pa s, "
-              "density %.6g kg/m^3; shortest drag relaxation time %.6g s",
-              d->kind == ESF_DRAG_RADIAL ? "radial" : "uniform", d->start, d->porosity,
-              d->mu, d->rho, tau);
+  d->tau = tau;
   if (s->dt > tau && !s->cfg.allow_unstable)
     return esf_fail(err, ESF_EINPUT,
                     "dt = %.6g s exceeds the shortest drag relaxation time m (1 - eps) / "
@@ -107,6 +103,19 @@ int esf_drag_apply(esf_sim *s, const double *x, const double *v, esf_error *err)
   }
   d->n = p->n;
   int on = s->t >= d->start;
+  if (d->logged == 0 && s->step == 0 && s->log) {
+    double tau = d->tau;
+    esf_sim_log(s,
+                "fluid: %s field from t = %.6g s, porosity %.4g, viscosity %.6g Pa s, "
+                "density %.6g kg/m^3; shortest drag relaxation time %.6g s",
+                d->kind == ESF_DRAG_RADIAL ? "radial" : "uniform", d->start, d->porosity,
+                d->mu, d->rho, tau);
+    d->logged = 1;
+  }
+  if (on && d->logged < 2 && s->log) {
+    esf_sim_log(s, "t = %.6g s (step %ld): fluid force on", s->t, s->step);
+    d->logged = 2;
+  }
   double power = 0.0;
   for (size_t i = 0; i < p->n; i++) {
     double *F = d->f + 3 * i;

@@ -27,6 +27,8 @@ typedef struct esf_drag {
   /* the last evaluation's force on each particle (ledger), N */
   size_t cap, n;
   double *f;
+  int logged; /* set-up and switch-on written to the run's log: 1, 2 */
+  double tau; /* shortest drag relaxation time, s */
 } esf_drag;
 
 /* Fluid pressure relative to the far field, p - p_e (Pa), the pressure gradient (Pa/m)

@@ -106,6 +106,7 @@ static int apply_one(esf_sim *s, esf_event *ev, esf_error *err) {
   if (rc) return rc;
   ev->done = 1;
   ev->deleted = (long)out;
+  s->removed += (long)out;
   ev->t_done = s->t;
   esf_sim_log(s,
               "t = %.6g s (step %ld): event at %.6g s deleted %zu particles inside the "

@@ -84,12 +84,6 @@ int esf_servo_setup(esf_sim *s, esf_error *err) {
       mo->area = area;
     }
     if (!(mo->kn > 0)) mo->kn = 1.0; /* no particles: any gain, nothing to push */
-    esf_sim_log(s,
-                "servo wall '%s': target %.6g Pa over %.6g m^2 along (%g, %g, %g), "
-                "gain %s %.6g, max speed %.6g m/s",
-                w->g[k].label, mo->stress, mo->area, mo->dir[0], mo->dir[1], mo->dir[2],
-                mo->gain > 0 ? "fixed" : "auto, alpha",
-                mo->gain > 0 ? mo->gain : mo->alpha, mo->vmax);
   }
   free(w->gforce);
   w->gforce = calloc(4 * (size_t)w->ngroups, sizeof *w->gforce);
@@ -103,6 +97,14 @@ void esf_servo_update(esf_sim *s) {
     esf_wall_group *g = &w->g[k];
     esf_wall_motion *mo = &g->motion;
     if (mo->kind != ESF_MOTION_SERVO) continue;
+    if (s->step == 0) /* the run's log is open from the first step on */
+      esf_sim_log(s,
+                  "servo wall '%s': target %.6g Pa over %.6g m^2 along (%g, %g, %g), "
+                  "gain %s %.6g, max speed %.6g m/s",
+                  w->g[k].label, mo->stress, mo->area, mo->dir[0], mo->dir[1], mo->dir[2],
+                  mo->gain > 0 ? "fixed" : "auto, alpha",
+                  mo->gain > 0 ? mo->gain : mo->alpha, mo->vmax);
+
     const double *F = w->gforce + 4 * k;
     mo->sigma = v3_dot(F, mo->dir) / mo->area;
     double nc = F[3] > 1 ? F[3] : 1.0;

@@ -95,7 +95,8 @@ typedef struct esf_sim {
   esf_dt_estimate dte;
   esf_rng rng;
   /* counters */
-  long removed;                  /* particles removed for leaving the domain */
+  long removed;                  /* particles removed (left the domain, or deleted by
+                                    events) */
   double contacts_sum;           /* sum over steps of touching contacts */
   long rhs_evals;                /* force evaluations */
   FILE *log;                     /* the run's log, or NULL */
