@@ -18,11 +18,12 @@
  *   beta = 3/4 C_d eps (1 - eps) rho_f |u - v_p| / d_p eps^-2.65,
  *   C_d = 24/Re (1 + 0.15 Re^0.687) (Re < 1000), 0.44 above, Re = eps rho_f |u-v| d/mu.
  * u is used as the seed uses it: the Darcy (superficial) velocity. The porosity is a
- * fixed scene value. The force starts at `start` (production after drilling); the time
- * is the step's (s->t), so an ODE method switches it on at a step boundary.
- * Ledger: the leapfrog's work is F_n . vbar dt per step (the same identity as the other
- * kick forces), other integrators integrate the power F . v (tally p_fluid).
- * Units: SI. */
+ * fixed scene value, or the local void fraction of a coarse grid of cells
+ * (porosity.c) rebuilt at every evaluation while the force acts. The force starts at
+ * `start` (production after drilling); the time is the step's (s->t), so an ODE method
+ * switches it on at a step boundary. Ledger: the leapfrog's work is F_n . vbar dt per
+ * step (the same identity as the other kick forces), other integrators integrate the
+ * power F . v (tally p_fluid). Units: SI. */
 #include "drag.h"
 
 #include <math.h>
@@ -54,8 +55,8 @@ int esf_drag_field(const esf_drag *d, const double x[3], double *p, double gradp
   return 1;
 }
 
-double esf_drag_beta(const esf_drag *d, double dp, double slip) {
-  double e = d->porosity, s = 1.0 - e;
+double esf_drag_beta(const esf_drag *d, double eps, double dp, double slip) {
+  double e = eps, s = 1.0 - e;
   if (e < 0.8)
     return 150.0 * s * s / e * d->mu / (dp * dp) + 1.75 * s * d->rho * slip / dp;
   double re = e * d->rho * slip * dp / d->mu;
@@ -70,12 +71,17 @@ int esf_drag_setup(esf_sim *s, esf_error *err) {
   esf_drag *d = s->drag;
   if (!d) return ESF_OK;
   const esf_particles *p = &s->p;
+  if (d->grid) {
+    int rc = esf_porosity_update(&d->pg, p, p->x, s->cfg.dim, s->cfg.disk_thickness, err);
+    if (rc) return rc;
+  }
   double tau = INFINITY;
   for (size_t i = 0; i < p->n; i++) {
     double r = p->radius[i];
     double vol = s->cfg.dim == 2 ? ESF_PI * r * r * s->cfg.disk_thickness
                                  : 4.0 / 3.0 * ESF_PI * r * r * r;
-    double t = p->mass[i] * (1.0 - d->porosity) / (vol * esf_drag_beta(d, 2.0 * r, 0.0));
+    double e = d->grid ? esf_porosity_at(&d->pg, p->x + 3 * i) : d->porosity;
+    double t = p->mass[i] * (1.0 - e) / (vol * esf_drag_beta(d, e, 2.0 * r, 0.0));
     if (t < tau) tau = t;
   }
   d->tau = tau;
@@ -105,16 +111,22 @@ int esf_drag_apply(esf_sim *s, const double *x, const double *v, esf_error *err)
   int on = s->t >= d->start;
   if (d->logged == 0 && s->step == 0 && s->log) {
     double tau = d->tau;
-    esf_sim_log(s,
-                "fluid: %s field from t = %.6g s, porosity %.4g, viscosity %.6g Pa s, "
-                "density %.6g kg/m^3; shortest drag relaxation time %.6g s",
-                d->kind == ESF_DRAG_RADIAL ? "radial" : "uniform", d->start, d->porosity,
-                d->mu, d->rho, tau);
+    esf_sim_log(
+        s,
+        "fluid: %s field from t = %.6g s, porosity %s%.4g%s, viscosity %.6g Pa s, "
+        "density %.6g kg/m^3; shortest drag relaxation time %.6g s",
+        d->kind == ESF_DRAG_RADIAL ? "radial" : "uniform", d->start,
+        d->grid ? "from cells of about " : "", d->grid ? d->pg.h : d->porosity,
+        d->grid ? " m" : "", d->mu, d->rho, tau);
     d->logged = 1;
   }
   if (on && d->logged < 2 && s->log) {
     esf_sim_log(s, "t = %.6g s (step %ld): fluid force on", s->t, s->step);
     d->logged = 2;
+  }
+  if (on && d->grid) {
+    int rc = esf_porosity_update(&d->pg, p, x, s->cfg.dim, s->cfg.disk_thickness, err);
+    if (rc) return rc;
   }
   double power = 0.0;
   for (size_t i = 0; i < p->n; i++) {
@@ -127,7 +139,8 @@ int esf_drag_apply(esf_sim *s, const double *x, const double *v, esf_error *err)
                                  : 4.0 / 3.0 * ESF_PI * r * r * r;
     double w[3];
     v3_sub(w, u, v + 3 * i);
-    double c = vol * esf_drag_beta(d, 2.0 * r, v3_norm(w)) / (1.0 - d->porosity);
+    double e = d->grid ? esf_porosity_at(&d->pg, x + 3 * i) : d->porosity;
+    double c = vol * esf_drag_beta(d, e, 2.0 * r, v3_norm(w)) / (1.0 - e);
     v3_scale(F, c, w);
     v3_axpy(F, -vol, gp);
     v3_add(p->f + 3 * i, p->f + 3 * i, F);
@@ -148,6 +161,7 @@ double esf_drag_work(const esf_sim *s, const double *vbar, double dt) {
 void esf_drag_free(esf_drag **d) {
   if (!*d) return;
   free((*d)->f);
+  esf_porosity_release(&(*d)->pg);
   free(*d);
   *d = NULL;
 }

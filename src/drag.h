@@ -6,6 +6,7 @@
 #ifndef ESF_DRAG_H
 #define ESF_DRAG_H
 
+#include "porosity.h"
 #include "sim.h"
 
 enum { ESF_DRAG_RADIAL = 0, ESF_DRAG_UNIFORM = 1 };
@@ -13,7 +14,9 @@ enum { ESF_DRAG_RADIAL = 0, ESF_DRAG_UNIFORM = 1 };
 typedef struct esf_drag {
   int kind;        /* ESF_DRAG_* */
   double start;    /* time the fluid force is switched on, s */
-  double porosity; /* void fraction epsilon, fixed */
+  double porosity; /* void fraction epsilon, fixed (grid off) */
+  int grid;        /* 1: epsilon from a coarse grid of cells (porosity.h) */
+  esf_porosity_grid pg;
   double mu;       /* fluid viscosity, Pa s */
   double rho;      /* fluid density, kg/m^3 */
   double perm;     /* permeability k, m^2 (radial: Darcy velocity) */
@@ -37,9 +40,10 @@ typedef struct esf_drag {
 int esf_drag_field(const esf_drag *d, const double x[3], double *p, double gradp[3],
                    double u[3]);
 
-/* The interphase momentum coefficient beta (kg/(m^3 s)) for particle diameter dp (m)
- * and slip speed |u - v| (m/s): Ergun for porosity < 0.8, Wen-Yu above. */
-double esf_drag_beta(const esf_drag *d, double dp, double slip);
+/* The interphase momentum coefficient beta (kg/(m^3 s)) for void fraction eps,
+ * particle diameter dp (m) and slip speed |u - v| (m/s): Ergun for eps < 0.8, Wen-Yu
+ * above. */
+double esf_drag_beta(const esf_drag *d, double eps, double dp, double slip);
 
 /* At set-up (dt chosen): the shortest drag relaxation time of any particle,
  * tau = m (1 - eps) / (V beta_0), beta_0 the slip-free beta (the viscous Ergun or

@@ -131,10 +131,20 @@ static int read_fluid(const esf_ynode *f, esf_sim *s, esf_error *err) {
   if (!d) return esf_fail(err, ESF_ENOMEM, "out of memory");
   s->drag = d;
   rc = esf_yget_double(f, "start", 0, &d->start, err);
-  if (!rc) rc = esf_yget_double(f, "porosity", 1, &d->porosity, err);
-  if (!rc && !(d->porosity > 0 && d->porosity < 1))
-    return esf_ynode_fail(esf_ymap_get(f, "porosity"), err, "must be in (0, 1), got %g",
-                          d->porosity);
+  const esf_ynode *po = esf_ymap_get(f, "porosity");
+  if (!rc && !po) return esf_ynode_fail(f, err, "missing key 'porosity'");
+  if (!rc && po->kind == ESF_YN_MAP) { /* {cell: h}: from a grid of cells */
+    static const char *const pkeys[] = {"cell", NULL};
+    d->grid = 1;
+    rc = esf_ymap_check_keys(po, pkeys, err);
+    if (!rc) rc = pos(po, "cell", 1, &d->pg.h, err);
+  } else if (!rc) {
+    rc = esf_ynode_double(po, &d->porosity, err);
+    if (!rc && !(d->porosity > 0 && d->porosity < 1))
+      return esf_ynode_fail(
+          po, err, "must be a void fraction in (0, 1) or {cell: size in m}, got %g",
+          d->porosity);
+  }
   if (!rc) rc = pos(f, "viscosity", 1, &d->mu, err);
   if (!rc) rc = pos(f, "density", 1, &d->rho, err);
   const esf_ynode *r = esf_ymap_get(f, "radial"), *u = esf_ymap_get(f, "uniform");
