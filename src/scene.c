@@ -284,12 +284,15 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
 }
 
 static int read_top(const esf_ynode *root, esf_config *c, esf_error *err) {
+  /* one block per feature, so that parallel additions merge */
+  /* clang-format off */
   static const char *const keys[] = {
       "name",   "dimension", "disk_thickness", "gravity",    "domain",  "materials",
       "mixing", "particles", "walls",          "integrator", "damping", "contact",
       "search", "run",       "output",
       "events", "fluid", /* sand production (scene_sand.c) */
       NULL};
+  /* clang-format on */
   int rc = esf_ynode_require_map(root, err);
   if (!rc) rc = esf_ymap_check_keys(root, keys, err);
   const char *name = NULL;

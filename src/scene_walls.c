@@ -122,9 +122,10 @@ static int read_motion(const esf_ynode *mo, esf_wall_motion *m, esf_error *err) 
   if (!rc) rc = esf_ymap_check_keys(mo, kinds, err);
   if (rc) return rc;
   if (mo->n != 1)
-    return esf_ynode_fail(mo, err,
-                          "a motion is exactly one of translate, rotate, oscillate, servo");
-  if (esf_ymap_get(mo, "servo")) return esf_scene_servo(esf_ymap_get(mo, "servo"), m, err);
+    return esf_ynode_fail(
+        mo, err, "a motion is exactly one of translate, rotate, oscillate, servo");
+  if (esf_ymap_get(mo, "servo"))
+    return esf_scene_servo(esf_ymap_get(mo, "servo"), m, err);
   memset(m, 0, sizeof *m);
   const esf_ynode *t = esf_ymap_get(mo, "translate"), *r = esf_ymap_get(mo, "rotate"),
                   *o = esf_ymap_get(mo, "oscillate");

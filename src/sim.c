@@ -141,7 +141,7 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
     c->skin = s->p.n ? 0.4 * rsum / (double)s->p.n : 1e-3;
   }
   s->led.on = c->energy_every > 0;
-  rc = esf_servo_setup(s, err); /* servo walls (servo.c) */
+  rc = esf_servo_setup(s, err);           /* servo walls (servo.c) */
   if (!rc) rc = esf_events_setup(s, err); /* scene events (events.c) */
   if (!rc) rc = esf_drag_setup(s, err);   /* fluid force (drag.c) */
   if (rc) return rc;
