@@ -18,6 +18,7 @@
 #include <arkode/arkode_erkstep.h>
 #include <math.h>
 #include <nvector/nvector_serial.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -40,6 +41,10 @@ typedef struct erk {
   int roots_off;            /* events disabled until t_event (a step being redone) */
   double t_event;           /* s: the located event the redone step ends at */
   long events;              /* events located (each costs a redone step) */
+  double r_stab;            /* the table's stability radius (for the log) */
+  long base[6]; /* ARKODE's counters of the ERKStep memories freed at checkpoints:
+                   steps, attempts, error-test failures, rhs, accuracy-, stability-
+                   limited steps */
   char name[128];
 } erk;
 
@@ -169,6 +174,35 @@ static int fail_flag(erk *e, esf_error *err, int flag, const char *what) {
                   what, t, h, ERKStepGetReturnFlagName(flag), flag);
 }
 
+/* A new ERKStep memory at (s->t, e->y) with every setting, the first step h0 (adaptive)
+ * or the fixed step s->dt; e->atol filled (adaptive). Used by create and at every
+ * checkpoint (erk_save, erk_restore). */
+static int erk_mem_create(erk *e, double h0, esf_error *err) {
+  esf_sim *s = e->ode.s;
+  const esf_config *c = &s->cfg;
+  e->mem = ERKStepCreate(erk_rhs, s->t, e->y, e->ctx);
+  if (!e->mem) return esf_fail(err, ESF_EINTERNAL, "ERKStepCreate failed");
+  ERKStepSetUserData(e->mem, e);
+  ERKStepSetErrHandlerFn(e->mem, esf_sundials_silent, NULL);
+  int flag = ERKStepSetTable(e->mem, e->table);
+  if (flag) return fail_flag(e, err, flag, "table");
+  ERKStepSetMaxNumSteps(e->mem, c->max_steps);
+  if (c->rtol > 0) {
+    ERKStepSVtolerances(e->mem, c->rtol, e->atol);
+    ERKStepSetInitStep(e->mem, h0);
+    ERKStepSetMaxStep(e->mem, 10.0 * s->dte.crit[ESF_DT_HART]);
+    if (e->h_stab > 0) ERKStepSetStabilityFn(e->mem, erk_stab, e);
+    ERKStepSetCFLFraction(e->mem,
+                          0.5); /* ARKODE's default, stated: steps <= h_stab / 2 */
+    e->nroots = -1;             /* register the event functions afresh */
+    if (c->roots && erk_roots_init(e, 1, 1))
+      return esf_fail(err, ESF_EINTERNAL, "ERKStepRootInit failed");
+  } else {
+    ERKStepSetFixedStep(e->mem, s->dt);
+  }
+  return ESF_OK;
+}
+
 static int erk_create(esf_sim *s, void **state, esf_error *err) {
   const esf_config *c = &s->cfg;
   erk *e = calloc(1, sizeof *e);
@@ -204,38 +238,25 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   esf_dem_ode_pack(&e->ode, NULL, N_VGetArrayPointer(e->y));
   rc = esf_dem_ode_start(&e->ode, N_VGetArrayPointer(e->y), err);
   if (rc) return rc;
-  e->mem = ERKStepCreate(erk_rhs, s->t, e->y, e->ctx);
-  if (!e->mem) return esf_fail(err, ESF_EINTERNAL, "ERKStepCreate failed");
-  ERKStepSetUserData(e->mem, e);
-  ERKStepSetErrHandlerFn(e->mem, esf_sundials_silent, NULL);
-  int flag = ERKStepSetTable(e->mem, e->table);
-  if (flag) return fail_flag(e, err, flag, "table");
-  ERKStepSetMaxNumSteps(e->mem, c->max_steps);
   double w2 = (c->dim == 2 ? 6.0 : 7.0) * s->dte.k_max / s->dte.m_min;
   double r = stability_radius(e->table, s->dte.xi);
+  e->r_stab = r;
   e->h_stab = (r > 0.05 && w2 > 0) ? r / sqrt(w2) : -1.0;
   if (adaptive) {
     e->atol = N_VNew_Serial(N_VGetLength(e->y), e->ctx);
-    esf_dem_ode_atol(&e->ode, N_VGetArrayPointer(e->atol), c->rtol, c->atol);
-    ERKStepSVtolerances(e->mem, c->rtol, e->atol);
     e->ysave = N_VClone(e->y);
-    if (!e->ysave) return esf_fail(err, ESF_ENOMEM, "out of memory");
-    ERKStepSetInitStep(e->mem, s->dt);
-    ERKStepSetMaxStep(e->mem, 10.0 * s->dte.crit[ESF_DT_HART]);
-    if (e->h_stab > 0) ERKStepSetStabilityFn(e->mem, erk_stab, e);
-    ERKStepSetCFLFraction(e->mem,
-                          0.5); /* ARKODE's default, stated: steps <= h_stab / 2 */
-    if (c->roots && erk_roots_init(e, 1, 1))
-      return esf_fail(err, ESF_EINTERNAL, "ERKStepRootInit failed");
-  } else {
-    ERKStepSetFixedStep(e->mem, s->dt);
+    if (!e->atol || !e->ysave) return esf_fail(err, ESF_ENOMEM, "out of memory");
+    esf_dem_ode_atol(&e->ode, N_VGetArrayPointer(e->atol), c->rtol, c->atol);
   }
+  rc = erk_mem_create(e, s->dt, err);
+  if (rc) return rc;
   esf_sim_log(s,
               "%s: %d stages, order %d%s; stability radius %.3f along the xi = %.3f "
               "ray, omega_max %.4g rad/s: h_stab %.4g s; %s; history %s%s",
               c->method, e->table->stages, e->table->q,
-              e->table->d ? " with an embedding" : "", r, s->dte.xi, sqrt(w2), e->h_stab,
-              adaptive ? "adaptive" : "fixed step", esf_history_names[c->history],
+              e->table->d ? " with an embedding" : "", e->r_stab, s->dte.xi, sqrt(w2),
+              e->h_stab, adaptive ? "adaptive" : "fixed step",
+              esf_history_names[c->history],
               c->roots ? "; steps end at contact onset and separation (roots)" : "");
   return ESF_OK;
 }
@@ -349,23 +370,116 @@ static int erk_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   return rc;
 }
 
+/* ARKODE's counters, those of memories freed at checkpoints included. */
+static void mem_counters(const erk *e, long v[6]) {
+  long x[6] = {0};
+  ERKStepGetNumSteps(e->mem, &x[0]);
+  ERKStepGetNumStepAttempts(e->mem, &x[1]);
+  ERKStepGetNumErrTestFails(e->mem, &x[2]);
+  ERKStepGetNumRhsEvals(e->mem, &x[3]);
+  ERKStepGetNumAccSteps(e->mem, &x[4]);
+  ERKStepGetNumExpSteps(e->mem, &x[5]);
+  for (int k = 0; k < 6; k++) v[k] = e->base[k] + x[k];
+}
+
+/* Checkpoints. ARKODE 6.4 exposes neither its step-size controller's error history
+ * nor a way to set it, so a resumed ERKStep cannot continue the old one's controller.
+ * Instead the run that writes a checkpoint restarts ARKODE here: a new ERKStep memory at
+ * the same (t, y) with the step size ARKODE proposed next (ERKStepGetCurrentStep), and
+ * a resumed run builds its memory from exactly the same values, so both continue
+ * identically (bitwise). Cost per checkpoint: one extra rhs evaluation (the first
+ * stage is not reused) and a controller without history for the next step or two. */
+typedef struct erk_saved {
+  double h, t_save, t_event, t_commit, el_t0;
+  int64_t len, has_atol, retries, resizes, events, roots_off, nrhs, ncommit, nfail;
+  int64_t base[6];
+} erk_saved;
+
+static int erk_save(esf_sim *s, void *state, esf_blob *out, esf_error *err) {
+  erk *e = state;
+  erk_saved v = {0};
+  realtype h = s->dt;
+  if (s->cfg.rtol > 0) ERKStepGetCurrentStep(e->mem, &h);
+  long cnt[6];
+  mem_counters(e, cnt);
+  v.h = h;
+  v.t_save = e->t_save;
+  v.t_event = e->t_event;
+  v.t_commit = e->ode.t_commit;
+  v.el_t0 = e->ode.el_t0;
+  v.len = (int64_t)e->ode.len;
+  v.has_atol = e->atol != NULL;
+  v.retries = e->retries;
+  v.resizes = e->resizes;
+  v.events = e->events;
+  v.roots_off = e->roots_off;
+  v.nrhs = e->ode.nrhs;
+  v.ncommit = e->ode.ncommit;
+  v.nfail = e->ode.nfail;
+  for (int k = 0; k < 6; k++) v.base[k] = cnt[k];
+  esf_blob_put(out, &v, sizeof v);
+  esf_blob_put(out, N_VGetArrayPointer(e->y), e->ode.len * sizeof(double));
+  if (e->atol)
+    esf_blob_put(out, N_VGetArrayPointer(e->atol), e->ode.len * sizeof(double));
+  /* the restart both runs make */
+  ERKStepFree(&e->mem);
+  for (int k = 0; k < 6; k++) e->base[k] = cnt[k];
+  return erk_mem_create(e, h, err);
+}
+
+static int erk_restore(esf_sim *s, void *state, esf_blob_in *in, esf_error *err) {
+  erk *e = state;
+  erk_saved v;
+  if (esf_blob_get(in, &v, sizeof v))
+    return esf_fail(err, ESF_EINPUT, "%s: the saved state is cut short", e->name);
+  e->ode.n = s->p.n;
+  size_t len = esf_dem_ode_layout(&e->ode);
+  if ((size_t)v.len != len || (v.has_atol != 0) != (s->cfg.rtol > 0) ||
+      in->n - in->pos != (v.has_atol ? 2 : 1) * len * sizeof(double))
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: the saved ODE state has %lld entries, the restored lists need "
+                    "%zu",
+                    e->name, (long long)v.len, len);
+  N_VDestroy(e->y);
+  e->y = N_VNew_Serial((sunindextype)len, e->ctx);
+  if (!e->y) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  esf_blob_get(in, N_VGetArrayPointer(e->y), len * sizeof(double));
+  if (e->atol) {
+    N_VDestroy(e->atol);
+    N_VDestroy(e->ysave);
+    e->atol = N_VClone(e->y);
+    e->ysave = N_VClone(e->y);
+    if (!e->atol || !e->ysave) return esf_fail(err, ESF_ENOMEM, "out of memory");
+    esf_blob_get(in, N_VGetArrayPointer(e->atol), len * sizeof(double));
+  }
+  e->t_save = v.t_save;
+  e->t_event = v.t_event;
+  e->ode.t_commit = v.t_commit;
+  e->ode.el_t0 = v.el_t0;
+  e->retries = v.retries;
+  e->resizes = v.resizes;
+  e->events = v.events;
+  e->roots_off = (int)v.roots_off;
+  e->ode.nrhs = v.nrhs;
+  e->ode.ncommit = v.ncommit;
+  e->ode.nfail = v.nfail;
+  for (int k = 0; k < 6; k++) e->base[k] = v.base[k];
+  ERKStepFree(&e->mem);
+  return erk_mem_create(e, v.h, err);
+}
+
 static void erk_stats(const esf_sim *s, void *state, esf_integ_stats *o) {
   (void)s;
   erk *e = state;
   memset(o, 0, sizeof *o);
-  long v = 0;
-  ERKStepGetNumSteps(e->mem, &v);
-  o->steps = v;
-  ERKStepGetNumStepAttempts(e->mem, &v);
-  o->attempts = v;
-  ERKStepGetNumErrTestFails(e->mem, &v);
-  o->rejected = v + e->retries;
-  ERKStepGetNumRhsEvals(e->mem, &v);
-  o->rhs_evals = v + e->ode.ncommit;
-  ERKStepGetNumAccSteps(e->mem, &v);
-  o->acc_limited = v;
-  ERKStepGetNumExpSteps(e->mem, &v);
-  o->stab_limited = v;
+  long v[6];
+  mem_counters(e, v);
+  o->steps = v[0];
+  o->attempts = v[1];
+  o->rejected = v[2] + e->retries;
+  o->rhs_evals = v[3] + e->ode.ncommit;
+  o->acc_limited = v[4];
+  o->stab_limited = v[5];
   realtype h = 0;
   ERKStepGetLastStep(e->mem, &h);
   o->h_last = h;
@@ -398,4 +512,6 @@ const esf_integrator_type esf_integrator_erk = {
     .step = erk_step,
     .destroy = erk_destroy,
     .stats = erk_stats,
+    .save = erk_save,
+    .restore = erk_restore,
 };

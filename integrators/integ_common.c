@@ -13,6 +13,7 @@ int esf_integ_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
     if (rc) return rc;
   }
   int rc = esf_neighbor_check(&s->nb, &s->p, esf_walls_moved(&s->walls), &rebuild, err);
+  s->nb.disp_valid = 0;
   if (rc) {
     esf_error_prefix(err,
                      "step %ld (t = %.6g s, dt = %.4g s, critical dt %.4g s): ", s->step,

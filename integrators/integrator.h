@@ -12,6 +12,7 @@
 #ifndef ESF_INTEGRATOR_H
 #define ESF_INTEGRATOR_H
 
+#include "blob.h"
 #include "esf_error.h"
 #include "sim.h"
 
@@ -46,6 +47,16 @@ typedef struct esf_integrator_type {
   void (*destroy)(void **state);
   /* Optional: cost accounting so far. */
   void (*stats)(const esf_sim *s, void *state, esf_integ_stats *out);
+  /* Optional: checkpoints (checkpoint.h); a scheme without them cannot checkpoint.
+   * save appends the scheme's state between steps to out. A scheme whose library keeps
+   * state it does not expose (ARKODE's step-size controller history) restarts itself
+   * here from exactly what it saved, so the run that wrote the checkpoint and a run
+   * resumed from it continue identically. restore is called on a state fresh from
+   * create on the same scene, after the sim's own state (particles, lists, walls,
+   * ledger, counters) was restored, and sets the scheme's state from what save wrote
+   * (ESF_EINPUT when it does not fit). */
+  int (*save)(esf_sim *s, void *state, esf_blob *out, esf_error *err);
+  int (*restore)(esf_sim *s, void *state, esf_blob_in *in, esf_error *err);
 } esf_integrator_type;
 
 extern const esf_integrator_type esf_integrator_leapfrog;

@@ -23,8 +23,8 @@
 #include "servo.h"
 #include "vec3.h"
 
-static int overlap_failure(const esf_sim *s, long long ida, long long idb, int wall,
-                           double un, double rmin, esf_error *err) {
+int esf_forces_overlap_failure(const esf_sim *s, long long ida, long long idb, int wall,
+                               double un, double rmin, esf_error *err) {
   const char *rule = esf_dt_rule_names[s->cfg.dt_rule];
   if (wall)
     return esf_fail(err, ESF_ENUMERIC,
@@ -145,8 +145,8 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
     in.un = R - dist;
     double rmin = fmin(p->radius[a], p->radius[b]);
     if (in.un > s->cfg.max_overlap * rmin)
-      return overlap_failure(s, (long long)p->id[a], (long long)p->id[b], 0, in.un, rmin,
-                             err);
+      return esf_forces_overlap_failure(s, (long long)p->id[a], (long long)p->id[b], 0,
+                                        in.un, rmin, err);
     double la = p->radius[a] - 0.5 * in.un, lb = p->radius[b] - 0.5 * in.un;
     const double *wa = w + 3 * a, *wb = w + 3 * b;
     contact_velocity(v, w, a, v + 3 * b, wb, la, lb, in.n, in.vc);
@@ -207,61 +207,75 @@ static void select_wall_hits(const esf_walls *walls, const uint32_t *elem,
   }
 }
 
+int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
+                             const double *v, const double *w, double dt, int commit,
+                             double *led, double *slip, size_t *nt, double *f, double *t,
+                             esf_error *err) {
+  esf_particles *p = &s->p;
+  esf_contacts *c = &s->nb.pw;
+  const esf_materials *mt = &s->mats;
+  esf_wall_hit *hits = s->nb.wall_hits + k0;
+  double *un = s->nb.wall_un + k0;
+  unsigned char *keep = s->nb.wall_keep + k0;
+  uint32_t a = c->a[k0];
+  for (size_t k = k0; k < k1; k++) {
+    esf_wall_nearest(&s->walls.e[c->b[k]], x + 3 * a, &hits[k - k0]);
+    un[k - k0] = p->radius[a] - hits[k - k0].dist;
+  }
+  double r = p->radius[a];
+  if (k1 - k0 == 1)
+    keep[0] = un[0] > 0;
+  else
+    select_wall_hits(&s->walls, c->b + k0, hits, un, k1 - k0, r, keep);
+  for (size_t k = k0; k < k1; k++) {
+    const esf_wall_hit *hit = &hits[k - k0];
+    if (!keep[k - k0]) {
+      if (commit) c->touch[k] = 0;
+      continue;
+    }
+    const esf_wall_elem *el = &s->walls.e[c->b[k]];
+    if (un[k - k0] > s->cfg.max_overlap * r)
+      return esf_forces_overlap_failure(s, (long long)p->id[a], (long long)c->b[k], 1,
+                                        un[k - k0], r, err);
+    const esf_wall_group *g = &s->walls.g[el->group];
+    esf_contact_in in;
+    v3_copy(in.n, hit->n);
+    in.un = un[k - k0];
+    double la = hit->dist;
+    double vw[3];
+    esf_wall_point_velocity(g, hit->q, vw);
+    contact_velocity(v, w, a, vw, NULL, la, 0, in.n, in.vc);
+    in.spin_n = 0.5 * (v3_dot(w + 3 * a, in.n) + v3_dot(g->omega, in.n));
+    in.mstar = p->mass[a];
+    in.dt = dt;
+    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
+    esf_contact_out out;
+    if (!eval_contact(s, pp, &in, c, k, commit, led, slip, &out)) continue;
+    (*nt)++;
+    if (s->tally) s->tally->p_walls += v3_dot(out.f, vw);
+    if (commit && s->walls.gforce) /* servo walls (servo.c); general path only */
+      esf_servo_add(s->walls.gforce + 4 * el->group, &out, in.n);
+    v3_add(f, f, out.f);
+    double m[3];
+    v3_cross(m, in.n, out.ft);
+    v3_axpy(t, la, m);
+  }
+  return ESF_OK;
+}
+
 static int wall_forces(esf_sim *s, const double *x, const double *v, const double *w,
                        double dt, int commit, size_t *touching, esf_error *err) {
   esf_particles *p = &s->p;
   esf_contacts *c = &s->nb.pw;
-  const esf_materials *mt = &s->mats;
   double *led = commit && s->led.on ? c->led : NULL;
   double slip = 0;
   size_t nt = 0;
-  double *gforce = commit ? s->walls.gforce : NULL; /* servo walls (servo.c) */
-  esf_wall_hit *hits = s->nb.wall_hits;
-  double *un = s->nb.wall_un;
-  unsigned char *keep = s->nb.wall_keep;
   for (size_t k0 = 0, k1; k0 < c->n; k0 = k1) {
     uint32_t a = c->a[k0];
-    for (k1 = k0; k1 < c->n && c->a[k1] == a; k1++) {
-      esf_wall_nearest(&s->walls.e[c->b[k1]], x + 3 * a, &hits[k1 - k0]);
-      un[k1 - k0] = p->radius[a] - hits[k1 - k0].dist;
-    }
-    double r = p->radius[a];
-    if (k1 - k0 == 1)
-      keep[0] = un[0] > 0;
-    else
-      select_wall_hits(&s->walls, c->b + k0, hits, un, k1 - k0, r, keep);
-    for (size_t k = k0; k < k1; k++) {
-      const esf_wall_hit *hit = &hits[k - k0];
-      if (!keep[k - k0]) {
-        if (commit) c->touch[k] = 0;
-        continue;
-      }
-      const esf_wall_elem *el = &s->walls.e[c->b[k]];
-      if (un[k - k0] > s->cfg.max_overlap * r)
-        return overlap_failure(s, (long long)p->id[a], (long long)c->b[k], 1, un[k - k0],
-                               r, err);
-      const esf_wall_group *g = &s->walls.g[el->group];
-      esf_contact_in in;
-      v3_copy(in.n, hit->n);
-      in.un = un[k - k0];
-      double la = hit->dist;
-      double vw[3];
-      esf_wall_point_velocity(g, hit->q, vw);
-      contact_velocity(v, w, a, vw, NULL, la, 0, in.n, in.vc);
-      in.spin_n = 0.5 * (v3_dot(w + 3 * a, in.n) + v3_dot(g->omega, in.n));
-      in.mstar = p->mass[a];
-      in.dt = dt;
-      const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
-      esf_contact_out out;
-      if (!eval_contact(s, pp, &in, c, k, commit, led, &slip, &out)) continue;
-      nt++;
-      if (s->tally) s->tally->p_walls += v3_dot(out.f, vw);
-      if (gforce) esf_servo_add(gforce + 4 * el->group, &out, in.n);
-      v3_add(p->f + 3 * a, p->f + 3 * a, out.f);
-      double m[3];
-      v3_cross(m, in.n, out.ft);
-      v3_axpy(p->t + 3 * a, la, m);
-    }
+    for (k1 = k0; k1 < c->n && c->a[k1] == a; k1++) continue;
+    int rc = esf_forces_wall_particle(s, k0, k1, x, v, w, dt, commit, led, &slip, &nt,
+                                      p->f + 3 * a, p->t + 3 * a, err);
+    if (rc) return rc;
   }
   if (led) s->led.d_friction += slip;
   *touching += nt;

@@ -34,6 +34,23 @@ enum {
 int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *w,
                     double dt, int mode, size_t *touching, esf_error *err);
 
+/* The error for an overlap beyond cfg.max_overlap of the smaller radius rmin: names the
+ * step, the particles (ids; idb is the wall element when wall), the overlap, dt and the
+ * critical dt, and what to change. Returns ESF_ENUMERIC. */
+int esf_forces_overlap_failure(const esf_sim *s, long long ida, long long idb, int wall,
+                               double un, double rmin, esf_error *err);
+
+/* The wall contacts of one particle: candidates [k0, k1) of s->nb.pw, all of one
+ * particle (the list is sorted by particle). Adds their forces and torques to f and t
+ * (3 each), counts the contacts carrying force into *nt and, when led is not NULL, the
+ * ledger scratch and slip work into *slip. Touches only the candidates' own entries
+ * (history, flags, the wall scratch of nb), so distinct particles may run in parallel.
+ */
+int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
+                             const double *v, const double *w, double dt, int commit,
+                             double *led, double *slip, size_t *nt, double *f, double *t,
+                             esf_error *err);
+
 /* After a leapfrog kick (before the drift): accumulates the dashpot dissipation and the
  * work of walls over the step with the mid-step velocities vbar, wbar (the average of
  * the half steps), using the dashpot forces the last COMMIT evaluation stored, and

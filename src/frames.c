@@ -19,6 +19,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "atomic_file.h"
 #include "h5io.h"
 #include "h5table.h"
 #include "wall_mesh.h"
@@ -289,5 +290,111 @@ int esf_frames_close(esf_frames **frp, esf_error *err) {
   H5Eclear2(H5E_DEFAULT);
   esf_h5_quiet_end(&q);
   destroy(fr);
+  return rc;
+}
+
+/* ---- checkpoints (checkpoint.h): syncing, and a resumed run's copy of the frames
+ * written before its checkpoint ---- */
+
+int esf_frames_sync(esf_frames *fr, esf_error *err) {
+  esf_h5_quiet q;
+  esf_h5_quiet_begin(&q);
+  int rc = esf_h5table_flush(fr->energy, err);
+  if (!rc && H5Fflush(fr->file, H5F_SCOPE_LOCAL) < 0)
+    rc = esf_h5_fail(err, "cannot flush", fr->path);
+  esf_h5_quiet_end(&q);
+  if (!rc) rc = esf_fsync_path(fr->path, err);
+  if (!rc) rc = update_xdmf(fr, 1, err);
+  return rc;
+}
+
+/* Rows of the first dimension (and the second, 0 for rank 1) of dataset loc/name. */
+static int dims_of(hid_t loc, const char *name, size_t *d0) {
+  hid_t d = H5Dopen2(loc, name, H5P_DEFAULT), s = d >= 0 ? H5Dget_space(d) : -1;
+  hsize_t dims[2] = {0, 0};
+  int ok = s >= 0 && H5Sget_simple_extent_ndims(s) >= 1 &&
+           H5Sget_simple_extent_dims(s, dims, NULL) >= 1;
+  if (s >= 0) H5Sclose(s);
+  if (d >= 0) H5Dclose(d);
+  *d0 = (size_t)dims[0];
+  return ok ? 0 : -1;
+}
+
+/* Copies frame `name` of src into fr as its next frame, with its XDMF record. */
+static int copy_frame(esf_frames *fr, hid_t src, const char *name) {
+  if (H5Ocopy(src, name, fr->frames, name, H5P_DEFAULT, H5P_DEFAULT) < 0) return -1;
+  hid_t g = H5Gopen2(fr->frames, name, H5P_DEFAULT);
+  if (g < 0) return -1;
+  esf_xdmf_frame x = {0};
+  x.index = fr->count;
+  hid_t a = H5Aopen(g, "time", H5P_DEFAULT);
+  int ok = a >= 0 && H5Aread(a, H5T_NATIVE_DOUBLE, &x.time) >= 0;
+  if (a >= 0) H5Aclose(a);
+  ok = ok && dims_of(g, "position", &x.particles) == 0;
+  x.has_walls = H5Lexists(g, "walls", H5P_DEFAULT) > 0;
+  if (ok && x.has_walls)
+    ok = dims_of(g, "walls/points", &x.wall_points) == 0 &&
+         dims_of(g, "walls/triangles", &x.wall_triangles) == 0;
+  x.has_contacts = H5Lexists(g, "contacts", H5P_DEFAULT) > 0;
+  if (ok && x.has_contacts) ok = dims_of(g, "contacts/normal_force", &x.contacts) == 0;
+  H5Gclose(g);
+  if (!ok || record(fr, &x, NULL)) return -1;
+  fr->count++;
+  return 0;
+}
+
+int esf_frames_copy(esf_frames *fr, const char *src_path, long nframes, long nrows,
+                    int ncols, const char *const *names, esf_error *err) {
+  esf_h5_quiet q;
+  esf_h5_quiet_begin(&q);
+  int rc = ESF_OK;
+  hid_t f = H5Fopen(src_path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t src = f >= 0 ? H5Gopen2(f, "frames", H5P_DEFAULT) : -1;
+  if (src < 0) rc = esf_h5_fail(err, "cannot read the frames of", src_path);
+  for (long k = 0; !rc && k < nframes; k++) {
+    char name[32];
+    snprintf(name, sizeof name, "%06ld", k);
+    if (copy_frame(fr, src, name)) {
+      char what[96];
+      snprintf(what, sizeof what, "cannot copy frame %s (of %ld) from", name, nframes);
+      rc = esf_h5_fail(err, what, src_path);
+    }
+  }
+  double *cols = NULL;
+  if (!rc && nrows > 0) {
+    cols = malloc((size_t)nrows * (size_t)ncols * sizeof *cols);
+    if (!cols) rc = esf_fail(err, ESF_ENOMEM, "out of memory");
+    for (int j = 0; !rc && j < ncols; j++) {
+      char path[160];
+      snprintf(path, sizeof path, "energy/%s", names[j]);
+      hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
+      hid_t fs = d >= 0 ? H5Dget_space(d) : -1;
+      hsize_t start = 0, cnt = (hsize_t)nrows, dims[1] = {0};
+      int ok = fs >= 0 && H5Sget_simple_extent_dims(fs, dims, NULL) == 1 &&
+               dims[0] >= cnt &&
+               H5Sselect_hyperslab(fs, H5S_SELECT_SET, &start, NULL, &cnt, NULL) >= 0;
+      hid_t ms = ok ? H5Screate_simple(1, &cnt, NULL) : -1;
+      ok = ok && ms >= 0 &&
+           H5Dread(d, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, cols + (size_t)j * nrows) >=
+               0;
+      if (ms >= 0) H5Sclose(ms);
+      if (fs >= 0) H5Sclose(fs);
+      if (d >= 0) H5Dclose(d);
+      if (!ok) rc = esf_h5_fail(err, "cannot read the energy rows of", src_path);
+    }
+  }
+  if (src >= 0) H5Gclose(src);
+  if (f >= 0) H5Fclose(f);
+  H5Eclear2(H5E_DEFAULT);
+  esf_h5_quiet_end(&q);
+  double *row = !rc && nrows > 0 ? malloc((size_t)ncols * sizeof *row) : NULL;
+  if (!rc && nrows > 0 && !row) rc = esf_fail(err, ESF_ENOMEM, "out of memory");
+  for (long r = 0; !rc && r < nrows; r++) {
+    for (int j = 0; j < ncols; j++) row[j] = cols[(size_t)j * nrows + r];
+    rc = esf_frames_append_energy(fr, ncols, names, row, err);
+  }
+  free(row);
+  free(cols);
+  if (!rc) rc = esf_frames_sync(fr, err);
   return rc;
 }

@@ -50,6 +50,16 @@ long esf_frames_energy_rows(const esf_frames *fr);
 /* Wall time spent in esf_frames_write and esf_frames_append_energy so far, s. */
 double esf_frames_seconds(const esf_frames *fr);
 
+/* Checkpoints: writes the pending energy rows, flushes the file, fsyncs it and
+ * rewrites the XDMF, so that what a checkpoint counts is on disk. */
+int esf_frames_sync(esf_frames *fr, esf_error *err);
+
+/* A resumed run: copies the first nframes frames (groups copied whole, H5Ocopy) and
+ * the first nrows energy rows (columns `names`) of the frames file src_path into fr,
+ * which must be new, then syncs it. ESF_EIO naming src_path when it lacks them. */
+int esf_frames_copy(esf_frames *fr, const char *src_path, long nframes, long nrows,
+                    int ncols, const char *const *names, esf_error *err);
+
 /* Flushes, writes the final XDMF and closes; sets *fr to NULL. Safe on NULL. */
 int esf_frames_close(esf_frames **fr, esf_error *err);
 

@@ -10,8 +10,10 @@
  * per chunk) with the shuffle and deflate filters when deflate is available. */
 #include "h5io.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 void esf_h5_quiet_begin(esf_h5_quiet *q) {
   q->saved = H5Eget_auto2(H5E_DEFAULT, &q->func, &q->data) >= 0;
@@ -31,8 +33,11 @@ static herr_t walk_first(unsigned n, const H5E_error2_t *e, void *data) {
 
 int esf_h5_fail(esf_error *err, const char *what, const char *path) {
   char detail[256] = "";
+  int e = errno; /* a write failure's cause (full disk, file-size limit) */
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, walk_first, detail);
   H5Eclear2(H5E_DEFAULT);
+  if (!detail[0] && (e == ENOSPC || e == EFBIG || e == EDQUOT || e == EIO || e == EROFS))
+    snprintf(detail, sizeof detail, "%s", strerror(e));
   if (detail[0]) return esf_fail(err, ESF_EIO, "%s '%s': %s", what, path, detail);
   return esf_fail(err, ESF_EIO, "%s '%s'", what, path);
 }

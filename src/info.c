@@ -8,7 +8,9 @@
  * prints the scene, version, frame count, time span, particle counts of the first and
  * last frames, the datasets of the first frame with type and shape, the energy table's
  * rows and columns and the file size per particle and frame. Only metadata, the frame
- * times and the energy time column are read. HDF5 is kept silent (esf_h5_quiet);
+ * times and the energy time column are read. A file starting with the checkpoint
+ * signature is described by checkpoint.c (esf_ckpt_describe: verified, what it holds
+ * and the resume command) instead. HDF5 is kept silent (esf_h5_quiet);
  * everything opened is closed. */
 #include "info.h"
 
@@ -19,6 +21,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "checkpoint.h"
 #include "h5io.h"
 
 /* Reads string attribute `name` of obj (variable or fixed length) into buf; -1 when
@@ -205,6 +208,8 @@ int esf_info_print(const char *path, FILE *out, esf_error *err) {
   if (!probe)
     return esf_fail(err, ESF_EIO, "cannot open '%s': %s", path, strerror(errno));
   fclose(probe);
+  if (esf_ckpt_is(path)) /* checkpoints are esfera's own format, not HDF5 */
+    return esf_ckpt_describe(path, out, err);
   esf_h5_quiet q;
   esf_h5_quiet_begin(&q);
   int rc;

@@ -3,7 +3,8 @@
  * The file's kind is read from the root attribute `kind` ("frames" for the frames
  * file of a run; files written before the attribute existed are recognised by their
  * esfera_version attribute and /frames group). Each kind has its own describer, so a
- * later kind (a checkpoint) adds one entry to the table in info.c. */
+ * later HDF5 kind adds one entry to the table in info.c. Checkpoints (checkpoint.h) are
+ * not HDF5: they are recognised by their signature and described by checkpoint.c. */
 #ifndef ESF_INFO_H
 #define ESF_INFO_H
 

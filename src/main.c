@@ -1,14 +1,24 @@
 /* main.c — the esfera command line (INTERFACE.md):
  *   esfera run SCENE.yaml [--out DIR] [--set KEY=VALUE]... [--threads N] [--quiet]
+ *              [--checkpoint-every T]
+ *   esfera run --resume DIR [--checkpoint-every T] [--quiet]
  *   esfera info FILE.h5
  *   esfera modes SCENE.yaml [--set KEY=VALUE]...   (highest contact frequency)
  *   esfera --help | --version
- * Exit status: 0 success, 1 the simulation failed, 2 bad input. */
+ * Exit status: 0 success, 1 the simulation failed, 2 bad input; a run stopped by
+ * SIGINT or SIGTERM writes a checkpoint and exits with 128 + the signal's number.
+ * Signals: the handlers only set `stop_signal`, which the run polls once per step
+ * (esf_run_opts.stop); SIGXFSZ is ignored so that a file-size limit reaches the writers
+ * as EFBIG, a clear error, instead of killing the process. */
+#include <limits.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "atomic_file.h"
+#include "checkpoint.h"
 #include "info.h"
 #include "integrator.h"
 #include "modes.h"
@@ -20,15 +30,22 @@ static void usage(FILE *f) {
   fprintf(f,
           "usage: esfera run SCENE.yaml [--out DIR] [--set KEY=VALUE]... [--threads N] "
           "[--quiet]\n"
-          "       esfera info FILE.h5\n"
+          "                  [--checkpoint-every T]\n"
+          "       esfera run --resume DIR [--checkpoint-every T] [--quiet]\n"
+          "       esfera info FILE.h5|DIR/checkpoint.esf\n"
           "       esfera modes SCENE.yaml [--set KEY=VALUE]...\n"
           "       esfera --help | --version\n\n"
           "  run       integrate a scene; writes log.txt, energy.csv and frames.h5 into\n"
           "            DIR (default: output.dir of the scene, else out/<scene name>)\n"
           "  --set     override a scene key by its dotted path, e.g.\n"
           "            --set integrator.frac=0.2 --set gravity=[0,0,-9.81]\n"
-          "  --threads worker threads (this version computes on one)\n"
-          "  --quiet   no progress display\n\n"
+          "  --threads worker threads of the leapfrog's fused step (results do not "
+          "depend on it)\n"
+          "  --quiet   no progress display\n"
+          "  --checkpoint-every T  write DIR/checkpoint.esf every T seconds of\n"
+          "            simulated time (= --set output.checkpoint_every=T); SIGINT or\n"
+          "            SIGTERM also writes one, then stops\n"
+          "  --resume DIR  continue the run whose checkpoint is in DIR\n\n"
           "integrators (integrator.method):\n");
   for (int k = 0; esf_integrators[k]; k++)
     fprintf(f, "  %-12s %s\n",
@@ -44,9 +61,11 @@ static int fail(int code, const char *msg) {
 
 /* The options `run` and `modes` share. */
 typedef struct cli_args {
-  const char *scene, *out;
+  const char *scene, *out, *resume;
   const char **sets;
   int nsets, quiet;
+  int threads;       /* --threads, 0 when not given */
+  char ckpt_set[96]; /* --checkpoint-every as an override */
 } cli_args;
 
 /* Parses the arguments after the command; 0 ok, else the exit status (message given).
@@ -66,11 +85,17 @@ static int parse_args(int argc, char **argv, cli_args *a) {
     else if (strcmp(o, "--threads") == 0 && k + 1 < argc) {
       char *end = NULL;
       long t = strtol(argv[++k], &end, 10);
-      if (!end || *end || t < 1)
-        return fail(ESF_EINPUT, "--threads takes a positive whole number");
+      if (!end || *end || t < 1 || t > 1024)
+        return fail(ESF_EINPUT, "--threads takes a whole number from 1 to 1024");
+      a->threads = (int)t;
     } else if (strcmp(o, "--quiet") == 0)
       a->quiet = 1;
-    else if (o[0] == '-') {
+    else if (strcmp(o, "--resume") == 0 && k + 1 < argc)
+      a->resume = argv[++k];
+    else if (strcmp(o, "--checkpoint-every") == 0 && k + 1 < argc) {
+      snprintf(a->ckpt_set, sizeof a->ckpt_set, "output.checkpoint_every=%s", argv[++k]);
+      a->sets[a->nsets++] = a->ckpt_set;
+    } else if (o[0] == '-') {
       fprintf(stderr, "esfera: unknown or incomplete option '%s'\n", o);
       usage(stderr);
       return 2;
@@ -81,7 +106,11 @@ static int parse_args(int argc, char **argv, cli_args *a) {
       return 2;
     }
   }
-  if (!a->scene) {
+  if (a->resume && (a->scene || a->out || a->nsets > (a->ckpt_set[0] ? 1 : 0)))
+    return fail(ESF_EINPUT, "--resume DIR continues a run as its checkpoint stored it: "
+                            "give no scene, --out or --set with it (only "
+                            "--checkpoint-every and --quiet)");
+  if (!a->scene && !a->resume) {
     usage(stderr);
     return 2;
   }
@@ -89,9 +118,10 @@ static int parse_args(int argc, char **argv, cli_args *a) {
 }
 
 /* Loads the scene with its overrides and checks the method name. */
-static int load_scene(const cli_args *a, esf_sim *s, esf_error *err) {
+static int load_scene(const cli_args *a, const esf_ckpt *ck, esf_sim *s, esf_error *err) {
   memset(s, 0, sizeof *s);
-  int rc = esf_scene_load(a->scene, a->sets, a->nsets, s, err);
+  int rc = ck ? esf_ckpt_load_scene(ck, a->sets, a->nsets, s, err)
+              : esf_scene_load(a->scene, a->sets, a->nsets, s, err);
   if (!rc && !esf_integrator_find(s->cfg.method)) {
     char list[512] = "";
     for (int k = 0; esf_integrators[k]; k++) {
@@ -103,14 +133,14 @@ static int load_scene(const cli_args *a, esf_sim *s, esf_error *err) {
     rc = esf_fail(err, ESF_EINPUT,
                   "%s: integrator.method: unknown method '%s' "
                   "(available: %s)",
-                  a->scene, s->cfg.method, list);
+                  s->cfg.source, s->cfg.method, list);
   }
   return rc;
 }
 
 /* Parses the arguments, loads the scene and sets the sim up; 0 ok, else the exit
  * status (the message printed; the sim released). */
-static int prepare(int argc, char **argv, cli_args *a, esf_sim *s) {
+static int prepare(int argc, char **argv, cli_args *a, esf_ckpt **ck, esf_sim *s) {
   int status = parse_args(argc, argv, a);
   if (status) {
     free(a->sets);
@@ -118,11 +148,16 @@ static int prepare(int argc, char **argv, cli_args *a, esf_sim *s) {
   }
   esf_error err;
   esf_error_clear(&err);
-  int rc = load_scene(a, s, &err);
-  free(a->sets);
-  a->sets = NULL;
+  int rc = a->resume && ck ? esf_ckpt_load(a->resume, ck, &err) : ESF_OK;
+  if (rc) {
+    free(a->sets);
+    return fail(rc, err.msg);
+  }
+  rc = load_scene(a, ck ? *ck : NULL, s, &err);
+  if (!rc && a->threads) s->cfg.threads = a->threads;
   if (!rc) rc = esf_sim_setup(s, &err);
   if (rc) {
+    free(a->sets);
     esf_sim_release(s);
     return fail(rc, err.msg);
   }
@@ -134,8 +169,9 @@ static int prepare(int argc, char **argv, cli_args *a, esf_sim *s) {
 static int cmd_modes(int argc, char **argv) {
   cli_args a;
   esf_sim s;
-  int status = prepare(argc, argv, &a, &s);
+  int status = prepare(argc, argv, &a, NULL, &s);
   if (status) return status;
+  free(a.sets);
   esf_error err;
   esf_error_clear(&err);
   esf_modes m;
@@ -154,30 +190,99 @@ static int cmd_modes(int argc, char **argv) {
   return 0;
 }
 
+static volatile sig_atomic_t stop_signal = 0;
+
+static void on_stop_signal(int sig) { stop_signal = sig; }
+
+static void install_signals(void) {
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+  signal(SIGXFSZ, SIG_IGN);
+}
+
+/* The directory a --resume argument names (itself, or a checkpoint file's). */
+static void resume_dir(const char *arg, char *dir, size_t size) {
+  snprintf(dir, size, "%s", arg);
+  size_t l = strlen(dir), k = strlen(ESF_CKPT_NAME);
+  if (l >= k && strcmp(dir + l - k, ESF_CKPT_NAME) == 0) {
+    dir[l - k] = '\0';
+    if (l > k) dir[l - k - 1] = '\0';
+    if (!dir[0]) snprintf(dir, size, ".");
+  }
+}
+
 static int cmd_run(int argc, char **argv) {
   cli_args a;
   esf_sim s;
-  int status = prepare(argc, argv, &a, &s);
-  if (status) return status;
+  esf_ckpt *ck = NULL;
+  int status = prepare(argc, argv, &a, &ck, &s);
+  if (status) {
+    esf_ckpt_free(&ck);
+    return status;
+  }
   esf_error err;
   esf_error_clear(&err);
-  esf_run_opts o = {a.out ? a.out : s.cfg.out_dir, a.quiet, isatty(STDOUT_FILENO)};
+  /* what the checkpoints store: the scene's text and its overrides (a resumed run's
+     are the stored ones followed by this command's --checkpoint-every) */
+  esf_ckpt_scene sc = {0};
+  char *text = NULL, dir[1200], scene_abs[PATH_MAX];
+  const char **sets = NULL;
+  int rc = ESF_OK;
+  if (ck) {
+    esf_ckpt_scene stored;
+    esf_ckpt_scene_of(ck, &stored);
+    sc = stored;
+    sc.nsets = 0;
+    sets = calloc((size_t)(stored.nsets + a.nsets + 1), sizeof *sets);
+    if (!sets) rc = esf_fail(&err, ESF_ENOMEM, "out of memory");
+    for (int k = 0; sets && k < stored.nsets; k++) sets[sc.nsets++] = stored.sets[k];
+    for (int k = 0; sets && k < a.nsets; k++) sets[sc.nsets++] = a.sets[k];
+    sc.sets = sets;
+    resume_dir(a.resume, dir, sizeof dir);
+  } else {
+    rc = esf_read_file(a.scene, &text, &sc.len, &err);
+    /* absolute, so that a resume from elsewhere finds the scene's relative files */
+    sc.path = realpath(a.scene, scene_abs) ? scene_abs : a.scene;
+    sc.text = text;
+    sc.sets = a.sets;
+    sc.nsets = a.nsets;
+    snprintf(dir, sizeof dir, "%s", a.out ? a.out : s.cfg.out_dir);
+  }
+  install_signals();
+  esf_run_opts o = {dir, a.quiet, isatty(STDOUT_FILENO), &sc, ck, &stop_signal};
   esf_run_stats st;
-  int rc = esf_run(&s, &o, &st, &err);
+  if (!rc) rc = esf_run(&s, &o, &st, &err);
+  free(text);
+  free(sets);
+  free(a.sets);
+  esf_ckpt_free(&ck);
   if (rc) {
     status = fail(rc, err.msg);
     fprintf(stderr, "esfera: output so far is in %s\n", o.out_dir);
     esf_sim_release(&s);
     return status;
   }
+  if (st.interrupted) {
+    fprintf(stderr,
+            "esfera: stopped by signal %d at step %ld, t = %.9g s; checkpoint written to "
+            "%s/%s\nesfera: resume with: esfera run --resume %s\n",
+            (int)stop_signal, s.step, s.t, dir, ESF_CKPT_NAME, dir);
+    esf_sim_release(&s);
+    return 128 + (int)stop_signal;
+  }
   printf("summary: steps=%ld particles=%.0f contacts_mean=%.2f wall_s=%.4f "
          "particle_steps_per_s=%.6g dt=%.6g rebuilds=%ld rhs_evals=%ld "
          "energy_error=%.6g dissipated=%.6g removed=%ld method=%s rejected=%ld "
-         "acc_limited=%ld stab_limited=%ld h_last=%.6g events=%ld restarts=%ld\n",
+         "acc_limited=%ld stab_limited=%ld h_last=%.6g events=%ld restarts=%ld "
+         "checkpoints=%ld\n",
          st.steps, st.particles_mean, st.contacts_mean, st.wall_s, st.rate, s.dt,
          s.nb.builds, st.integ.rhs_evals, st.energy_error, st.dissipated, s.removed,
          s.cfg.method, st.integ.rejected, st.integ.acc_limited, st.integ.stab_limited,
-         st.integ.h_last, st.integ.events, st.integ.restarts);
+         st.integ.h_last, st.integ.events, st.integ.restarts, st.checkpoints);
   esf_sim_release(&s);
   return 0;
 }

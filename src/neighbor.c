@@ -77,6 +77,12 @@ int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wa
                        int *rebuild, esf_error *err) {
   *rebuild = nb->xref == NULL || nb->nref != p->n;
   double lim2 = 0.25 * nb->skin * nb->skin, max2 = 0.0;
+  if (!*rebuild && nb->disp_valid) { /* measured during the drift, all finite */
+    max2 = nb->max_disp2;
+    if (max2 > lim2) *rebuild = 1;
+    if (wall_moved > 0 && sqrt(max2) + wall_moved > 0.5 * nb->skin) *rebuild = 1;
+    return ESF_OK;
+  }
   for (size_t i = 0; i < p->n; i++) {
     const double *x = p->x + 3 * i;
     if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2]))
@@ -255,6 +261,7 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
   }
   memcpy(nb->xref, p->x, p->n * 3 * sizeof(double));
   nb->builds++;
+  nb->disp_valid = 0;
   return ESF_OK;
 }
 
@@ -287,4 +294,22 @@ size_t esf_neighbor_touching(const esf_neighbor *nb) {
   for (size_t k = 0; k < nb->pp.n; k++) m += nb->pp.touch[k];
   for (size_t k = 0; k < nb->pw.n; k++) m += nb->pw.touch[k];
   return m;
+}
+
+/* Checkpoint restore (checkpoint.c): room for npp and npw candidates, scratch
+ * included. */
+int esf_neighbor_reserve(esf_neighbor *nb, size_t npp, size_t npw, esf_error *err) {
+  int rc = contacts_reserve(&nb->pp, npp, nb->ledger, nb->carry, err);
+  if (!rc) rc = contacts_reserve(&nb->pw, npw, nb->ledger, nb->carry, err);
+  if (rc) return rc;
+  size_t ws = nb->pw.cap ? nb->pw.cap : 1;
+  esf_wall_hit *wh = realloc(nb->wall_hits, ws * sizeof *wh);
+  if (wh) nb->wall_hits = wh;
+  double *wu = realloc(nb->wall_un, ws * sizeof *wu);
+  if (wu) nb->wall_un = wu;
+  unsigned char *wk = realloc(nb->wall_keep, ws);
+  if (wk) nb->wall_keep = wk;
+  if (!wh || !wu || !wk)
+    return esf_fail(err, ESF_ENOMEM, "out of memory for wall contacts");
+  return ESF_OK;
 }

@@ -50,6 +50,11 @@ typedef struct esf_neighbor {
   double *xref; /* positions at the last build, 3 * nref */
   size_t nref;
   long builds; /* rebuild count */
+  /* Set by a step that drifted the particles and measured their displacement on the
+   * way (step_fast.c); the next esf_neighbor_check uses it instead of its own pass.
+   * Cleared after every check (esf_integ_refresh). */
+  int disp_valid;
+  double max_disp2; /* largest squared displacement since the build, m^2 */
 } esf_neighbor;
 
 int esf_neighbor_init(esf_neighbor *nb, double skin, int ledger, esf_error *err);
@@ -71,6 +76,11 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
  * the candidates of removed particles and renumbers the rest. The lists stay valid
  * until the next check. */
 void esf_neighbor_remap(esf_neighbor *nb, const size_t *remap, size_t n_old);
+
+/* Makes room for npp particle-particle and npw particle-wall candidates (and the wall
+ * loop's scratch); the lists' contents and counts are untouched. For checkpoint
+ * restore, which then fills the lists. */
+int esf_neighbor_reserve(esf_neighbor *nb, size_t npp, size_t npw, esf_error *err);
 
 /* Number of contacts touching at the last committed evaluation. */
 size_t esf_neighbor_touching(const esf_neighbor *nb);

@@ -19,6 +19,7 @@
 
 #include "contact_net.h"
 #include "frames.h"
+#include "run_ckpt.h"
 #include "vec3.h"
 #include "version.h"
 
@@ -142,7 +143,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   if (rc) return rc;
   char path[1200];
   snprintf(path, sizeof path, "%s/log.txt", o->out_dir);
-  FILE *logf = fopen(path, "w");
+  FILE *logf = fopen(path, o->resume ? "a" : "w");
   if (!logf)
     return esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
   s->log = logf;
@@ -151,7 +152,17 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   esf_contact_net net = {0};
   void *ist = NULL;
   log_setup(s, it);
-  if (s->led.on) {
+  esf_ckpt_run cr = {0};
+  if (o->resume) { /* the state, then the outputs cut back to the checkpoint's */
+    rc = it->create(s, &ist, err);
+    if (!rc) rc = esf_ckpt_restore(o->resume, s, it, ist, &cr, err);
+    if (!rc) rc = esf_run_ckpt_reopen(o->out_dir, s, &cr, &ef, &fr, err);
+    if (rc) goto done;
+    esf_sim_log(s,
+                "resumed from checkpoint %ld at step %ld, t = %.9g s (%ld frames, %ld "
+                "energy rows kept)",
+                cr.count, s->step, s->t, cr.frames, cr.erows);
+  } else if (s->led.on) {
     snprintf(path, sizeof path, "%s/energy.csv", o->out_dir);
     ef = fopen(path, "w");
     if (!ef) {
@@ -160,10 +171,18 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     }
     esf_ledger_header(ef);
   }
-  snprintf(path, sizeof path, "%s/frames.h5", o->out_dir);
-  rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, &fr, err);
-  if (!rc) rc = it->create(s, &ist, err);
-  if (!rc) rc = write_frame(s, fr, &net, err);
+  if (!o->resume) {
+    esf_run_ckpt_forget(o->out_dir); /* a new run: an old checkpoint no longer fits */
+    snprintf(path, sizeof path, "%s/frames.h5", o->out_dir);
+    rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, &fr, err);
+    if (!rc) rc = it->create(s, &ist, err);
+    if (!rc) rc = write_frame(s, fr, &net, err);
+  }
+  if (!rc && o->scene && s->cfg.ckpt_every > 0 && !it->save)
+    rc = esf_fail(err, ESF_EINPUT,
+                  "output.checkpoint_every: integrator %s cannot write checkpoints "
+                  "(leapfrog and erk: methods can)",
+                  s->cfg.method);
   if (rc) goto done;
 
   int adaptive = (it->flags & ESF_INTEG_ADAPTIVE) && s->cfg.rtol > 0;
@@ -185,12 +204,23 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                 "run: %ld steps to t = %.6g s; frames every %ld steps, energy rows "
                 "every %ld steps",
                 nsteps, t_end, every_f, every_e);
-  double t0 = now_s(), next_prog = t0 + 0.5, psum = 0.0;
+  double t0 = now_s(), next_prog = t0 + 0.5, psum = cr.psum;
   /* adaptive methods are not forced onto the output times (that would cap their
      steps): rows and frames are written at the first step at or past each time */
   double te = s->cfg.energy_every, tf = s->cfg.out_every;
   double next_e = te > 0 ? te : INFINITY, next_f = tf > 0 ? tf : INFINITY;
-  for (long n = 0; adaptive ? s->t < t_end * (1 - 1e-12) : n < nsteps; n++) {
+  /* checkpoints: like frames, every_c whole steps or at the first step past next_c */
+  double tc = o->scene ? s->cfg.ckpt_every : 0.0, next_c = tc > 0 ? tc : INFINITY;
+  long every_c = tc > 0 ? (long)fmax(1.0, floor(tc / s->dt + 0.5)) : 0;
+  long n0 = 0;
+  if (o->resume) {
+    n0 = cr.n;
+    next_e = cr.next_e;
+    next_f = cr.next_f;
+    if (tc > 0 && adaptive) /* the schedule continues (checkpoint_every may change) */
+      next_c = isfinite(cr.next_c) ? cr.next_c : s->t + tc;
+  }
+  for (long n = n0; adaptive ? s->t < t_end * (1 - 1e-12) : n < nsteps; n++) {
     long step_before = s->step;
     rc = it->step(s, ist, t_end, err);
     if (rc) break;
@@ -219,6 +249,29 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       rc = write_frame(s, fr, &net, err);
       if (rc) break;
     }
+    int last = adaptive ? s->t >= t_end * (1 - 1e-12) : n + 1 >= nsteps;
+    int ckpt = 0, stop = o->stop && *o->stop && !last && o->scene;
+    if (tc > 0 && adaptive) {
+      double tol = 1e-9 * t_end;
+      ckpt = s->t >= next_c - tol && !last;
+      while (next_c <= s->t + tol) next_c += tc;
+    } else if (tc > 0) {
+      ckpt = (n + 1) % every_c == 0 && !last;
+    }
+    if (ckpt || stop) {
+      cr.n = n + 1;
+      cr.next_e = next_e;
+      cr.next_f = next_f;
+      cr.next_c = next_c;
+      cr.psum = psum;
+      rc = esf_run_ckpt_save(o->out_dir, s, it, ist, o->scene, &cr, ef, fr, err);
+      if (rc) break;
+      st->checkpoints++;
+    }
+    if (stop) {
+      st->interrupted = 1;
+      break;
+    }
     if (o->progress && !o->quiet && (n & 63) == 0) {
       double tn = now_s();
       if (tn >= next_prog) {
@@ -244,8 +297,11 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   }
   st->energy_error = s->led.on ? esf_ledger_total_error(&s->led) : 0.0;
   st->dissipated = s->led.on ? esf_ledger_dissipated(&s->led) : 0.0;
-  if (!rc) rc = write_frame(s, fr, &net, err);
-  if (!rc)
+  if (!rc && !st->interrupted) rc = write_frame(s, fr, &net, err);
+  if (!rc && st->interrupted)
+    esf_sim_log(s, "interrupted at step %ld, t = %.9g s: checkpoint %ld written", s->step,
+                s->t, cr.count);
+  else if (!rc)
     esf_sim_log(s,
                 "output: %ld frames, %ld energy rows in frames.h5; %.3f s writing them",
                 esf_frames_count(fr), esf_frames_energy_rows(fr), esf_frames_seconds(fr));

@@ -2,6 +2,9 @@
 #ifndef ESF_RUN_H
 #define ESF_RUN_H
 
+#include <signal.h>
+
+#include "checkpoint.h"
 #include "integrator.h"
 #include "sim.h"
 
@@ -9,6 +12,11 @@ typedef struct esf_run_opts {
   const char *out_dir; /* where energy.csv, log.txt, frames.h5 go */
   int quiet;           /* no progress */
   int progress;        /* show progress (stdout is a terminal) */
+  /* checkpoints (checkpoint.h): every cfg.ckpt_every seconds and on *stop */
+  const esf_ckpt_scene *scene; /* the scene they store; NULL: no checkpoints */
+  const esf_ckpt *resume;      /* continue from it (the sim set up from its scene) */
+  volatile sig_atomic_t *stop; /* set (by a signal handler): finish the step, write a
+                                  checkpoint and return with stats.interrupted */
 } esf_run_opts;
 
 typedef struct esf_run_stats {
@@ -20,6 +28,8 @@ typedef struct esf_run_stats {
   double energy_error;   /* final total_error, J (0 without ledger) */
   double dissipated;     /* final dissipated energy, J */
   esf_integ_stats integ; /* the integrator's cost accounting */
+  int interrupted;       /* stopped on *stop after writing a checkpoint */
+  long checkpoints;      /* checkpoints written by this run */
 } esf_run_stats;
 
 /* Creates out_dir (and parents), writes log.txt, energy.csv and frames.h5 while

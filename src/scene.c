@@ -129,9 +129,9 @@ int esf_scene_material(const esf_ynode *node, const esf_materials *m, int32_t *i
 }
 
 static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err) {
-  static const char *const keys[] = {"method",         "dt",   "dt_rule", "frac",
-                                     "allow_unstable", "rtol", "atol",    "history",
-                                     "max_steps",      "roots", NULL};
+  static const char *const keys[] = {"method",         "dt",    "dt_rule", "frac",
+                                     "allow_unstable", "rtol",  "atol",    "history",
+                                     "max_steps",      "roots", "fused",   NULL};
   const esf_ynode *in = esf_ymap_get(root, "integrator");
   if (!in) return ESF_OK;
   int rc = esf_ynode_require_map(in, err);
@@ -164,6 +164,7 @@ static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err)
   if (!rc && c->max_steps <= 0)
     return esf_ynode_fail(esf_ymap_get(in, "max_steps"), err, "must be positive");
   if (!rc) rc = esf_yget_bool(in, "roots", 0, &c->roots, err);
+  if (!rc) rc = esf_yget_bool(in, "fused", 0, &c->fused, err);
   return rc;
 }
 
@@ -234,7 +235,8 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
   static const char *const frames[] = {"rotate", "project", NULL};
   static const char *const skeys[] = {"skin", NULL};
   static const char *const rkeys[] = {"duration", "steps", NULL};
-  static const char *const okeys[] = {"every", "energy_every", "dir", "contacts", NULL};
+  static const char *const okeys[] = {"every",    "energy_every",     "dir",
+                                      "contacts", "checkpoint_every", NULL};
   int rc = ESF_OK;
   const esf_ynode *ct = esf_ymap_get(root, "contact");
   if (ct) {
@@ -279,6 +281,9 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
     if (!rc) rc = esf_yget_string(ou, "dir", 0, &dir, err);
     if (!rc && dir) snprintf(c->out_dir, sizeof c->out_dir, "%s", dir);
     if (!rc) rc = esf_yget_bool(ou, "contacts", 0, &c->out_contacts, err);
+    /* checkpoints (checkpoint.h) */
+    if (!rc) rc = esf_yget_double(ou, "checkpoint_every", 0, &c->ckpt_every, err);
+    if (!rc) rc = positive(ou, "checkpoint_every", c->ckpt_every, 0, err);
   }
   return rc;
 }

@@ -65,7 +65,10 @@ typedef struct esf_config {
   double energy_every; /* s between energy rows; 0: no ledger */
   int energy_off;      /* energy_every: 0 given explicitly */
   int out_contacts;    /* output.contacts: the contact network in every frame */
+  double ckpt_every;   /* output.checkpoint_every: s between checkpoints; 0: none */
   char out_dir[1024];
+  int threads; /* worker threads (step_fast.h; results independent of it), >= 1 */
+  int fused;   /* leapfrog: take the fused step when the scene allows (default 1) */
 } esf_config;
 
 void esf_config_default(esf_config *c);

@@ -474,11 +474,17 @@ int esf_ydoc_load(const char *path, esf_ydoc **out, esf_error *err) {
     free(buf);
     return esf_fail(err, ESF_EIO, "%s: cannot read: %s", path, strerror(e));
   }
-  const char *slash = strrchr(path, '/');
-  size_t dirlen = !slash ? 0 : slash == path ? 1 : (size_t)(slash - path);
-  int st = parse_text(buf, len, path, dirlen, out, err);
+  int st = esf_ydoc_parse_as(buf, len, path, out, err);
   free(buf);
   return st;
+}
+
+int esf_ydoc_parse_as(const char *text, size_t len, const char *path, esf_ydoc **out,
+                      esf_error *err) {
+  *out = NULL;
+  const char *slash = strrchr(path, '/');
+  size_t dirlen = !slash ? 0 : slash == path ? 1 : (size_t)(slash - path);
+  return parse_text(text, len, path, dirlen, out, err);
 }
 
 esf_ynode *esf_ydoc_root(esf_ydoc *doc) { return doc ? doc->root : NULL; }

@@ -39,6 +39,11 @@ int esf_ydoc_load(const char *path, esf_ydoc **out, esf_error *err);
 /* Parses YAML text; `name` stands in for the file name in messages. */
 int esf_ydoc_parse(const char *text, const char *name, esf_ydoc **out, esf_error *err);
 
+/* Parses len bytes of YAML text as if read from the file at path (messages name it;
+ * relative paths resolve against its directory): a checkpoint's stored scene. */
+int esf_ydoc_parse_as(const char *text, size_t len, const char *path, esf_ydoc **out,
+                      esf_error *err);
+
 /* The root node (a mapping for any valid scene). */
 esf_ynode *esf_ydoc_root(esf_ydoc *doc);
 

@@ -1,0 +1,147 @@
+/* run_ckpt.c — checkpoints in the run driver (run_ckpt.h).
+ *
+ * Saving: energy.csv is flushed and fsync'ed and its size recorded; frames.h5 gets its
+ * pending energy rows, an HDF5 flush and an fsync (esf_frames_sync), and the frame and
+ * row counts are recorded; then the checkpoint file is replaced atomically. Everything
+ * a checkpoint counts is thus on disk before the checkpoint names it.
+ * Reopening (resume): energy.csv must be at least the recorded size (else it was
+ * damaged: an error) and is cut back to it. frames.h5 is appended in place during a run
+ * and HDF5 does not promise a file killed mid-append is intact, so a resume never
+ * appends to it: it renames it to frames.h5.prev (atomic, durable), creates a new
+ * frames.h5 holding copies of the checkpoint's frames and rows, syncs it and only then
+ * removes frames.h5.prev. Killed anywhere in between, the next resume finds .prev and
+ * starts over from it. The frames copied are the ones the checkpoint's fsync made
+ * durable, so a kill during later appends costs only frames after the checkpoint,
+ * which the resumed run writes again. Should the old file still be unreadable (HDF5
+ * does not promise an in-place append is atomic), it is kept as frames.h5.damaged with a
+ * warning in log.txt and the resumed run starts a new frames.h5 at the checkpoint, so
+ * the resume itself does not fail. */
+#include "run_ckpt.h"
+
+#include <errno.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "atomic_file.h"
+#include "version.h"
+
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int esf_run_ckpt_save(const char *out_dir, esf_sim *s, const esf_integrator_type *it,
+                      void *ist, const esf_ckpt_scene *sc, esf_ckpt_run *run, FILE *ef,
+                      esf_frames *fr, esf_error *err) {
+  double t0 = now_s();
+  char path[1200];
+  run->csv_bytes = -1;
+  if (ef) {
+    long pos = fflush(ef) == 0 && fsync(fileno(ef)) == 0 ? ftell(ef) : -1;
+    if (pos < 0) {
+      snprintf(path, sizeof path, "%s/energy.csv", out_dir);
+      return esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
+    }
+    run->csv_bytes = pos;
+  }
+  int rc = esf_frames_sync(fr, err);
+  if (rc) return rc;
+  run->frames = esf_frames_count(fr);
+  run->erows = esf_frames_energy_rows(fr);
+  run->count++;
+  snprintf(path, sizeof path, "%s/%s", out_dir, ESF_CKPT_NAME);
+  rc = esf_ckpt_write(path, s, it, ist, sc, run, err);
+  if (rc)
+    run->count--;
+  else
+    esf_sim_log(s,
+                "checkpoint %ld at step %ld, t = %.9g s: %.3f s to sync the output "
+                "and write it",
+                run->count, s->step, s->t, now_s() - t0);
+  return rc;
+}
+
+static int reopen_csv(const char *out_dir, long bytes, FILE **ef, esf_error *err) {
+  char path[1200];
+  snprintf(path, sizeof path, "%s/energy.csv", out_dir);
+  FILE *f = fopen(path, "r+");
+  if (!f) return esf_fail(err, ESF_EIO, "cannot reopen '%s': %s", path, strerror(errno));
+  struct stat sb;
+  if (fstat(fileno(f), &sb) != 0 || sb.st_size < bytes) {
+    fclose(f);
+    return esf_fail(err, ESF_EINPUT,
+                    "'%s' is shorter (%lld bytes) than the checkpoint recorded (%ld): it "
+                    "was changed after the checkpoint; cannot resume",
+                    path, (long long)sb.st_size, bytes);
+  }
+  if (ftruncate(fileno(f), bytes) != 0 || fseek(f, 0, SEEK_END) != 0) {
+    int e = errno;
+    fclose(f);
+    return esf_fail(err, ESF_EIO, "cannot cut back '%s': %s", path, strerror(e));
+  }
+  *ef = f;
+  return ESF_OK;
+}
+
+int esf_run_ckpt_reopen(const char *out_dir, const esf_sim *s, const esf_ckpt_run *run,
+                        FILE **ef, esf_frames **fr, esf_error *err) {
+  *ef = NULL;
+  *fr = NULL;
+  int rc = s->led.on && run->csv_bytes >= 0 ? reopen_csv(out_dir, run->csv_bytes, ef, err)
+                                            : ESF_OK;
+  if (rc) return rc;
+  char path[1200], prev[1210];
+  snprintf(path, sizeof path, "%s/frames.h5", out_dir);
+  snprintf(prev, sizeof prev, "%s.prev", path);
+  struct stat sb;
+  if (stat(prev, &sb) != 0) { /* no earlier resume died half-way: move the file aside */
+    if (rename(path, prev) != 0)
+      return esf_fail(err, ESF_EIO, "cannot move '%s' aside to resume: %s", path,
+                      strerror(errno));
+    rc = esf_fsync_parent(path, err);
+  }
+  if (!rc) rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, fr, err);
+  if (!rc)
+    rc = esf_frames_copy(*fr, prev, run->frames, run->erows, ESF_LEDGER_NCOLS,
+                         esf_ledger_columns, err);
+  if (rc == ESF_EIO && *fr) { /* the old file is damaged: keep it aside, go on */
+    char damaged[1220];
+    snprintf(damaged, sizeof damaged, "%s.damaged", path);
+    esf_sim_log(s,
+                "WARNING: %s; it is kept as %s and the resumed run writes a new "
+                "frames.h5 from the checkpoint on (energy.csv keeps every row)",
+                err->msg, damaged);
+    esf_error e2;
+    esf_frames_close(fr, &e2);
+    rc = rename(prev, damaged) != 0
+             ? esf_fail(err, ESF_EIO, "cannot move '%s' aside: %s", prev, strerror(errno))
+             : esf_fsync_parent(path, err);
+    if (!rc) rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, fr, err);
+    if (!rc) {
+      esf_error_clear(err);
+      return esf_frames_sync(*fr, err);
+    }
+  }
+  if (!rc && unlink(prev) != 0)
+    rc = esf_fail(err, ESF_EIO, "cannot remove '%s': %s", prev, strerror(errno));
+  if (!rc) rc = esf_fsync_parent(path, err);
+  if (rc) {
+    esf_error e2;
+    esf_frames_close(fr, &e2);
+    if (*ef) fclose(*ef);
+    *ef = NULL;
+  }
+  return rc;
+}
+
+void esf_run_ckpt_forget(const char *out_dir) {
+  const char *names[] = {ESF_CKPT_NAME, ESF_CKPT_NAME ".tmp", "frames.h5.prev"};
+  char path[1200];
+  for (int k = 0; k < 3; k++) {
+    snprintf(path, sizeof path, "%s/%s", out_dir, names[k]);
+    unlink(path); /* absent is fine */
+  }
+}

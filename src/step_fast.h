@@ -1,0 +1,35 @@
+/* step_fast.h — the leapfrog step specialised and threaded for the common case.
+ *
+ * When a run needs nothing beyond the linear law with tangential history, walls, global
+ * and local damping and gravity (no energy ledger, no adaptive damping, no per-
+ * evaluation tallies), the leapfrog's force evaluation, kick and drift run here as two
+ * threaded passes whose results do not depend on the thread count, bit for bit:
+ *   1. over candidate pairs (any order, any split): each pair's force and the two
+ *      torques are computed into a per-pair slot and its history committed;
+ *   2. over particles: each particle gathers its pairs' slots in ascending pair order
+ *      (as B, then as A: the order the serial scatter of forces.c adds them in), adds
+ *      its wall contacts, and is kicked and drifted.
+ * Every sum therefore has one fixed order. Anything else takes forces.c's general path
+ * (esf_step_fast_eligible says which). */
+#ifndef ESF_STEP_FAST_H
+#define ESF_STEP_FAST_H
+
+#include "sim.h"
+
+typedef struct esf_step_fast esf_step_fast;
+
+int esf_step_fast_create(esf_step_fast **out, esf_error *err);
+void esf_step_fast_free(esf_step_fast **f);
+
+/* 1 when the sim's current settings can use the fused step (checked every step: the
+ * ledger or adaptive damping may be switched by the driver). */
+int esf_step_fast_eligible(const esf_sim *s);
+
+/* One leapfrog step from x_n, v_{n-1/2}, w_{n-1/2} (candidate lists valid): forces at
+ * x_n committing the history, kick with global and local damping, drift. On exit x,
+ * v, w advanced, p.f and p.t hold F_n and M_n, *touching the contacts carrying force,
+ * and nb.max_disp2 the largest squared displacement since the last build. s->step
+ * and s->t are left to the caller. */
+int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error *err);
+
+#endif

@@ -1,0 +1,148 @@
+"""check_ckpt_errors.py -- checkpoints against bad disks and bad files (issue 5):
+an output directory under a regular file (ENOTDIR) and a checkpoint that cannot be
+written (its temporary name taken by a directory) fail with status 2 and a message
+naming the path, earlier output intact; a file-size limit (RLIMIT_FSIZE with SIGXFSZ
+ignored: EFBIG, as a full disk) stops the run with status 2, leaves the previous
+checkpoint valid, and resuming without the limit ends identical to an uninterrupted
+run; a frames.h5 damaged after its checkpoint is kept as frames.h5.damaged and the
+resume still succeeds; `--resume` with a scene or --set is refused; `--resume` and `esfera info` on a missing, empty, truncated, corrupted, foreign
+(text, HDF5) checkpoint, or one from a build with another esf_contact_hist layout, exit
+2 naming the cause. Usage: check_ckpt_errors.py ESFERA"""
+import os
+import resource
+import shutil
+import struct
+import sys
+import tempfile
+import zlib
+
+import h5py
+
+from ckpt_common import esfera, identical, run_ok, write_scene
+from pycheck import check, finish
+
+
+def expect_fail(exe, args, words, what, **kw):
+    r = esfera(exe, *args, **kw)
+    ok = r.returncode == 2 and all(w in r.stderr for w in words)
+    check(ok, f"{what}: exit {r.returncode}, stderr {r.stderr!r} (wanted {words})")
+    print(f"{what}: exit {r.returncode}: {r.stderr.strip().splitlines()[0] if r.stderr else ''}")
+    return r
+
+
+def sections(data):
+    """(tag, offset of payload, length) of each section."""
+    pos, out = 16, []
+    while pos < len(data):
+        tag = data[pos:pos + 8].rstrip(b"\0").decode()
+        (n,) = struct.unpack("<Q", data[pos + 8:pos + 16])
+        out.append((tag, pos + 16, n))
+        pos += 16 + n + 4
+    return out
+
+
+def main():
+    exe = sys.argv[1]
+    tmp = tempfile.mkdtemp(prefix="esf_ckerr_")
+    try:
+        scene = write_scene(tmp)
+        short = ["--set", "run.duration=0.02"]
+        # output directory under a regular file
+        plain = os.path.join(tmp, "plain_file")
+        open(plain, "w").write("x")
+        expect_fail(exe, ["run", scene, "--out", plain + "/sub", "--quiet", *short],
+                    [plain, "Not a directory"], "output under a regular file")
+
+        # a checkpoint that cannot be written: earlier output intact
+        out = os.path.join(tmp, "blocked")
+        os.makedirs(os.path.join(out, "checkpoint.esf.tmp"))
+        expect_fail(exe, ["run", scene, "--out", out, "--quiet", "--checkpoint-every",
+                          "0.005", *short], ["checkpoint.esf", "Is a directory"],
+                    "checkpoint path blocked")
+        with h5py.File(os.path.join(out, "frames.h5"), "r") as f:
+            check(len(f["frames"]) >= 3, "blocked: the frames before it are readable")
+        check(not os.path.exists(os.path.join(out, "checkpoint.esf")),
+              "blocked: no checkpoint")
+
+        # EFBIG (a full disk): the previous checkpoint stays valid and resumes exactly
+        ref = os.path.join(tmp, "ref")
+        run_ok(exe, "run", scene, "--out", ref, "--quiet")
+        big = os.path.join(tmp, "efbig")
+        lim = 400 * 1024
+
+        def limit():
+            resource.setrlimit(resource.RLIMIT_FSIZE, (lim, lim))
+
+        expect_fail(exe, ["run", scene, "--out", big, "--quiet", "--checkpoint-every",
+                          "0.004"], ["File too large"], "file-size limit (EFBIG)",
+                    preexec_fn=limit)
+        r = run_ok(exe, "info", os.path.join(big, "checkpoint.esf"))
+        step = [ln for ln in r.stdout.splitlines() if ln.startswith("time: ")]
+        run_ok(exe, "run", "--resume", big, "--quiet")
+        n, diffs = identical(ref, big)
+        check(n > 5 and not diffs, f"EFBIG then resume: output differs: {diffs[:5]}")
+        print(f"EFBIG: checkpoint at {step} intact, resumed: {n} frames identical")
+
+        # a frames.h5 damaged after the checkpoint: kept aside, the resume goes on
+        dmg = os.path.join(tmp, "damaged")
+        shutil.copytree(big, dmg)
+        fh5 = os.path.join(dmg, "frames.h5")
+        with open(fh5, "r+b") as fh:
+            fh.truncate(os.path.getsize(fh5) // 3)
+        run_ok(exe, "run", "--resume", dmg, "--quiet")
+        log = open(os.path.join(dmg, "log.txt")).read()
+        check(os.path.exists(fh5 + ".damaged") and "WARNING" in log and
+              "frames.h5.damaged" in log, "damaged frames.h5: kept aside with a warning")
+        with h5py.File(fh5, "r") as f:
+            check(len(f["frames"]) >= 1, "damaged frames.h5: the new file has frames")
+        with open(os.path.join(dmg, "energy.csv"), "rb") as fa, \
+                open(os.path.join(ref, "energy.csv"), "rb") as fb:
+            check(fa.read() == fb.read(), "damaged frames.h5: energy.csv still identical")
+        print("damaged frames.h5: resumed, old file kept as frames.h5.damaged")
+
+        # bad checkpoint files
+        ck = os.path.join(ref, "checkpoint.esf")
+        run_ok(exe, "run", scene, "--out", ref, "--quiet", "--checkpoint-every", "0.02")
+        data = open(ck, "rb").read()
+        bad = os.path.join(tmp, "bad")
+        os.makedirs(bad)
+        bck = os.path.join(bad, "checkpoint.esf")
+
+        def trial(content, words, what, info_words=None):
+            with open(bck, "wb") as fh:
+                fh.write(content)
+            expect_fail(exe, ["run", "--resume", bad, "--quiet"], words, "resume " + what)
+            if info_words != []:  # info knows foreign files as not HDF5 (or as frames)
+                expect_fail(exe, ["info", bck], info_words or words, "info " + what)
+
+        expect_fail(exe, ["run", "--resume", big, "--set", "run.duration=1"],
+                    ["--resume DIR continues"], "resume with --set")
+        expect_fail(exe, ["run", "--resume", os.path.join(tmp, "nowhere"), "--quiet"],
+                    ["cannot open", "nowhere"], "resume missing")
+        trial(b"", ["not an esfera checkpoint"], "empty", ["not an HDF5 file"])
+        trial(data[: len(data) // 2], ["truncated"], "truncated at the half")
+        trial(data[:-3], ["truncated"], "truncated by 3 bytes")
+        flip = bytearray(data)
+        flip[len(data) // 2] ^= 0x10
+        trial(bytes(flip), ["corrupted", "checksum"], "one bit flipped")
+        trial(b"name: not a checkpoint\n" * 10, ["not an esfera checkpoint"], "text",
+              ["not an HDF5 file"])
+        trial(open(os.path.join(ref, "frames.h5"), "rb").read(),
+              ["not an esfera checkpoint"], "HDF5 frames file", [])
+        # another esf_contact_hist layout (a build with bond fields): refused clearly
+        lay = bytearray(data)
+        for tag, off, n in sections(data):
+            if tag == "LAYOUT":
+                text = data[off:off + n].replace(b"esf_contact_hist 48: xi f64[3], n f64[3]",
+                                                 b"esf_contact_hist 64: xi f64[3], n f64[3], "
+                                                 b"bond f64[2]")
+                lay = bytearray(data[:off - 8] + struct.pack("<Q", len(text)) + text +
+                                struct.pack("<I", zlib.crc32(text)) + data[off + n + 4:])
+        trial(bytes(lay), ["other record layouts", "bond f64[2]"], "other hist layout")
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return finish("ckpt_errors")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,129 @@
+/* test_neighbor.c — the Verlet candidate lists never miss a contact.
+ *
+ * The lists are built with skin s and kept while no particle has moved more than s/2
+ * (esf_neighbor_check). The guarantee: any two particles touching after such moves
+ * were closer than s surface to surface at the build, so they are candidates; likewise
+ * a particle touching a wall element. Checked against brute force (all pairs, all
+ * elements) after random displacements of every particle up to just under s/2, for
+ * size ratios 1:1, 1:3 and 1:5 and several skins, in a box with walls; and a single
+ * particle moved just over s/2 makes the check ask for a rebuild. */
+#include <stdlib.h>
+
+#include "rng.h"
+#include "simtest.h"
+
+static const char *const scene_fmt =
+    "name: lists\n"
+    "materials: {m: {density: 2500, kn: 1.0e4, friction: 0.3}}\n"
+    "particles:\n"
+    "  - generate: random\n"
+    "    region: {min: [0.0, 0.0, 0.0], max: [0.03, 0.03, 0.03]}\n"
+    "    count: %d\n"
+    "    radius: {uniform: [%g, %g]}\n"
+    "    material: m\n"
+    "    seed: %d\n"
+    "walls:\n"
+    "  - {box: {min: [0, 0, 0], max: [0.03, 0.03, 0.03]},"
+    " material: m}\n"
+    "search: {skin: %g}\n"
+    "integrator: {dt: 1.0e-6}\n"
+    "run: {steps: 1}\n"
+    "output: {energy_every: 0}\n";
+
+static int has_pair(const esf_contacts *c, uint32_t a, uint32_t b) {
+  size_t lo = 0, hi = c->n; /* sorted by (a, b) */
+  while (lo < hi) {
+    size_t mid = (lo + hi) / 2;
+    if (c->a[mid] < a || (c->a[mid] == a && c->b[mid] < b))
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo < c->n && c->a[lo] == a && c->b[lo] == b;
+}
+
+static double uni(esf_rng *g, double a, double b) { return a + (b - a) * esf_rng_uniform(g); }
+
+/* Moves every particle by a random vector of length up to frac * skin / 2. */
+static void jiggle(esf_particles *p, esf_rng *g, double skin, double frac) {
+  for (size_t i = 0; i < p->n; i++) {
+    double d[3], n2;
+    do {
+      for (int q = 0; q < 3; q++) d[q] = uni(g, -1, 1);
+      n2 = v3_norm2(d);
+    } while (n2 > 1 || n2 < 1e-6);
+    double len = uni(g, 0, frac * 0.5 * skin) / sqrt(n2);
+    for (int q = 0; q < 3; q++) p->x[3 * i + q] += len * d[q];
+  }
+}
+
+static void check_case(int count, double rmin, double rmax, double skin, int seed) {
+  char yaml[2048];
+  snprintf(yaml, sizeof yaml, scene_fmt, count, rmin, rmax, seed, skin);
+  simtest T;
+  if (simtest_open(&T, yaml, NULL, 0)) {
+    CHECK(0, "scene did not open: %s", T.err.msg);
+    return;
+  }
+  esf_sim *s = &T.s;
+  esf_particles *p = &s->p;
+  esf_rng g;
+  esf_rng_seed(&g, (uint64_t)seed * 7919u + 1);
+  esf_error err;
+  long missed_pp = 0, missed_pw = 0, touching_pp = 0, touching_pw = 0;
+  int bad_check = 0;
+  for (int round = 0; round < 6; round++) {
+    int rc = esf_neighbor_build(&s->nb, p, &s->walls, &err);
+    CHECK_OK(rc, err);
+    if (rc) break;
+    /* half the rounds compress the packing first so that many pairs touch */
+    jiggle(p, &g, skin, 0.999);
+    int rebuild = 0;
+    rc = esf_neighbor_check(&s->nb, p, 0.0, &rebuild, &err);
+    CHECK_OK(rc, err);
+    if (rebuild) bad_check++;
+    for (size_t i = 0; i < p->n; i++) {
+      for (size_t j = i + 1; j < p->n; j++) {
+        double d[3];
+        v3_sub(d, p->x + 3 * j, p->x + 3 * i);
+        double R = p->radius[i] + p->radius[j];
+        if (v3_norm2(d) >= R * R) continue;
+        touching_pp++;
+        if (!has_pair(&s->nb.pp, (uint32_t)i, (uint32_t)j)) missed_pp++;
+      }
+      for (size_t e = 0; e < s->walls.n; e++) {
+        esf_wall_hit hit;
+        esf_wall_nearest(&s->walls.e[e], p->x + 3 * i, &hit);
+        if (hit.dist >= p->radius[i]) continue;
+        touching_pw++;
+        if (!has_pair(&s->nb.pw, (uint32_t)i, (uint32_t)e)) missed_pw++;
+      }
+    }
+  }
+  printf("n %d, radii %g-%g m, skin %g m: %ld pair and %ld wall contacts after moves, "
+         "%ld and %ld missed\n",
+         count, rmin, rmax, skin, touching_pp, touching_pw, missed_pp, missed_pw);
+  CHECK(touching_pp >= 100, "enough touching pairs to test (%ld)", touching_pp);
+  CHECK(touching_pw > 0, "some wall contacts to test (%ld)", touching_pw);
+  CHECK(missed_pp == 0, "%ld particle pairs touching but not candidates", missed_pp);
+  CHECK(missed_pw == 0, "%ld wall contacts touching but not candidates", missed_pw);
+  CHECK(bad_check == 0, "moves under skin/2 asked for %d rebuilds", bad_check);
+
+  /* one particle moved just over skin/2 must trigger a rebuild */
+  int rc = esf_neighbor_build(&s->nb, p, &s->walls, &err);
+  CHECK_OK(rc, err);
+  p->x[3 * (p->n / 2)] += 0.5 * skin * 1.001;
+  int rebuild = 0;
+  rc = esf_neighbor_check(&s->nb, p, 0.0, &rebuild, &err);
+  CHECK(rc == 0 && rebuild == 1, "a move over skin/2 did not ask for a rebuild");
+  simtest_close(&T);
+}
+
+int main(void) {
+  /* radii chosen so that the random fill is dense: many pairs come within the skin */
+  check_case(1500, 0.0010, 0.0010, 0.0004, 1);
+  check_case(1500, 0.0005, 0.0015, 0.0002, 2);
+  check_case(800, 0.0004, 0.0020, 0.0008, 3);
+  check_case(800, 0.0004, 0.0020, 0.00005, 4);
+  return check_finish("neighbor");
+}
