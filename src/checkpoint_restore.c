@@ -8,11 +8,11 @@
  * scene's: particles leave the domain); the scalars, rng and ledger set; moving walls
  * placed at the saved time (their placement is a function of time; servo walls' from
  * their saved displacement, with the events applied and the fluid's state, section
- * SAND, sand_ckpt.c) with the rebuild marks restored; the candidate lists built once (which sizes every derived scratch
- * array) and overwritten with the saved lists, xref and build count; last the
- * integrator's own state (integrator.h restore). Every count read from the file is
- * checked against its section's size and every index against what it indexes, so a
- * file that passed its checksums but does not fit fails cleanly. */
+ * SAND, sand_ckpt.c) with the rebuild marks restored; the candidate lists built once
+ * (which sizes every derived scratch array) and overwritten with the saved lists, xref
+ * and build count; last the integrator's own state (integrator.h restore). Every count
+ * read from the file is checked against its section's size and every index against what
+ * it indexes, so a file that passed its checksums but does not fit fails cleanly. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
