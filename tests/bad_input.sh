@@ -140,5 +140,9 @@ expect "servo plane without area" 2 "servo wall 'plane 0': give motion.servo.are
 expect "servo refused by an ODE method" 2 "servo walls are supported by the leapfrog only" \
   -- run "$tmp/s34.yaml" --out "$tmp/o35" --set walls.0.motion.servo.area=1 --set integrator.method=rk4
 
+good "" "events: [{at: 0.0, delete: {box: {min: [-1, -1, -1], max: [1, 1, 1]}}}]" > "$tmp/s36.yaml"
+expect "events refused by an ODE method" 2 "events \(deleting particles\) are supported by the leapfrog only" \
+  -- run "$tmp/s36.yaml" --out "$tmp/o36" --set integrator.method=verlet
+
 echo "bad_input: $pass passed, $fail failed"
 [ "$fail" = 0 ]
