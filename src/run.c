@@ -4,8 +4,8 @@
  * end; energy rows every cfg.energy_every (whole steps). After each ledger row the
  * balance is checked: energy appearing from nothing beyond a quarter of the run's energy
  * budget (the stored energy at the start plus everything dissipated, the change of
- * potential energy, the wall and fluid work) means the integration is unstable, and the run
- * stops with the step, the dt and the critical dt. Wall time is measured around the
+ * potential energy, the wall and fluid work) means the integration is unstable, and the
+ * run stops with the step, the dt and the critical dt. Wall time is measured around the
  * loop alone (set-up excluded), as LAMMPS's "Loop time". */
 #include "run.h"
 
