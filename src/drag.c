@@ -30,6 +30,7 @@
 #include <stdlib.h>
 
 #include "forces.h"
+#include "servo.h"
 #include "vec3.h"
 
 int esf_drag_field(const esf_drag *d, const double x[3], double *p, double gradp[3],
@@ -122,6 +123,7 @@ int esf_drag_apply(esf_sim *s, const double *x, const double *v, esf_error *err)
   }
   if (on && d->logged < 2 && s->log) {
     esf_sim_log(s, "t = %.6g s (step %ld): fluid force on", s->t, s->step);
+    if (s->walls.gforce) esf_servo_log_state(s);
     d->logged = 2;
   }
   if (on && d->grid) {

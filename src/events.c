@@ -20,6 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "servo.h"
 #include "vec3.h"
 
 int esf_region_contains(const esf_region *r, const double x[3]) {
@@ -113,6 +114,7 @@ static int apply_one(esf_sim *s, esf_event *ev, esf_error *err) {
               "%s; %zu remain",
               s->t, s->step, ev->at, out,
               ev->region.kind == ESF_REGION_BOX ? "box" : "cylinder", p->n);
+  if (s->walls.gforce) esf_servo_log_state(s);
   return ESF_OK;
 }
 

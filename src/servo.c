@@ -115,3 +115,16 @@ void esf_servo_update(esf_sim *s) {
     v3_scale(g->vel, v, mo->dir);
   }
 }
+
+void esf_servo_log_state(const esf_sim *s) {
+  const esf_walls *w = &s->walls;
+  for (int k = 0; k < w->ngroups; k++) {
+    const esf_wall_group *g = &w->g[k];
+    if (g->motion.kind != ESF_MOTION_SERVO) continue;
+    esf_sim_log(s,
+                "  servo wall '%s': stress %.6g Pa (target %.6g), %g contacts, "
+                "speed %.4g m/s, moved %.6g m",
+                g->label, g->motion.sigma, g->motion.stress, w->gforce[4 * k + 3],
+                v3_dot(g->vel, g->motion.dir), v3_dot(g->disp, g->motion.dir));
+  }
+}

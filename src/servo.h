@@ -26,6 +26,9 @@ static inline void esf_servo_add(double *acc, const esf_contact_out *o,
   acc[3] += 1.0;
 }
 
+/* Writes each servo wall's measured stress, target and speed to the run's log. */
+void esf_servo_log_state(const esf_sim *s);
+
 /* Area of a wall element projected on unit direction d (0 for a plane), m^2. */
 double esf_wall_elem_area(const esf_wall_elem *e, const double d[3]);
 
