@@ -209,6 +209,10 @@ int esf_scene_walls(const esf_ynode *seq, esf_sim *s, esf_error *err) {
       if (!rc && kind[1] == 'l' && s->walls.g[group].motion.kind == ESF_MOTION_ROTATE)
         return esf_ynode_fail(mo, err,
                               "an infinite plane cannot rotate; use a polygon or a box");
+      if (!rc && kind[0] == 'b' && s->walls.g[group].motion.kind == ESF_MOTION_SERVO)
+        return esf_ynode_fail(mo, err,
+                              "a servo moves its whole wall, and a box's faces face each "
+                              "other; make the servo-controlled face a polygon");
     }
   }
   return rc;

@@ -144,5 +144,9 @@ good "" "events: [{at: 0.0, delete: {box: {min: [-1, -1, -1], max: [1, 1, 1]}}}]
 expect "events refused by an ODE method" 2 "events \(deleting particles\) are supported by the leapfrog only" \
   -- run "$tmp/s36.yaml" --out "$tmp/o36" --set integrator.method=verlet
 
+sed 's|- {plane: {point: \[0, 0, 0\], normal: \[0, 0, 1\]}, material: glass}|- {box: {min: [-1, -1, 0], max: [1, 1, 1]}, material: glass, motion: {servo: {stress: 1, direction: [0, 0, 1], max_speed: 1}}}|' "$tmp/ok.yaml" > "$tmp/s37.yaml"
+expect "servo box refused" 2 "s37.yaml:8:[0-9]+: .*make the servo-controlled face a polygon" \
+  -- run "$tmp/s37.yaml" --out "$tmp/o37"
+
 echo "bad_input: $pass passed, $fail failed"
 [ "$fail" = 0 ]
