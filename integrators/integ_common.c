@@ -24,6 +24,7 @@ int esf_integ_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
   rc = esf_sim_remove_escaped(s, err);
   if (!rc) rc = esf_neighbor_build(&s->nb, &s->p, &s->walls, err);
   if (!rc) esf_walls_mark(&s->walls);
+  if (!rc && s->bonds.pending) rc = esf_bonds_form(s, err); /* the start's contacts */
   if (!rc && rebuilt) *rebuilt = 1;
   return rc;
 }

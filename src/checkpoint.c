@@ -28,8 +28,8 @@
 
 /* Update with every field added to esf_contact_hist (contact_law.h): a checkpoint
  * records it and a resume refuses another. */
-#define HIST_LAYOUT "xi f64[3], n f64[3]"
-_Static_assert(sizeof(esf_contact_hist) == 6 * sizeof(double),
+#define HIST_LAYOUT "xi f64[3], n f64[3], bond_s f64, bond i32, spare i32"
+_Static_assert(sizeof(esf_contact_hist) == 8 * sizeof(double),
                "esf_contact_hist changed: update HIST_LAYOUT in checkpoint.c");
 
 enum { CK_VERSION = 1, CK_BOM = 0x01020304 };
@@ -141,10 +141,13 @@ int esf_ckpt_write(const char *path, esf_sim *s, const esf_integrator_type *it, 
   sec_end(&b, st);
   put_sec(&b, "METHOD", s->cfg.method, strlen(s->cfg.method) + 1);
 
-  ck_sim cs = {s->t,       s->dt,           s->led_time,  s->alpha_r,
-               s->alpha_t, s->contacts_sum, s->walls.t,   s->step,
-               s->removed, s->rhs_evals,    s->nb.builds, {0}};
+  ck_sim cs = {
+      s->t,       s->dt,   s->led_time, s->alpha_r,   s->alpha_t,   s->contacts_sum,
+      s->walls.t, s->step, s->removed,  s->rhs_evals, s->nb.builds, {0},
+      0,          0};
   memcpy(cs.rng, s->rng.s, sizeof cs.rng);
+  cs.bonds_formed = s->bonds.formed;
+  cs.bonds_broken = s->bonds.broken;
   put_sec(&b, "SIM", &cs, sizeof cs);
   put_sec(&b, "LEDGER", &s->led, sizeof s->led);
   put_sec(&b, "RUN", run, sizeof *run);
@@ -167,7 +170,11 @@ int esf_ckpt_write(const char *path, esf_sim *s, const esf_integrator_type *it, 
   int32_t nm = s->mats.n;
   esf_blob_put(&b, &nm, 4);
   esf_blob_put(&b, s->mats.m, (size_t)nm * sizeof *s->mats.m);
-  esf_blob_put(&b, s->mats.pair, (size_t)nm * (size_t)nm * sizeof *s->mats.pair);
+  for (size_t k = 0; k < (size_t)nm * (size_t)nm; k++) { /* the law pointer differs */
+    esf_pair_params pp = s->mats.pair[k];                /* between processes: 0 */
+    pp.law = NULL;
+    esf_blob_put(&b, &pp, sizeof pp);
+  }
   sec_end(&b, st);
 
   const esf_particles *p = &s->p;

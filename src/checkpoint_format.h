@@ -14,6 +14,7 @@ typedef struct ck_sim {
   double t, dt, led_time, alpha_r, alpha_t, contacts_sum, walls_t;
   int64_t step, removed, rhs_evals, builds;
   uint64_t rng[4];
+  int64_t bonds_formed, bonds_broken; /* esf_bonds counters (adhesive law) */
 } ck_sim;
 
 struct esf_ckpt {

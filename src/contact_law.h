@@ -12,6 +12,8 @@
 #ifndef ESF_CONTACT_LAW_H
 #define ESF_CONTACT_LAW_H
 
+#include <stdint.h>
+
 #include "material.h"
 
 /* The kinematics of one contact at the evaluation instant. */
@@ -30,6 +32,11 @@ typedef struct esf_contact_in {
 typedef struct esf_contact_hist {
   double xi[3]; /* tangential elastic displacement, m (force on A = kt xi) */
   double n[3];  /* the normal xi was last expressed in */
+  /* bond state (Phi of 004 2.25; bonds.h): set only at the start of the analysis,
+     cleared for good when the bond ruptures; zero for every other contact */
+  double bond_s; /* offset added to the overlap for the bonded law, m (bond_gap) */
+  int32_t bond;  /* 1: bonded (Phi = 1) */
+  int32_t spare; /* zero: no padding bytes in the record (checkpoints store it raw) */
 } esf_contact_hist;
 
 /* What the law returns. */
@@ -44,6 +51,8 @@ typedef struct esf_contact_out {
   double e_el_t;    /* elastic energy in the tangential spring, J */
   int touching;     /* 0: no force (separated); history is reset */
   int sliding;      /* 1: the Coulomb cap was active */
+  int broke;        /* 1: a bond ruptured in this evaluation (Phi 1 -> 0) */
+  double e_break;   /* the energy the bond held when it ruptured, J (broke = 1) */
 } esf_contact_out;
 
 /* How the stored tangential displacement follows a turning contact plane. */
@@ -66,8 +75,26 @@ typedef struct esf_contact_law {
   void (*eval)(const esf_pair_params *pp, double beta, int tframe,
                const esf_contact_in *in, const esf_contact_hist *hist, int first,
                esf_contact_hist *hist_out, esf_contact_out *out);
+  /* Elastic energy of the normal spring at overlap un for a touching contact with
+   * history h, J; *fel receives the elastic normal force (> 0 repulsive), N. */
+  double (*energy_n)(const esf_pair_params *pp, const esf_contact_hist *h, double un,
+                     double *fel);
 } esf_contact_law;
 
 extern const esf_contact_law esf_contact_linear;
+extern const esf_contact_law esf_contact_adhesive; /* PHYSICS.md §3.4, 004 2.22-2.25 */
+
+/* The tangential part shared by the laws and the force assembly: contact_tangential.h
+ * (esf_contact_tangential, esf_contact_finish). */
+
+/* The adhesive law's parameters from the user's F, epsilon and kn (contact_adhesive.c):
+ * fills *a, or returns ESF_EINPUT with a message in err for epsilon outside (0, 1),
+ * too close to 1/e, or F < 0. F = 0 gives delta = 0 (the linear law). */
+int esf_adhesion_derive(double F, double eps, double kn, esf_adhesion *a, esf_error *err);
+
+/* The bonded law's elastic normal force k_n [u + delta expm1(-alpha u)] (> 0
+ * repulsive; 2.22 with the sign flipped) and its energy W(u) = integral_0^u of it. */
+double esf_adhesion_force(double kn, const esf_adhesion *a, double u);
+double esf_adhesion_energy(double kn, const esf_adhesion *a, double u);
 
 #endif

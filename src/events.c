@@ -9,10 +9,10 @@
  * esf_neighbor_remap, as for particles leaving the domain (sim.c).
  * Ledger: energy_removed gains what the deleted particles carried: kinetic
  * (1/2 m v^2 + 1/2 I w^2, at the leapfrog's half-step velocity), gravitational
- * (-m g.x) and the elastic energy of their touching contacts (1/2 kn u^2 +
- * 1/2 kt |xi|^2 at the current positions, linear law), which disappears from the
- * stored elastic energy with them. The count is logged and kept per event.
- * Units: SI. */
+ * (-m g.x) and the elastic energy of their touching contacts (the pair law's normal
+ * energy, bonds in tension included, + 1/2 kt |xi|^2 at the current positions), which
+ * disappears from the stored elastic energy with them. The count is logged and kept per
+ * event. Units: SI. */
 #include "events.h"
 
 #include <math.h>
@@ -58,8 +58,8 @@ static double removed_elastic(const esf_sim *s, const unsigned char *keep) {
     v3_sub(d, p->x + 3 * b, p->x + 3 * a);
     double un = p->radius[a] + p->radius[b] - v3_norm(d);
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
-    if (un > 0) e += 0.5 * pp->kn * un * un;
-    e += 0.5 * pp->kt * v3_norm2(c->h[k].xi);
+    double fel;
+    e += pp->law->energy_n(pp, &c->h[k], un, &fel) + 0.5 * pp->kt * v3_norm2(c->h[k].xi);
   }
   c = &s->nb.pw;
   for (size_t k = 0; k < c->n; k++) {
@@ -70,8 +70,8 @@ static double removed_elastic(const esf_sim *s, const unsigned char *keep) {
     esf_wall_nearest(el, p->x + 3 * a, &hit);
     double un = p->radius[a] - hit.dist;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
-    if (un > 0) e += 0.5 * pp->kn * un * un;
-    e += 0.5 * pp->kt * v3_norm2(c->h[k].xi);
+    double fel;
+    e += pp->law->energy_n(pp, &c->h[k], un, &fel) + 0.5 * pp->kt * v3_norm2(c->h[k].xi);
   }
   return e;
 }

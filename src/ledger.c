@@ -23,6 +23,7 @@ const char *const esf_ledger_columns[ESF_LEDGER_NCOLS] = {"time",
                                                           "dissipated_local",
                                                           "energy_removed",
                                                           "alpha_global",
+                                                          "dissipated_bonds",
                                                           "work_fluid"};
 
 double esf_ledger_stored(const esf_ledger *l) {
@@ -30,7 +31,8 @@ double esf_ledger_stored(const esf_ledger *l) {
 }
 
 double esf_ledger_dissipated(const esf_ledger *l) {
-  return l->d_normal + l->d_tangential + l->d_friction + l->d_global + l->d_local;
+  return l->d_normal + l->d_tangential + l->d_friction + l->d_global + l->d_local +
+         l->d_bonds;
 }
 
 double esf_ledger_total_error(const esf_ledger *l) {
@@ -58,6 +60,7 @@ void esf_ledger_values(double t, const esf_ledger *l, double alpha,
                                       l->d_local,
                                       l->e_removed,
                                       alpha,
+                                      l->d_bonds,
                                       l->w_fluid};
   for (int k = 0; k < ESF_LEDGER_NCOLS; k++) row[k] = v[k];
 }

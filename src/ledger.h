@@ -23,6 +23,7 @@ typedef struct esf_ledger {
   double w_walls;      /* work done by walls on the particles, J */
   double e_removed;    /* energy carried away by particles leaving the domain or
                           deleted by events (with their contacts' elastic energy), J */
+  double d_bonds;      /* energy bonds held when they ruptured (adhesive law), J */
   double w_fluid;      /* work done by the fluid force on the particles (drag.c), J */
   double e0;           /* stored energy at the start, J */
   int started;         /* e0 set */
@@ -33,8 +34,9 @@ double esf_ledger_dissipated(const esf_ledger *l);
 double esf_ledger_total_error(const esf_ledger *l);
 
 /* The columns of an energy row (energy.csv and /energy in frames.h5), in order. */
-enum { ESF_LEDGER_NCOLS = 19, ESF_LEDGER_ALPHA = 17 /* alpha_global */ };
+enum { ESF_LEDGER_NCOLS = 20 };
 extern const char *const esf_ledger_columns[ESF_LEDGER_NCOLS];
+enum { ESF_LEDGER_ALPHA = 17 }; /* the column of alpha_global */
 
 /* One row's values at time t (s) with global damping alpha (1/s), in column order. */
 void esf_ledger_values(double t, const esf_ledger *l, double alpha,

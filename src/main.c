@@ -278,11 +278,12 @@ static int cmd_run(int argc, char **argv) {
          "particle_steps_per_s=%.6g dt=%.6g rebuilds=%ld rhs_evals=%ld "
          "energy_error=%.6g dissipated=%.6g removed=%ld method=%s rejected=%ld "
          "acc_limited=%ld stab_limited=%ld h_last=%.6g events=%ld restarts=%ld "
-         "checkpoints=%ld\n",
+         "checkpoints=%ld bonds=%ld bonds_broken=%ld\n",
          st.steps, st.particles_mean, st.contacts_mean, st.wall_s, st.rate, s.dt,
          s.nb.builds, st.integ.rhs_evals, st.energy_error, st.dissipated, s.removed,
          s.cfg.method, st.integ.rejected, st.integ.acc_limited, st.integ.stab_limited,
-         st.integ.h_last, st.integ.events, st.integ.restarts, st.checkpoints);
+         st.integ.h_last, st.integ.events, st.integ.restarts, st.checkpoints,
+         s.bonds.formed, s.bonds.broken);
   esf_sim_release(&s);
   return 0;
 }

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "contact_law.h"
 #include "vec3.h"
 
 const char *const esf_mix_names[] = {"harmonic", "arithmetic", "geometric",
@@ -25,6 +26,9 @@ void esf_mixing_default(esf_mixing *m) {
   m->friction = ESF_MIX_MIN;
   m->cohesion = ESF_MIX_MIN;
   m->tensile_limit = ESF_MIX_MIN;
+  m->adhesion_force = ESF_MIX_MIN;
+  m->adhesion_epsilon = ESF_MIX_GEOMETRIC; /* the mean of ln eps */
+  m->adhesion_gap = ESF_MIX_MIN;
 }
 
 double esf_mix(int rule, double a, double b) {
@@ -106,6 +110,23 @@ int esf_materials_mix(esf_materials *t, esf_error *err) {
         p->tensile_limit = ta;
       else
         p->tensile_limit = esf_mix(r->tensile_limit, ta, tb);
+      /* the adhesive law where both materials are adhesive (F > 0) */
+      p->law = &esf_contact_linear;
+      p->adh = (esf_adhesion){0};
+      p->adh.k_max = p->kn;
+      if (A->adhesion_force > 0 && B->adhesion_force > 0) {
+        double F = esf_mix(r->adhesion_force, A->adhesion_force, B->adhesion_force);
+        double eps =
+            esf_mix(r->adhesion_epsilon, A->adhesion_epsilon, B->adhesion_epsilon);
+        int rc = esf_adhesion_derive(F, eps, p->kn, &p->adh, err);
+        if (rc) {
+          esf_error_prefix(err, "materials '%s' and '%s' (mixed adhesion): ", A->name,
+                           B->name);
+          return rc;
+        }
+        p->adh.gap = esf_mix(r->adhesion_gap, A->adhesion_gap, B->adhesion_gap);
+        if (F > 0) p->law = &esf_contact_adhesive;
+      }
     }
   }
   return ESF_OK;

@@ -24,6 +24,9 @@ typedef struct esf_material {
   double friction;               /* Coulomb coefficient mu = tan(phi) */
   double cohesion;               /* c of the Mohr-Coulomb surface, N */
   double tensile_limit;          /* tension cut-off, N (>= 0); < 0: none given */
+  double adhesion_force;         /* F of the adhesive law (004 2.23), N; 0: none */
+  double adhesion_epsilon;       /* its epsilon, (0, 1) without 1/e */
+  double adhesion_gap;           /* bond_gap: pairs this close at the start bond, m */
 } esf_material;
 
 /* Mixing rules. For equal values every rule returns that value. */
@@ -40,6 +43,7 @@ extern const char *const esf_mix_names[]; /* "harmonic", ..., NULL */
 /* One rule per mixed property. */
 typedef struct esf_mixing {
   int kn, kt, restitution, tangential_restitution, friction, cohesion, tensile_limit;
+  int adhesion_force, adhesion_epsilon, adhesion_gap; /* min, geometric, min */
 } esf_mixing;
 
 /* The defaults: kn, kt harmonic (001 3.45, series springs); restitution, tangential
@@ -48,15 +52,32 @@ void esf_mixing_default(esf_mixing *m);
 
 double esf_mix(int rule, double a, double b);
 
+/* The adhesive law's parameters for one pair (PHYSICS.md §3.4, contact_adhesive.c):
+ * overlaps u in m, positive when interpenetrating. */
+typedef struct esf_adhesion {
+  double F, eps;    /* the inputs: largest tensile force (N) and epsilon */
+  double delta;     /* m, 004 (2.23) */
+  double alpha;     /* 1/m, 004 (2.24); alpha delta = -ln eps */
+  double u_peak;    /* overlap of the largest tension F, ln(alpha delta)/alpha, m */
+  double u_rupture; /* where a bond opens: 0 (eps < 1/e) or the negative root, m */
+  double u_eq;      /* stable rest overlap of a bond: the positive root, or 0, m */
+  double k_max;     /* largest |df/du| over u >= u_rupture, N/m */
+  double gap;       /* bond_gap of the pair (bonds.h), m */
+} esf_adhesion;
+
+struct esf_contact_law;
+
 /* The mixed parameters of one material pair. */
 typedef struct esf_pair_params {
-  double kn, kt;           /* N/m */
-  double gamma_n, gamma_t; /* damping ratios from restitution, 004 (2.28) */
-  double cn_factor;        /* c_n = cn_factor * sqrt(m*), N s/m / sqrt(kg) */
-  double ct_factor;        /* c_t = ct_factor * sqrt(m*) */
-  double mu;               /* friction coefficient */
-  double cohesion;         /* N */
-  double tensile_limit;    /* N, >= 0: the shear strength vanishes when f_n < -limit */
+  const struct esf_contact_law *law; /* linear, or adhesive when both materials are */
+  double kn, kt;                     /* N/m */
+  double gamma_n, gamma_t;           /* damping ratios from restitution, 004 (2.28) */
+  double cn_factor;                  /* c_n = cn_factor * sqrt(m*), N s/m / sqrt(kg) */
+  double ct_factor;                  /* c_t = ct_factor * sqrt(m*) */
+  double mu;                         /* friction coefficient */
+  double cohesion;                   /* N */
+  double tensile_limit; /* N, >= 0: the shear strength vanishes when f_n < -limit */
+  esf_adhesion adh;     /* the adhesive law's parameters (law = adhesive only) */
 } esf_pair_params;
 
 typedef struct esf_materials {

@@ -2,8 +2,8 @@
  *
  * Build: (1) index the old lists' touching contacts by key (a, b) in a sorted array;
  * (2) find the particle pairs within skin by the cells (each once) and, for every
- * particle, the wall elements within skin (brute force over elements: walls are few
- * until meshes arrive); (3) for every new candidate, binary-search its key in the old
+ * particle, the wall elements within skin (among those the wall index, wall_index.h,
+ * reports near it); (3) for every new candidate, binary-search its key in the old
  * index and copy the history and the touching flag. Contacts no longer candidates lose
  * their history, as they can only be out of contact (their gap exceeds the skin).
  * Entry: positions finite. Exit: lists sorted by (a, b); xref = current positions. */
@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "vec3.h"
+#include "wall_index.h"
 
 static void contacts_release(esf_contacts *c) {
   free(c->a);
@@ -66,6 +67,7 @@ void esf_neighbor_release(esf_neighbor *nb) {
   contacts_release(&nb->pw);
   esf_cells_free(&nb->cells);
   esf_pairbuf_release(&nb->buf);
+  esf_wall_index_free(&nb->widx);
   free(nb->wall_hits);
   free(nb->wall_un);
   free(nb->wall_keep);
@@ -209,11 +211,18 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
   if (rc) return rc;
 
   /* particle-wall candidates */
+  rc = esf_wall_index_sync(&nb->widx, w, err);
+  if (rc) return rc;
   size_t cap = 64, mw = 0;
   keys = malloc(cap * 2 * sizeof *keys);
   if (!keys) return esf_fail(err, ESF_ENOMEM, "out of memory for wall candidates");
   for (size_t i = 0; i < p->n; i++) {
-    for (size_t e = 0; e < w->n; e++) {
+    const uint32_t *cand = NULL;
+    size_t ncand = 0;
+    esf_wall_index_query(nb->widx, w, p->x + 3 * i, p->radius[i] + nb->skin, &cand,
+                         &ncand);
+    for (size_t c = 0; c < ncand; c++) {
+      size_t e = cand[c];
       const esf_wall_elem *el = &w->e[e];
       const double *x = p->x + 3 * i;
       double reach = p->radius[i] + nb->skin;

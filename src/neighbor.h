@@ -55,6 +55,8 @@ typedef struct esf_neighbor {
    * Cleared after every check (esf_integ_refresh). */
   int disp_valid;
   double max_disp2; /* largest squared displacement since the build, m^2 */
+  /* the wall element index (wall_index.h) */
+  struct esf_wall_index *widx;
 } esf_neighbor;
 
 int esf_neighbor_init(esf_neighbor *nb, double skin, int ledger, esf_error *err);

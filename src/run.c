@@ -73,6 +73,18 @@ static void log_setup(const esf_sim *s, const esf_integrator_type *it) {
               s->local ? s->local->name : "off", c->local_coef, s->beta);
   esf_sim_log(s, "contact law: %s, tangential frame: %s; skin %.6g m", s->law->name,
               c->tframe == ESF_TFRAME_ROTATE ? "rotate (seed)" : "project", c->skin);
+  for (int a = 0; s->bonds.on && a < s->mats.n; a++)
+    for (int b = a; b < s->mats.n; b++) {
+      const esf_pair_params *pp = &s->mats.pair[a * s->mats.n + b];
+      const esf_adhesion *A = &pp->adh;
+      if (pp->law->flags & ESF_LAW_TENSION)
+        esf_sim_log(s,
+                    "adhesive law %s-%s: F %.6g N, epsilon %.6g, delta %.6g m, alpha "
+                    "%.6g 1/m, peak tension at u %.6g m, rupture at u %.6g m, rest u "
+                    "%.6g m, largest tangent stiffness %.6g N/m",
+                    s->mats.m[a].name, s->mats.m[b].name, A->F, A->eps, A->delta,
+                    A->alpha, A->u_peak, A->u_rupture, A->u_eq, A->k_max);
+    }
   if (it->flags & ESF_INTEG_HALF_STEP_V)
     esf_sim_log(s, "note: frame velocities are the half-step ones, v(t - dt/2); energy "
                    "rows: kinetic at t + dt/2, elastic at t");
@@ -84,7 +96,7 @@ static int check_energy(const esf_sim *s, esf_error *err) {
   double budget = fabs(L->e0) + fabs(L->d_normal) + fabs(L->d_tangential) +
                   fabs(L->d_friction) + fabs(L->d_global) + fabs(L->d_local) +
                   fabs(L->w_walls) + fabs(L->e_removed) + fabs(L->pot_g) + fabs(L->el_n) +
-                  fabs(L->el_t);
+                  fabs(L->el_t) + fabs(L->d_bonds);
   budget += fabs(L->w_fluid); /* the fluid force (drag.c) */
   if (!(err_e > 0.25 * budget && err_e > 1e-30) && isfinite(err_e)) return ESF_OK;
   /* name the particle with the most kinetic energy: where the blow-up is */
@@ -116,6 +128,9 @@ static int write_frame(const esf_sim *s, esf_frames *fr, esf_contact_net *net,
   if (!rc)
     rc = esf_frames_write(fr, s->t, &s->p, &s->walls, s->cfg.out_contacts ? net : NULL,
                           err);
+  if (!rc && s->bonds.on && !s->bonds.pending) /* bond counts per frame (bonds.h) */
+    esf_sim_log(s, "frame t = %.6g s: %ld bonds intact, %ld broken", s->t,
+                esf_bonds_alive(s), s->bonds.broken);
   return rc;
 }
 
@@ -306,6 +321,11 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     esf_sim_log(s,
                 "output: %ld frames, %ld energy rows in frames.h5; %.3f s writing them",
                 esf_frames_count(fr), esf_frames_energy_rows(fr), esf_frames_seconds(fr));
+  if (s->bonds.on)
+    esf_sim_log(s,
+                "bonds: %ld at the start, %ld broken, %ld intact; %.6g J released by "
+                "ruptures",
+                s->bonds.formed, s->bonds.broken, esf_bonds_alive(s), s->led.d_bonds);
   if (rc)
     esf_sim_log(s, "FAILED: %s", err->msg);
   else

@@ -19,6 +19,32 @@ static int positive(const esf_ynode *map, const char *key, double v, int strict,
                         strict ? "positive" : "non-negative", v);
 }
 
+/* adhesion: {force: F, epsilon: eps} (PHYSICS.md §3.4), checked by deriving the law
+ * with the material's own kn. */
+static int read_adhesion(const esf_ynode *m, esf_material *mat, esf_error *err) {
+  static const char *const keys[] = {"force", "epsilon", "bond_gap", NULL};
+  const esf_ynode *ad = esf_ymap_get(m, "adhesion");
+  if (!ad) return ESF_OK;
+  int rc = esf_ynode_require_map(ad, err);
+  if (!rc) rc = esf_ymap_check_keys(ad, keys, err);
+  if (!rc) rc = esf_yget_double(ad, "force", 1, &mat->adhesion_force, err);
+  if (!rc) rc = esf_yget_double(ad, "epsilon", 1, &mat->adhesion_epsilon, err);
+  if (!rc) rc = esf_yget_double(ad, "bond_gap", 0, &mat->adhesion_gap, err);
+  if (!rc) rc = positive(ad, "bond_gap", mat->adhesion_gap, 0, err);
+  if (rc) return rc;
+  esf_adhesion a;
+  esf_error e2;
+  esf_error_clear(&e2);
+  if (!(mat->adhesion_force >= 0))
+    return esf_ynode_fail(esf_ymap_get(ad, "force"), err,
+                          "must be a non-negative force in N (the largest tension), "
+                          "got %g",
+                          mat->adhesion_force);
+  if (esf_adhesion_derive(mat->adhesion_force, mat->adhesion_epsilon, mat->kn, &a, &e2))
+    return esf_ynode_fail(esf_ymap_get(ad, "epsilon"), err, "%s", e2.msg);
+  return ESF_OK;
+}
+
 static int read_material(const esf_ynode *name_key_map, size_t k, esf_sim *s,
                          esf_error *err) {
   static const char *const keys[] = {"density",
@@ -30,6 +56,7 @@ static int read_material(const esf_ynode *name_key_map, size_t k, esf_sim *s,
                                      "friction_angle",
                                      "cohesion",
                                      "tensile_limit",
+                                     "adhesion", /* bond: the adhesive law */
                                      NULL};
   const esf_ynode *m = name_key_map->items[k];
   const char *name = name_key_map->keys[k];
@@ -85,6 +112,7 @@ static int read_material(const esf_ynode *name_key_map, size_t k, esf_sim *s,
   }
   if (!rc && mat.density < 0)
     return esf_ynode_fail(esf_ymap_get(m, "density"), err, "must be positive");
+  if (!rc) rc = read_adhesion(m, &mat, err);
   if (rc) return rc;
   return esf_materials_add(&s->mats, &mat, NULL, err);
 }
@@ -99,15 +127,30 @@ static int read_materials(const esf_ynode *root, esf_sim *s, esf_error *err) {
   if (rc) return rc;
   esf_mixing_default(&s->mats.mixing);
   const esf_ynode *mx = esf_ymap_get(root, "mixing");
-  static const char *const mkeys[] = {
-      "kn",       "kt",       "restitution",   "tangential_restitution",
-      "friction", "cohesion", "tensile_limit", NULL};
+  static const char *const mkeys[] = {"kn",
+                                      "kt",
+                                      "restitution",
+                                      "tangential_restitution",
+                                      "friction",
+                                      "cohesion",
+                                      "tensile_limit",
+                                      "adhesion_force",
+                                      "adhesion_epsilon",
+                                      "adhesion_bond_gap",
+                                      NULL};
   if (!mx) return ESF_OK;
   rc = esf_ymap_check_keys(mx, mkeys, err);
   esf_mixing *r = &s->mats.mixing;
-  int *slots[] = {
-      &r->kn,       &r->kt,       &r->restitution,  &r->tangential_restitution,
-      &r->friction, &r->cohesion, &r->tensile_limit};
+  int *slots[] = {&r->kn,
+                  &r->kt,
+                  &r->restitution,
+                  &r->tangential_restitution,
+                  &r->friction,
+                  &r->cohesion,
+                  &r->tensile_limit,
+                  &r->adhesion_force,
+                  &r->adhesion_epsilon,
+                  &r->adhesion_gap};
   for (int k = 0; mkeys[k] && !rc; k++)
     rc = esf_yget_choice(mx, mkeys[k], 0, esf_mix_names, slots[k], err);
   return rc;
@@ -337,7 +380,7 @@ int esf_scene_read(esf_ydoc *doc, esf_sim *s, esf_error *err) {
   if (!rc) rc = read_integrator(root, c, err);
   if (!rc) rc = read_damping(root, c, err);
   if (!rc) rc = read_misc(root, c, err);
-  if (!rc) rc = esf_scene_walls(esf_ymap_get(root, "walls"), s, err);
+  if (!rc) rc = esf_scene_walls(esf_ymap_get(root, "walls"), esf_ydoc_dir(doc), s, err);
   if (!rc) rc = esf_scene_sand(root, s, err); /* events, fluid (scene_sand.c) */
   if (!rc) {
     const esf_ynode *ps = esf_ymap_get(root, "particles");

@@ -20,7 +20,14 @@ int esf_scene_read(esf_ydoc *doc, esf_sim *s, esf_error *err);
 /* Parts (scene_particles.c, scene_walls.c). */
 int esf_scene_particles(const esf_ynode *seq, const char *dir, esf_sim *s,
                         esf_error *err);
-int esf_scene_walls(const esf_ynode *seq, esf_sim *s, esf_error *err);
+int esf_scene_walls(const esf_ynode *seq, const char *dir, esf_sim *s, esf_error *err);
+/* Mesh walls (scene_meshes.c): entry e's `mesh`, `cylinder` or `screw` into group. */
+int esf_scene_wall_stl(const esf_ynode *e, const char *dir, esf_sim *s, int group,
+                       int32_t mat, esf_error *err);
+int esf_scene_wall_cylinder(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
+                            esf_error *err);
+int esf_scene_wall_screw(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
+                         esf_error *err);
 
 /* The material index named by a scalar node, or an error listing the materials. */
 int esf_scene_material(const esf_ynode *node, const esf_materials *m, int32_t *index,

@@ -3,7 +3,8 @@
  * the open faces). Each entry becomes one wall group; its material must be defined.
  * Prescribed motion (`motion:`): translate {velocity}, rotate {axis, center, rpm or
  * omega}, oscillate {direction, frequency, amplitude or acceleration in g, phase (rad)};
- * the whole wall (a box: all its faces) moves rigidly (wall_motion.c). */
+ * the whole wall (a box: all its faces) moves rigidly (wall_motion.c). Mesh walls (an
+ * STL file, a cylinder, a screw) are read in scene_meshes.c. */
 #include <stdio.h>
 #include <math.h>
 #include <string.h>
@@ -170,9 +171,12 @@ static int read_motion(const esf_ynode *mo, esf_wall_motion *m, esf_error *err) 
   return rc;
 }
 
-int esf_scene_walls(const esf_ynode *seq, esf_sim *s, esf_error *err) {
-  static const char *const keys[] = {"box",      "plane",  "polygon", "open",
-                                     "material", "motion", NULL};
+/* the mesh wall kinds (scene_meshes.c) */
+static const char *const mesh_kinds[] = {"mesh", "cylinder", "screw", NULL};
+
+int esf_scene_walls(const esf_ynode *seq, const char *dir, esf_sim *s, esf_error *err) {
+  static const char *const keys[] = {"box",    "plane", "polygon",  "open",  "material",
+                                     "motion", "mesh",  "cylinder", "screw", NULL};
   if (!seq || seq->kind == ESF_YN_NULL) return ESF_OK;
   int rc = esf_ynode_require_seq(seq, err);
   for (size_t k = 0; k < (seq ? seq->n : 0) && !rc; k++) {
@@ -182,8 +186,13 @@ int esf_scene_walls(const esf_ynode *seq, esf_sim *s, esf_error *err) {
     if (rc) break;
     int nkind = (esf_ymap_get(e, "box") != NULL) + (esf_ymap_get(e, "plane") != NULL) +
                 (esf_ymap_get(e, "polygon") != NULL);
+    const char *mesh = NULL;
+    for (int q = 0; mesh_kinds[q]; q++)
+      if (esf_ymap_get(e, mesh_kinds[q])) nkind++, mesh = mesh_kinds[q];
     if (nkind != 1)
-      return esf_ynode_fail(e, err, "a wall is exactly one of box, plane or polygon");
+      return esf_ynode_fail(e, err,
+                            "a wall is exactly one of box, plane, polygon, mesh, "
+                            "cylinder or screw");
     if (esf_ymap_get(e, "open") && !esf_ymap_get(e, "box"))
       return esf_ynode_fail(esf_ymap_get(e, "open"), err, "only a box has open faces");
     int32_t mat = 0;
@@ -192,12 +201,19 @@ int esf_scene_walls(const esf_ynode *seq, esf_sim *s, esf_error *err) {
     char label[32];
     const char *kind = esf_ymap_get(e, "box")     ? "box"
                        : esf_ymap_get(e, "plane") ? "plane"
+                       : mesh                     ? mesh
                                                   : "polygon";
     snprintf(label, sizeof label, "%s %zu", kind, k);
     int group = 0;
     rc = esf_walls_add_group(&s->walls, label, &group, err);
     if (rc) break;
-    if (kind[0] == 'b')
+    if (mesh && mesh[0] == 'm')
+      rc = esf_scene_wall_stl(e, dir, s, group, mat, err);
+    else if (mesh && mesh[0] == 'c')
+      rc = esf_scene_wall_cylinder(e, s, group, mat, err);
+    else if (mesh)
+      rc = esf_scene_wall_screw(e, s, group, mat, err);
+    else if (kind[0] == 'b')
       rc = read_box(e, s, group, mat, err);
     else if (kind[1] == 'l')
       rc = read_plane(e, s, group, mat, err);

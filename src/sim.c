@@ -137,11 +137,14 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
     if (s->alpha_t < c->autod.alpha_min) s->alpha_t = c->autod.alpha_min;
   }
 
-  if (!(c->skin > 0)) {
+  int skin_auto = !(c->skin > 0);
+  if (skin_auto) {
     double rsum = 0;
     for (size_t i = 0; i < s->p.n; i++) rsum += s->p.radius[i];
     c->skin = s->p.n ? 0.4 * rsum / (double)s->p.n : 1e-3;
   }
+  rc = esf_bonds_setup(s, skin_auto, err);
+  if (rc) return rc;
   s->led.on = c->energy_every > 0;
   rc = esf_servo_setup(s, err);           /* servo walls (servo.c) */
   if (!rc) rc = esf_events_setup(s, err); /* scene events (events.c) */

@@ -6,6 +6,7 @@
 
 #include <stdio.h>
 
+#include "bonds.h"
 #include "contact_law.h"
 #include "damping.h"
 #include "esf_error.h"
@@ -88,6 +89,7 @@ typedef struct esf_sim {
   esf_walls walls;
   esf_neighbor nb;
   esf_ledger led;
+  esf_bonds bonds; /* the adhesive law's bonds (bonds.h) */
   const esf_contact_law *law;
   const esf_local_damping *local; /* NULL when off */
   double beta;                    /* Rayleigh stiffness-proportional factor (0: off), s */

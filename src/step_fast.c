@@ -77,9 +77,27 @@ void esf_step_fast_free(esf_step_fast **f) {
   *f = NULL;
 }
 
+/* The features a scene may switch on, compiled in or (ESF_MINIMAL: meson -Dfeatures=
+ * minimal) out of the fused step; a build without them sends the scenes that use them
+ * to the general path. */
+#ifdef ESF_MINIMAL
+#define HAS_FEATURES 0
+#else
+#define HAS_FEATURES 1
+#endif
+
+static int minimal_ok(const esf_sim *s) {
+  const esf_materials *mt = &s->mats;
+  for (int k = 0; k < mt->n * mt->n; k++)
+    if (mt->pair[k].cohesion != 0.0) return 0;
+  return s->cfg.tframe == ESF_TFRAME_ROTATE && s->cfg.dim == 3 && !s->local &&
+         s->alpha_r == 0.0 && s->alpha_t == 0.0 && !s->walls.moving;
+}
+
 int esf_step_fast_eligible(const esf_sim *s) {
   return s->cfg.fused && !s->led.on && !s->cfg.autod.on && !s->tally &&
          s->law == &esf_contact_linear && !s->nb.pp.vc0 && !s->nb.pp.xs && !s->nb.pw.xs &&
+         (HAS_FEATURES || minimal_ok(s)) &&
          !s->walls.gforce && !s->drag; /* servo walls, fluid force: general path */
 }
 
@@ -218,7 +236,7 @@ static inline int pair_kernel(esf_sim *s, esf_step_fast *f, size_t k, int rotate
   esf_contact_hist *h = &c->h[k];
   double xi[3] = {0, 0, 0};
   if (c->touch[k]) {
-    if (rotate) { /* 000 (3-17)-(3-18) */
+    if (!HAS_FEATURES || rotate) { /* 000 (3-17)-(3-18) */
       double t1[3], t2[3];
       v3_cross(t1, h->n, n);
       v3_cross(t2, t1, h->xi);
@@ -243,8 +261,8 @@ static inline int pair_kernel(esf_sim *s, esf_step_fast *f, size_t k, int rotate
   double ft[3];
   const double ctk = f->ct[k];
   for (int q = 0; q < 3; q++) ft[q] = pp->kt * xi[q] + ctk * vct[q];
-  double tau = fn < -pp->tensile_limit ? 0.0 : pp->cohesion + pp->mu * fn;
-  if (tau < 0.0) tau = 0.0;
+  /* fn >= 0 here (no tension), so the tension cut-off never applies */
+  const double tau = HAS_FEATURES ? pp->cohesion + pp->mu * fn : pp->mu * fn;
   const double ftm2 = v3_norm2(ft);
   if (ftm2 > tau * tau) { /* sliding: radial return, no dashpot (004 2.16) */
     const double sc = tau / sqrt(ftm2);
@@ -335,7 +353,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
         if (i < bad_part) bad_part = i;
         continue;
       }
-      if (dim2) {
+      if (HAS_FEATURES && dim2) {
         fi[1] = 0.0;
         ti[0] = 0.0;
         ti[2] = 0.0;
@@ -343,7 +361,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
       double *v = p->v + 3 * i, *w = p->w + 3 * i, *x = p->x + 3 * i;
       v3_copy(p->f + 3 * i, fi);
       v3_copy(p->t + 3 * i, ti);
-      if (loc) {
+      if (HAS_FEATURES && loc) {
         double fd[3], md[3];
         loc->force(lc, fi, v, fd);
         loc->force(lc, ti, w, md);
@@ -353,8 +371,13 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
       const double im = p->inv_mass[i] * dt, ii = p->inv_inertia[i] * dt;
       double d2 = 0.0;
       for (int q = 0; q < 3; q++) {
-        v[q] = (cr0 * v[q] + fi[q] * im) * cr1;
-        w[q] = (ct0 * w[q] + ti[q] * ii) * ct1;
+        if (HAS_FEATURES) {
+          v[q] = (cr0 * v[q] + fi[q] * im) * cr1;
+          w[q] = (ct0 * w[q] + ti[q] * ii) * ct1;
+        } else {
+          v[q] += fi[q] * im;
+          w[q] += ti[q] * ii;
+        }
         x[q] += v[q] * dt;
         if (xref) {
           const double d = x[q] - xref[3 * i + q];

@@ -1,7 +1,9 @@
 /* timestep.c — the critical time step rules of the seeds (PHYSICS.md §5).
  *
  * With m_min the smallest particle mass, k_max the largest stiffness (k_n or k_t) of any
- * material pair the scene can bring into contact, and FRAC = 1:
+ * material pair the scene can bring into contact (for an adhesive pair, the largest
+ * tangent stiffness |df/du| of its bonded law over the bonded range, k_n max(1,
+ * |1 - L e^{-alpha u_r}|), contact_adhesive.c), and FRAC = 1:
  *   cundall (000 3-27):          dt_c = sqrt(m_min / k_max)       (the seed's 0.1 is
  * FRAC) hart    (004 2.48):          dt_c = 2 sqrt(m_min / (2 k_max)) damped
  * (001 3.64, 3.66):    dt_c = 2 sqrt(m_min / k_max) (sqrt(1 + xi^2) - xi) where xi is the
@@ -32,7 +34,9 @@ void esf_dt_estimate_compute(const esf_sim *s, esf_dt_estimate *e) {
     for (int b = 0; b < mt->n; b++) {
       if (!many && !used_p[b] && !used_w[b]) continue;
       const esf_pair_params *pp = &mt->pair[a * mt->n + b];
-      k_max = fmax(k_max, fmax(pp->kn, pp->kt));
+      /* the adhesive law's largest tangent stiffness (contact_adhesive.c) */
+      double kn = pp->law->flags & ESF_LAW_TENSION ? pp->adh.k_max : pp->kn;
+      k_max = fmax(k_max, fmax(kn, pp->kt));
       g_max = fmax(g_max, fmax(pp->gamma_n, pp->gamma_t));
     }
   }

@@ -99,6 +99,29 @@ expect "history as state with the leapfrog" 2 "integrator.history: state .* erk:
 expect "roots without an adaptive erk" 2 "integrator.roots: .*adaptive erk: methods only \(rtol > 0\), not rk4" \
   -- run "$tmp/ok.yaml" --out "$tmp/o18" --set integrator.roots=true --set integrator.method=rk4
 
+# bond: the adhesive law's parameters (PHYSICS.md 3.4): epsilon in (0, 1) but not 1/e,
+# F >= 0, and a skin that keeps bonds in tension as candidates
+sed 's/friction: 0.3}/friction: 0.3, adhesion: {force: 1, epsilon: 0.36787944117144233}}/' \
+  "$tmp/ok.yaml" > "$tmp/b1.yaml"
+expect "adhesion epsilon 1/e" 2 "b1.yaml:3:[0-9]+: materials.glass.adhesion.epsilon: .*1/e" \
+  -- run "$tmp/b1.yaml" --out "$tmp/ob1"
+sed 's/friction: 0.3}/friction: 0.3, adhesion: {force: 1, epsilon: 1.0}}/' \
+  "$tmp/ok.yaml" > "$tmp/b2.yaml"
+expect "adhesion epsilon 1" 2 "b2.yaml:3:[0-9]+: materials.glass.adhesion.epsilon: epsilon must lie in \(0, 1\)" \
+  -- run "$tmp/b2.yaml" --out "$tmp/ob2"
+sed 's/friction: 0.3}/friction: 0.3, adhesion: {force: -2, epsilon: 0.5}}/' \
+  "$tmp/ok.yaml" > "$tmp/b3.yaml"
+expect "adhesion negative force" 2 "b3.yaml:3:[0-9]+: materials.glass.adhesion.force: must be a non-negative force" \
+  -- run "$tmp/b3.yaml" --out "$tmp/ob3"
+sed 's/friction: 0.3}/friction: 0.3, adhesion: {force: 1, epsilon: 0.5, bond_gap: 0.01}}/' \
+  "$tmp/ok.yaml" > "$tmp/b4.yaml"
+expect "skin below the bond reach" 2 "search.skin = 0.001 m does not exceed the bond reach" \
+  -- run "$tmp/b4.yaml" --out "$tmp/ob4" --set search.skin=0.001
+sed 's/friction: 0.3}/friction: 0.3, adhesion: {force: 1, epsilon: 0.5, bond_gp: 0}}/' \
+  "$tmp/ok.yaml" > "$tmp/b5.yaml"
+expect "adhesion misspelt key" 2 "b5.yaml:3:[0-9]+: unknown key 'bond_gp'" \
+  -- run "$tmp/b5.yaml" --out "$tmp/ob5"
+
 # numerical failure: exit 1, with the step, particle, dt and critical dt; frames so far kept
 cat > "$tmp/s16.yaml" <<'YAML'
 name: column
@@ -120,6 +143,26 @@ if [ -s "$tmp/o16/frames.h5" ] && grep -q "FAILED" "$tmp/o16/log.txt"; then
 else
   fail=$((fail + 1)); echo "FAIL failed run keeps frames.h5 and logs the failure"
 fi
+
+# mesh walls (STL files, generators): errors name the scene key and the file's line or
+# triangle; exit 2
+printf 'solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\nvertex 2 2 0\nendloop\nendfacet\nendsolid\n' > "$tmp/flat.stl"
+good "" "" | sed 's|  - {plane: {point: \[0, 0, 0\], normal: \[0, 0, 1\]}, material: glass}|  - {mesh: {file: flat.stl, scale: 0.1}, material: glass}|' > "$tmp/m1.yaml"
+expect "degenerate STL triangle" 2 "m1.yaml:8:[0-9]+: wall mesh: .*flat.stl:9: ASCII STL facet 2: degenerate triangle \(zero or near-zero area" \
+  -- run "$tmp/m1.yaml" --out "$tmp/om1"
+head -c 150 /dev/zero > "$tmp/trunc.stl"
+sed 's/flat.stl/trunc.stl/' "$tmp/m1.yaml" > "$tmp/m2.yaml"
+expect "truncated binary STL" 2 "m2.yaml:8:[0-9]+: wall mesh: .*trunc.stl: binary STL of 150 bytes, but its header announces 0 triangles = 84 bytes" \
+  -- run "$tmp/m2.yaml" --out "$tmp/om2"
+sed 's/flat.stl/none.stl/' "$tmp/m1.yaml" > "$tmp/m3.yaml"
+expect "missing STL file" 2 "m3.yaml:8:[0-9]+: wall mesh: .*none.stl: cannot open STL file" \
+  -- run "$tmp/m3.yaml" --out "$tmp/om3"
+good "" "" | sed 's|  - {plane: {point: \[0, 0, 0\], normal: \[0, 0, 1\]}, material: glass}|  - {screw: {base: [0, 0, 0], shaft_radius: 0.02, radius: 0.01, pitch: 0.1, turns: 2}, material: glass}|' > "$tmp/m4.yaml"
+expect "screw thinner than its shaft" 2 "m4.yaml:8:[0-9]+: walls.0.screw: a screw needs 0 < shaft_radius \(0.02 m\) < radius \(0.01 m\)" \
+  -- run "$tmp/m4.yaml" --out "$tmp/om4"
+sed 's/pitch: 0.1/pich: 0.1/' "$tmp/m4.yaml" > "$tmp/m5.yaml"
+expect "misspelt screw key" 2 "m5.yaml:8:[0-9]+: unknown key 'pich' in walls.0.screw \(did you mean 'pitch'\?\)" \
+  -- run "$tmp/m5.yaml" --out "$tmp/om5"
 
 # sand production keys (servo walls, events, fluid)
 good "" "events: [{at: 0.1, delete: {cylinder: {center: [0, 0, 0], axis: [0, 1, 0], radius: 0.1}, box: {min: [0, 0, 0], max: [1, 1, 1]}}}]" > "$tmp/s30.yaml"

@@ -9,6 +9,7 @@ resume still succeeds; `--resume` with a scene or --set is refused; `--resume` a
 (text, HDF5) checkpoint, or one from a build with another esf_contact_hist layout, exit
 2 naming the cause. Usage: check_ckpt_errors.py ESFERA"""
 import os
+import re
 import resource
 import shutil
 import struct
@@ -133,12 +134,12 @@ def main():
         lay = bytearray(data)
         for tag, off, n in sections(data):
             if tag == "LAYOUT":
-                text = data[off:off + n].replace(b"esf_contact_hist 48: xi f64[3], n f64[3]",
-                                                 b"esf_contact_hist 64: xi f64[3], n f64[3], "
-                                                 b"bond f64[2]")
+                text = re.sub(rb"esf_contact_hist \d+: [^\n]*",
+                              b"esf_contact_hist 88: xi f64[3], n f64[3], other f64[5]",
+                              data[off:off + n])
                 lay = bytearray(data[:off - 8] + struct.pack("<Q", len(text)) + text +
                                 struct.pack("<I", zlib.crc32(text)) + data[off + n + 4:])
-        trial(bytes(lay), ["other record layouts", "bond f64[2]"], "other hist layout")
+        trial(bytes(lay), ["other record layouts", "other f64[5]"], "other hist layout")
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return finish("ckpt_errors")
