@@ -205,7 +205,7 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
     f->bin[cu[tb]++] = (uint32_t)j;
   }
   if (cu != cur) free(cu);
-  memset(f->slot, 0, nb * SLOT * sizeof(double)); /* zero unless touching */
+  if (nb) memset(f->slot, 0, nb * SLOT * sizeof(double)); /* zero unless touching */
   f->built = s->nb.builds;
   f->np = n;
   f->nth = nth;
