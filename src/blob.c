@@ -42,9 +42,9 @@ const void *esf_blob_take(esf_blob_in *in, size_t len) {
 int esf_blob_get(esf_blob_in *in, void *out, size_t len) {
   const void *p = esf_blob_take(in, len);
   if (!p) {
-    memset(out, 0, len);
+    if (len) memset(out, 0, len);
     return -1;
   }
-  memcpy(out, p, len);
+  if (len) memcpy(out, p, len); /* out may be NULL for an empty list */
   return 0;
 }
