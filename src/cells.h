@@ -4,7 +4,10 @@
  * |x_i - x_j| < r_i + r_j + skin, each pair exactly once, using a uniform grid of cells
  * of edge >= 2 r_max + skin over the particles' bounding box, HEAD/LIST linked lists and
  * the half-shell stencil (the own cell plus 13 of the 26 neighbours in 3D). In a 2D
- * scene (all y equal) the grid is one cell thick and the same stencil applies.
+ * scene (all y equal) the grid is one cell thick and the same stencil applies. A
+ * polydisperse set is cut into size classes, each with its own grid sized for its own
+ * radius; pairs across classes are found by querying the larger class's grid around
+ * each smaller particle (cells.c).
  * Brute force O(N^2) is provided as the reference for tests. */
 #ifndef ESF_CELLS_H
 #define ESF_CELLS_H
@@ -25,6 +28,8 @@ void esf_pairbuf_release(esf_pairbuf *b);
 
 typedef struct esf_cells esf_cells; /* reusable grid storage (HEAD, LIST, cell index) */
 
+#define ESF_CELLS_MAX_CLASSES 8 /* size classes of the polydisperse search, at most */
+
 int esf_cells_create(esf_cells **out, esf_error *err);
 void esf_cells_free(esf_cells **c);
 
@@ -35,6 +40,12 @@ void esf_cells_free(esf_cells **c);
  */
 int esf_cells_pairs(esf_cells *c, size_t n, const double *x, const double *radius,
                     double skin, esf_pairbuf *out, esf_error *err);
+
+/* Tuning, for benchmarks and tests (the defaults are measured): size classes are used
+ * when the ratio of the largest to the smallest positive 2 r + skin is >= split (>= 1;
+ * INFINITY: never, one grid; 1: always), with about factor (> 1) between the largest
+ * and smallest 2 r + skin of a class. The pairs found do not depend on these. */
+int esf_cells_tune(esf_cells *c, double split, double factor, esf_error *err);
 
 /* The reference: all pairs by brute force, same criterion. */
 int esf_pairs_brute(size_t n, const double *x, const double *radius, double skin,
