@@ -43,8 +43,13 @@
 
 #include "cells_grid.h"
 
-#define CELLS_SPLIT_DEFAULT  2.5 /* size ratio S from which classes are used */
 #define CELLS_FACTOR_DEFAULT 2.0 /* target ratio of s within one class */
+#define CELLS_MIN_RATIO      2.0 /* below this S the classes never paid (bench_cells) */
+#define CELLS_GAIN           0.75 /* classes when their estimated cost is below this share */
+/* cost weights in units of one distance test (bench_cells, roughly): */
+#define COST_CELL  2.0 /* sweeping one cell of a grid (HEAD and 13 neighbours) */
+#define COST_QUERY 4.0 /* one box query (the cell range) */
+#define COST_QCELL 1.0 /* one cell visited by a box query */
 
 struct esf_cells {
   uint32_t *list; /* LIST: next particle in the same cell (shared by all grids) */
@@ -52,7 +57,9 @@ struct esf_cells {
   uint8_t *cls;   /* the class of each particle */
   size_t cap;     /* particles allocated in list, ord, cls */
   esf_grid grid[ESF_CELLS_MAX_CLASSES];
-  double split, factor; /* tuning (esf_cells_tune) */
+  esf_cells_mode mode; /* tuning (esf_cells_tune) */
+  int nclasses;        /* grids used by the last search */
+  double factor;
 };
 
 /* ---- pair buffer ------------------------------------------------------------------ */
@@ -132,7 +139,7 @@ static int scan(size_t n, const double *x, const double *radius, double skin,
 int esf_cells_create(esf_cells **out, esf_error *err) {
   *out = calloc(1, sizeof **out);
   if (!*out) return esf_fail(err, ESF_ENOMEM, "out of memory for the cell grid");
-  (*out)->split = CELLS_SPLIT_DEFAULT;
+  (*out)->mode = ESF_CELLS_AUTO;
   (*out)->factor = CELLS_FACTOR_DEFAULT;
   return ESF_OK;
 }
@@ -147,15 +154,20 @@ void esf_cells_free(esf_cells **c) {
   *c = NULL;
 }
 
-int esf_cells_tune(esf_cells *c, double split, double factor, esf_error *err) {
-  if (!(split >= 1) || !(factor > 1) || !isfinite(factor))
+int esf_cells_tune(esf_cells *c, esf_cells_mode mode, double factor, esf_error *err) {
+  if (factor == 0) factor = CELLS_FACTOR_DEFAULT;
+  if ((mode != ESF_CELLS_AUTO && mode != ESF_CELLS_ONE_GRID &&
+       mode != ESF_CELLS_CLASSES) ||
+      !(factor > 1) || !isfinite(factor))
     return esf_fail(err, ESF_EINPUT,
-                    "contact search tuning: split %g must be >= 1, factor %g finite > 1",
-                    split, factor);
-  c->split = split;
+                    "contact search tuning: unknown mode %d or factor %g not finite > 1",
+                    (int)mode, factor);
+  c->mode = mode;
   c->factor = factor;
   return ESF_OK;
 }
+
+int esf_cells_nclasses(const esf_cells *c) { return c->nclasses; }
 
 static int reserve(esf_cells *c, size_t n, esf_error *err) {
   if (n <= c->cap) return ESF_OK;
@@ -186,20 +198,39 @@ typedef struct class_info {
   double rmax;         /* its largest radius (m) */
 } class_info;
 
-/* Classifies the particles into K classes, fills ord (by class, ascending) and info. */
-static void classify(esf_cells *c, size_t n, const double *x, const double *radius,
-                     double skin, double smax, double F, int K, class_info *info) {
+/* The class plan for a size ratio S: K classes of ratio F in s, and the bounds. */
+typedef struct class_plan {
+  int K;
+  double F;
   double bound[ESF_CELLS_MAX_CLASSES]; /* s <= bound[k]: class k + 1 or smaller */
+} class_plan;
+
+static void plan_classes(class_plan *pl, double smax, double S, double factor) {
+  int K = (int)ceil(log(S) / log(factor) - 1e-9);
+  if (K < 2) K = 2;
+  if (K > ESF_CELLS_MAX_CLASSES) K = ESF_CELLS_MAX_CLASSES;
+  pl->K = K;
+  pl->F = pow(S, 1.0 / K);
   double b = smax;
-  for (int k = 0; k < K - 1; k++) bound[k] = b /= F;
+  for (int k = 0; k < K - 1; k++) pl->bound[k] = b /= pl->F;
+}
+
+static inline int class_of(const class_plan *pl, double s) {
+  int k = 0;
+  while (k < pl->K - 1 && s <= pl->bound[k]) k++;
+  return k;
+}
+
+/* Classifies the particles, fills ord (by class, ascending) and info. */
+static void classify(esf_cells *c, size_t n, const double *x, const double *radius,
+                     double skin, const class_plan *pl, class_info *info) {
+  const int K = pl->K;
   for (int k = 0; k < K; k++) {
     info[k].count = 0;
     info[k].rmax = 0;
   }
   for (size_t i = 0; i < n; i++) {
-    const double s = 2 * radius[i] + skin;
-    int k = 0;
-    while (k < K - 1 && s <= bound[k]) k++;
+    const int k = class_of(pl, 2 * radius[i] + skin);
     c->cls[i] = (uint8_t)k;
     class_info *ci = &info[k];
     const double *p = x + 3 * i;
@@ -219,15 +250,71 @@ static void classify(esf_cells *c, size_t n, const double *x, const double *radi
   for (size_t i = 0; i < n; i++) c->ord[fill[c->cls[i]]++] = (uint32_t)i;
 }
 
+/* ---- cost estimate ------------------------------------------------------------------
+ */
+
+/* The cells per axis (nc) of a grid of edge h over extent ext for n particles, as
+ * esf_grid_build would make them (capped at max(64, 4 n) cells); returns their count. */
+static double est_cells(const double ext[3], double h, double n, double nc[3]) {
+  double C = 1, cap = 4 * n > 64 ? 4 * n : 64;
+  int k = 0;
+  for (int d = 0; d < 3; d++) {
+    nc[d] = floor(fmin(ext[d] / h, 1e15));
+    if (nc[d] < 1) nc[d] = 1;
+    k += nc[d] > 1;
+    C *= nc[d];
+  }
+  if (C > cap) { /* the grid grows its edge: shrink the counts alike */
+    double g = pow(cap / C, 1.0 / k);
+    C = 1;
+    for (int d = 0; d < 3; d++) {
+      if (nc[d] > 1) nc[d] = fmax(1, floor(nc[d] * g));
+      C *= nc[d];
+    }
+  }
+  return C;
+}
+
+/* The estimated cost of the half-shell sweep of n particles spread evenly over C cells
+ * (nc per axis), in distance tests. */
+static double est_self(double n, double C, const double nc[3]) {
+  double nb = 1; /* cells of the full stencil */
+  for (int d = 0; d < 3; d++) nb *= fmin(3, nc[d]);
+  return n * (n / C) * nb / 2 + C * COST_CELL;
+}
+
+/* Whether the classes of plan pl are estimated to cost less than one grid, all classes
+ * spread evenly over the box of extent ext (the mixed bed the classes are made for). */
+static int classes_pay(size_t n, const double *radius, double skin, double smax,
+                       const double ext[3], const class_plan *pl) {
+  double cnt[ESF_CELLS_MAX_CLASSES] = {0};
+  for (size_t i = 0; i < n; i++) cnt[class_of(pl, 2 * radius[i] + skin)] += 1;
+  double nc[ESF_CELLS_MAX_CLASSES][3], C[ESF_CELLS_MAX_CLASSES], h[ESF_CELLS_MAX_CLASSES];
+  double one[3];
+  double single = est_self((double)n, est_cells(ext, smax, (double)n, one), one);
+  double multi = 0;
+  for (int k = 0; k < pl->K; k++) {
+    h[k] = k ? pl->bound[k - 1] : smax; /* the largest s the class may hold */
+    if (cnt[k] == 0) continue;
+    C[k] = est_cells(ext, h[k], cnt[k], nc[k]);
+    multi += est_self(cnt[k], C[k], nc[k]);
+    for (int m = 0; m < k; m++) {
+      if (cnt[m] == 0) continue;
+      double cells = 1; /* cells of class m's grid in one box query from class k */
+      for (int d = 0; d < 3; d++)
+        if (nc[m][d] > 1) cells *= fmin(nc[m][d], 1 + (h[k] + h[m]) * nc[m][d] / ext[d]);
+      multi += cnt[k] * (cnt[m] / C[m] * cells + COST_QUERY + COST_QCELL * cells);
+    }
+  }
+  return multi < CELLS_GAIN * single;
+}
+
 static int pairs_by_class(esf_cells *c, size_t n, const double *x, const double *radius,
-                          double skin, double smax, double S, esf_pairbuf *out,
+                          double skin, const class_plan *pl, esf_pairbuf *out,
                           esf_error *err) {
-  int K = (int)ceil(log(S) / log(c->factor) - 1e-9);
-  if (K < 2) K = 2;
-  if (K > ESF_CELLS_MAX_CLASSES) K = ESF_CELLS_MAX_CLASSES;
-  double F = pow(S, 1.0 / K);
+  const int K = pl->K;
   class_info info[ESF_CELLS_MAX_CLASSES];
-  classify(c, n, x, radius, skin, smax, F, K, info);
+  classify(c, n, x, radius, skin, pl, info);
   int built[ESF_CELLS_MAX_CLASSES] = {0};
   for (int k = 0; k < K; k++) {
     const class_info *ci = &info[k];
@@ -254,6 +341,7 @@ static int pairs_by_class(esf_cells *c, size_t n, const double *x, const double 
 int esf_cells_pairs(esf_cells *c, size_t n, const double *x, const double *radius,
                     double skin, esf_pairbuf *out, esf_error *err) {
   out->n = 0;
+  c->nclasses = 1;
   double lo[3], hi[3], rmin, rmax;
   int rc = scan(n, x, radius, skin, lo, hi, &rmin, &rmax, err);
   if (rc) return rc;
@@ -269,8 +357,18 @@ int esf_cells_pairs(esf_cells *c, size_t n, const double *x, const double *radiu
     }
   }
   double S = smax / smin;
-  if (S >= c->split)
-    rc = pairs_by_class(c, n, x, radius, skin, smax, S, out, err);
+  class_plan pl;
+  int classes = c->mode == ESF_CELLS_CLASSES;
+  if (c->mode == ESF_CELLS_AUTO && S >= CELLS_MIN_RATIO) {
+    double ext[3];
+    for (int d = 0; d < 3; d++) ext[d] = hi[d] - lo[d];
+    plan_classes(&pl, smax, S, c->factor);
+    classes = classes_pay(n, radius, skin, smax, ext, &pl);
+  } else if (classes)
+    plan_classes(&pl, smax, S, c->factor);
+  if (classes) c->nclasses = pl.K;
+  if (classes)
+    rc = pairs_by_class(c, n, x, radius, skin, &pl, out, err);
   else {
     rc = esf_grid_build(&c->grid[0], n, NULL, x, lo, hi, smax, c->list, err);
     if (!rc) rc = esf_grid_self_pairs(&c->grid[0], c->list, x, radius, skin, out, err);

@@ -41,11 +41,20 @@ void esf_cells_free(esf_cells **c);
 int esf_cells_pairs(esf_cells *c, size_t n, const double *x, const double *radius,
                     double skin, esf_pairbuf *out, esf_error *err);
 
-/* Tuning, for benchmarks and tests (the defaults are measured): size classes are used
- * when the ratio of the largest to the smallest positive 2 r + skin is >= split (>= 1;
- * INFINITY: never, one grid; 1: always), with about factor (> 1) between the largest
- * and smallest 2 r + skin of a class. The pairs found do not depend on these. */
-int esf_cells_tune(esf_cells *c, double split, double factor, esf_error *err);
+/* How the search is organised; the pairs found never depend on it. */
+typedef enum esf_cells_mode {
+  ESF_CELLS_AUTO = 0,     /* size classes when a cost estimate says they pay (default) */
+  ESF_CELLS_ONE_GRID = 1, /* always one grid sized for the largest particle */
+  ESF_CELLS_CLASSES = 2   /* always size classes (at least two, maybe empty) */
+} esf_cells_mode;
+
+/* Tuning, for benchmarks and tests: the mode, and factor (> 1; 0: the default 2), the
+ * target ratio of the largest to the smallest 2 r + skin within one size class. */
+int esf_cells_tune(esf_cells *c, esf_cells_mode mode, double factor, esf_error *err);
+
+/* The number of grids the last search used: 1 (one grid, or no search needed) or the
+ * number of size classes. */
+int esf_cells_nclasses(const esf_cells *c);
 
 /* The reference: all pairs by brute force, same criterion. */
 int esf_pairs_brute(size_t n, const double *x, const double *radius, double skin,

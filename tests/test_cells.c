@@ -33,15 +33,16 @@ static uint64_t *sorted_keys(const esf_pairbuf *b, size_t n, const char *what) {
   return k;
 }
 
-/* The search modes every set is run in: the default switch, one grid forced, size
+/* The search modes every set is run in: the automatic choice, one grid forced, size
  * classes forced (factor 2, and a fine factor 1.3 that makes up to 8 classes). */
 static const struct {
-  double split, factor;
+  esf_cells_mode mode;
+  double factor;
   const char *name;
-} modes[] = {{0, 0, "default"},
-             {INFINITY, 2.0, "one grid"},
-             {1.0, 2.0, "classes f = 2"},
-             {1.0, 1.3, "classes f = 1.3"}};
+} modes[] = {{ESF_CELLS_AUTO, 0, "auto"},
+             {ESF_CELLS_ONE_GRID, 0, "one grid"},
+             {ESF_CELLS_CLASSES, 2.0, "classes f = 2"},
+             {ESF_CELLS_CLASSES, 1.3, "classes f = 1.3"}};
 enum { NMODES = sizeof modes / sizeof modes[0] };
 
 /* Runs the cell search (on a shared, reused grid) in every mode and brute force, and
@@ -54,10 +55,7 @@ static void compare(esf_cells *cells, size_t n, const double *x, const double *r
   CHECK_OK(rc, err);
   uint64_t *kb = sorted_keys(&b, n, what);
   for (int m = 0; m < NMODES; m++) {
-    if (m == 0)
-      rc = esf_cells_tune(cells, 2.5, 2.0, &err); /* the documented defaults */
-    else
-      rc = esf_cells_tune(cells, modes[m].split, modes[m].factor, &err);
+    rc = esf_cells_tune(cells, modes[m].mode, modes[m].factor, &err);
     CHECK_OK(rc, err);
     rc = esf_cells_pairs(cells, n, x, r, skin, &a, &err);
     CHECK_OK(rc, err);
@@ -70,7 +68,7 @@ static void compare(esf_cells *cells, size_t n, const double *x, const double *r
           a.n, b.n);
     free(ka);
   }
-  CHECK_OK(esf_cells_tune(cells, 2.5, 2.0, &err), err);
+  CHECK_OK(esf_cells_tune(cells, ESF_CELLS_AUTO, 0, &err), err);
   free(kb);
   esf_pairbuf_release(&a);
   esf_pairbuf_release(&b);
@@ -186,6 +184,24 @@ int main(void) {
       r[i] = (i % 4) ? 0.006 : 0.03;
     }
     compare(cells, 3000, x, r, 0.003, "bimodal 1:5, dense");
+    /* the automatic choice: one grid for a monodisperse set, classes for a bimodal 1:5
+       set with equal volumes of both sizes (about 125 small per large: a cell of the
+       single grid holds dozens of small ones) */
+    for (size_t i = 0; i < 3000; i++) {
+      r[i] = i % 126 ? 0.004 : 0.02;
+      for (int d = 0; d < 3; d++) x[3 * i + d] = uni(&g, 0, 0.15); /* solid fr. 0.5 */
+    }
+    CHECK_OK(esf_cells_tune(cells, ESF_CELLS_AUTO, 0, &err), err);
+    esf_pairbuf b = {0};
+    CHECK_OK(esf_cells_pairs(cells, 3000, x, r, 0.002, &b, &err), err);
+    CHECK(esf_cells_nclasses(cells) >= 2, "auto, bimodal 1:5 equal volumes: %d grids",
+          esf_cells_nclasses(cells));
+    compare(cells, 3000, x, r, 0.002, "bimodal 1:5, equal volumes");
+    for (size_t i = 0; i < 3000; i++) r[i] = 0.01;
+    CHECK_OK(esf_cells_pairs(cells, 3000, x, r, 0.002, &b, &err), err);
+    CHECK(esf_cells_nclasses(cells) == 1, "auto, monodisperse: %d grids",
+          esf_cells_nclasses(cells));
+    esf_pairbuf_release(&b);
     /* the small class only in one corner, the large ones elsewhere (class boxes apart) */
     for (size_t i = 0; i < 2000; i++) {
       int small = i % 2;
@@ -322,9 +338,9 @@ int main(void) {
     CHECK(rc == ESF_ENUMERIC && strstr(err.msg, "particle 19") != NULL,
           "infinite position, brute force: status %d, %s", rc, err.msg);
     x[3 * 19 + 2] = 0.5;
-    rc = esf_cells_tune(cells, 0.5, 2.0, &err);
-    CHECK(rc == ESF_EINPUT, "tuning: split below 1: status %d", rc);
-    rc = esf_cells_tune(cells, 2.0, 1.0, &err);
+    rc = esf_cells_tune(cells, (esf_cells_mode)7, 2.0, &err);
+    CHECK(rc == ESF_EINPUT, "tuning: unknown mode: status %d", rc);
+    rc = esf_cells_tune(cells, ESF_CELLS_CLASSES, 1.0, &err);
     CHECK(rc == ESF_EINPUT, "tuning: factor 1: status %d", rc);
     rc = esf_cells_pairs(cells, 20, x, r, NAN, &b, &err);
     CHECK(rc == ESF_EINPUT, "non-finite skin: status %d", rc);
