@@ -11,25 +11,36 @@
  * per unit volume, about 27/2 · N · rho (2 r_max + skin)^3 distance tests.
  *
  * Size classes: let s_i = 2 r_i + skin, the cutoff a particle brings to a pair with its
- * twin, and S the ratio of the largest s to the smallest positive s. When S >= split
- * (measured: 2.5 by default, esf_cells_tune), the particles are cut into K =
- * ceil(log S / log f) classes (f = 2 by default, at most ESF_CELLS_MAX_CLASSES) of equal
- * ratio F = S^(1/K) in s: class 0 holds the largest, s in (s_max / F, s_max], class k
- * s in (s_max / F^(k+1), s_max / F^k], the last class everything smaller (also s <= 0).
- * Each class k gets its own grid over its own bounding box with edge 2 R_k + skin, R_k
- * its largest radius, and finds its own pairs by the half-shell sweep. A pair between
- * class k and a larger class m < k is found once, from the smaller side: each particle i
- * of class k queries the grid of class m over the box of half-width r_i + R_m + skin
- * around it (at most 3, usually 2 cells per axis since that reach is <= class m's
- * edge). Each pair is thus tested in exactly one place, and the set found is the same
- * as the single grid's and brute force's. Cost: small particles are tested against
- * small-cell neighbourhoods only; with a 1:5 bed a small-small pair no longer costs
- * the 27 large cells of the single grid. Overhead: one pass to classify, a counting
- * sort, and per particle one box query per larger class.
+ * twin, and S the ratio of the largest s to the smallest positive s. The particles are
+ * cut into K = ceil(log S / log f) classes (f = 2 by default, at least 2, at most
+ * ESF_CELLS_MAX_CLASSES) of equal ratio F = S^(1/K) in s: class 0 holds the largest,
+ * s in (s_max / F, s_max], class k s in (s_max / F^(k+1), s_max / F^k], the last class
+ * everything smaller (also s <= 0). Each class k gets its own grid over its own
+ * bounding box with edge 2 R_k + skin, R_k its largest radius, and finds its own pairs
+ * by the half-shell sweep. A pair between class k and a larger class m < k is found
+ * once, from the smaller side: each particle i of class k queries the grid of class m
+ * over the box of half-width r_i + R_m + skin around it (at most 3, usually 2 cells per
+ * axis since that reach is <= class m's edge). Each pair is thus tested in exactly one
+ * place, and the set found is the same as the single grid's and brute force's. Cost:
+ * small particles are tested against small-cell neighbourhoods only, so a small-small
+ * pair no longer costs the 27 large cells of the single grid; overhead: one pass to
+ * classify, a counting sort, and per particle one box query per larger class.
+ *
+ * Choice (ESF_CELLS_AUTO): one grid when S < 2; otherwise a pass over the radii counts
+ * the classes and both searches are estimated as if every class filled the bounding box
+ * evenly: distance tests n (n / cells) (stencil cells) / 2 per grid, n_k (n_m / cells_m)
+ * (query cells) per class pair, plus weighted counts of the cells swept and of the box
+ * queries. Classes are taken when their estimate is below 3/4 of the single grid's.
+ * The weights and the margin are from bench_cells: classes lose (up to 1.5x slower) on
+ * random sets whose radii are uniform by number up to 1:10 (a few particles per large
+ * cell) and win where the small ones are numerous (bimodal 1:5 with equal volumes: the
+ * single grid has ~75 particles per cell; classes about 7x faster).
  *
  * Memory, added per particle over the single grid: the class order (4 bytes) and the
- * class index (1 byte); the cells of all class grids together are capped like the
- * single grid's (max(64, 4 n_k) each, 4 bytes a cell), and LIST (4 bytes) is shared.
+ * class index (1 byte); each class grid is capped like the single grid (max(64, 4 n_k)
+ * cells, 4 bytes a cell) and LIST (4 bytes) is shared. Storage is kept for reuse, so
+ * a search that switches between the modes holds the single grid's cells as well:
+ * esf_cells_bytes reports the total.
  *
  * Units: positions, radii and skin in m. On entry: x holds 3n finite doubles, radius n
  * finite non-negative ones (checked: a non-finite position is ESF_ENUMERIC naming the
@@ -52,10 +63,10 @@
 #define COST_QCELL 1.0 /* one cell visited by a box query */
 
 struct esf_cells {
-  uint32_t *list; /* LIST: next particle in the same cell (shared by all grids) */
-  uint32_t *ord;  /* the particles ordered by class, ascending within a class */
-  uint8_t *cls;   /* the class of each particle */
-  size_t cap;     /* particles allocated in list, ord, cls */
+  uint32_t *list;        /* LIST: next particle in the same cell (shared by all grids) */
+  uint32_t *ord;         /* the particles ordered by class, ascending within a class */
+  uint8_t *cls;          /* the class of each particle */
+  size_t cap, class_cap; /* particles allocated in list; in ord and cls */
   esf_grid grid[ESF_CELLS_MAX_CLASSES];
   esf_cells_mode mode; /* tuning (esf_cells_tune) */
   int nclasses;        /* grids used by the last search */
@@ -169,24 +180,24 @@ int esf_cells_tune(esf_cells *c, esf_cells_mode mode, double factor, esf_error *
 
 int esf_cells_nclasses(const esf_cells *c) { return c->nclasses; }
 
-static int reserve(esf_cells *c, size_t n, esf_error *err) {
-  if (n <= c->cap) return ESF_OK;
-  free(c->list);
-  free(c->ord);
-  free(c->cls);
-  c->list = malloc(n * sizeof *c->list);
-  c->ord = malloc(n * sizeof *c->ord);
-  c->cls = malloc(n * sizeof *c->cls);
-  c->cap = n;
-  if (c->list && c->ord && c->cls) return ESF_OK;
-  free(c->list);
-  free(c->ord);
-  free(c->cls);
-  c->list = c->ord = NULL;
-  c->cls = NULL;
-  c->cap = 0;
-  return esf_fail(err, ESF_ENOMEM, "out of memory for the cell lists of %zu particles",
-                  n);
+size_t esf_cells_bytes(const esf_cells *c) {
+  size_t b = sizeof *c + c->cap * sizeof *c->list +
+             c->class_cap * (sizeof *c->ord + sizeof *c->cls);
+  for (int k = 0; k < ESF_CELLS_MAX_CLASSES; k++)
+    b += c->grid[k].head_cap * sizeof *c->grid[k].head;
+  return b;
+}
+
+/* Grows *a to hold n elements of size sz (contents dropped); *cap tracks it. */
+static int grow(void **a, size_t *cap, size_t n, size_t sz, esf_error *err) {
+  if (n <= *cap) return ESF_OK;
+  free(*a);
+  *a = malloc(n * sz);
+  *cap = *a ? n : 0;
+  if (!*a)
+    return esf_fail(err, ESF_ENOMEM, "out of memory for the cell lists of %zu particles",
+                    n);
+  return ESF_OK;
 }
 
 /* ---- size classes -------------------------------------------------------------------
@@ -313,6 +324,13 @@ static int pairs_by_class(esf_cells *c, size_t n, const double *x, const double 
                           double skin, const class_plan *pl, esf_pairbuf *out,
                           esf_error *err) {
   const int K = pl->K;
+  if (n > c->class_cap) { /* ord and cls, only when the classes are used */
+    size_t cap = c->class_cap, cap2 = c->class_cap;
+    int rc = grow((void **)&c->ord, &cap, n, sizeof *c->ord, err);
+    if (!rc) rc = grow((void **)&c->cls, &cap2, n, sizeof *c->cls, err);
+    c->class_cap = rc ? 0 : n;
+    if (rc) return rc;
+  }
   class_info info[ESF_CELLS_MAX_CLASSES];
   classify(c, n, x, radius, skin, pl, info);
   int built[ESF_CELLS_MAX_CLASSES] = {0};
@@ -347,7 +365,7 @@ int esf_cells_pairs(esf_cells *c, size_t n, const double *x, const double *radiu
   if (rc) return rc;
   double smax = 2 * rmax + skin, smin = 2 * rmin + skin;
   if (n < 2 || !(smax > 0)) return ESF_OK; /* r_i + r_j + skin <= smax: no pair */
-  rc = reserve(c, n, err);
+  rc = grow((void **)&c->list, &c->cap, n, sizeof *c->list, err);
   if (rc) return rc;
   if (!(smin > 0)) { /* the smallest positive s: those with s <= 0 join the last class */
     smin = smax;

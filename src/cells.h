@@ -56,6 +56,9 @@ int esf_cells_tune(esf_cells *c, esf_cells_mode mode, double factor, esf_error *
  * number of size classes. */
 int esf_cells_nclasses(const esf_cells *c);
 
+/* The bytes of storage the search holds (lists, class order, cells of all grids). */
+size_t esf_cells_bytes(const esf_cells *c);
+
 /* The reference: all pairs by brute force, same criterion. */
 int esf_pairs_brute(size_t n, const double *x, const double *radius, double skin,
                     esf_pairbuf *out, esf_error *err);

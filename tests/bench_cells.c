@@ -55,7 +55,7 @@ static void run(const char *what, size_t n, const double *x, const double *r, in
   esf_cells *c = NULL;
   esf_error err = {0};
   esf_pairbuf b = {0};
-  double *t = malloc((size_t)reps * sizeof *t), t0 = 0;
+  double *t = malloc((size_t)reps * sizeof *t), t0 = 0, tmin0 = 0;
   size_t np0 = 0;
   printf("%-28s n=%zu r=[%.3g, %.3g] skin=%.3g S=%.2f\n", what, n, rmin, rmax, skin,
          (2 * rmax + skin) / (2 * rmin + skin));
@@ -72,10 +72,14 @@ static void run(const char *what, size_t n, const double *x, const double *r, in
     double med = t[reps / 2];
     if (m == 0) {
       t0 = med;
+      tmin0 = t[0];
       np0 = b.n;
     }
-    printf("  %-14s %9.3f ms  (min %.3f)  pairs %zu  %s x%.2f\n", modes[m].name,
-           1e3 * med, 1e3 * t[0], b.n, b.n == np0 ? "" : "PAIRS DIFFER", t0 / med);
+    printf("  %-14s %9.3f ms (min %8.3f)  pairs %zu%s  x%.2f (min x%.2f)  grids %d  "
+           "%.1f B/particle\n",
+           modes[m].name, 1e3 * med, 1e3 * t[0], b.n, b.n == np0 ? "" : " DIFFER",
+           t0 / med, tmin0 / t[0], esf_cells_nclasses(c),
+           (double)esf_cells_bytes(c) / (double)n);
     esf_cells_free(&c);
   }
   free(t);
