@@ -28,13 +28,14 @@
  *
  * Choice (ESF_CELLS_AUTO): one grid when S < 2; otherwise a pass over the radii counts
  * the classes and both searches are estimated as if every class filled the bounding box
- * evenly: distance tests n (n / cells) (stencil cells) / 2 per grid, n_k (n_m / cells_m)
- * (query cells) per class pair, plus weighted counts of the cells swept and of the box
- * queries. Classes are taken when their estimate is below 3/4 of the single grid's.
- * The weights and the margin are from bench_cells: classes lose (up to 1.5x slower) on
- * random sets whose radii are uniform by number up to 1:10 (a few particles per large
- * cell) and win where the small ones are numerous (bimodal 1:5 with equal volumes: the
- * single grid has ~75 particles per cell; classes about 7x faster).
+ * evenly: distance tests n (n / cells) (stencil cells) / 2 per grid and n_k (n_m /
+ * cells_m) (query cells) per class pair, plus costs per particle, per class-grid cell
+ * and per cell visited by a query, weighted as fitted to bench_cells (COST_*). Classes
+ * are taken when their estimate is below 0.8 of the single grid's. Measured there
+ * (n = 20000, random positions, CPU time): classes lose, 0.6-0.9x, on radii uniform by
+ * number up to 1:10 and by volume up to 1:3 (a few particles per large cell: the extra
+ * passes cost more than the tests saved), and win where the small ones are numerous:
+ * bimodal with equal volumes 1:3 1.6x, 1:5 8x, 1:10 70x; uniform by volume 1:10 4.5x.
  *
  * Memory, added per particle over the single grid: the class order (4 bytes) and the
  * class index (1 byte); each class grid is capped like the single grid (max(64, 4 n_k)
@@ -56,11 +57,14 @@
 
 #define CELLS_FACTOR_DEFAULT 2.0 /* target ratio of s within one class */
 #define CELLS_MIN_RATIO      2.0 /* below this S the classes never paid (bench_cells) */
-#define CELLS_GAIN           0.75 /* classes when their estimated cost is below this share */
-/* cost weights in units of one distance test (bench_cells, roughly): */
-#define COST_CELL  2.0 /* sweeping one cell of a grid (HEAD and 13 neighbours) */
-#define COST_QUERY 4.0 /* one box query (the cell range) */
-#define COST_QCELL 1.0 /* one cell visited by a box query */
+#define CELLS_GAIN           0.8 /* classes when their estimated cost is below this share */
+/* cost weights in units of one distance test, fitted to bench_cells (30 timings of 16
+ * random sets, n = 20000, ratios 1:1.5 to 1:10; one test ~ 2 ns there): */
+#define COST_PART_ONE 78.0 /* per particle, one grid (scan, threading, sweep) */
+#define COST_PART_CLASSES                                                                \
+  38.0                  /* per particle, with classes (their cells counted apart) */
+#define COST_CELL  65.0 /* per cell of a class grid */
+#define COST_QCELL 6.6  /* per cell visited by a box query */
 
 struct esf_cells {
   uint32_t *list;        /* LIST: next particle in the same cell (shared by all grids) */
@@ -286,12 +290,12 @@ static double est_cells(const double ext[3], double h, double n, double nc[3]) {
   return C;
 }
 
-/* The estimated cost of the half-shell sweep of n particles spread evenly over C cells
- * (nc per axis), in distance tests. */
-static double est_self(double n, double C, const double nc[3]) {
+/* The estimated distance tests of the half-shell sweep of n particles spread evenly
+ * over C cells (nc per axis). */
+static double est_tests(double n, double C, const double nc[3]) {
   double nb = 1; /* cells of the full stencil */
   for (int d = 0; d < 3; d++) nb *= fmin(3, nc[d]);
-  return n * (n / C) * nb / 2 + C * COST_CELL;
+  return n * (n / C) * nb / 2;
 }
 
 /* Whether the classes of plan pl are estimated to cost less than one grid, all classes
@@ -301,20 +305,20 @@ static int classes_pay(size_t n, const double *radius, double skin, double smax,
   double cnt[ESF_CELLS_MAX_CLASSES] = {0};
   for (size_t i = 0; i < n; i++) cnt[class_of(pl, 2 * radius[i] + skin)] += 1;
   double nc[ESF_CELLS_MAX_CLASSES][3], C[ESF_CELLS_MAX_CLASSES], h[ESF_CELLS_MAX_CLASSES];
-  double one[3];
-  double single = est_self((double)n, est_cells(ext, smax, (double)n, one), one);
-  double multi = 0;
+  double one[3], N = (double)n;
+  double single = est_tests(N, est_cells(ext, smax, N, one), one) + COST_PART_ONE * N;
+  double multi = COST_PART_CLASSES * N;
   for (int k = 0; k < pl->K; k++) {
     h[k] = k ? pl->bound[k - 1] : smax; /* the largest s the class may hold */
     if (cnt[k] == 0) continue;
     C[k] = est_cells(ext, h[k], cnt[k], nc[k]);
-    multi += est_self(cnt[k], C[k], nc[k]);
+    multi += est_tests(cnt[k], C[k], nc[k]) + COST_CELL * C[k];
     for (int m = 0; m < k; m++) {
       if (cnt[m] == 0) continue;
       double cells = 1; /* cells of class m's grid in one box query from class k */
       for (int d = 0; d < 3; d++)
         if (nc[m][d] > 1) cells *= fmin(nc[m][d], 1 + (h[k] + h[m]) * nc[m][d] / ext[d]);
-      multi += cnt[k] * (cnt[m] / C[m] * cells + COST_QUERY + COST_QCELL * cells);
+      multi += cnt[k] * cells * (cnt[m] / C[m] + COST_QCELL);
     }
   }
   return multi < CELLS_GAIN * single;
