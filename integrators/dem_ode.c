@@ -160,6 +160,7 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   q[ESF_ODE_QL] = pd[1];
   q[ESF_ODE_QW] = ty.p_walls;
   q[ESF_ODE_QF] = ty.p_spring_t;
+  q[ESF_ODE_QFL] = ty.p_fluid;
   return 0;
 }
 
@@ -193,6 +194,7 @@ int esf_dem_ode_commit(esf_dem_ode *o, double t, const double *y, esf_error *err
     L->d_global = q[ESF_ODE_QG];
     L->d_local = q[ESF_ODE_QL];
     L->w_walls = q[ESF_ODE_QW];
+    L->w_fluid = q[ESF_ODE_QFL];
     if (o->state) /* work into the springs less what they hold (the returns included) */
       L->d_friction = q[ESF_ODE_QF] - (L->el_t - o->el_t0);
   }

@@ -41,6 +41,7 @@ enum {
   ESF_ODE_QL,
   ESF_ODE_QW,
   ESF_ODE_QF,
+  ESF_ODE_QFL, /* work of the fluid force (drag.c) */
   ESF_ODE_NQ
 };
 

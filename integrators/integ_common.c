@@ -2,11 +2,16 @@
  * the integrators (the leapfrog keeps its own (1 -+ alpha dt/2) kick). */
 #include "integ_common.h"
 
+#include "events.h"
 #include "vec3.h"
 
 int esf_integ_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
   int rebuild = 0;
   if (rebuilt) *rebuilt = 0;
+  if (s->events) { /* scene events due now (events.c) */
+    int rc = esf_events_apply(s, err);
+    if (rc) return rc;
+  }
   int rc = esf_neighbor_check(&s->nb, &s->p, esf_walls_moved(&s->walls), &rebuild, err);
   s->nb.disp_valid = 0;
   if (rc) {

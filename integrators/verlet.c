@@ -26,7 +26,7 @@
 typedef struct verlet {
   size_t cap;
   double *a, *dw;   /* 3 cap each */
-  double p_prev[6]; /* normal, tangential, global, local, walls powers at t_n */
+  double p_prev[6]; /* normal, tangential, global, local, walls, fluid powers at t_n */
   int started;
 } verlet;
 
@@ -60,8 +60,8 @@ static int reserve(verlet *vv, size_t n, esf_error *err) {
   return ESF_OK;
 }
 
-/* forces and accelerations at the current state; powers into pw[5] */
-static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[5], esf_error *err) {
+/* forces and accelerations at the current state; powers into pw[6] */
+static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[6], esf_error *err) {
   esf_particles *p = &s->p;
   esf_force_tally ty;
   s->tally = s->led.on ? &ty : NULL;
@@ -80,13 +80,14 @@ static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[5], esf_error *
     pw[2] = pd[0];
     pw[3] = pd[1];
     pw[4] = ty.p_walls;
+    pw[5] = ty.p_fluid;
     s->led.el_n = ty.e_el_n;
     s->led.el_t = ty.e_el_t;
   }
   return ESF_OK;
 }
 
-static void ledger_update(esf_sim *s, verlet *vv, const double pw[5]) {
+static void ledger_update(esf_sim *s, verlet *vv, const double pw[6]) {
   esf_ledger *L = &s->led;
   double h = 0.5 * s->dt;
   L->d_normal += h * (vv->p_prev[0] + pw[0]);
@@ -94,7 +95,8 @@ static void ledger_update(esf_sim *s, verlet *vv, const double pw[5]) {
   L->d_global += h * (vv->p_prev[2] + pw[2]);
   L->d_local += h * (vv->p_prev[3] + pw[3]);
   L->w_walls += h * (vv->p_prev[4] + pw[4]);
-  memcpy(vv->p_prev, pw, 5 * sizeof(double));
+  L->w_fluid += h * (vv->p_prev[5] + pw[5]);
+  memcpy(vv->p_prev, pw, 6 * sizeof(double));
   esf_integ_energies(s, s->p.x, s->p.v, s->p.w, &L->kin_t, &L->kin_r, &L->pot_g);
   s->led_time = s->t;
 }
@@ -103,7 +105,7 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   (void)t_stop;
   verlet *vv = state;
   esf_particles *p = &s->p;
-  double pw[5] = {0, 0, 0, 0, 0};
+  double pw[6] = {0, 0, 0, 0, 0, 0};
   int rc;
   if (!vv->started) {
     esf_walls_set_time(&s->walls, s->t);
@@ -111,7 +113,7 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     if (!rc) rc = evaluate(s, vv, 0.0, pw, err);
     if (rc) return rc;
     if (s->led.on) {
-      memcpy(vv->p_prev, pw, 5 * sizeof(double));
+      memcpy(vv->p_prev, pw, 6 * sizeof(double));
       esf_integ_energies(s, p->x, p->v, p->w, &s->led.kin_t, &s->led.kin_r,
                          &s->led.pot_g);
       s->led.e0 = esf_ledger_stored(&s->led);

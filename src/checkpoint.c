@@ -23,6 +23,7 @@
 #include "atomic_file.h"
 #include "blob.h"
 #include "checkpoint_format.h"
+#include "sand_ckpt.h"
 #include "version.h"
 
 /* Update with every field added to esf_contact_hist (contact_law.h): a checkpoint
@@ -160,6 +161,9 @@ int esf_ckpt_write(const char *path, esf_sim *s, const esf_integrator_type *it, 
     esf_blob_put(&b, s->walls.g[g].disp_mark, 3 * sizeof(double));
     esf_blob_put(&b, &s->walls.g[g].angle_mark, sizeof(double));
   }
+  sec_end(&b, st);
+  st = sec_begin(&b, "SAND"); /* servo walls, events, fluid (sand_ckpt.c) */
+  esf_sand_ckpt_save(s, &b);
   sec_end(&b, st);
 
   st = sec_begin(&b, "MATS");

@@ -8,7 +8,8 @@
  *   the particles (every SoA array, in their current order, any n); both candidate
  *   lists with a, b, history, touch and vc0, nb.xref and nb.builds; the materials and
  *   pair table; the walls' time and rebuild marks (their placement is a function of
- *   time); damping state (alpha_r, alpha_t); the rng; t, dt, step and the counters;
+ *   time); servo walls' displacement and velocity, the events applied and the fluid
+ *   force's state (section SAND, sand_ckpt.h); damping state (alpha_r, alpha_t); the rng; t, dt, step and the counters;
  *   the energy ledger; the integrator's own state (integrator.h save/restore); the run
  *   loop's schedule (esf_ckpt_run).
  * Format (native byte order; the build's record layouts are stored and must match):

@@ -6,17 +6,19 @@
  * table, wall count and groups must equal the saved ones (else ESF_EINPUT: the
  * checkpoint does not fit). Then the particle arrays are replaced (n may differ from the
  * scene's: particles leave the domain); the scalars, rng and ledger set; moving walls
- * placed at the saved time (their placement is a function of time) with the rebuild
- * marks restored; the candidate lists built once (which sizes every derived scratch
- * array) and overwritten with the saved lists, xref and build count; last the
- * integrator's own state (integrator.h restore). Every count read from the file is
- * checked against its section's size and every index against what it indexes, so a
- * file that passed its checksums but does not fit fails cleanly. */
+ * placed at the saved time (their placement is a function of time; servo walls' from
+ * their saved displacement, with the events applied and the fluid's state, section
+ * SAND, sand_ckpt.c) with the rebuild marks restored; the candidate lists built once
+ * (which sizes every derived scratch array) and overwritten with the saved lists, xref
+ * and build count; last the integrator's own state (integrator.h restore). Every count
+ * read from the file is checked against its section's size and every index against what
+ * it indexes, so a file that passed its checksums but does not fit fails cleanly. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "checkpoint_format.h"
+#include "sand_ckpt.h"
 #include "scene.h"
 
 int esf_ckpt_load_scene(const esf_ckpt *c, const char *const *extra, int nextra,
@@ -146,6 +148,9 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
   in = esf_ckpt_sec(c, "LEDGER");
   if (esf_blob_get(&in, &s->led, sizeof s->led) || in.pos != in.n)
     return mismatch(c, err, "the LEDGER section's size");
+  in = esf_ckpt_sec(c, "SAND"); /* servo walls, events, fluid (sand_ckpt.c) */
+  if (esf_sand_ckpt_restore(s, &in))
+    return mismatch(c, err, "the servo walls, events or fluid force (SAND section)");
   s->walls.t = NAN; /* so that set_time places moving walls at the saved time */
   esf_walls_set_time(&s->walls, cs.walls_t);
   s->walls.t = cs.walls_t;

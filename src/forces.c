@@ -19,6 +19,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "drag.h"
+#include "servo.h"
 #include "vec3.h"
 
 int esf_forces_overlap_failure(const esf_sim *s, long long ida, long long idb, int wall,
@@ -255,6 +257,8 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
     if (!eval_contact(s, pp, &in, c, k, commit, led, slip, &out)) continue;
     (*nt)++;
     if (s->tally) s->tally->p_walls += v3_dot(out.f, vw);
+    if (commit && s->walls.gforce) /* servo walls (servo.c); general path only */
+      esf_servo_add(s->walls.gforce + 4 * el->group, &out, in.n);
     v3_add(f, f, out.f);
     double m[3];
     v3_cross(m, in.n, out.ft);
@@ -296,9 +300,13 @@ int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *
   if (s->tally) memset(s->tally, 0, sizeof *s->tally);
   size_t nt = 0;
   int commit = mode == ESF_FORCES_COMMIT;
+  if (commit && s->walls.gforce) /* servo walls: per-group forces (servo.c) */
+    memset(s->walls.gforce, 0, 4 * (size_t)s->walls.ngroups * sizeof(double));
   int rc = pair_forces(s, x, v, w, dt, commit, &nt, err);
   if (!rc) rc = wall_forces(s, x, v, w, dt, commit, &nt, err);
+  if (!rc && s->drag) rc = esf_drag_apply(s, x, v, err); /* fluid drag (drag.c) */
   if (rc) return rc;
+  if (commit && s->walls.gforce) esf_servo_update(s);
   if (s->cfg.dim == 2) {
     for (size_t i = 0; i < p->n; i++) {
       p->f[3 * i + 1] = 0.0;
@@ -372,6 +380,7 @@ void esf_forces_ledger_pass(esf_sim *s, const double *vbar, const double *wbar,
   s->led.d_normal += dn;
   s->led.d_tangential += dtg;
   s->led.w_walls += ww;
+  if (s->drag) s->led.w_fluid += esf_drag_work(s, vbar, dt); /* drag.c */
   s->led.el_n = en;
   s->led.el_t = et;
 }

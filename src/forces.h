@@ -17,6 +17,7 @@ typedef struct esf_force_tally {
   double slip;         /* Coulomb slip work of this evaluation (committing), J */
   double p_spring_t;   /* power into the tangential springs as applied (Coulomb cap
                           included), W; history as ODE state only */
+  double p_fluid;      /* power delivered by the fluid force (drag.c), W */
 } esf_force_tally;
 
 enum {

@@ -1,7 +1,8 @@
 /* ledger.c — energy balance bookkeeping and the energy row (energy.csv, and the /energy
  * table of frames.h5): esf_ledger_columns names the columns, esf_ledger_values gives
  * them, esf_ledger_header and esf_ledger_row print them as CSV (time with 10
- * significant digits, energies in J with 13, alpha in 1/s with 7). */
+ * significant digits, energies in J with 13, alpha in 1/s with 7). Columns added
+ * later (work_fluid) go at the end, so readers by position keep working. */
 #include "ledger.h"
 
 const char *const esf_ledger_columns[ESF_LEDGER_NCOLS] = {"time",
@@ -22,7 +23,8 @@ const char *const esf_ledger_columns[ESF_LEDGER_NCOLS] = {"time",
                                                           "dissipated_local",
                                                           "energy_removed",
                                                           "alpha_global",
-                                                          "dissipated_bonds"};
+                                                          "dissipated_bonds",
+                                                          "work_fluid"};
 
 double esf_ledger_stored(const esf_ledger *l) {
   return l->kin_t + l->kin_r + l->pot_g + l->el_n + l->el_t;
@@ -34,8 +36,8 @@ double esf_ledger_dissipated(const esf_ledger *l) {
 }
 
 double esf_ledger_total_error(const esf_ledger *l) {
-  return esf_ledger_stored(l) - l->e0 - l->w_walls + esf_ledger_dissipated(l) +
-         l->e_removed;
+  return esf_ledger_stored(l) - l->e0 - l->w_walls - l->w_fluid +
+         esf_ledger_dissipated(l) + l->e_removed;
 }
 
 void esf_ledger_values(double t, const esf_ledger *l, double alpha,
@@ -58,7 +60,8 @@ void esf_ledger_values(double t, const esf_ledger *l, double alpha,
                                       l->d_local,
                                       l->e_removed,
                                       alpha,
-                                      l->d_bonds};
+                                      l->d_bonds,
+                                      l->w_fluid};
   for (int k = 0; k < ESF_LEDGER_NCOLS; k++) row[k] = v[k];
 }
 

@@ -2,7 +2,8 @@
  *
  * Stored energies are measured from the state; dissipation and wall work are tallied
  * every step along each path. The balance residual
- *   total_error = (kinetic + gravity + elastic) - e0 - work_walls + dissipated + removed
+ *   total_error = (kinetic + gravity + elastic) - e0 - work_walls - work_fluid
+ *                 + dissipated + removed
  * is zero for an exact integration; what is left is the integrator's energy error. */
 #ifndef ESF_LEDGER_H
 #define ESF_LEDGER_H
@@ -20,8 +21,10 @@ typedef struct esf_ledger {
   double d_global;     /* global viscous damping, J */
   double d_local;      /* local non-viscous damping, J */
   double w_walls;      /* work done by walls on the particles, J */
-  double e_removed;    /* energy carried away by particles leaving the domain, J */
+  double e_removed;    /* energy carried away by particles leaving the domain or
+                          deleted by events (with their contacts' elastic energy), J */
   double d_bonds;      /* energy bonds held when they ruptured (adhesive law), J */
+  double w_fluid;      /* work done by the fluid force on the particles (drag.c), J */
   double e0;           /* stored energy at the start, J */
   int started;         /* e0 set */
 } esf_ledger;
@@ -31,7 +34,7 @@ double esf_ledger_dissipated(const esf_ledger *l);
 double esf_ledger_total_error(const esf_ledger *l);
 
 /* The columns of an energy row (energy.csv and /energy in frames.h5), in order. */
-enum { ESF_LEDGER_NCOLS = 19 };
+enum { ESF_LEDGER_NCOLS = 20 };
 extern const char *const esf_ledger_columns[ESF_LEDGER_NCOLS];
 enum { ESF_LEDGER_ALPHA = 17 }; /* the column of alpha_global */
 

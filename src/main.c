@@ -4,6 +4,7 @@
  *   esfera run --resume DIR [--checkpoint-every T] [--quiet]
  *   esfera info FILE.h5
  *   esfera modes SCENE.yaml [--set KEY=VALUE]...   (highest contact frequency)
+ *   esfera generate SCENE.yaml --out PACKING.csv [--set KEY=VALUE]... (generate_copies.h)
  *   esfera --help | --version
  * Exit status: 0 success, 1 the simulation failed, 2 bad input; a run stopped by
  * SIGINT or SIGTERM writes a checkpoint and exits with 128 + the signal's number.
@@ -19,6 +20,7 @@
 
 #include "atomic_file.h"
 #include "checkpoint.h"
+#include "generate_copies.h"
 #include "info.h"
 #include "integrator.h"
 #include "modes.h"
@@ -34,9 +36,12 @@ static void usage(FILE *f) {
           "       esfera run --resume DIR [--checkpoint-every T] [--quiet]\n"
           "       esfera info FILE.h5|DIR/checkpoint.esf\n"
           "       esfera modes SCENE.yaml [--set KEY=VALUE]...\n"
+          "       esfera generate SCENE.yaml --out PACKING.csv [--set KEY=VALUE]...\n"
           "       esfera --help | --version\n\n"
           "  run       integrate a scene; writes log.txt, energy.csv and frames.h5 into\n"
           "            DIR (default: output.dir of the scene, else out/<scene name>)\n"
+          "  generate  settle the scene's particles in generate.box, copy them\n"
+          "            generate.copies times, settle again, write a packing CSV\n"
           "  --set     override a scene key by its dotted path, e.g.\n"
           "            --set integrator.frac=0.2 --set gravity=[0,0,-9.81]\n"
           "  --threads worker threads of the leapfrog's fused step (results do not "
@@ -215,6 +220,21 @@ static void resume_dir(const char *arg, char *dir, size_t size) {
   }
 }
 
+/* esfera generate SCENE --out CSV: model generation by successive copies. */
+static int cmd_generate(int argc, char **argv) {
+  cli_args a;
+  int status = parse_args(argc, argv, &a);
+  if (!status && (a.resume || !a.out))
+    status = fail(ESF_EINPUT, "usage: esfera generate SCENE.yaml --out PACKING.csv "
+                              "[--set KEY=VALUE]...");
+  esf_error err;
+  esf_error_clear(&err);
+  int rc = status ? ESF_OK
+                  : esf_generate_copies(a.scene, a.sets, a.nsets, a.out, stdout, &err);
+  free(a.sets);
+  return status ? status : rc ? fail(rc, err.msg) : 0;
+}
+
 static int cmd_run(int argc, char **argv) {
   cli_args a;
   esf_sim s;
@@ -223,6 +243,13 @@ static int cmd_run(int argc, char **argv) {
   if (status) {
     esf_ckpt_free(&ck);
     return status;
+  }
+  if (s.cfg.duration <= 0 && s.cfg.steps <= 0) { /* a generate scene has no run */
+    free(a.sets);
+    esf_ckpt_free(&ck);
+    esf_sim_release(&s);
+    return fail(ESF_EINPUT, "the scene has no 'run' section (a generate scene: use "
+                            "esfera generate SCENE --out PACKING.csv)");
   }
   esf_error err;
   esf_error_clear(&err);
@@ -303,6 +330,7 @@ int main(int argc, char **argv) {
   }
   if (strcmp(argv[1], "run") == 0) return cmd_run(argc - 2, argv + 2);
   if (strcmp(argv[1], "modes") == 0) return cmd_modes(argc - 2, argv + 2);
+  if (strcmp(argv[1], "generate") == 0) return cmd_generate(argc - 2, argv + 2);
   if (strcmp(argv[1], "info") == 0) {
     esf_error err;
     esf_error_clear(&err);

@@ -194,6 +194,20 @@ static int rebuild_list(esf_contacts *list, uint32_t *keys, size_t m, int ledger
   return ESF_OK;
 }
 
+/* The wall loop's scratch (forces.c), one entry per wall candidate. */
+static int wall_scratch_reserve(esf_neighbor *nb, esf_error *err) {
+  size_t ws = nb->pw.cap ? nb->pw.cap : 1;
+  esf_wall_hit *wh = realloc(nb->wall_hits, ws * sizeof *wh);
+  if (wh) nb->wall_hits = wh;
+  double *wu = realloc(nb->wall_un, ws * sizeof *wu);
+  if (wu) nb->wall_un = wu;
+  unsigned char *wk = realloc(nb->wall_keep, ws);
+  if (wk) nb->wall_keep = wk;
+  if (!wh || !wu || !wk)
+    return esf_fail(err, ESF_ENOMEM, "out of memory for wall contacts");
+  return ESF_OK;
+}
+
 int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls *w,
                        esf_error *err) {
   int rc = esf_cells_pairs(nb->cells, p->n, p->x, p->radius, nb->skin, &nb->buf, err);
@@ -252,15 +266,8 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
   rc = rebuild_list(&nb->pw, keys, mw, nb->ledger, nb->carry, err);
   free(keys);
   if (rc) return rc;
-  size_t ws = nb->pw.cap ? nb->pw.cap : 1;
-  esf_wall_hit *wh = realloc(nb->wall_hits, ws * sizeof *wh);
-  if (wh) nb->wall_hits = wh;
-  double *wu = realloc(nb->wall_un, ws * sizeof *wu);
-  if (wu) nb->wall_un = wu;
-  unsigned char *wk = realloc(nb->wall_keep, ws);
-  if (wk) nb->wall_keep = wk;
-  if (!wh || !wu || !wk)
-    return esf_fail(err, ESF_ENOMEM, "out of memory for wall contacts");
+  rc = wall_scratch_reserve(nb, err);
+  if (rc) return rc;
 
   if (nb->nref != p->n || !nb->xref) {
     free(nb->xref);
@@ -311,14 +318,5 @@ int esf_neighbor_reserve(esf_neighbor *nb, size_t npp, size_t npw, esf_error *er
   int rc = contacts_reserve(&nb->pp, npp, nb->ledger, nb->carry, err);
   if (!rc) rc = contacts_reserve(&nb->pw, npw, nb->ledger, nb->carry, err);
   if (rc) return rc;
-  size_t ws = nb->pw.cap ? nb->pw.cap : 1;
-  esf_wall_hit *wh = realloc(nb->wall_hits, ws * sizeof *wh);
-  if (wh) nb->wall_hits = wh;
-  double *wu = realloc(nb->wall_un, ws * sizeof *wu);
-  if (wu) nb->wall_un = wu;
-  unsigned char *wk = realloc(nb->wall_keep, ws);
-  if (wk) nb->wall_keep = wk;
-  if (!wh || !wu || !wk)
-    return esf_fail(err, ESF_ENOMEM, "out of memory for wall contacts");
-  return ESF_OK;
+  return wall_scratch_reserve(nb, err);
 }

@@ -4,8 +4,8 @@
  * end; energy rows every cfg.energy_every (whole steps). After each ledger row the
  * balance is checked: energy appearing from nothing beyond a quarter of the run's energy
  * budget (the stored energy at the start plus everything dissipated, the change of
- * potential energy and the wall work) means the integration is unstable, and the run
- * stops with the step, the dt and the critical dt. Wall time is measured around the
+ * potential energy, the wall and fluid work) means the integration is unstable, and the
+ * run stops with the step, the dt and the critical dt. Wall time is measured around the
  * loop alone (set-up excluded), as LAMMPS's "Loop time". */
 #include "run.h"
 
@@ -97,6 +97,7 @@ static int check_energy(const esf_sim *s, esf_error *err) {
                   fabs(L->d_friction) + fabs(L->d_global) + fabs(L->d_local) +
                   fabs(L->w_walls) + fabs(L->e_removed) + fabs(L->pot_g) + fabs(L->el_n) +
                   fabs(L->el_t) + fabs(L->d_bonds);
+  budget += fabs(L->w_fluid); /* the fluid force (drag.c) */
   if (!(err_e > 0.25 * budget && err_e > 1e-30) && isfinite(err_e)) return ESF_OK;
   /* name the particle with the most kinetic energy: where the blow-up is */
   const esf_particles *p = &s->p;

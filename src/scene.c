@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "scene_sand.h"
 #include "vec3.h"
 
 static int positive(const esf_ynode *map, const char *key, double v, int strict,
@@ -296,17 +297,18 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
     if (!rc) rc = positive(se, "skin", c->skin, 1, err);
   }
   const esf_ynode *ru = esf_ymap_get(root, "run");
-  if (!rc && !ru)
+  if (!rc && !ru && !esf_ymap_get(root, "generate")) /* esfera generate: no run */
     return esf_ynode_fail(root, err, "missing key 'run' (duration or steps)");
-  if (!rc) rc = esf_ymap_check_keys(ru, rkeys, err);
+  if (!rc && ru) rc = esf_ymap_check_keys(ru, rkeys, err);
   if (rc) return rc;
-  const esf_ynode *du = esf_ymap_get(ru, "duration"), *st = esf_ymap_get(ru, "steps");
-  if ((du != NULL) == (st != NULL))
+  const esf_ynode *du = ru ? esf_ymap_get(ru, "duration") : NULL,
+                  *st = ru ? esf_ymap_get(ru, "steps") : NULL;
+  if (ru && (du != NULL) == (st != NULL))
     return esf_ynode_fail(ru, err, "give exactly one of duration (s) or steps");
   if (du) {
     rc = esf_ynode_double(du, &c->duration, err);
     if (!rc && !(c->duration > 0)) return esf_ynode_fail(du, err, "must be positive");
-  } else {
+  } else if (st) {
     rc = esf_ynode_long(st, &c->steps, err);
     if (!rc && c->steps <= 0) return esf_ynode_fail(st, err, "must be positive");
   }
@@ -331,10 +333,15 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
 }
 
 static int read_top(const esf_ynode *root, esf_config *c, esf_error *err) {
+  /* one block per feature, so that parallel additions merge */
+  /* clang-format off */
   static const char *const keys[] = {
       "name",   "dimension", "disk_thickness", "gravity",    "domain",  "materials",
       "mixing", "particles", "walls",          "integrator", "damping", "contact",
-      "search", "run",       "output",         NULL};
+      "search", "run",       "output",         "generate",
+      "events", "fluid", /* sand production (scene_sand.c) */
+      NULL};
+  /* clang-format on */
   int rc = esf_ynode_require_map(root, err);
   if (!rc) rc = esf_ymap_check_keys(root, keys, err);
   const char *name = NULL;
@@ -375,6 +382,7 @@ int esf_scene_read(esf_ydoc *doc, esf_sim *s, esf_error *err) {
   if (!rc) rc = read_damping(root, c, err);
   if (!rc) rc = read_misc(root, c, err);
   if (!rc) rc = esf_scene_walls(esf_ymap_get(root, "walls"), esf_ydoc_dir(doc), s, err);
+  if (!rc) rc = esf_scene_sand(root, s, err); /* events, fluid (scene_sand.c) */
   if (!rc) {
     const esf_ynode *ps = esf_ymap_get(root, "particles");
     if (!ps) return esf_ynode_fail(root, err, "missing key 'particles'");

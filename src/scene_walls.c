@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "scene.h"
+#include "scene_sand.h"
 #include "vec3.h"
 
 static int wall_material(const esf_ynode *e, const esf_sim *s, int32_t *m,
@@ -111,7 +112,9 @@ static int unit_vector(const esf_ynode *m, const char *key, double u[3], esf_err
 /* motion: {translate: {velocity}} | {rotate: {axis, center, rpm | omega}} |
  * {oscillate: {direction, frequency, amplitude | acceleration (peak, in g), phase}} */
 static int read_motion(const esf_ynode *mo, esf_wall_motion *m, esf_error *err) {
-  static const char *const kinds[] = {"translate", "rotate", "oscillate", NULL};
+  static const char *const kinds[] = {"translate", "rotate", "oscillate",
+                                      "servo", /* scene_sand.c */
+                                      NULL};
   static const char *const tkeys[] = {"velocity", NULL};
   static const char *const rkeys[] = {"axis", "center", "rpm", "omega", NULL};
   static const char *const okeys[] = {"direction",    "frequency", "amplitude",
@@ -120,8 +123,10 @@ static int read_motion(const esf_ynode *mo, esf_wall_motion *m, esf_error *err) 
   if (!rc) rc = esf_ymap_check_keys(mo, kinds, err);
   if (rc) return rc;
   if (mo->n != 1)
-    return esf_ynode_fail(mo, err,
-                          "a motion is exactly one of translate, rotate, oscillate");
+    return esf_ynode_fail(
+        mo, err, "a motion is exactly one of translate, rotate, oscillate, servo");
+  if (esf_ymap_get(mo, "servo"))
+    return esf_scene_servo(esf_ymap_get(mo, "servo"), m, err);
   memset(m, 0, sizeof *m);
   const esf_ynode *t = esf_ymap_get(mo, "translate"), *r = esf_ymap_get(mo, "rotate"),
                   *o = esf_ymap_get(mo, "oscillate");
@@ -220,6 +225,10 @@ int esf_scene_walls(const esf_ynode *seq, const char *dir, esf_sim *s, esf_error
       if (!rc && kind[1] == 'l' && s->walls.g[group].motion.kind == ESF_MOTION_ROTATE)
         return esf_ynode_fail(mo, err,
                               "an infinite plane cannot rotate; use a polygon or a box");
+      if (!rc && kind[0] == 'b' && s->walls.g[group].motion.kind == ESF_MOTION_SERVO)
+        return esf_ynode_fail(mo, err,
+                              "a servo moves its whole wall, and a box's faces face each "
+                              "other; make the servo-controlled face a polygon");
     }
   }
   return rc;

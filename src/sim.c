@@ -15,6 +15,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "drag.h"
+#include "events.h"
+#include "servo.h"
 #include "vec3.h"
 
 const char *const esf_history_names[] = {"frozen", "state", NULL};
@@ -143,6 +146,10 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
   rc = esf_bonds_setup(s, skin_auto, err);
   if (rc) return rc;
   s->led.on = c->energy_every > 0;
+  rc = esf_servo_setup(s, err);           /* servo walls (servo.c) */
+  if (!rc) rc = esf_events_setup(s, err); /* scene events (events.c) */
+  if (!rc) rc = esf_drag_setup(s, err);   /* fluid force (drag.c) */
+  if (rc) return rc;
   return esf_neighbor_init(&s->nb, c->skin, s->led.on, err);
 }
 
@@ -151,6 +158,8 @@ void esf_sim_release(esf_sim *s) {
   esf_materials_release(&s->mats);
   esf_walls_release(&s->walls);
   esf_neighbor_release(&s->nb);
+  esf_events_free(&s->events);
+  esf_drag_free(&s->drag);
 }
 
 int esf_sim_remove_escaped(esf_sim *s, esf_error *err) {

@@ -100,11 +100,14 @@ typedef struct esf_sim {
   esf_dt_estimate dte;
   esf_rng rng;
   /* counters */
-  long removed;                  /* particles removed for leaving the domain */
+  long removed;                  /* particles removed (left the domain, or deleted by
+                                    events) */
   double contacts_sum;           /* sum over steps of touching contacts */
   long rhs_evals;                /* force evaluations */
   FILE *log;                     /* the run's log, or NULL */
   struct esf_force_tally *tally; /* filled by force evaluations when not NULL */
+  struct esf_events *events;     /* scene events (events.c), or NULL */
+  struct esf_drag *drag;         /* fluid force (drag.c), or NULL: no cost */
 } esf_sim;
 
 /* Prepares a sim whose cfg, particles, materials and walls are filled in: mixes the

@@ -7,22 +7,29 @@
  * return), written out for the pair loop without the ledger's by-products.
  *
  * Order of operations in one call (state on entry: x_n, v_{n-1/2}, w_{n-1/2}, lists
- * valid for x_n, history at t_{n-1}):
- *   0. after a list rebuild: per-pair dashpot coefficients, the particles' ranges in
- *      the pair list as A (contiguous, the list is sorted by (a, b)), the ascending
- *      list of pairs each particle is B of, and the wall candidates' ranges;
- *   1. threads split the pairs in equal shares: each screens its share for
- *      overlapping spheres into a list without branches (a pair that stopped
- *      touching gets a zero slot), then computes the listed contacts: pair k's force
- *      on A and the torques on A and B go to slot k, history and flag committed;
- *   2. threads split the particles: particle i sums m_i g, then its slots as B (minus
- *      the force) and as A, both ascending in k, then its wall contacts
- *      (esf_forces_wall_particle, forces.c); in 2D drops the out-of-plane parts; local
- *      damping; kick with global damping (1 -+ alpha dt/2); drift x += v dt; the
- *      squared displacement since the last build.
- * Each particle's sums run in one fixed order whatever the threads, so the results
- * are the same bit for bit on any thread count. Failures (overlap beyond the limit)
- * are reported for the lowest pair or particle index, also independent of threads.
+ * valid for x_n, history at t_{n-1}). The particles are split into T contiguous
+ * ranges, one per thread; as the pair list is sorted by (a, b) with a < b, the pairs
+ * whose a lies in range t form one block of k. A pair whose b lies in a higher range
+ * is a boundary pair.
+ *   0. after a list rebuild (or a new T): per-pair dashpot coefficients, the ranges'
+ *      pair blocks, the wall candidates of each particle, the boundary pairs;
+ *   1. each thread computes its boundary pairs (force on A, torques on A and B) into
+ *      their slots (zero when not touching), committing their history; barrier;
+ *   2. each thread, for its own range: sets f = m g, t = 0; subtracts the incoming
+ *      boundary slots (pairs whose b is its particle) in ascending k; screens its pair
+ *      block for overlapping spheres into a list without branches; goes through its
+ *      block in ascending k, computing the listed pairs and scattering their forces
+ *      to both particles, and adding the A side of its outgoing boundary slots; then,
+ *      particle by particle: wall contacts (esf_forces_wall_particle, forces.c), the
+ *      2D projection, local damping, kick with global damping (1 -+ alpha dt/2), drift
+ *      x += v dt, the squared displacement since the last build.
+ * After the barrier no thread reads another range's particles (an interior pair has
+ * both ends in the range; the boundary pairs were done before), so each thread drifts
+ * its range as soon as it is done. Every particle receives its pair forces in
+ * ascending k, the order of the serial scatter in forces.c, whatever T: the results
+ * are the same bit for bit on any thread count (and T = 1 is a plain serial scatter
+ * without slots). Failures (overlap beyond the limit) are reported for the lowest
+ * pair or particle index, also independent of threads.
  * Units: SI. */
 #include "step_fast.h"
 
@@ -41,18 +48,22 @@
 #define SLOT 9 /* force on A (3), torque on A (3), torque on B (3) */
 
 struct esf_step_fast {
-  long built;     /* nb.builds the indices below belong to (-1: none) */
-  size_t np;      /* particles the indices were made for */
-  size_t cap_k;   /* pair capacity */
-  size_t cap_n;   /* particle capacity */
-  double *slot;   /* SLOT per pair */
-  double *cn;     /* normal dashpot coefficient per pair, N s/m */
-  double *ct;     /* tangential dashpot coefficient per pair, N s/m */
-  size_t *astart; /* n+1: pairs k in [astart[i], astart[i+1]) have a == i */
-  size_t *bstart; /* n+1: bidx[bstart[i] .. bstart[i+1]) are the pairs with b == i */
-  uint32_t *bidx; /* ascending within each particle */
-  uint32_t *list; /* per pair: the overlapping pairs of each thread's share */
-  size_t *wstart; /* n+1: wall candidates of particle i */
+  long built;       /* nb.builds the indices below belong to (-1: none) */
+  size_t np;        /* particles the indices were made for */
+  int nth;          /* ranges (threads) the split was made for */
+  size_t cap_k;     /* pair capacity */
+  size_t cap_n;     /* particle capacity */
+  double *cn;       /* normal dashpot coefficient per pair, N s/m */
+  double *ct;       /* tangential dashpot coefficient per pair, N s/m */
+  uint32_t *list;   /* per pair: the overlapping interior pairs of each block */
+  size_t *astart;   /* n+1: pairs k in [astart[i], astart[i+1]) have a == i */
+  size_t *wstart;   /* n+1: wall candidates of particle i */
+  size_t nb, cap_b; /* boundary pairs */
+  uint32_t *bk;     /* their pair indices, ascending */
+  double *slot;     /* SLOT per boundary pair, zero when not touching */
+  size_t *bout;     /* nth+1: bk[bout[t] .. bout[t+1]) have a in range t */
+  uint32_t *bin;    /* boundary ordinals by the range of b, ascending within */
+  size_t *binstart; /* nth+1 */
 };
 
 int esf_step_fast_create(esf_step_fast **out, esf_error *err) {
@@ -65,21 +76,42 @@ int esf_step_fast_create(esf_step_fast **out, esf_error *err) {
 void esf_step_fast_free(esf_step_fast **f) {
   if (!f || !*f) return;
   esf_step_fast *q = *f;
-  free(q->slot);
   free(q->cn);
   free(q->ct);
-  free(q->astart);
-  free(q->bstart);
-  free(q->bidx);
   free(q->list);
+  free(q->astart);
   free(q->wstart);
+  free(q->bk);
+  free(q->slot);
+  free(q->bout);
+  free(q->bin);
+  free(q->binstart);
   free(q);
   *f = NULL;
 }
 
+/* The features a scene may switch on, compiled in or (ESF_MINIMAL: meson -Dfeatures=
+ * minimal) out of the fused step; a build without them sends the scenes that use them
+ * to the general path. */
+#ifdef ESF_MINIMAL
+#define HAS_FEATURES 0
+#else
+#define HAS_FEATURES 1
+#endif
+
+static int minimal_ok(const esf_sim *s) {
+  const esf_materials *mt = &s->mats;
+  for (int k = 0; k < mt->n * mt->n; k++)
+    if (mt->pair[k].cohesion != 0.0) return 0;
+  return s->cfg.tframe == ESF_TFRAME_ROTATE && s->cfg.dim == 3 && !s->local &&
+         s->alpha_r == 0.0 && s->alpha_t == 0.0 && !s->walls.moving;
+}
+
 int esf_step_fast_eligible(const esf_sim *s) {
   return s->cfg.fused && !s->led.on && !s->cfg.autod.on && !s->tally &&
-         s->law == &esf_contact_linear && !s->nb.pp.vc0 && !s->nb.pp.xs && !s->nb.pw.xs;
+         s->law == &esf_contact_linear && !s->nb.pp.vc0 && !s->nb.pp.xs && !s->nb.pw.xs &&
+         (HAS_FEATURES || minimal_ok(s)) &&
+         !s->walls.gforce && !s->drag; /* servo walls, fluid force: general path */
 }
 
 static int grow(void **p, size_t n, size_t size) {
@@ -89,27 +121,29 @@ static int grow(void **p, size_t n, size_t size) {
   return 1;
 }
 
-/* Step 0: indices and coefficients for the current lists. */
-static int index_lists(esf_sim *s, esf_step_fast *f, esf_error *err) {
+static size_t range_lo(size_t n, size_t t, size_t T) { return n * t / T; }
+
+/* Step 0: indices and coefficients for the current lists and T ranges. */
+static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   const esf_particles *p = &s->p;
   const esf_contacts *c = &s->nb.pp, *cw = &s->nb.pw;
-  size_t n = p->n, m = c->n;
+  const size_t n = p->n, m = c->n, T = (size_t)nth;
   if (m > f->cap_k) {
-    if (!grow((void **)&f->slot, m, SLOT * sizeof(double)) ||
-        !grow((void **)&f->cn, m, sizeof(double)) ||
+    if (!grow((void **)&f->cn, m, sizeof(double)) ||
         !grow((void **)&f->ct, m, sizeof(double)) ||
-        !grow((void **)&f->bidx, m, sizeof(uint32_t)) ||
         !grow((void **)&f->list, m, sizeof(uint32_t)))
-      return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact slots", m);
+      return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact candidates", m);
     f->cap_k = m;
   }
   if (n + 1 > f->cap_n) {
     if (!grow((void **)&f->astart, n + 1, sizeof(size_t)) ||
-        !grow((void **)&f->bstart, n + 1, sizeof(size_t)) ||
         !grow((void **)&f->wstart, n + 1, sizeof(size_t)))
       return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particle ranges", n);
     f->cap_n = n + 1;
   }
+  if (!grow((void **)&f->bout, T + 1, sizeof(size_t)) ||
+      !grow((void **)&f->binstart, T + 1, sizeof(size_t)))
+    return esf_fail(err, ESF_ENOMEM, "out of memory");
   const esf_materials *mt = &s->mats;
   for (size_t k = 0; k < m; k++) {
     uint32_t a = c->a[k], b = c->b[k];
@@ -122,38 +156,67 @@ static int index_lists(esf_sim *s, esf_step_fast *f, esf_error *err) {
       f->cn[k] = pp->cn_factor * sm;
       f->ct[k] = pp->ct_factor * sm;
     }
-    double *sl = f->slot + SLOT * k; /* invariant: a slot is zero unless touching */
-    for (int q = 0; q < SLOT; q++) sl[q] = 0.0;
   }
   memset(f->astart, 0, (n + 1) * sizeof(size_t));
-  memset(f->bstart, 0, (n + 1) * sizeof(size_t));
   memset(f->wstart, 0, (n + 1) * sizeof(size_t));
-  for (size_t k = 0; k < m; k++) {
-    f->astart[c->a[k] + 1]++;
-    f->bstart[c->b[k] + 1]++;
-  }
+  for (size_t k = 0; k < m; k++) f->astart[c->a[k] + 1]++;
   for (size_t k = 0; k < cw->n; k++) f->wstart[cw->a[k] + 1]++;
   for (size_t i = 0; i < n; i++) {
     f->astart[i + 1] += f->astart[i];
-    f->bstart[i + 1] += f->bstart[i];
     f->wstart[i + 1] += f->wstart[i];
   }
-  /* the pairs of each particle as B, ascending k: one cursor per particle */
-  size_t *cur = malloc((n ? n : 1) * sizeof *cur);
-  if (!cur) return esf_fail(err, ESF_ENOMEM, "out of memory");
-  memcpy(cur, f->bstart, n * sizeof *cur);
-  for (size_t k = 0; k < m; k++) f->bidx[cur[c->b[k]]++] = (uint32_t)k;
-  free(cur);
+  /* boundary pairs: a in range t, b in a higher range (b > a) */
+  size_t nb = 0;
+  memset(f->bout, 0, (T + 1) * sizeof(size_t));
+  memset(f->binstart, 0, (T + 1) * sizeof(size_t));
+  for (size_t t = 0; t < T; t++) {
+    const size_t hi = range_lo(n, t + 1, T);
+    for (size_t k = f->astart[range_lo(n, t, T)]; k < f->astart[hi]; k++)
+      if (c->b[k] >= hi) nb++;
+  }
+  if (nb > f->cap_b) {
+    if (!grow((void **)&f->bk, nb, sizeof(uint32_t)) ||
+        !grow((void **)&f->bin, nb, sizeof(uint32_t)) ||
+        !grow((void **)&f->slot, nb, SLOT * sizeof(double)))
+      return esf_fail(err, ESF_ENOMEM, "out of memory for %zu boundary pairs", nb);
+    f->cap_b = nb;
+  }
+  f->nb = nb;
+  nb = 0;
+  for (size_t t = 0; t < T; t++) {
+    const size_t hi = range_lo(n, t + 1, T);
+    f->bout[t] = nb;
+    for (size_t k = f->astart[range_lo(n, t, T)]; k < f->astart[hi]; k++)
+      if (c->b[k] >= hi) {
+        f->bk[nb++] = (uint32_t)k;
+        size_t tb = t + 1; /* the range of b */
+        while (tb + 1 < T && c->b[k] >= range_lo(n, tb + 1, T)) tb++;
+        f->binstart[tb + 1]++;
+      }
+  }
+  f->bout[T] = nb;
+  for (size_t t = 0; t < T; t++) f->binstart[t + 1] += f->binstart[t];
+  size_t cur[64], *cu = T <= 64 ? cur : malloc(T * sizeof *cu);
+  if (!cu) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  memcpy(cu, f->binstart, T * sizeof *cu);
+  for (size_t j = 0; j < nb; j++) { /* ascending k within each range of b */
+    size_t tb = 0;
+    while (tb + 1 < T && c->b[f->bk[j]] >= range_lo(n, tb + 1, T)) tb++;
+    f->bin[cu[tb]++] = (uint32_t)j;
+  }
+  if (cu != cur) free(cu);
+  if (nb) memset(f->slot, 0, nb * SLOT * sizeof(double)); /* zero unless touching */
   f->built = s->nb.builds;
   f->np = n;
+  f->nth = nth;
   return ESF_OK;
 }
 
-/* Step 1a for the pairs [k0, k1): the candidates whose spheres overlap go to
- * list[0 .. return value); pairs that stopped touching get a zero slot. Branch-free
- * for the common cases, so the contact pass below runs without the distance test. */
-static size_t screen_pairs(esf_sim *s, esf_step_fast *f, size_t k0, size_t k1,
-                           uint32_t *list) {
+/* Step 2's screening of the pairs [k0, k1) of a block: the interior pairs (b < hi)
+ * whose spheres overlap go to list[0 .. return value); interior pairs that stopped
+ * touching lose the flag. Branch-free for the common cases, so the contact pass runs
+ * without the distance test. The boundary pairs are left to step 1. */
+static size_t screen_block(esf_sim *s, size_t k0, size_t k1, size_t hi, uint32_t *list) {
   const esf_particles *p = &s->p;
   esf_contacts *c = &s->nb.pp;
   const double *x = p->x, *r = p->radius;
@@ -162,22 +225,19 @@ static size_t screen_pairs(esf_sim *s, esf_step_fast *f, size_t k0, size_t k1,
     const size_t a = c->a[k], b = c->b[k];
     const double dx = x[3 * b] - x[3 * a], dy = x[3 * b + 1] - x[3 * a + 1],
                  dz = x[3 * b + 2] - x[3 * a + 2], R = r[a] + r[b];
-    const int in = dx * dx + dy * dy + dz * dz < R * R;
+    const int in = dx * dx + dy * dy + dz * dz < R * R, inner = b < hi;
     list[cnt] = (uint32_t)k;
-    cnt += (size_t)in;
-    if ((in ^ 1) & c->touch[k]) { /* the contact ended (rare; no branch on `in`) */
-      c->touch[k] = 0;
-      double *sl = f->slot + SLOT * k;
-      for (int q = 0; q < SLOT; q++) sl[q] = 0.0;
-    }
+    cnt += (size_t)(in & inner);
+    if ((in ^ 1) & inner & c->touch[k]) c->touch[k] = 0; /* the contact ended (rare) */
   }
   return cnt;
 }
 
-/* Step 1b for an overlapping pair k. Returns 1 when the overlap exceeds the limit
+/* The contact of an overlapping pair k: force on A, torque on A, torque on B into
+ * out[SLOT]; history and flag committed. Returns 1 when the overlap exceeds the limit
  * (nothing written). */
-static inline int pair_kernel(esf_sim *s, esf_step_fast *f, size_t k, int rotate,
-                              double dt) {
+static inline int pair_kernel(esf_sim *s, const esf_step_fast *f, size_t k, int rotate,
+                              double dt, double *restrict out) {
   const esf_particles *p = &s->p;
   esf_contacts *c = &s->nb.pp;
   const uint32_t a = c->a[k], b = c->b[k];
@@ -185,7 +245,6 @@ static inline int pair_kernel(esf_sim *s, esf_step_fast *f, size_t k, int rotate
   const double dx = xb[0] - xa[0], dy = xb[1] - xa[1], dz = xb[2] - xa[2];
   const double ra = p->radius[a], rb = p->radius[b], R = ra + rb;
   const double d2 = dx * dx + dy * dy + dz * dz;
-  double *sl = f->slot + SLOT * k;
   const double dist = sqrt(d2);
   double n[3];
   if (dist > 0) {
@@ -217,7 +276,7 @@ static inline int pair_kernel(esf_sim *s, esf_step_fast *f, size_t k, int rotate
   esf_contact_hist *h = &c->h[k];
   double xi[3] = {0, 0, 0};
   if (c->touch[k]) {
-    if (rotate) { /* 000 (3-17)-(3-18) */
+    if (!HAS_FEATURES || rotate) { /* 000 (3-17)-(3-18) */
       double t1[3], t2[3];
       v3_cross(t1, h->n, n);
       v3_cross(t2, t1, h->xi);
@@ -242,8 +301,8 @@ static inline int pair_kernel(esf_sim *s, esf_step_fast *f, size_t k, int rotate
   double ft[3];
   const double ctk = f->ct[k];
   for (int q = 0; q < 3; q++) ft[q] = pp->kt * xi[q] + ctk * vct[q];
-  double tau = fn < -pp->tensile_limit ? 0.0 : pp->cohesion + pp->mu * fn;
-  if (tau < 0.0) tau = 0.0;
+  /* fn >= 0 here (no tension), so the tension cut-off never applies */
+  const double tau = HAS_FEATURES ? pp->cohesion + pp->mu * fn : pp->mu * fn;
   const double ftm2 = v3_norm2(ft);
   if (ftm2 > tau * tau) { /* sliding: radial return, no dashpot (004 2.16) */
     const double sc = tau / sqrt(ftm2);
@@ -259,113 +318,203 @@ static inline int pair_kernel(esf_sim *s, esf_step_fast *f, size_t k, int rotate
   double m[3];
   v3_cross(m, n, ft);
   for (int q = 0; q < 3; q++) {
-    sl[q] = -fn * n[q] + ft[q];
-    sl[3 + q] = la * m[q];
-    sl[6 + q] = lb * m[q];
+    out[q] = -fn * n[q] + ft[q];
+    out[3 + q] = la * m[q];
+    out[6 + q] = lb * m[q];
   }
   return 0;
+}
+
+/* Step 1 for boundary pair j: its slot, zero when not touching. Returns 1 on an
+ * overlap beyond the limit; adds 1 to *nt when touching. */
+static int boundary_pair(esf_sim *s, esf_step_fast *f, size_t j, int rotate, double dt,
+                         size_t *nt) {
+  const esf_particles *p = &s->p;
+  esf_contacts *c = &s->nb.pp;
+  const size_t k = f->bk[j], a = c->a[k], b = c->b[k];
+  double *sl = f->slot + SLOT * j;
+  double d[3];
+  v3_sub(d, p->x + 3 * b, p->x + 3 * a);
+  const double R = p->radius[a] + p->radius[b];
+  if (v3_norm2(d) >= R * R) {
+    if (c->touch[k]) {
+      c->touch[k] = 0;
+      memset(sl, 0, SLOT * sizeof *sl);
+    }
+    return 0;
+  }
+  (*nt)++;
+  return pair_kernel(s, f, k, rotate, dt, sl);
+}
+
+/* Step 2's particle loop for range [lo, hi): walls, 2D, local damping, kick, drift. */
+typedef struct kick_ctx {
+  double dt, cr0, cr1, ct0, ct1, lc;
+  int dim2;
+  const esf_local_damping *loc;
+  const double *xref;
+} kick_ctx;
+
+static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, size_t lo,
+                       size_t hi, size_t *nt_pw, size_t *bad_part, double *max2,
+                       int *nonfinite) {
+  esf_particles *p = &s->p;
+  const double dt = K->dt;
+  for (size_t i = lo; i < hi; i++) {
+    double *fi = p->f + 3 * i, *ti = p->t + 3 * i;
+    if (f->wstart[i] < f->wstart[i + 1] &&
+        esf_forces_wall_particle(s, f->wstart[i], f->wstart[i + 1], p->x, p->v, p->w, dt,
+                                 ESF_FORCES_COMMIT, NULL, NULL, nt_pw, fi, ti, NULL)) {
+      if (i < *bad_part) *bad_part = i;
+      continue;
+    }
+    if (HAS_FEATURES && K->dim2) {
+      fi[1] = 0.0;
+      ti[0] = 0.0;
+      ti[2] = 0.0;
+    }
+    double *v = p->v + 3 * i, *w = p->w + 3 * i, *x = p->x + 3 * i;
+    double fk[3], tk[3];
+    v3_copy(fk, fi);
+    v3_copy(tk, ti);
+    if (HAS_FEATURES && K->loc) {
+      double fd[3], md[3];
+      K->loc->force(K->lc, fk, v, fd);
+      K->loc->force(K->lc, tk, w, md);
+      v3_add(fk, fk, fd);
+      v3_add(tk, tk, md);
+    }
+    const double im = p->inv_mass[i] * dt, ii = p->inv_inertia[i] * dt;
+    double d2 = 0.0;
+    for (int q = 0; q < 3; q++) {
+      if (HAS_FEATURES) {
+        v[q] = (K->cr0 * v[q] + fk[q] * im) * K->cr1;
+        w[q] = (K->ct0 * w[q] + tk[q] * ii) * K->ct1;
+      } else {
+        v[q] += fk[q] * im;
+        w[q] += tk[q] * ii;
+      }
+      x[q] += v[q] * dt;
+      if (K->xref) {
+        const double d = x[q] - K->xref[3 * i + q];
+        d2 += d * d;
+      }
+    }
+    if (!(d2 <= *max2)) {
+      if (d2 > *max2)
+        *max2 = d2;
+      else
+        *nonfinite = 1; /* NaN */
+    }
+  }
+}
+
+/* Step 2's pair pass for range t: forces of all pairs touching its particles, in
+ * ascending k per particle. Returns the lowest failing pair index or SIZE_MAX. */
+static size_t pairs_range(esf_sim *s, esf_step_fast *f, size_t t, size_t lo, size_t hi,
+                          int rotate, double dt, size_t *nt_pp) {
+  esf_particles *p = &s->p;
+  const esf_contacts *c = &s->nb.pp;
+  const double *g = s->cfg.gravity;
+  size_t bad = SIZE_MAX;
+  for (size_t i = lo; i < hi; i++) {
+    const double mass = p->mass[i];
+    double *fi = p->f + 3 * i, *ti = p->t + 3 * i;
+    fi[0] = mass * g[0], fi[1] = mass * g[1], fi[2] = mass * g[2];
+    ti[0] = 0.0, ti[1] = 0.0, ti[2] = 0.0;
+  }
+  for (size_t q = f->binstart[t]; q < f->binstart[t + 1]; q++) { /* incoming */
+    const size_t j = f->bin[q], b = c->b[f->bk[j]];
+    const double *sl = f->slot + SLOT * j;
+    for (int r = 0; r < 3; r++) {
+      p->f[3 * b + r] -= sl[r];
+      p->t[3 * b + r] += sl[6 + r];
+    }
+  }
+  const size_t k0 = f->astart[lo], k1 = f->astart[hi];
+  uint32_t *list = f->list + k0;
+  const size_t cnt = screen_block(s, k0, k1, hi, list);
+  *nt_pp += cnt;
+  size_t jo = f->bout[t];
+  const size_t jo1 = f->bout[t + 1];
+  double out[SLOT];
+  for (size_t q = 0; q < cnt || jo < jo1;) {
+    if (jo < jo1 && (q == cnt || f->bk[jo] < list[q])) { /* outgoing: A's side */
+      const size_t a = c->a[f->bk[jo]];
+      const double *sl = f->slot + SLOT * jo++;
+      for (int r = 0; r < 3; r++) {
+        p->f[3 * a + r] += sl[r];
+        p->t[3 * a + r] += sl[3 + r];
+      }
+      continue;
+    }
+    const size_t k = list[q++];
+    if (pair_kernel(s, f, k, rotate, dt, out)) {
+      if (k < bad) bad = k;
+      continue;
+    }
+    const size_t a = c->a[k], b = c->b[k];
+    for (int r = 0; r < 3; r++) {
+      p->f[3 * a + r] += out[r];
+      p->f[3 * b + r] -= out[r];
+      p->t[3 * a + r] += out[3 + r];
+      p->t[3 * b + r] += out[6 + r];
+    }
+  }
+  return bad;
 }
 
 int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error *err) {
   esf_particles *p = &s->p;
   int rc;
-  if (f->built != s->nb.builds || f->np != p->n) {
-    rc = index_lists(s, f, err);
+  const int nth = s->cfg.threads > 0 ? s->cfg.threads : 1;
+  if (f->built != s->nb.builds || f->np != p->n || f->nth != nth) {
+    rc = index_lists(s, f, nth, err);
     if (rc) return rc;
   }
-  const size_t m = s->nb.pp.n, n = p->n;
+  const size_t n = p->n, T = (size_t)nth;
   const double dt = s->dt, h = 0.5 * dt;
-  const int rotate = s->cfg.tframe == ESF_TFRAME_ROTATE, dim2 = s->cfg.dim == 2;
-  const double cr0 = 1.0 - s->alpha_r * h, cr1 = 1.0 / (1.0 + s->alpha_r * h);
-  const double ct0 = 1.0 - s->alpha_t * h, ct1 = 1.0 / (1.0 + s->alpha_t * h);
-  const esf_local_damping *loc = s->local;
-  const double lc = s->cfg.local_coef;
-  const double *g = s->cfg.gravity;
-  const double *xref = s->nb.xref;
-  int threads = s->cfg.threads > 0 ? s->cfg.threads : 1;
+  const int rotate = s->cfg.tframe == ESF_TFRAME_ROTATE;
+  const kick_ctx K = {dt,
+                      1.0 - s->alpha_r * h,
+                      1.0 / (1.0 + s->alpha_r * h),
+                      1.0 - s->alpha_t * h,
+                      1.0 / (1.0 + s->alpha_t * h),
+                      s->cfg.local_coef,
+                      s->cfg.dim == 2,
+                      s->local,
+                      s->nb.xref};
   size_t nt_pp = 0, nt_pw = 0;
   size_t bad_pair = SIZE_MAX, bad_part = SIZE_MAX;
   double max2 = 0.0;
-  int nonfinite = 0;
-  (void)threads;
+  int nonfinite = 0, bad_bound = 0; /* a boundary pair failed: nobody moves */
 
-#pragma omp parallel num_threads(threads) reduction(+ : nt_pp, nt_pw) \
+#pragma omp parallel num_threads(nth) reduction(+ : nt_pp, nt_pw) \
     reduction(min : bad_pair, bad_part) reduction(max : max2) reduction(| : nonfinite)
   {
-    {
 #ifdef _OPENMP
-      const size_t nth = (size_t)omp_get_num_threads(), me = (size_t)omp_get_thread_num();
+    const size_t me = (size_t)omp_get_thread_num(), got = (size_t)omp_get_num_threads();
 #else
-      const size_t nth = 1, me = 0;
+    const size_t me = 0, got = 1;
 #endif
-      const size_t k0 = m * me / nth, k1 = m * (me + 1) / nth;
-      uint32_t *list = f->list + k0;
-      const size_t cnt = screen_pairs(s, f, k0, k1, list);
-      nt_pp += cnt;
-      for (size_t j = 0; j < cnt; j++)
-        if (pair_kernel(s, f, list[j], rotate, dt) && list[j] < bad_pair)
-          bad_pair = list[j];
-    }
+    /* ranges t = me, me + got, ...: any number of threads covers all T ranges */
+    for (size_t t = me; t < T; t += got)
+      for (size_t j = f->bout[t]; j < f->bout[t + 1]; j++)
+        if (boundary_pair(s, f, j, rotate, dt, &nt_pp)) {
+          if (f->bk[j] < bad_pair) bad_pair = f->bk[j];
+#pragma omp atomic write
+          bad_bound = 1;
+        }
 #pragma omp barrier
-
-#pragma omp for schedule(static)
-    for (size_t i = 0; i < n; i++) {
-      if (bad_pair != SIZE_MAX) continue; /* this thread saw a failure: stop early */
-      const double mass = p->mass[i];
-      double fi[3] = {mass * g[0], mass * g[1], mass * g[2]}, ti[3] = {0, 0, 0};
-      for (size_t j = f->bstart[i]; j < f->bstart[i + 1]; j++) {
-        const double *sl = f->slot + SLOT * (size_t)f->bidx[j];
-        for (int q = 0; q < 3; q++) {
-          fi[q] -= sl[q];
-          ti[q] += sl[6 + q];
-        }
-      }
-      for (size_t k = f->astart[i]; k < f->astart[i + 1]; k++) {
-        const double *sl = f->slot + SLOT * k;
-        for (int q = 0; q < 3; q++) {
-          fi[q] += sl[q];
-          ti[q] += sl[3 + q];
-        }
-      }
-      if (f->wstart[i] < f->wstart[i + 1] &&
-          esf_forces_wall_particle(s, f->wstart[i], f->wstart[i + 1], p->x, p->v, p->w,
-                                   dt, ESF_FORCES_COMMIT, NULL, NULL, &nt_pw, fi, ti,
-                                   NULL)) {
-        if (i < bad_part) bad_part = i;
-        continue;
-      }
-      if (dim2) {
-        fi[1] = 0.0;
-        ti[0] = 0.0;
-        ti[2] = 0.0;
-      }
-      double *v = p->v + 3 * i, *w = p->w + 3 * i, *x = p->x + 3 * i;
-      v3_copy(p->f + 3 * i, fi);
-      v3_copy(p->t + 3 * i, ti);
-      if (loc) {
-        double fd[3], md[3];
-        loc->force(lc, fi, v, fd);
-        loc->force(lc, ti, w, md);
-        v3_add(fi, fi, fd);
-        v3_add(ti, ti, md);
-      }
-      const double im = p->inv_mass[i] * dt, ii = p->inv_inertia[i] * dt;
-      double d2 = 0.0;
-      for (int q = 0; q < 3; q++) {
-        v[q] = (cr0 * v[q] + fi[q] * im) * cr1;
-        w[q] = (ct0 * w[q] + ti[q] * ii) * ct1;
-        x[q] += v[q] * dt;
-        if (xref) {
-          const double d = x[q] - xref[3 * i + q];
-          d2 += d * d;
-        }
-      }
-      if (!(d2 <= max2)) {
-        if (d2 > max2)
-          max2 = d2;
-        else
-          nonfinite = 1; /* NaN */
-      }
+    int stop;
+#pragma omp atomic read
+    stop = bad_bound;
+    for (size_t t = me; t < T && !stop; t += got) {
+      const size_t lo = range_lo(n, t, T), hi = range_lo(n, t + 1, T);
+      size_t bad = pairs_range(s, f, t, lo, hi, rotate, dt, &nt_pp);
+      if (bad < bad_pair) bad_pair = bad;
+      if (bad_pair == SIZE_MAX)
+        kick_range(s, f, &K, lo, hi, &nt_pw, &bad_part, &max2, &nonfinite);
     }
   }
   if (bad_pair != SIZE_MAX) {
@@ -386,7 +535,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
     return rc ? rc : esf_fail(err, ESF_EINTERNAL, "wall contact failure not reproduced");
   }
   s->nb.max_disp2 = max2;
-  s->nb.disp_valid = xref && !nonfinite;
+  s->nb.disp_valid = K.xref && !nonfinite;
   s->rhs_evals++;
   *touching = nt_pp + nt_pw;
   return ESF_OK;

@@ -10,6 +10,8 @@
  * normal) with the wall_geom constructors, so edge normals and bounds stay exact. The
  * group's vel, omega and center feed esf_wall_point_velocity, hence the contact's
  * relative velocity and the work walls do in the energy ledger.
+ * servo:     not a function of time: the group drifts by vel (t - t_prev), vel set
+ *            after each committed force evaluation by servo.c (leapfrog only).
  * Candidate lists: esf_walls_moved bounds the displacement of any wall point since the
  * last list build by |d - d_mark| + |angle - angle_mark| reach. Units: SI. */
 #include <math.h>
@@ -92,10 +94,15 @@ int esf_walls_freeze(esf_walls *w, double t0, esf_error *err) {
 
 void esf_walls_set_time(esf_walls *w, double t) {
   if (!w->moving || t == w->t) return;
+  double t_prev = w->t;
   w->t = t;
   for (int k = 0; k < w->ngroups; k++) {
     esf_wall_group *g = &w->g[k];
     if (!g->moving) continue;
+    if (g->motion.kind == ESF_MOTION_SERVO) { /* drifts with the velocity servo.c set */
+      if (isfinite(t_prev)) v3_axpy(g->disp, t - t_prev, g->vel);
+      continue;
+    }
     motion_at(&g->motion, t, g->disp, g->vel, &g->angle);
     if (g->motion.kind == ESF_MOTION_ROTATE) {
       v3_scale(g->omega, g->motion.rate, g->motion.axis);

@@ -33,5 +33,6 @@ void esf_walls_release(esf_walls *w) {
   free(w->e);
   free(w->e0);
   free(w->g);
+  free(w->gforce);
   memset(w, 0, sizeof *w);
 }

@@ -15,7 +15,8 @@ enum {
   ESF_MOTION_NONE = 0,
   ESF_MOTION_TRANSLATE,
   ESF_MOTION_ROTATE,
-  ESF_MOTION_OSCILLATE
+  ESF_MOTION_OSCILLATE,
+  ESF_MOTION_SERVO /* velocity set by stress feedback each step (servo.h) */
 };
 
 typedef struct esf_wall_motion {
@@ -28,6 +29,14 @@ typedef struct esf_wall_motion {
   double freq;     /* oscillate: Hz */
   double amp;      /* oscillate: m; displacement amp sin(2 pi freq t + phase) dir */
   double phase;    /* oscillate: rad */
+  /* servo (servo.c): dir is the unit direction the wall moves to compress */
+  double stress; /* servo: target compressive stress, Pa */
+  double gain;   /* servo: m/(s Pa); 0: automatic, alpha A/(kn N_c dt) */
+  double alpha;  /* servo: fraction of the stress error removed per step (auto gain) */
+  double vmax;   /* servo: speed limit, m/s (0: set at set-up) */
+  double area;   /* servo: loaded area, m^2 (0: from the elements) */
+  double kn;     /* servo: largest wall-particle normal stiffness, N/m */
+  double sigma;  /* servo: measured stress at the last committed evaluation, Pa */
 } esf_wall_motion;
 
 typedef struct esf_wall_group {
@@ -51,6 +60,10 @@ typedef struct esf_walls {
   int moving;        /* some group moves */
   esf_wall_elem *e0; /* the elements at t = 0 (moving walls only), else NULL */
   double t;          /* time the elements are placed at, s */
+  double *gforce;    /* 4 per group: spring force the group exerts on particles (N, xyz;
+                        contact force less dashpots) and its touching contacts, summed at
+                        each committed evaluation;
+                        NULL unless a servo wall exists (servo.c) */
 } esf_walls;
 
 /* Adds a group; returns its index. */

@@ -7,6 +7,8 @@
  * removed and NAME keeps its previous content. State: none kept between calls. */
 #include "xdmf.h"
 
+#include "atomic_file.h"
+
 #include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
@@ -135,22 +137,6 @@ static void collection(FILE *f, const char *name, grid_fn grid, int want_walls,
   fputs("    </Grid>\n", f);
 }
 
-/* fsync of the directory holding path (best effort: makes the rename durable). */
-static void sync_dir(const char *path) {
-  char dir[1024];
-  const char *slash = strrchr(path, '/');
-  if (!slash)
-    snprintf(dir, sizeof dir, ".");
-  else if (slash == path)
-    snprintf(dir, sizeof dir, "/");
-  else
-    snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
-  int fd = open(dir, O_RDONLY);
-  if (fd < 0) return;
-  fsync(fd);
-  close(fd);
-}
-
 int esf_xdmf_write(const char *path, const char *h5_name, const esf_xdmf_frame *frames,
                    size_t nframes, esf_error *err) {
   char tmp[1100];
@@ -179,6 +165,6 @@ int esf_xdmf_write(const char *path, const char *h5_name, const esf_xdmf_frame *
     remove(tmp);
     return esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(e));
   }
-  sync_dir(path);
+  (void)esf_fsync_parent(path, NULL); /* best effort: makes the rename durable */
   return ESF_OK;
 }

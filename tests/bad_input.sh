@@ -164,5 +164,32 @@ sed 's/pitch: 0.1/pich: 0.1/' "$tmp/m4.yaml" > "$tmp/m5.yaml"
 expect "misspelt screw key" 2 "m5.yaml:8:[0-9]+: unknown key 'pich' in walls.0.screw \(did you mean 'pitch'\?\)" \
   -- run "$tmp/m5.yaml" --out "$tmp/om5"
 
+# sand production keys (servo walls, events, fluid)
+good "" "events: [{at: 0.1, delete: {cylinder: {center: [0, 0, 0], axis: [0, 1, 0], radius: 0.1}, box: {min: [0, 0, 0], max: [1, 1, 1]}}}]" > "$tmp/s30.yaml"
+expect "event with two regions" 2 "s30.yaml:11:[0-9]+: .*exactly one region" \
+  -- run "$tmp/s30.yaml" --out "$tmp/o30"
+good "" "fluid: {porosity: 0.4, viscosity: 1.0e-3, density: 1000, uniform: {velocty: [0, 0, 1]}}" > "$tmp/s31.yaml"
+expect "misspelt fluid key" 2 "s31.yaml:11:[0-9]+: unknown key 'velocty'" \
+  -- run "$tmp/s31.yaml" --out "$tmp/o31"
+good "" "fluid: {porosity: 0.4, viscosity: 1.0e-3, density: 1000}" > "$tmp/s32.yaml"
+expect "fluid without a field" 2 "s32.yaml:11:[0-9]+: .*exactly one fluid field" \
+  -- run "$tmp/s32.yaml" --out "$tmp/o32"
+sed 's|normal: \[0, 0, 1\]}, material: glass}|normal: [0, 0, 1]}, material: glass, motion: {servo: {stress: 1.0e4, direction: [0, 0, 1]}}}|' "$tmp/ok.yaml" > "$tmp/s33.yaml"
+expect "servo without max_speed" 2 "s33.yaml:8:[0-9]+: .*max_speed" \
+  -- run "$tmp/s33.yaml" --out "$tmp/o33"
+sed 's|normal: \[0, 0, 1\]}, material: glass}|normal: [0, 0, 1]}, material: glass, motion: {servo: {stress: 1.0e4, direction: [0, 0, 1], max_speed: 1}}}|' "$tmp/ok.yaml" > "$tmp/s34.yaml"
+expect "servo plane without area" 2 "servo wall 'plane 0': give motion.servo.area" \
+  -- run "$tmp/s34.yaml" --out "$tmp/o34"
+expect "servo refused by an ODE method" 2 "servo walls are supported by the leapfrog only" \
+  -- run "$tmp/s34.yaml" --out "$tmp/o35" --set walls.0.motion.servo.area=1 --set integrator.method=rk4
+
+good "" "events: [{at: 0.0, delete: {box: {min: [-1, -1, -1], max: [1, 1, 1]}}}]" > "$tmp/s36.yaml"
+expect "events refused by an ODE method" 2 "events \(deleting particles\) are supported by the leapfrog only" \
+  -- run "$tmp/s36.yaml" --out "$tmp/o36" --set integrator.method=verlet
+
+sed 's|- {plane: {point: \[0, 0, 0\], normal: \[0, 0, 1\]}, material: glass}|- {box: {min: [-1, -1, 0], max: [1, 1, 1]}, material: glass, motion: {servo: {stress: 1, direction: [0, 0, 1], max_speed: 1}}}|' "$tmp/ok.yaml" > "$tmp/s37.yaml"
+expect "servo box refused" 2 "s37.yaml:8:[0-9]+: .*make the servo-controlled face a polygon" \
+  -- run "$tmp/s37.yaml" --out "$tmp/o37"
+
 echo "bad_input: $pass passed, $fail failed"
 [ "$fail" = 0 ]

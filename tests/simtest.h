@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "check.h"
@@ -85,6 +86,23 @@ static inline int simtest_step(simtest *T) {
 static inline void simtest_close(simtest *T) {
   if (T->it && T->ist) T->it->destroy(&T->ist);
   esf_sim_release(&T->s);
+}
+
+/* The whole file at path as a NUL-terminated string (free it), or NULL. */
+static inline char *simtest_slurp(const char *path) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  char *b = n >= 0 ? malloc((size_t)n + 1) : NULL;
+  if (b && fread(b, 1, (size_t)n, f) != (size_t)n) {
+    free(b);
+    b = NULL;
+  }
+  if (b) b[n] = 0;
+  fclose(f);
+  return b;
 }
 
 #endif

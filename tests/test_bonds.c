@@ -353,26 +353,10 @@ static void ledger(void) {
 /* ---- 5. the block impact quick scene ------------------------------------------------
  */
 
-static char *slurp(const char *path) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *b = malloc((size_t)n + 1);
-  if (b && fread(b, 1, (size_t)n, f) != (size_t)n) {
-    free(b);
-    b = NULL;
-  }
-  if (b) b[n] = 0;
-  fclose(f);
-  return b;
-}
-
 static void block_impact(const char *dir) {
   char path[1024];
   snprintf(path, sizeof path, "%s/scenes/block_impact-quick.yaml", dir);
-  char *yaml = slurp(path);
+  char *yaml = simtest_slurp(path);
   CHECK(yaml != NULL, "read %s", path);
   if (!yaml) return;
   simtest T;
