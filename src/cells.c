@@ -1,23 +1,47 @@
-/* cells.c — contact-candidate search by linked cells (004 §3.5, Figs. 3.10–3.11).
- *
- * Algorithm: the particles' axis-aligned bounding box is cut into nx × ny × nz box cells
- * whose edges are all >= 2 r_max + skin (times 1 + 1e-6, a margin that absorbs the
- * rounding of the cell coordinates), so two particles closer than r_i + r_j + skin sit
- * in the same or in adjacent cells. Each particle is threaded onto the linked list of
- * its cell: HEAD[cell] is the first particle, LIST[i] the next one (Fig. 3.10); the
- * lists are built from the last particle down, so each runs in increasing index order.
- * Every cell is then paired with itself (each pair within it once) and with the 13
- * neighbours of the half shell (Fig. 3.11: +x; the row y+1; the whole layer z+1), so
- * every pair of adjacent cells is visited exactly once. The grid is not periodic;
- * neighbours outside it are skipped, which also covers a box flat in one or two
- * dimensions (a 2D scene is one cell thick). When the box is huge against the cell edge
- * (a particle flew far away) the edge grows until the grid holds at most max(64, 4n)
- * cells, so memory and the sweep over cells stay O(n).
+/* cells.c — contact-candidate search by linked cells (004 §3.5, Figs. 3.10–3.11), with
+ * size classes for polydisperse sets (the idea of LAMMPS's `neighbor multi`).
  *
  * Criterion, shared bit-for-bit with the brute-force reference: with d the difference
  * of the two positions and c = (r_i + r_j) + skin, a pair is a candidate when c > 0 and
  * d·d < c·c (no square root). Pairs are stored as (min, max) index, each once, in an
- * order fixed by the grid sweep, so the output is deterministic.
+ * order fixed by the sweep, so the output is deterministic.
+ *
+ * One grid (the size ratio is small): a uniform grid of cells of edge >= 2 r_max + skin
+ * over the bounding box, the half-shell sweep (cells_grid.c). Cost: with rho particles
+ * per unit volume, about 27/2 · N · rho (2 r_max + skin)^3 distance tests.
+ *
+ * Size classes: let s_i = 2 r_i + skin, the cutoff a particle brings to a pair with its
+ * twin, and S the ratio of the largest s to the smallest positive s. The particles are
+ * cut into K = ceil(log S / log f) classes (f = 2 by default, at least 2, at most
+ * ESF_CELLS_MAX_CLASSES) of equal ratio F = S^(1/K) in s: class 0 holds the largest,
+ * s in (s_max / F, s_max], class k s in (s_max / F^(k+1), s_max / F^k], the last class
+ * everything smaller (also s <= 0). Each class k gets its own grid over its own
+ * bounding box with edge 2 R_k + skin, R_k its largest radius, and finds its own pairs
+ * by the half-shell sweep. A pair between class k and a larger class m < k is found
+ * once, from the smaller side: each particle i of class k queries the grid of class m
+ * over the box of half-width r_i + R_m + skin around it (at most 3, usually 2 cells per
+ * axis since that reach is <= class m's edge). Each pair is thus tested in exactly one
+ * place, and the set found is the same as the single grid's and brute force's. Cost:
+ * small particles are tested against small-cell neighbourhoods only, so a small-small
+ * pair no longer costs the 27 large cells of the single grid; overhead: one pass to
+ * classify, a counting sort, and per particle one box query per larger class.
+ *
+ * Choice (ESF_CELLS_AUTO): one grid when S < 2; otherwise a pass over the radii counts
+ * the classes and both searches are estimated as if every class filled the bounding box
+ * evenly: distance tests n (n / cells) (stencil cells) / 2 per grid and n_k (n_m /
+ * cells_m) (query cells) per class pair, plus costs per particle, per class-grid cell
+ * and per cell visited by a query, weighted as fitted to bench_cells (COST_*). Classes
+ * are taken when their estimate is below 0.8 of the single grid's. Measured there
+ * (n = 20000, random positions, CPU time): classes lose, 0.6-0.9x, on radii uniform by
+ * number up to 1:10 and by volume up to 1:3 (a few particles per large cell: the extra
+ * passes cost more than the tests saved), and win where the small ones are numerous:
+ * bimodal with equal volumes 1:3 1.6x, 1:5 8x, 1:10 70x; uniform by volume 1:10 4.5x.
+ *
+ * Memory, added per particle over the single grid: the class order (4 bytes) and the
+ * class index (1 byte); each class grid is capped like the single grid (max(64, 4 n_k)
+ * cells, 4 bytes a cell) and LIST (4 bytes) is shared. Storage is kept for reuse, so
+ * a search that switches between the modes holds the single grid's cells as well:
+ * esf_cells_bytes reports the total.
  *
  * Units: positions, radii and skin in m. On entry: x holds 3n finite doubles, radius n
  * finite non-negative ones (checked: a non-finite position is ESF_ENUMERIC naming the
@@ -29,21 +53,33 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define CELL_EMPTY      UINT32_MAX
-#define CELL_EDGE_SLACK 1e-6 /* relative margin of the cell edge over 2 r_max + skin */
-#define CELL_MIN_CAP    64   /* the grid may always have this many cells */
-#define CELL_PER_PART   4    /* ... or this many per particle */
+#include "cells_grid.h"
+
+#define CELLS_FACTOR_DEFAULT 2.0 /* target ratio of s within one class */
+#define CELLS_MIN_RATIO      2.0 /* below this S the classes never paid (bench_cells) */
+#define CELLS_GAIN           0.8 /* classes when their estimated cost is below this share */
+/* cost weights in units of one distance test, fitted to bench_cells (30 timings of 16
+ * random sets, n = 20000, ratios 1:1.5 to 1:10; one test ~ 2 ns there): */
+#define COST_PART_ONE 78.0 /* per particle, one grid (scan, threading, sweep) */
+#define COST_PART_CLASSES                                                                \
+  38.0                  /* per particle, with classes (their cells counted apart) */
+#define COST_CELL  65.0 /* per cell of a class grid */
+#define COST_QCELL 6.6  /* per cell visited by a box query */
 
 struct esf_cells {
-  uint32_t *head; /* HEAD: first particle of each cell, CELL_EMPTY if none */
-  size_t head_cap;
-  uint32_t *list; /* LIST: next particle in the same cell, CELL_EMPTY at the end */
-  size_t list_cap;
+  uint32_t *list;        /* LIST: next particle in the same cell (shared by all grids) */
+  uint32_t *ord;         /* the particles ordered by class, ascending within a class */
+  uint8_t *cls;          /* the class of each particle */
+  size_t cap, class_cap; /* particles allocated in list; in ord and cls */
+  esf_grid grid[ESF_CELLS_MAX_CLASSES];
+  esf_cells_mode mode; /* tuning (esf_cells_tune) */
+  int nclasses;        /* grids used by the last search */
+  double factor;
 };
 
 /* ---- pair buffer ------------------------------------------------------------------ */
 
-static int pairbuf_grow(esf_pairbuf *b, esf_error *err) {
+int esf_pairbuf_grow(esf_pairbuf *b, esf_error *err) {
   size_t cap = b->cap ? 2 * b->cap : 1024;
   if (cap <= b->cap || cap > SIZE_MAX / sizeof(uint32_t))
     return esf_fail(err, ESF_ENOMEM, "too many contact-candidate pairs (%zu)", b->cap);
@@ -59,7 +95,7 @@ static int pairbuf_grow(esf_pairbuf *b, esf_error *err) {
 
 int esf_pairbuf_push(esf_pairbuf *b, uint32_t i, uint32_t j, esf_error *err) {
   if (b->n == b->cap) {
-    int rc = pairbuf_grow(b, err);
+    int rc = esf_pairbuf_grow(b, err);
     if (rc) return rc;
   }
   b->i[b->n] = i;
@@ -75,41 +111,21 @@ void esf_pairbuf_release(esf_pairbuf *b) {
   memset(b, 0, sizeof *b);
 }
 
-/* Stores the pair as (min, max); the fast path is a bounds check and two stores. */
-static inline int push_pair(esf_pairbuf *b, uint32_t i, uint32_t j, esf_error *err) {
-  if (b->n == b->cap) {
-    int rc = pairbuf_grow(b, err);
-    if (rc) return rc;
-  }
-  b->i[b->n] = i < j ? i : j;
-  b->j[b->n] = i < j ? j : i;
-  b->n++;
-  return ESF_OK;
-}
-
-/* The pair criterion, the same expression for the cell search and the reference. */
-static inline int is_near(const double *xi, const double *xj, double ri, double rj,
-                          double skin) {
-  double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
-  double c = (ri + rj) + skin;
-  return c > 0 && dx * dx + dy * dy + dz * dz < c * c;
-}
-
 /* ---- input scan ---------------------------------------------------------------------
  */
 
-/* Checks the input and finds the bounding box and the largest radius. */
+/* Checks the input and finds the bounding box and the extreme radii. */
 static int scan(size_t n, const double *x, const double *radius, double skin,
-                double lo[3], double hi[3], double *rmax, esf_error *err) {
+                double lo[3], double hi[3], double *rmin, double *rmax, esf_error *err) {
   if (!isfinite(skin))
     return esf_fail(err, ESF_EINPUT, "the neighbour-search skin is not finite (%g)",
                     skin);
-  if (n >= (size_t)CELL_EMPTY)
+  if (n >= (size_t)ESF_CELL_EMPTY)
     return esf_fail(err, ESF_EINPUT, "too many particles for the contact search (%zu)",
                     n);
   if (n && (!x || !radius))
     return esf_fail(err, ESF_EINTERNAL, "contact search: no position or radius array");
-  double r = 0;
+  double r = 0, rs = n ? INFINITY : 0;
   for (int d = 0; d < 3; d++) lo[d] = hi[d] = n ? x[d] : 0;
   for (size_t i = 0; i < n; i++) {
     const double *p = x + 3 * i;
@@ -125,167 +141,274 @@ static int scan(size_t n, const double *x, const double *radius, double skin,
       if (p[d] > hi[d]) hi[d] = p[d];
     }
     if (radius[i] > r) r = radius[i];
+    if (radius[i] < rs) rs = radius[i];
   }
+  *rmin = rs;
   *rmax = r;
   return ESF_OK;
 }
 
-/* ---- grid ---------------------------------------------------------------------------
+/* ---- storage ------------------------------------------------------------------------
  */
 
 int esf_cells_create(esf_cells **out, esf_error *err) {
   *out = calloc(1, sizeof **out);
   if (!*out) return esf_fail(err, ESF_ENOMEM, "out of memory for the cell grid");
+  (*out)->mode = ESF_CELLS_AUTO;
+  (*out)->factor = CELLS_FACTOR_DEFAULT;
   return ESF_OK;
 }
 
 void esf_cells_free(esf_cells **c) {
   if (!c || !*c) return;
-  free((*c)->head);
   free((*c)->list);
+  free((*c)->ord);
+  free((*c)->cls);
+  for (int k = 0; k < ESF_CELLS_MAX_CLASSES; k++) esf_grid_release(&(*c)->grid[k]);
   free(*c);
   *c = NULL;
 }
 
-/* Cell counts per dimension for a box of extent ext: cell edges >= edge, at most cap
- * cells in all. inv_h[d] maps a coordinate offset to a cell coordinate. */
-static void grid_dims(const double ext[3], double edge, size_t cap, int64_t nc[3],
-                      double inv_h[3]) {
-  double h = edge * (1 + CELL_EDGE_SLACK), f[3];
-  for (;;) {
-    double prod = 1;
-    int k = 0; /* dimensions that still have more than one cell */
+int esf_cells_tune(esf_cells *c, esf_cells_mode mode, double factor, esf_error *err) {
+  if (factor == 0) factor = CELLS_FACTOR_DEFAULT;
+  if ((mode != ESF_CELLS_AUTO && mode != ESF_CELLS_ONE_GRID &&
+       mode != ESF_CELLS_CLASSES) ||
+      !(factor > 1) || !isfinite(factor))
+    return esf_fail(err, ESF_EINPUT,
+                    "contact search tuning: unknown mode %d or factor %g not finite > 1",
+                    (int)mode, factor);
+  c->mode = mode;
+  c->factor = factor;
+  return ESF_OK;
+}
+
+int esf_cells_nclasses(const esf_cells *c) { return c->nclasses; }
+
+size_t esf_cells_bytes(const esf_cells *c) {
+  size_t b = sizeof *c + c->cap * sizeof *c->list +
+             c->class_cap * (sizeof *c->ord + sizeof *c->cls);
+  for (int k = 0; k < ESF_CELLS_MAX_CLASSES; k++)
+    b += c->grid[k].head_cap * sizeof *c->grid[k].head;
+  return b;
+}
+
+/* Grows *a to hold n elements of size sz (contents dropped); *cap tracks it. */
+static int grow(void **a, size_t *cap, size_t n, size_t sz, esf_error *err) {
+  if (n <= *cap) return ESF_OK;
+  free(*a);
+  *a = malloc(n * sz);
+  *cap = *a ? n : 0;
+  if (!*a)
+    return esf_fail(err, ESF_ENOMEM, "out of memory for the cell lists of %zu particles",
+                    n);
+  return ESF_OK;
+}
+
+/* ---- size classes -------------------------------------------------------------------
+ */
+
+typedef struct class_info {
+  size_t start, count; /* the class's slice of ord */
+  double lo[3], hi[3]; /* its bounding box (m) */
+  double rmax;         /* its largest radius (m) */
+} class_info;
+
+/* The class plan for a size ratio S: K classes of ratio F in s, and the bounds. */
+typedef struct class_plan {
+  int K;
+  double F;
+  double bound[ESF_CELLS_MAX_CLASSES]; /* s <= bound[k]: class k + 1 or smaller */
+} class_plan;
+
+static void plan_classes(class_plan *pl, double smax, double S, double factor) {
+  int K = (int)ceil(log(S) / log(factor) - 1e-9);
+  if (K < 2) K = 2;
+  if (K > ESF_CELLS_MAX_CLASSES) K = ESF_CELLS_MAX_CLASSES;
+  pl->K = K;
+  pl->F = pow(S, 1.0 / K);
+  double b = smax;
+  for (int k = 0; k < K - 1; k++) pl->bound[k] = b /= pl->F;
+}
+
+static inline int class_of(const class_plan *pl, double s) {
+  int k = 0;
+  while (k < pl->K - 1 && s <= pl->bound[k]) k++;
+  return k;
+}
+
+/* Classifies the particles, fills ord (by class, ascending) and info. */
+static void classify(esf_cells *c, size_t n, const double *x, const double *radius,
+                     double skin, const class_plan *pl, class_info *info) {
+  const int K = pl->K;
+  for (int k = 0; k < K; k++) {
+    info[k].count = 0;
+    info[k].rmax = 0;
+  }
+  for (size_t i = 0; i < n; i++) {
+    const int k = class_of(pl, 2 * radius[i] + skin);
+    c->cls[i] = (uint8_t)k;
+    class_info *ci = &info[k];
+    const double *p = x + 3 * i;
+    if (ci->count++ == 0)
+      for (int d = 0; d < 3; d++) ci->lo[d] = ci->hi[d] = p[d];
     for (int d = 0; d < 3; d++) {
-      f[d] = ext[d] / h;
-      if (f[d] > 1e15) f[d] = 1e15; /* the product stays finite; refined below */
-      f[d] = floor(f[d]);
-      if (f[d] < 1) f[d] = 1;
-      if (f[d] > 1) k++;
-      prod *= f[d];
+      if (p[d] < ci->lo[d]) ci->lo[d] = p[d];
+      if (p[d] > ci->hi[d]) ci->hi[d] = p[d];
     }
-    if (prod <= (double)cap) break;
-    double g = pow(prod / (double)cap, 1.0 / k); /* k >= 1 since prod > cap >= 1 */
-    h *= g > 1.001 ? g : 1.001;
+    if (radius[i] > ci->rmax) ci->rmax = radius[i];
   }
+  size_t fill[ESF_CELLS_MAX_CLASSES], at = 0;
+  for (int k = 0; k < K; k++) {
+    info[k].start = fill[k] = at;
+    at += info[k].count;
+  }
+  for (size_t i = 0; i < n; i++) c->ord[fill[c->cls[i]]++] = (uint32_t)i;
+}
+
+/* ---- cost estimate ------------------------------------------------------------------
+ */
+
+/* The cells per axis (nc) of a grid of edge h over extent ext for n particles, as
+ * esf_grid_build would make them (capped at max(64, 4 n) cells); returns their count. */
+static double est_cells(const double ext[3], double h, double n, double nc[3]) {
+  double C = 1, cap = 4 * n > 64 ? 4 * n : 64;
+  int k = 0;
   for (int d = 0; d < 3; d++) {
-    nc[d] = (int64_t)f[d];
-    inv_h[d] = nc[d] > 1 ? f[d] / ext[d] : 0; /* cell edge ext/nc >= h */
+    nc[d] = floor(fmin(ext[d] / h, 1e15));
+    if (nc[d] < 1) nc[d] = 1;
+    k += nc[d] > 1;
+    C *= nc[d];
   }
+  if (C > cap) { /* the grid grows its edge: shrink the counts alike */
+    double g = pow(cap / C, 1.0 / k);
+    C = 1;
+    for (int d = 0; d < 3; d++) {
+      if (nc[d] > 1) nc[d] = fmax(1, floor(nc[d] * g));
+      C *= nc[d];
+    }
+  }
+  return C;
+}
+
+/* The estimated distance tests of the half-shell sweep of n particles spread evenly
+ * over C cells (nc per axis). */
+static double est_tests(double n, double C, const double nc[3]) {
+  double nb = 1; /* cells of the full stencil */
+  for (int d = 0; d < 3; d++) nb *= fmin(3, nc[d]);
+  return n * (n / C) * nb / 2;
+}
+
+/* Whether the classes of plan pl are estimated to cost less than one grid, all classes
+ * spread evenly over the box of extent ext (the mixed bed the classes are made for). */
+static int classes_pay(size_t n, const double *radius, double skin, double smax,
+                       const double ext[3], const class_plan *pl) {
+  double cnt[ESF_CELLS_MAX_CLASSES] = {0};
+  for (size_t i = 0; i < n; i++) cnt[class_of(pl, 2 * radius[i] + skin)] += 1;
+  double nc[ESF_CELLS_MAX_CLASSES][3], C[ESF_CELLS_MAX_CLASSES], h[ESF_CELLS_MAX_CLASSES];
+  double one[3], N = (double)n;
+  double single = est_tests(N, est_cells(ext, smax, N, one), one) + COST_PART_ONE * N;
+  double multi = COST_PART_CLASSES * N;
+  for (int k = 0; k < pl->K; k++) {
+    h[k] = k ? pl->bound[k - 1] : smax; /* the largest s the class may hold */
+    if (cnt[k] == 0) continue;
+    C[k] = est_cells(ext, h[k], cnt[k], nc[k]);
+    multi += est_tests(cnt[k], C[k], nc[k]) + COST_CELL * C[k];
+    for (int m = 0; m < k; m++) {
+      if (cnt[m] == 0) continue;
+      double cells = 1; /* cells of class m's grid in one box query from class k */
+      for (int d = 0; d < 3; d++)
+        if (nc[m][d] > 1) cells *= fmin(nc[m][d], 1 + (h[k] + h[m]) * nc[m][d] / ext[d]);
+      multi += cnt[k] * cells * (cnt[m] / C[m] + COST_QCELL);
+    }
+  }
+  return multi < CELLS_GAIN * single;
+}
+
+static int pairs_by_class(esf_cells *c, size_t n, const double *x, const double *radius,
+                          double skin, const class_plan *pl, esf_pairbuf *out,
+                          esf_error *err) {
+  const int K = pl->K;
+  if (n > c->class_cap) { /* ord and cls, only when the classes are used */
+    size_t cap = c->class_cap, cap2 = c->class_cap;
+    int rc = grow((void **)&c->ord, &cap, n, sizeof *c->ord, err);
+    if (!rc) rc = grow((void **)&c->cls, &cap2, n, sizeof *c->cls, err);
+    c->class_cap = rc ? 0 : n;
+    if (rc) return rc;
+  }
+  class_info info[ESF_CELLS_MAX_CLASSES];
+  classify(c, n, x, radius, skin, pl, info);
+  int built[ESF_CELLS_MAX_CLASSES] = {0};
+  for (int k = 0; k < K; k++) {
+    const class_info *ci = &info[k];
+    double edge = 2 * ci->rmax + skin;
+    if (ci->count == 0 || !(edge > 0)) continue; /* no pair with a twin of the class */
+    int rc = esf_grid_build(&c->grid[k], ci->count, c->ord + ci->start, x, ci->lo, ci->hi,
+                            edge, c->list, err);
+    if (!rc) rc = esf_grid_self_pairs(&c->grid[k], c->list, x, radius, skin, out, err);
+    if (rc) return rc;
+    built[k] = 1;
+  }
+  /* cross pairs from the smaller side; a larger class without a grid has
+     2 R_m + skin <= 0, so r_i + R_m + skin <= 0 for every smaller i: no pair */
+  for (int k = 1; k < K; k++)
+    for (int m = 0; m < k; m++) {
+      if (!built[m] || info[k].count == 0) continue;
+      int rc = esf_grid_cross_pairs(&c->grid[m], c->list, info[m].rmax, info[k].count,
+                                    c->ord + info[k].start, x, radius, skin, out, err);
+      if (rc) return rc;
+    }
+  return ESF_OK;
 }
 
 int esf_cells_pairs(esf_cells *c, size_t n, const double *x, const double *radius,
                     double skin, esf_pairbuf *out, esf_error *err) {
   out->n = 0;
-  double lo[3], hi[3], rmax;
-  int rc = scan(n, x, radius, skin, lo, hi, &rmax, err);
+  c->nclasses = 1;
+  double lo[3], hi[3], rmin, rmax;
+  int rc = scan(n, x, radius, skin, lo, hi, &rmin, &rmax, err);
   if (rc) return rc;
-  double edge = 2 * rmax + skin;
-  if (n < 2 || !(edge > 0)) return ESF_OK; /* r_i + r_j + skin <= edge: no pair */
-
-  double ext[3];
-  for (int d = 0; d < 3; d++) {
-    ext[d] = hi[d] - lo[d];
-    if (!isfinite(ext[d]))
-      return esf_fail(err, ESF_ENUMERIC,
-                      "the particles span a non-finite extent along axis %d (%g to %g m)",
-                      d, lo[d], hi[d]);
+  double smax = 2 * rmax + skin, smin = 2 * rmin + skin;
+  if (n < 2 || !(smax > 0)) return ESF_OK; /* r_i + r_j + skin <= smax: no pair */
+  rc = grow((void **)&c->list, &c->cap, n, sizeof *c->list, err);
+  if (rc) return rc;
+  if (!(smin > 0)) { /* the smallest positive s: those with s <= 0 join the last class */
+    smin = smax;
+    for (size_t i = 0; i < n; i++) {
+      double s = 2 * radius[i] + skin;
+      if (s > 0 && s < smin) smin = s;
+    }
   }
-  size_t cap = CELL_PER_PART * n;
-  if (cap < CELL_MIN_CAP) cap = CELL_MIN_CAP;
-  int64_t nc[3];
-  double inv_h[3];
-  grid_dims(ext, edge, cap, nc, inv_h);
-  const int64_t nx = nc[0], ny = nc[1], nz = nc[2];
-  const size_t ncell = (size_t)(nx * ny * nz);
-
-  if (ncell > c->head_cap) {
-    free(c->head);
-    c->head = malloc(ncell * sizeof *c->head);
-    c->head_cap = c->head ? ncell : 0;
-    if (!c->head) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu cells", ncell);
+  double S = smax / smin;
+  class_plan pl;
+  int classes = c->mode == ESF_CELLS_CLASSES;
+  if (c->mode == ESF_CELLS_AUTO && S >= CELLS_MIN_RATIO) {
+    double ext[3];
+    for (int d = 0; d < 3; d++) ext[d] = hi[d] - lo[d];
+    plan_classes(&pl, smax, S, c->factor);
+    classes = classes_pay(n, radius, skin, smax, ext, &pl);
+  } else if (classes)
+    plan_classes(&pl, smax, S, c->factor);
+  if (classes) c->nclasses = pl.K;
+  if (classes)
+    rc = pairs_by_class(c, n, x, radius, skin, &pl, out, err);
+  else {
+    rc = esf_grid_build(&c->grid[0], n, NULL, x, lo, hi, smax, c->list, err);
+    if (!rc) rc = esf_grid_self_pairs(&c->grid[0], c->list, x, radius, skin, out, err);
   }
-  if (n > c->list_cap) {
-    free(c->list);
-    c->list = malloc(n * sizeof *c->list);
-    c->list_cap = c->list ? n : 0;
-    if (!c->list)
-      return esf_fail(err, ESF_ENOMEM,
-                      "out of memory for the cell lists of %zu particles", n);
-  }
-  uint32_t *head = c->head, *list = c->list;
-  memset(head, 0xff, ncell * sizeof *head); /* all CELL_EMPTY */
-
-  /* Thread the particles onto their cells' lists, last first (lists run ascending). */
-  for (size_t i = n; i-- > 0;) {
-    const double *p = x + 3 * i;
-    int64_t cx = (int64_t)((p[0] - lo[0]) * inv_h[0]);
-    int64_t cy = (int64_t)((p[1] - lo[1]) * inv_h[1]);
-    int64_t cz = (int64_t)((p[2] - lo[2]) * inv_h[2]);
-    if (cx >= nx) cx = nx - 1; /* the particles on the box's upper faces */
-    if (cy >= ny) cy = ny - 1;
-    if (cz >= nz) cz = nz - 1;
-    size_t cell = (size_t)((cz * ny + cy) * nx + cx);
-    list[i] = head[cell];
-    head[cell] = (uint32_t)i;
-  }
-
-  /* The half shell: 13 of the 26 neighbours, so each adjacent pair of cells once. */
-  static const int8_t shell[13][3] = {
-      {1, 0, 0},  {-1, 1, 0}, {0, 1, 0}, {1, 1, 0},  {-1, -1, 1}, {0, -1, 1}, {1, -1, 1},
-      {-1, 0, 1}, {0, 0, 1},  {1, 0, 1}, {-1, 1, 1}, {0, 1, 1},   {1, 1, 1}};
-  int64_t delta[13];
-  for (int s = 0; s < 13; s++)
-    delta[s] = ((int64_t)shell[s][2] * ny + shell[s][1]) * nx + shell[s][0];
-
-  size_t cell = 0;
-  for (int64_t cz = 0; cz < nz; cz++)
-    for (int64_t cy = 0; cy < ny; cy++)
-      for (int64_t cx = 0; cx < nx; cx++, cell++) {
-        uint32_t first = head[cell];
-        if (first == CELL_EMPTY) continue;
-        /* pairs within the cell, each once */
-        for (uint32_t i = first; i != CELL_EMPTY; i = list[i]) {
-          const double *xi = x + 3 * (size_t)i;
-          const double ri = radius[i];
-          for (uint32_t j = list[i]; j != CELL_EMPTY; j = list[j])
-            if (is_near(xi, x + 3 * (size_t)j, ri, radius[j], skin)) {
-              rc = push_pair(out, i, j, err);
-              if (rc) goto fail;
-            }
-        }
-        /* pairs with the half-shell neighbours */
-        for (int s = 0; s < 13; s++) {
-          int64_t ox = cx + shell[s][0], oy = cy + shell[s][1], oz = cz + shell[s][2];
-          if (ox < 0 || ox >= nx || oy < 0 || oy >= ny || oz >= nz) continue;
-          uint32_t other = head[(size_t)((int64_t)cell + delta[s])];
-          if (other == CELL_EMPTY) continue;
-          for (uint32_t i = first; i != CELL_EMPTY; i = list[i]) {
-            const double *xi = x + 3 * (size_t)i;
-            const double ri = radius[i];
-            for (uint32_t j = other; j != CELL_EMPTY; j = list[j])
-              if (is_near(xi, x + 3 * (size_t)j, ri, radius[j], skin)) {
-                rc = push_pair(out, i, j, err);
-                if (rc) goto fail;
-              }
-          }
-        }
-      }
-  return ESF_OK;
-fail:
-  out->n = 0;
+  if (rc) out->n = 0;
   return rc;
 }
 
 int esf_pairs_brute(size_t n, const double *x, const double *radius, double skin,
                     esf_pairbuf *out, esf_error *err) {
   out->n = 0;
-  double lo[3], hi[3], rmax;
-  int rc = scan(n, x, radius, skin, lo, hi, &rmax, err);
+  double lo[3], hi[3], rmin, rmax;
+  int rc = scan(n, x, radius, skin, lo, hi, &rmin, &rmax, err);
   if (rc) return rc;
   for (size_t i = 0; i < n; i++)
     for (size_t j = i + 1; j < n; j++)
-      if (is_near(x + 3 * i, x + 3 * j, radius[i], radius[j], skin)) {
-        rc = push_pair(out, (uint32_t)i, (uint32_t)j, err);
+      if (esf_pair_near(x + 3 * i, x + 3 * j, radius[i], radius[j], skin)) {
+        rc = esf_pair_push(out, (uint32_t)i, (uint32_t)j, err);
         if (rc) {
           out->n = 0;
           return rc;

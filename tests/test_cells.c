@@ -1,7 +1,10 @@
-/* test_cells.c — the linked-cell search must find exactly the pairs brute force finds:
- * random polydisperse sets (radius ratio up to 5), dense and sparse, particles on cell
+/* test_cells.c — the linked-cell search must find exactly the pairs brute force finds,
+ * with one grid and with size classes (every set is run in each mode): random
+ * polydisperse sets (radius ratios 1:1 to 1:10, bimodal, 1:100; one class empty, a
+ * class of one), dense and sparse, particles on cell
  * boundaries and on the bounding box's faces, flat (2D, 1D) sets, a particle far away
  * (grid cap), n = 0, 1, 2, the strict cutoff, and non-finite positions. */
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,22 +33,42 @@ static uint64_t *sorted_keys(const esf_pairbuf *b, size_t n, const char *what) {
   return k;
 }
 
-/* Runs both searches (the cell one on a shared, reused grid) and compares. */
+/* The search modes every set is run in: the automatic choice, one grid forced, size
+ * classes forced (factor 2, and a fine factor 1.3 that makes up to 8 classes). */
+static const struct {
+  esf_cells_mode mode;
+  double factor;
+  const char *name;
+} modes[] = {{ESF_CELLS_AUTO, 0, "auto"},
+             {ESF_CELLS_ONE_GRID, 0, "one grid"},
+             {ESF_CELLS_CLASSES, 2.0, "classes f = 2"},
+             {ESF_CELLS_CLASSES, 1.3, "classes f = 1.3"}};
+enum { NMODES = sizeof modes / sizeof modes[0] };
+
+/* Runs the cell search (on a shared, reused grid) in every mode and brute force, and
+ * compares the sets of pairs. */
 static void compare(esf_cells *cells, size_t n, const double *x, const double *r,
                     double skin, const char *what) {
   esf_pairbuf a = {0}, b = {0};
   esf_error err = {0};
-  int rc = esf_cells_pairs(cells, n, x, r, skin, &a, &err);
+  int rc = esf_pairs_brute(n, x, r, skin, &b, &err);
   CHECK_OK(rc, err);
-  rc = esf_pairs_brute(n, x, r, skin, &b, &err);
-  CHECK_OK(rc, err);
-  uint64_t *ka = sorted_keys(&a, n, what), *kb = sorted_keys(&b, n, what);
-  size_t dup = 0;
-  for (size_t p = 1; p < a.n; p++) dup += ka[p] == ka[p - 1];
-  CHECK(dup == 0, "%s: %zu duplicate pairs", what, dup);
-  int same = a.n == b.n && (a.n == 0 || memcmp(ka, kb, a.n * sizeof *ka) == 0);
-  CHECK(same, "%s: cells found %zu pairs, brute force %zu", what, a.n, b.n);
-  free(ka);
+  uint64_t *kb = sorted_keys(&b, n, what);
+  for (int m = 0; m < NMODES; m++) {
+    rc = esf_cells_tune(cells, modes[m].mode, modes[m].factor, &err);
+    CHECK_OK(rc, err);
+    rc = esf_cells_pairs(cells, n, x, r, skin, &a, &err);
+    CHECK_OK(rc, err);
+    uint64_t *ka = sorted_keys(&a, n, what);
+    size_t dup = 0;
+    for (size_t p = 1; p < a.n; p++) dup += ka[p] == ka[p - 1];
+    CHECK(dup == 0, "%s (%s): %zu duplicate pairs", what, modes[m].name, dup);
+    int same = a.n == b.n && (a.n == 0 || memcmp(ka, kb, a.n * sizeof *ka) == 0);
+    CHECK(same, "%s (%s): cells found %zu pairs, brute force %zu", what, modes[m].name,
+          a.n, b.n);
+    free(ka);
+  }
+  CHECK_OK(esf_cells_tune(cells, ESF_CELLS_AUTO, 0, &err), err);
   free(kb);
   esf_pairbuf_release(&a);
   esf_pairbuf_release(&b);
@@ -131,6 +154,93 @@ int main(void) {
       random_set(&g, cases[c].n, cases[c].L, none, cases[c].rmin, cases[c].ratio, x, r);
       compare(cells, cases[c].n, x, r, cases[c].skin, cases[c].what);
     }
+  }
+
+  /* polydisperse sets for the size classes: ratios 1:1 to 1:10, dense and sparse,
+     3D and flat 2D; a bimodal set; pairs in the set must never depend on the mode */
+  {
+    static const double ratios[] = {1.0, 3.0, 5.0, 10.0};
+    static const struct {
+      size_t n;
+      double L, rmin, skin;
+      const char *what;
+    } dens[] = {{3000, 1.0, 0.012, 0.004, "dense"}, {2000, 4.0, 0.01, 0.002, "sparse"}};
+    char what[96];
+    for (size_t q = 0; q < sizeof ratios / sizeof ratios[0]; q++)
+      for (size_t e = 0; e < 2; e++)
+        for (int flat = 0; flat < 2; flat++) {
+          /* dense: the largest spheres fill about 1/3 of the box in 3D; the radii are
+             scaled so a ratio does not change the packing much */
+          double rmin = dens[e].rmin * 3.0 / (1.0 + ratios[q]);
+          random_set(&g, dens[e].n, dens[e].L, flat ? flat_y : none, rmin, ratios[q], x,
+                     r);
+          snprintf(what, sizeof what, "ratio 1:%g, %s, %s", ratios[q], dens[e].what,
+                   flat ? "2D y = 0" : "3D");
+          compare(cells, dens[e].n, x, r, dens[e].skin, what);
+        }
+    /* bimodal 1:5 (two sizes only), dense */
+    for (size_t i = 0; i < 3000; i++) {
+      for (int d = 0; d < 3; d++) x[3 * i + d] = uni(&g, 0, 1);
+      r[i] = (i % 4) ? 0.006 : 0.03;
+    }
+    compare(cells, 3000, x, r, 0.003, "bimodal 1:5, dense");
+    /* the automatic choice: one grid for a monodisperse set, classes for a bimodal 1:5
+       set with equal volumes of both sizes (about 125 small per large: a cell of the
+       single grid holds dozens of small ones) */
+    for (size_t i = 0; i < 3000; i++) {
+      r[i] = i % 126 ? 0.004 : 0.02;
+      for (int d = 0; d < 3; d++) x[3 * i + d] = uni(&g, 0, 0.15); /* solid fr. 0.5 */
+    }
+    CHECK_OK(esf_cells_tune(cells, ESF_CELLS_AUTO, 0, &err), err);
+    esf_pairbuf b = {0};
+    CHECK_OK(esf_cells_pairs(cells, 3000, x, r, 0.002, &b, &err), err);
+    CHECK(esf_cells_nclasses(cells) >= 2, "auto, bimodal 1:5 equal volumes: %d grids",
+          esf_cells_nclasses(cells));
+    compare(cells, 3000, x, r, 0.002, "bimodal 1:5, equal volumes");
+    for (size_t i = 0; i < 3000; i++) r[i] = 0.01;
+    CHECK_OK(esf_cells_pairs(cells, 3000, x, r, 0.002, &b, &err), err);
+    CHECK(esf_cells_nclasses(cells) == 1, "auto, monodisperse: %d grids",
+          esf_cells_nclasses(cells));
+    esf_pairbuf_release(&b);
+    /* the small class only in one corner, the large ones elsewhere (class boxes apart) */
+    for (size_t i = 0; i < 2000; i++) {
+      int small = i % 2;
+      for (int d = 0; d < 3; d++)
+        x[3 * i + d] = small ? uni(&g, 0, 0.3) : uni(&g, 0.2, 1);
+      r[i] = small ? uni(&g, 0.003, 0.006) : uni(&g, 0.02, 0.04);
+    }
+    compare(cells, 2000, x, r, 0.002, "classes in different boxes");
+  }
+
+  /* edge cases of the classes */
+  {
+    /* a huge ratio 1:100: many classes, the largest few */
+    for (size_t i = 0; i < 3000; i++) {
+      for (int d = 0; d < 3; d++) x[3 * i + d] = uni(&g, 0, 1);
+      r[i] = i % 100 ? uni(&g, 0.001, 0.003) : uni(&g, 0.05, 0.1);
+    }
+    compare(cells, 3000, x, r, 0.001, "ratio 1:100, few large");
+    for (size_t i = 0; i < 3000; i++) r[i] = uni(&g, 0.001, 0.1);
+    compare(cells, 3000, x, r, 0.001, "ratio 1:100, uniform radii");
+    /* one large particle among many small ones (a class of one), and one small one
+       among many large ones */
+    for (size_t i = 0; i < 2000; i++) r[i] = uni(&g, 0.004, 0.006);
+    r[1234] = 0.3;
+    compare(cells, 2000, x, r, 0.002, "one large particle");
+    for (size_t i = 0; i < 2000; i++) r[i] = uni(&g, 0.02, 0.03);
+    r[77] = 0.001;
+    compare(cells, 2000, x, r, 0.002, "one small particle");
+    /* all in one class (monodisperse with classes forced: the others are empty) */
+    for (size_t i = 0; i < 2000; i++) r[i] = 0.01;
+    compare(cells, 2000, x, r, 0.002, "monodisperse, one class");
+    /* zero radii: the smallest 2 r + skin is the skin alone */
+    for (size_t i = 0; i < 2000; i++) r[i] = i % 3 ? 0.0 : 0.02;
+    compare(cells, 2000, x, r, 0.004, "zero radii and 1:11 with the skin");
+    /* negative skin: the small ones have 2 r + skin <= 0 and pair only with large ones */
+    for (size_t i = 0; i < 2000; i++) r[i] = i % 3 ? uni(&g, 0.001, 0.004) : 0.05;
+    compare(cells, 2000, x, r, -0.01, "negative skin, small ones below the cutoff");
+    /* 2 r + skin <= 0 for every particle: no pair at all */
+    compare(cells, 2000, x, r, -0.2, "negative skin larger than every diameter");
   }
 
   /* particles exactly on cell boundaries: positions multiples of the nominal cell edge
@@ -228,6 +338,10 @@ int main(void) {
     CHECK(rc == ESF_ENUMERIC && strstr(err.msg, "particle 19") != NULL,
           "infinite position, brute force: status %d, %s", rc, err.msg);
     x[3 * 19 + 2] = 0.5;
+    rc = esf_cells_tune(cells, (esf_cells_mode)7, 2.0, &err);
+    CHECK(rc == ESF_EINPUT, "tuning: unknown mode: status %d", rc);
+    rc = esf_cells_tune(cells, ESF_CELLS_CLASSES, 1.0, &err);
+    CHECK(rc == ESF_EINPUT, "tuning: factor 1: status %d", rc);
     rc = esf_cells_pairs(cells, 20, x, r, NAN, &b, &err);
     CHECK(rc == ESF_EINPUT, "non-finite skin: status %d", rc);
     r[3] = -1;
