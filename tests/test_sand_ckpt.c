@@ -8,20 +8,14 @@
 
 #include "checkpoint.h"
 #include "events.h"
+#include "servo_box.h"
 #include "simtest.h"
 
 static const char *const scene =
     "name: sandckpt\n"
     "gravity: [0, 0, -9.81]\n"
-    "materials: {m: {density: 2500, kn: 1.0e6, restitution: 0.2, friction: 0.3}}\n"
-    "particles:\n"
-    "  - {generate: random, region: {min: [0, 0, 0], max: [0.04, 0.04, 0.05]}, count: "
-    "80, radius: {uniform: [0.003, 0.004]}, material: m, seed: 11}\n"
-    "walls:\n"
-    "  - {box: {min: [0, 0, 0], max: [0.04, 0.04, 0.2]}, open: [top], material: m}\n"
-    "  - polygon: [[0, 0, 0.06], [0.04, 0, 0.06], [0.04, 0.04, 0.06], [0, 0.04, 0.06]]\n"
-    "    material: m\n"
-    "    motion: {servo: {stress: 2.0e4, direction: [0, 0, -1], max_speed: 0.2}}\n"
+    "materials: {m: {density: 2500, kn: 1.0e6, restitution: 0.2, friction: "
+    "0.3}}\n" SERVO_BOX_YAML
     "events: [{at: 0.12, delete: {cylinder: {center: [0.02, 0.02, 0.02], axis: [0, 1, "
     "0], radius: 0.008}}}]\n"
     "fluid:\n"

@@ -17,6 +17,7 @@
  *    the deleted particles carried (kinetic, gravity and their contacts' elastic). */
 #include "events.h"
 #include "servo.h"
+#include "servo_box.h"
 #include "simtest.h"
 
 static const char *const plates =
@@ -80,16 +81,8 @@ static void two_plates(void) {
 static const char *const packing =
     "name: packing\n"
     "gravity: [0, 0, -9.81]\n"
-    "materials: {m: {density: 2500, kn: 1.0e6, restitution: 0.2, friction: 0.0}}\n"
-    "particles:\n"
-    "  - {generate: random, region: {min: [0, 0, 0], max: [0.04, 0.04, 0.05]}, count: "
-    "80, radius: {uniform: [0.003, 0.004]}, material: m, seed: 11}\n"
-    "walls:\n"
-    "  - {box: {min: [0, 0, 0], max: [0.04, 0.04, 0.2]}, open: [top], material: m}\n"
-    "  - polygon: [[0, 0, 0.06], [0.04, 0, 0.06], [0.04, 0.04, 0.06], [0, 0.04, 0.06]]\n"
-    "    material: m\n"
-    "    motion: {servo: {stress: 2.0e4, direction: [0, 0, -1], max_speed: 0.2}}\n"
-    "integrator: {method: leapfrog, dt: auto, frac: 0.2}\n"
+    "materials: {m: {density: 2500, kn: 1.0e6, restitution: 0.2, friction: "
+    "0.0}}\n" SERVO_BOX_YAML "integrator: {method: leapfrog, dt: auto, frac: 0.2}\n"
     "damping: {global: {translation: 20}}\n"
     "run: {duration: 1}\n"
     "output: {energy_every: 1.0e-3}\n";
