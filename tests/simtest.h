@@ -105,4 +105,20 @@ static inline char *simtest_slurp(const char *path) {
   return b;
 }
 
+/* Opens the bundled scene DIR/scenes/NAME.yaml (see simtest_open); 0 on success. */
+static inline int simtest_open_scene(simtest *T, const char *dir, const char *name,
+                                     const char *const *sets, int nsets) {
+  char path[1024];
+  snprintf(path, sizeof path, "%s/scenes/%s.yaml", dir, name);
+  char *yaml = simtest_slurp(path);
+  if (!yaml) {
+    memset(T, 0, sizeof *T);
+    fprintf(stderr, "simtest_open_scene: cannot read %s\n", path);
+    return -1;
+  }
+  int rc = simtest_open(T, yaml, sets, nsets);
+  free(yaml);
+  return rc;
+}
+
 #endif

@@ -354,14 +354,8 @@ static void ledger(void) {
  */
 
 static void block_impact(const char *dir) {
-  char path[1024];
-  snprintf(path, sizeof path, "%s/scenes/block_impact-quick.yaml", dir);
-  char *yaml = simtest_slurp(path);
-  CHECK(yaml != NULL, "read %s", path);
-  if (!yaml) return;
   simtest T;
-  int rc = simtest_open(&T, yaml, NULL, 0);
-  free(yaml);
+  int rc = simtest_open_scene(&T, dir, "block_impact-quick", NULL, 0);
   CHECK_OK(rc, T.err);
   if (rc) return;
   esf_sim *s = &T.s;

@@ -23,16 +23,10 @@
 enum { NMAX = 4096 };
 
 int main(int argc, char **argv) {
-  char path[1024];
-  snprintf(path, sizeof path, "%s/scenes/damping_demo-quick.yaml",
-           argc > 1 ? argv[1] : ".");
-  char *yaml = simtest_slurp(path);
-  CHECK(yaml != NULL, "read %s", path);
-  if (!yaml) return check_finish("test_damping_demo");
   const char *sets[] = {"output.energy_every=0"};
   simtest T;
-  int rc = simtest_open(&T, yaml, sets, 1);
-  free(yaml);
+  int rc =
+      simtest_open_scene(&T, argc > 1 ? argv[1] : ".", "damping_demo-quick", sets, 1);
   CHECK(rc == 0, "damping demo opens");
   if (rc) return check_finish("test_damping_demo");
   static double va[NMAX], vb[NMAX], zb[NMAX];

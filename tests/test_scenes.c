@@ -39,15 +39,9 @@ static int floor_contacts(const esf_sim *s) {
 }
 
 static void vibrated_bed(const char *dir) {
-  char path[1024];
-  snprintf(path, sizeof path, "%s/scenes/vibrated_bed-quick.yaml", dir);
-  char *yaml = simtest_slurp(path);
-  CHECK(yaml != NULL, "read %s", path);
-  if (!yaml) return;
   const char *sets[] = {"output.energy_every=0"};
   simtest T;
-  int rc = simtest_open(&T, yaml, sets, 1);
-  free(yaml);
+  int rc = simtest_open_scene(&T, dir, "vibrated_bed-quick", sets, 1);
   CHECK(rc == 0, "vibrated bed opens");
   if (rc) return;
   double period = 1 / 25.0, want = model_flight(6.0);
@@ -97,15 +91,9 @@ static size_t in_well(const esf_sim *s, const esf_region *w) {
 }
 
 static void sand_production(const char *dir) {
-  char path[1024];
-  snprintf(path, sizeof path, "%s/scenes/sand_production-quick.yaml", dir);
-  char *yaml = simtest_slurp(path);
-  CHECK(yaml != NULL, "read %s", path);
-  if (!yaml) return;
   const char *sets[] = {"output.energy_every=0"};
   simtest T;
-  int rc = simtest_open(&T, yaml, sets, 1);
-  free(yaml);
+  int rc = simtest_open_scene(&T, dir, "sand_production-quick", sets, 1);
   CHECK(rc == 0, "sand production opens");
   if (rc) return;
   esf_sim *s = &T.s;
