@@ -11,8 +11,9 @@
  * kill at any instant damages neither: the resume reads the checkpoint's frames and
  * rows through the index, removes the segments written after it and writes a new
  * index (esf_frames_resume). Should the index be unreadable all the same (changed by
- * hand), it is kept as frames.h5.damaged with a warning in log.txt and the resumed run
- * starts a new frames.h5 at the checkpoint, so the resume itself does not fail. */
+ * hand), it is kept as frames.h5.damaged (frames.d as frames.d.damaged) with a warning
+ * in log.txt and the resumed run starts a new frames.h5 at the checkpoint, so the
+ * resume itself does not fail. */
 #include "run_ckpt.h"
 
 #include <errno.h>
@@ -95,12 +96,15 @@ int esf_run_ckpt_reopen(const char *out_dir, const esf_sim *s, const esf_ckpt_ru
   rc = esf_frames_resume(path, s->cfg.name, ESF_VERSION, run->frames, run->erows,
                          ESF_LEDGER_NCOLS, esf_ledger_columns, fr, err);
   if (rc == ESF_EIO) { /* the index is damaged: keep it aside, go on */
-    char damaged[1220];
+    char damaged[1220], segs[1220], segs_damaged[1240];
     snprintf(damaged, sizeof damaged, "%s.damaged", path);
+    snprintf(segs, sizeof segs, "%s/frames.d", out_dir);
+    snprintf(segs_damaged, sizeof segs_damaged, "%s.damaged", segs);
+    int kept = rename(segs, segs_damaged) == 0; /* its segments, for the user */
     esf_sim_log(s,
-                "WARNING: %s; it is kept as %s and the resumed run writes a new "
+                "WARNING: %s; it is kept as %s%s and the resumed run writes a new "
                 "frames.h5 from the checkpoint on (energy.csv keeps every row)",
-                err->msg, damaged);
+                err->msg, damaged, kept ? ", its frames in frames.d.damaged/," : "");
     esf_error_clear(err);
     rc = rename(path, damaged) != 0
              ? esf_fail(err, ESF_EIO, "cannot move '%s' aside: %s", path, strerror(errno))

@@ -4,8 +4,8 @@ written (its temporary name taken by a directory) fail with status 2 and a messa
 naming the path, earlier output intact; a file-size limit (RLIMIT_FSIZE with SIGXFSZ
 ignored: EFBIG, as a full disk) stops the run with status 2, leaves the previous
 checkpoint valid, and resuming without the limit ends identical to an uninterrupted
-run; a frames.h5 damaged after its checkpoint is kept as frames.h5.damaged and the
-resume still succeeds; `--resume` with a scene or --set is refused; `--resume` and `esfera info` on a missing, empty, truncated, corrupted, foreign
+run; a frames.h5 (the index) damaged by hand after its checkpoint is kept as
+frames.h5.damaged (its segments as frames.d.damaged) and the resume still succeeds; `--resume` with a scene or --set is refused; `--resume` and `esfera info` on a missing, empty, truncated, corrupted, foreign
 (text, HDF5) checkpoint, or one from a build with another esf_contact_hist layout, exit
 2 naming the cause. Usage: check_ckpt_errors.py ESFERA"""
 import os
@@ -94,6 +94,8 @@ def main():
         log = open(os.path.join(dmg, "log.txt")).read()
         check(os.path.exists(fh5 + ".damaged") and "WARNING" in log and
               "frames.h5.damaged" in log, "damaged frames.h5: kept aside with a warning")
+        check(os.path.exists(os.path.join(dmg, "frames.d.damaged", "000000.h5")),
+              "damaged frames.h5: its segments kept aside in frames.d.damaged")
         with h5py.File(fh5, "r") as f:
             check(len(f["frames"]) >= 1, "damaged frames.h5: the new file has frames")
         with open(os.path.join(dmg, "energy.csv"), "rb") as fa, \
