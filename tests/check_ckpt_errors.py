@@ -5,7 +5,8 @@ naming the path, earlier output intact; a file-size limit (RLIMIT_FSIZE with SIG
 ignored: EFBIG, as a full disk) stops the run with status 2, leaves the previous
 checkpoint valid, and resuming without the limit ends identical to an uninterrupted
 run; a frames.h5 (the index) damaged by hand after its checkpoint is kept as
-frames.h5.damaged (its segments as frames.d.damaged) and the resume still succeeds; `--resume` with a scene or --set is refused; `--resume` and `esfera info` on a missing, empty, truncated, corrupted, foreign
+frames.h5.damaged (its segments as frames.d.damaged) and the resume still succeeds; a
+segment damaged after the checkpoint is dropped and the resume ends identical; `--resume` with a scene or --set is refused; `--resume` and `esfera info` on a missing, empty, truncated, corrupted, foreign
 (text, HDF5) checkpoint, or one from a build with another esf_contact_hist layout, exit
 2 naming the cause. Usage: check_ckpt_errors.py ESFERA"""
 import os
@@ -102,6 +103,28 @@ def main():
                 open(os.path.join(ref, "energy.csv"), "rb") as fb:
             check(fa.read() == fb.read(), "damaged frames.h5: energy.csv still identical")
         print("damaged frames.h5: resumed, old file kept as frames.h5.damaged")
+
+        # a segment damaged after the checkpoint (what a kill in the middle of an HDF5
+        # append can leave): the checkpoint's frames are in other, closed segments, so
+        # the resume drops it and ends identical to the uninterrupted run
+        seg = os.path.join(tmp, "segment")
+        run_ok(exe, "run", scene, "--out", seg, "--quiet", "--checkpoint-every", "0.013")
+        r = run_ok(exe, "info", os.path.join(seg, "checkpoint.esf"))
+        nck = int([ln for ln in r.stdout.splitlines() if ln.startswith("frames: ")][0][8:])
+        segs = sorted(os.listdir(os.path.join(seg, "frames.d")))
+        after = [f for f in segs if int(f[:-3]) >= nck]
+        check(len(after) == 1 and len(segs) > 2,
+              f"segments {segs}: one expected after the checkpoint's {nck} frames")
+        for f in after:
+            path = os.path.join(seg, "frames.d", f)
+            with open(path, "r+b") as fh:
+                fh.truncate(os.path.getsize(path) // 3)
+        run_ok(exe, "run", "--resume", seg, "--quiet")
+        n, diffs = identical(ref, seg)
+        check(n > 5 and not diffs and not os.path.exists(os.path.join(seg, "frames.h5.damaged")),
+              f"segment damaged after the checkpoint: output differs: {diffs[:5]}")
+        print(f"segment {after} damaged after the checkpoint ({nck} frames): resumed, "
+              f"{n} frames identical")
 
         # bad checkpoint files
         ck = os.path.join(ref, "checkpoint.esf")
