@@ -1,47 +1,67 @@
-/* frames.c — the frames writer: frames.h5 and frames.xdmf (frames.h, INTERFACE.md
- * "Output directory").
+/* frames.c — the frames writer: frames.h5, its segment files and frames.xdmf
+ * (frames.h, frames_index.h, INTERFACE.md "Output directory").
  *
- * Each esf_frames_write creates the group /frames/%06ld (k from 0, more digits past
- * 999999) with its time attribute and datasets (h5io.h: chunked with shuffle + deflate
- * from 1024 rows), the walls mesh (wall_mesh.h) sized to the particles' bounding box
- * (centres +- radii) and the contacts, flushes the pending /energy rows and the file,
- * then rewrites frames.xdmf (xdmf.h) from the list of frames kept here. A frame that
- * fails half-way is unlinked again (best effort) so the frame count stays consistent.
- * Every public function keeps HDF5 from printing (esf_h5_quiet) and adds its wall time
- * to `seconds`. The file, /frames and the /energy table stay open between
- * esf_frames_open and esf_frames_close; every other identifier is closed before
- * returning. */
+ * Frames go into segment files DIR.d/SSSSSS.h5 (SSSSSS: the segment's first frame); a
+ * segment is created at the first frame after the start or after a checkpoint, and
+ * each esf_frames_write adds the group /frames/%06ld (k from 0) with its time
+ * attribute and datasets (h5io.h: chunked with shuffle + deflate from 1024 rows), the
+ * walls mesh (wall_mesh.h) sized to the particles' bounding box (centres +- radii) and
+ * the contacts, and flushes the segment. A frame that fails half-way is unlinked again
+ * (best effort) so the frame count stays consistent. Energy rows are kept here (all of
+ * them, row-major). "Publishing" rewrites the index frames.h5 (external links to every
+ * frame, the energy rows; frames_index.c, replaced atomically) and then frames.xdmf
+ * (xdmf.h, which reads through the index): after each of the first PUBLISH_EVERY_MAX
+ * frames, later when due by cost, at every checkpoint and at close. A checkpoint
+ * (esf_frames_sync) closes the segment and fsyncs it and the segment directory, then
+ * publishes durably: from then on nothing touches the frames it counts, so a process
+ * killed at any instant cannot damage them, and a resume (esf_frames_resume) only drops
+ * later segments and writes a new index. Every public function keeps HDF5 from printing
+ * (esf_h5_quiet) and adds its wall time to `seconds`. Between calls only the open
+ * segment (file and /frames) stays open. */
 #include "frames.h"
 
+#include <dirent.h>
+#include <errno.h>
 #include <hdf5.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "atomic_file.h"
+#include "frames_index.h"
 #include "h5io.h"
-#include "h5table.h"
 #include "wall_mesh.h"
 #include "xdmf.h"
 
-/* The XDMF is rewritten after each of the first XDMF_EVERY_FRAME_MAX frames; later
- * only once the time since the last rewrite is XDMF_COST_RATIO times what that rewrite
- * took (its whole-file cost then stays near 1% of the run), and at close. */
-enum { XDMF_EVERY_FRAME_MAX = 100, XDMF_COST_RATIO = 100 };
+/* The index and XDMF are rewritten after each of the first PUBLISH_EVERY_MAX frames;
+ * later only once the time since the last rewrite is PUBLISH_COST_RATIO times what
+ * that rewrite took (its whole-run cost then stays near 1%), and at checkpoints and
+ * close. */
+enum { PUBLISH_EVERY_MAX = 100, PUBLISH_COST_RATIO = 100 };
 
 struct esf_frames {
-  hid_t file, frames;
+  hid_t seg, segframes; /* the open segment and its /frames; -1: none open */
+  long seg_start;       /* the open segment's first frame */
   long count;
   char *path, *xdmf_path, *h5_name; /* h5_name: the base name, as the XDMF says it */
-  esf_h5table *energy;
+  char *seg_dir, *seg_name;         /* DIR.d as a path and relative to the index */
+  char *scene, *version;
   esf_wall_mesh mesh;
   esf_xdmf_frame *xf; /* one record per frame written */
+  long *seg_of;       /* the segment of each frame */
   size_t xf_cap;
-  long xdmf_written; /* frames the XDMF on disk describes */
-  double xdmf_last;  /* monotonic time at the end of its last rewrite, s */
-  double xdmf_cost;  /* what that rewrite took, s */
-  double seconds;    /* wall time spent writing */
+  int ncols;                /* energy columns (0: no row yet) */
+  const char *const *names; /* their names (the caller's, outliving fr) */
+  double *rows;             /* energy rows, row-major */
+  long nrows;
+  size_t rows_cap;
+  long pub_frames, pub_rows; /* what the index on disk holds (-1: nothing yet) */
+  double pub_last;           /* monotonic time at the end of the last publishing, s */
+  double pub_cost;           /* what it took, s */
+  double seconds;            /* wall time spent writing */
 };
 
 static double now_s(void) {
@@ -58,62 +78,152 @@ static char *dup_str(const char *s, size_t extra) {
 }
 
 static void destroy(esf_frames *fr) {
-  if (fr->frames >= 0) H5Gclose(fr->frames);
-  if (fr->file >= 0) H5Fclose(fr->file);
+  if (fr->segframes >= 0) H5Gclose(fr->segframes);
+  if (fr->seg >= 0) H5Fclose(fr->seg);
   esf_wall_mesh_release(&fr->mesh);
   free(fr->xf);
+  free(fr->seg_of);
+  free(fr->rows);
   free(fr->path);
   free(fr->xdmf_path);
   free(fr->h5_name);
+  free(fr->seg_dir);
+  free(fr->seg_name);
+  free(fr->scene);
+  free(fr->version);
   free(fr);
+}
+
+/* A writer for path with its names set, nothing on disk yet. */
+static int create(const char *path, const char *scene, const char *version,
+                  esf_frames **out, esf_error *err) {
+  *out = NULL;
+  esf_frames *fr = calloc(1, sizeof *fr);
+  if (fr) {
+    fr->seg = fr->segframes = -1;
+    fr->pub_frames = fr->pub_rows = -1;
+    fr->path = dup_str(path, 0);
+    fr->xdmf_path = dup_str(path, 5);
+    fr->seg_dir = dup_str(path, 2);
+    const char *slash = strrchr(path, '/');
+    fr->h5_name = dup_str(slash ? slash + 1 : path, 0);
+    fr->seg_name = dup_str(slash ? slash + 1 : path, 2);
+    fr->scene = dup_str(scene ? scene : "", 0);
+    fr->version = dup_str(version ? version : "", 0);
+  }
+  if (!fr || !fr->path || !fr->xdmf_path || !fr->h5_name || !fr->seg_dir ||
+      !fr->seg_name || !fr->scene || !fr->version) {
+    if (fr) destroy(fr);
+    return esf_fail(err, ESF_ENOMEM, "out of memory opening '%s'", path);
+  }
+  size_t len = strlen(path), blen = strlen(fr->seg_name);
+  int h5 = len >= 3 && strcmp(path + len - 3, ".h5") == 0;
+  if (h5) {
+    fr->xdmf_path[len - 3] = fr->seg_dir[len - 3] = fr->seg_name[blen - 3] = '\0';
+  }
+  strcat(fr->xdmf_path, ".xdmf");
+  strcat(fr->seg_dir, ".d");
+  strcat(fr->seg_name, ".d");
+  *out = fr;
+  return ESF_OK;
+}
+
+/* Removes the segments of seg_dir whose first frame is from or later (and temporary
+ * files), creating the directory if needed; then syncs it. */
+static int drop_segments(esf_frames *fr, long from, esf_error *err) {
+  if (mkdir(fr->seg_dir, 0777) != 0 && errno != EEXIST)
+    return esf_fail(err, ESF_EIO,
+                    "cannot create frames file '%s': its directory '%s': %s", fr->path,
+                    fr->seg_dir, strerror(errno));
+  DIR *d = opendir(fr->seg_dir);
+  if (!d)
+    return esf_fail(err, ESF_EIO, "cannot read '%s': %s", fr->seg_dir, strerror(errno));
+  int rc = ESF_OK;
+  for (struct dirent *e; !rc && (e = readdir(d)) != NULL;) {
+    char *end = NULL;
+    long s = strtol(e->d_name, &end, 10);
+    if (end == e->d_name || s < from || strncmp(end, ".h5", 3) != 0) continue;
+    char p[1400];
+    snprintf(p, sizeof p, "%s/%s", fr->seg_dir, e->d_name);
+    if (unlink(p) != 0 && errno != ENOENT)
+      rc = esf_fail(err, ESF_EIO, "cannot remove '%s': %s", p, strerror(errno));
+  }
+  closedir(d);
+  char probe[1400];
+  snprintf(probe, sizeof probe, "%s/.", fr->seg_dir);
+  return rc ? rc : esf_fsync_parent(probe, err);
+}
+
+/* The segment file of frames starting at start. */
+static void seg_path(const esf_frames *fr, long start, char *p, size_t n) {
+  snprintf(p, n, "%s/%06ld.h5", fr->seg_dir, start);
+}
+
+/* Creates the segment whose first frame is the next one. */
+static int seg_open(esf_frames *fr, esf_error *err) {
+  char p[1400];
+  seg_path(fr, fr->count, p, sizeof p);
+  /* chunk-index B-tree nodes of 8 entries, not 64: most datasets have one chunk, and
+     the default node (~2.5 kB each) made up 11% of a 3000-particle frame */
+  hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
+  if (fcpl >= 0) H5Pset_istore_k(fcpl, 4);
+  fr->seg = H5Fcreate(p, H5F_ACC_TRUNC, fcpl >= 0 ? fcpl : H5P_DEFAULT, H5P_DEFAULT);
+  if (fcpl >= 0) H5Pclose(fcpl);
+  if (fr->seg < 0) return esf_h5_fail(err, "cannot create frames segment", p);
+  fr->seg_start = fr->count;
+  if (esf_h5_attr_write_string(fr->seg, "scene", fr->scene) < 0 ||
+      esf_h5_attr_write_string(fr->seg, "esfera_version", fr->version) < 0 ||
+      esf_h5_attr_write_string(fr->seg, "kind", "frames") < 0 ||
+      (fr->segframes =
+           H5Gcreate2(fr->seg, "frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)) < 0)
+    return esf_h5_fail(err, "cannot start frames segment", p);
+  return ESF_OK;
+}
+
+/* Closes the open segment (if any); with durable, fsyncs it and its directory. */
+static int seg_close(esf_frames *fr, int durable, esf_error *err) {
+  if (fr->seg < 0) return ESF_OK;
+  char p[1400];
+  seg_path(fr, fr->seg_start, p, sizeof p);
+  int bad = H5Gclose(fr->segframes) < 0;
+  bad |= H5Fclose(fr->seg) < 0;
+  fr->seg = fr->segframes = -1;
+  if (bad) return esf_h5_fail(err, "cannot close frames segment", p);
+  int rc = durable ? esf_fsync_path(p, err) : ESF_OK;
+  return !rc && durable ? esf_fsync_parent(p, err) : rc;
+}
+
+/* Rewrites the index, then the XDMF, when due (force: whenever behind; durable: the
+ * index is fsync'ed). */
+static int publish(esf_frames *fr, int force, int durable, esf_error *err) {
+  if (fr->pub_frames == fr->count && (!force || fr->pub_rows == fr->nrows)) return ESF_OK;
+  double t = now_s();
+  if (!force && fr->count > PUBLISH_EVERY_MAX &&
+      t - fr->pub_last < PUBLISH_COST_RATIO * fr->pub_cost)
+    return ESF_OK;
+  esf_frames_index ix = {fr->scene, fr->version, fr->seg_name, fr->count, fr->seg_of,
+                         fr->ncols, fr->names,   fr->nrows,    fr->rows};
+  int rc = esf_frames_index_write(fr->path, &ix, durable, err);
+  if (!rc && fr->count > 0)
+    rc = esf_xdmf_write(fr->xdmf_path, fr->h5_name, fr->xf, (size_t)fr->count, err);
+  if (!rc) {
+    fr->pub_frames = fr->count;
+    fr->pub_rows = fr->nrows;
+    fr->pub_last = now_s();
+    fr->pub_cost = fr->pub_last - t;
+  }
+  return rc;
 }
 
 int esf_frames_open(const char *path, const char *scene_name, const char *version,
                     esf_frames **out, esf_error *err) {
   *out = NULL;
-  esf_frames *fr = calloc(1, sizeof *fr);
-  if (fr) {
-    fr->file = fr->frames = -1;
-    fr->path = dup_str(path, 0);
-    fr->xdmf_path = dup_str(path, 5);
-    const char *slash = strrchr(path, '/');
-    fr->h5_name = dup_str(slash ? slash + 1 : path, 0);
-  }
-  if (!fr || !fr->path || !fr->xdmf_path || !fr->h5_name) {
-    if (fr) destroy(fr);
-    return esf_fail(err, ESF_ENOMEM, "out of memory opening '%s'", path);
-  }
-  size_t len = strlen(path);
-  if (len >= 3 && strcmp(path + len - 3, ".h5") == 0) fr->xdmf_path[len - 3] = '\0';
-  strcat(fr->xdmf_path, ".xdmf");
-  esf_h5_quiet q;
-  esf_h5_quiet_begin(&q);
-  int rc = ESF_OK;
-  /* chunk-index B-tree nodes of 8 entries, not 64: most datasets have one chunk, and
-     the default node (~2.5 kB each) made up 11% of a 3000-particle frame */
-  hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
-  if (fcpl >= 0) H5Pset_istore_k(fcpl, 4);
-  fr->file = H5Fcreate(path, H5F_ACC_TRUNC, fcpl >= 0 ? fcpl : H5P_DEFAULT, H5P_DEFAULT);
-  if (fcpl >= 0) H5Pclose(fcpl);
-  if (fr->file < 0) {
-    rc = esf_h5_fail(err, "cannot create frames file", path);
-  } else if (esf_h5_attr_write_string(fr->file, "scene", scene_name ? scene_name : "") <
-                 0 ||
-             esf_h5_attr_write_string(fr->file, "esfera_version",
-                                      version ? version : "") < 0 ||
-             esf_h5_attr_write_string(fr->file, "kind", "frames") < 0) {
-    rc = esf_h5_fail(err, "cannot write the root attributes of", path);
-  } else {
-    fr->frames = H5Gcreate2(fr->file, "frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    if (fr->frames < 0) rc = esf_h5_fail(err, "cannot create group /frames in", path);
-  }
-  if (rc) {
-    destroy(fr);
-    H5Eclear2(H5E_DEFAULT);
-  } else {
-    *out = fr;
-  }
-  esf_h5_quiet_end(&q);
+  esf_frames *fr = NULL;
+  int rc = create(path, scene_name, version, &fr, err);
+  if (!rc) rc = drop_segments(fr, 0, err);
+  if (!rc) rc = publish(fr, 1, 0, err);
+  if (rc && fr) destroy(fr);
+  if (!rc) *out = fr;
   return rc;
 }
 
@@ -165,32 +275,19 @@ static int write_contacts(hid_t frame, const esf_contact_net *c) {
   return bad ? -1 : 0;
 }
 
-/* Rewrites the XDMF when due (force: always, if it is behind). */
-static int update_xdmf(esf_frames *fr, int force, esf_error *err) {
-  if (fr->xdmf_written == fr->count) return ESF_OK;
-  double t = now_s();
-  if (!force && fr->count > XDMF_EVERY_FRAME_MAX &&
-      t - fr->xdmf_last < XDMF_COST_RATIO * fr->xdmf_cost)
-    return ESF_OK;
-  int rc = esf_xdmf_write(fr->xdmf_path, fr->h5_name, fr->xf, (size_t)fr->count, err);
-  if (!rc) {
-    fr->xdmf_written = fr->count;
-    fr->xdmf_last = now_s();
-    fr->xdmf_cost = fr->xdmf_last - t;
-  }
-  return rc;
-}
-
-/* Appends the XDMF record of the frame being written. */
-static int record(esf_frames *fr, const esf_xdmf_frame *x, esf_error *err) {
+/* Appends the XDMF record (and segment) of the frame being written. */
+static int record(esf_frames *fr, const esf_xdmf_frame *x, long seg, esf_error *err) {
   if ((size_t)fr->count == fr->xf_cap) {
     size_t cap = fr->xf_cap ? 2 * fr->xf_cap : 64;
     esf_xdmf_frame *n = realloc(fr->xf, cap * sizeof *n);
-    if (!n) return esf_fail(err, ESF_ENOMEM, "out of memory for the frame list");
-    fr->xf = n;
+    if (n) fr->xf = n;
+    long *s = n ? realloc(fr->seg_of, cap * sizeof *s) : NULL;
+    if (s) fr->seg_of = s;
+    if (!n || !s) return esf_fail(err, ESF_ENOMEM, "out of memory for the frame list");
     fr->xf_cap = cap;
   }
   fr->xf[fr->count] = *x;
+  fr->seg_of[fr->count] = seg;
   return ESF_OK;
 }
 
@@ -199,7 +296,7 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
                      esf_error *err) {
   if (!fr) return esf_fail(err, ESF_EINTERNAL, "frames: write on a closed file");
   double t0 = now_s();
-  char name[32];
+  char name[32], sp[1400];
   snprintf(name, sizeof name, "%06ld", fr->count);
   esf_xdmf_frame x = {time, fr->count, p->n, 0, 0, 0, 0, 0};
   int with_walls = walls && walls->n > 0;
@@ -208,11 +305,17 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
   int rc = with_walls ? esf_wall_mesh_build(walls, time, have_box ? lo : NULL,
                                             have_box ? hi : NULL, &fr->mesh, err)
                       : ESF_OK;
-  if (!rc) rc = record(fr, &x, err);
-  if (rc) return rc;
   esf_h5_quiet q;
   esf_h5_quiet_begin(&q);
-  hid_t g = H5Gcreate2(fr->frames, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (!rc && fr->seg < 0) rc = seg_open(fr, err);
+  if (!rc) rc = record(fr, &x, fr->seg_start, err);
+  if (rc) {
+    H5Eclear2(H5E_DEFAULT);
+    esf_h5_quiet_end(&q);
+    return rc;
+  }
+  seg_path(fr, fr->seg_start, sp, sizeof sp);
+  hid_t g = H5Gcreate2(fr->segframes, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   int ok = g >= 0 && esf_h5_attr_write_double(g, "time", time) == 0 &&
            write_particles(g, p) == 0 &&
            (!with_walls || write_walls(g, &fr->mesh) == 0) &&
@@ -220,13 +323,12 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
   if (!ok) {
     char what[96];
     snprintf(what, sizeof what, "cannot write frame %s to", name);
-    rc = esf_h5_fail(err, what, fr->path);
+    rc = esf_h5_fail(err, what, sp);
   }
   if (g >= 0 && H5Gclose(g) < 0 && rc == ESF_OK)
-    rc = esf_h5_fail(err, "cannot close a frame group in", fr->path);
-  if (!rc) rc = esf_h5table_flush(fr->energy, err);
-  if (!rc && H5Fflush(fr->file, H5F_SCOPE_LOCAL) < 0)
-    rc = esf_h5_fail(err, "cannot flush", fr->path);
+    rc = esf_h5_fail(err, "cannot close a frame group in", sp);
+  if (!rc && H5Fflush(fr->seg, H5F_SCOPE_LOCAL) < 0)
+    rc = esf_h5_fail(err, "cannot flush", sp);
   if (rc == ESF_OK) {
     fr->xf[fr->count].has_walls = with_walls;
     fr->xf[fr->count].wall_points = with_walls ? fr->mesh.np : 0;
@@ -234,9 +336,10 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
     fr->xf[fr->count].has_contacts = contacts != NULL;
     fr->xf[fr->count].contacts = contacts ? contacts->n : 0;
     fr->count++;
-    rc = update_xdmf(fr, 0, err);
+    rc = publish(fr, 0, 0, err);
   } else if (g >= 0) {
-    H5Ldelete(fr->frames, name, H5P_DEFAULT); /* best effort: keep the count coherent */
+    H5Ldelete(fr->segframes, name,
+              H5P_DEFAULT); /* best effort: keep the count coherent */
     H5Eclear2(H5E_DEFAULT);
   }
   esf_h5_quiet_end(&q);
@@ -247,154 +350,83 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
 int esf_frames_append_energy(esf_frames *fr, int ncols, const char *const *names,
                              const double *row, esf_error *err) {
   if (!fr) return esf_fail(err, ESF_EINTERNAL, "frames: energy row on a closed file");
-  if (fr->energy && esf_h5table_ncols(fr->energy) != ncols)
+  if (fr->ncols && fr->ncols != ncols)
     return esf_fail(err, ESF_EINTERNAL, "frames: energy rows of %d and %d columns",
-                    esf_h5table_ncols(fr->energy), ncols);
+                    fr->ncols, ncols);
+  if (ncols < 1) return esf_fail(err, ESF_EINTERNAL, "frames: %d energy columns", ncols);
+  size_t need = (size_t)(fr->nrows + 1) * (size_t)ncols;
+  if (need > fr->rows_cap) {
+    size_t cap = fr->rows_cap ? 2 * fr->rows_cap : 256 * (size_t)ncols;
+    double *n = realloc(fr->rows, cap * sizeof *n);
+    if (!n) return esf_fail(err, ESF_ENOMEM, "out of memory for energy rows");
+    fr->rows = n;
+    fr->rows_cap = cap;
+  }
+  fr->ncols = ncols;
+  fr->names = names;
+  memcpy(fr->rows + (size_t)fr->nrows * (size_t)ncols, row, (size_t)ncols * sizeof *row);
+  fr->nrows++;
+  return ESF_OK;
+}
+
+long esf_frames_count(const esf_frames *fr) { return fr ? fr->count : 0; }
+
+long esf_frames_energy_rows(const esf_frames *fr) { return fr ? fr->nrows : 0; }
+
+double esf_frames_seconds(const esf_frames *fr) { return fr ? fr->seconds : 0.0; }
+
+int esf_frames_sync(esf_frames *fr, esf_error *err) {
   double t0 = now_s();
   esf_h5_quiet q;
   esf_h5_quiet_begin(&q);
-  int rc = ESF_OK;
-  if (!fr->energy)
-    rc = esf_h5table_create(fr->file, "energy", ncols, names, fr->path, &fr->energy, err);
-  if (!rc) rc = esf_h5table_append(fr->energy, row, err);
+  int rc = seg_close(fr, 1, err);
+  if (!rc) rc = publish(fr, 1, 1, err);
+  H5Eclear2(H5E_DEFAULT);
   esf_h5_quiet_end(&q);
   fr->seconds += now_s() - t0;
   return rc;
 }
 
-long esf_frames_count(const esf_frames *fr) { return fr ? fr->count : 0; }
-
-long esf_frames_energy_rows(const esf_frames *fr) {
-  return fr ? (long)esf_h5table_rows(fr->energy) : 0;
-}
-
-double esf_frames_seconds(const esf_frames *fr) { return fr ? fr->seconds : 0.0; }
-
 int esf_frames_close(esf_frames **frp, esf_error *err) {
   if (!frp || !*frp) return ESF_OK;
   esf_frames *fr = *frp;
   *frp = NULL;
-  esf_h5_quiet q;
-  esf_h5_quiet_begin(&q);
-  int rc = esf_h5table_close(&fr->energy, err);
-  int rc2 = update_xdmf(fr, 1, rc ? NULL : err);
-  if (!rc) rc = rc2;
-  if (H5Gclose(fr->frames) < 0 && rc == ESF_OK)
-    rc = esf_h5_fail(err, "cannot close group /frames in", fr->path);
-  fr->frames = -1;
-  if (H5Fflush(fr->file, H5F_SCOPE_LOCAL) < 0 && rc == ESF_OK)
-    rc = esf_h5_fail(err, "cannot flush", fr->path);
-  if (H5Fclose(fr->file) < 0 && rc == ESF_OK)
-    rc = esf_h5_fail(err, "cannot close", fr->path);
-  fr->file = -1;
-  H5Eclear2(H5E_DEFAULT);
-  esf_h5_quiet_end(&q);
+  int rc = esf_frames_sync(fr, err);
   destroy(fr);
   return rc;
 }
 
-/* ---- checkpoints (checkpoint.h): syncing, and a resumed run's copy of the frames
- * written before its checkpoint ---- */
-
-int esf_frames_sync(esf_frames *fr, esf_error *err) {
-  esf_h5_quiet q;
-  esf_h5_quiet_begin(&q);
-  int rc = esf_h5table_flush(fr->energy, err);
-  if (!rc && H5Fflush(fr->file, H5F_SCOPE_LOCAL) < 0)
-    rc = esf_h5_fail(err, "cannot flush", fr->path);
-  esf_h5_quiet_end(&q);
-  if (!rc) rc = esf_fsync_path(fr->path, err);
-  if (!rc) rc = update_xdmf(fr, 1, err);
-  return rc;
-}
-
-/* Rows of the first dimension (and the second, 0 for rank 1) of dataset loc/name. */
-static int dims_of(hid_t loc, const char *name, size_t *d0) {
-  hid_t d = H5Dopen2(loc, name, H5P_DEFAULT), s = d >= 0 ? H5Dget_space(d) : -1;
-  hsize_t dims[2] = {0, 0};
-  int ok = s >= 0 && H5Sget_simple_extent_ndims(s) >= 1 &&
-           H5Sget_simple_extent_dims(s, dims, NULL) >= 1;
-  if (s >= 0) H5Sclose(s);
-  if (d >= 0) H5Dclose(d);
-  *d0 = (size_t)dims[0];
-  return ok ? 0 : -1;
-}
-
-/* Copies frame `name` of src into fr as its next frame, with its XDMF record. */
-static int copy_frame(esf_frames *fr, hid_t src, const char *name) {
-  if (H5Ocopy(src, name, fr->frames, name, H5P_DEFAULT, H5P_DEFAULT) < 0) return -1;
-  hid_t g = H5Gopen2(fr->frames, name, H5P_DEFAULT);
-  if (g < 0) return -1;
-  esf_xdmf_frame x = {0};
-  x.index = fr->count;
-  hid_t a = H5Aopen(g, "time", H5P_DEFAULT);
-  int ok = a >= 0 && H5Aread(a, H5T_NATIVE_DOUBLE, &x.time) >= 0;
-  if (a >= 0) H5Aclose(a);
-  ok = ok && dims_of(g, "position", &x.particles) == 0;
-  x.has_walls = H5Lexists(g, "walls", H5P_DEFAULT) > 0;
-  if (ok && x.has_walls)
-    ok = dims_of(g, "walls/points", &x.wall_points) == 0 &&
-         dims_of(g, "walls/triangles", &x.wall_triangles) == 0;
-  x.has_contacts = H5Lexists(g, "contacts", H5P_DEFAULT) > 0;
-  if (ok && x.has_contacts) ok = dims_of(g, "contacts/normal_force", &x.contacts) == 0;
-  H5Gclose(g);
-  if (!ok || record(fr, &x, NULL)) return -1;
-  fr->count++;
-  return 0;
-}
-
-int esf_frames_copy(esf_frames *fr, const char *src_path, long nframes, long nrows,
-                    int ncols, const char *const *names, esf_error *err) {
-  esf_h5_quiet q;
-  esf_h5_quiet_begin(&q);
-  int rc = ESF_OK;
-  hid_t f = H5Fopen(src_path, H5F_ACC_RDONLY, H5P_DEFAULT);
-  hid_t src = f >= 0 ? H5Gopen2(f, "frames", H5P_DEFAULT) : -1;
-  if (src < 0) rc = esf_h5_fail(err, "cannot read the frames of", src_path);
-  for (long k = 0; !rc && k < nframes; k++) {
-    char name[32];
-    snprintf(name, sizeof name, "%06ld", k);
-    if (copy_frame(fr, src, name)) {
-      char what[96];
-      snprintf(what, sizeof what, "cannot copy frame %s (of %ld) from", name, nframes);
-      rc = esf_h5_fail(err, what, src_path);
-    }
+int esf_frames_resume(const char *path, const char *scene_name, const char *version,
+                      long nframes, long nrows, int ncols, const char *const *names,
+                      esf_frames **out, esf_error *err) {
+  *out = NULL;
+  esf_frames *fr = NULL;
+  int rc = create(path, scene_name, version, &fr, err);
+  if (rc) return rc;
+  size_t cap = nframes > 64 ? (size_t)nframes : 64;
+  fr->xf = malloc(cap * sizeof *fr->xf);
+  fr->seg_of = malloc(cap * sizeof *fr->seg_of);
+  fr->xf_cap = cap;
+  if (nrows > 0) {
+    fr->rows_cap = (size_t)nrows * (size_t)ncols;
+    fr->rows = malloc(fr->rows_cap * sizeof *fr->rows);
   }
-  double *cols = NULL;
-  if (!rc && nrows > 0) {
-    cols = malloc((size_t)nrows * (size_t)ncols * sizeof *cols);
-    if (!cols) rc = esf_fail(err, ESF_ENOMEM, "out of memory");
-    for (int j = 0; !rc && j < ncols; j++) {
-      char path[160];
-      snprintf(path, sizeof path, "energy/%s", names[j]);
-      hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
-      hid_t fs = d >= 0 ? H5Dget_space(d) : -1;
-      hsize_t start = 0, cnt = (hsize_t)nrows, dims[1] = {0};
-      int ok = fs >= 0 && H5Sget_simple_extent_dims(fs, dims, NULL) == 1 &&
-               dims[0] >= cnt &&
-               H5Sselect_hyperslab(fs, H5S_SELECT_SET, &start, NULL, &cnt, NULL) >= 0;
-      hid_t ms = ok ? H5Screate_simple(1, &cnt, NULL) : -1;
-      ok = ok && ms >= 0 &&
-           H5Dread(d, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, cols + (size_t)j * nrows) >=
-               0;
-      if (ms >= 0) H5Sclose(ms);
-      if (fs >= 0) H5Sclose(fs);
-      if (d >= 0) H5Dclose(d);
-      if (!ok) rc = esf_h5_fail(err, "cannot read the energy rows of", src_path);
-    }
+  if (!fr->xf || !fr->seg_of || (nrows > 0 && !fr->rows))
+    rc = esf_fail(err, ESF_ENOMEM, "out of memory resuming '%s'", path);
+  if (!rc)
+    rc = esf_frames_index_read(path, nframes, fr->seg_of, fr->xf, nrows, ncols, names,
+                               fr->rows, err);
+  if (!rc) {
+    fr->count = nframes;
+    fr->nrows = nrows;
+    fr->ncols = nrows > 0 ? ncols : 0;
+    fr->names = nrows > 0 ? names : NULL;
+    rc = drop_segments(fr, nframes, err);
   }
-  if (src >= 0) H5Gclose(src);
-  if (f >= 0) H5Fclose(f);
-  H5Eclear2(H5E_DEFAULT);
-  esf_h5_quiet_end(&q);
-  double *row = !rc && nrows > 0 ? malloc((size_t)ncols * sizeof *row) : NULL;
-  if (!rc && nrows > 0 && !row) rc = esf_fail(err, ESF_ENOMEM, "out of memory");
-  for (long r = 0; !rc && r < nrows; r++) {
-    for (int j = 0; j < ncols; j++) row[j] = cols[(size_t)j * nrows + r];
-    rc = esf_frames_append_energy(fr, ncols, names, row, err);
-  }
-  free(row);
-  free(cols);
   if (!rc) rc = esf_frames_sync(fr, err);
+  if (rc)
+    destroy(fr);
+  else
+    *out = fr;
   return rc;
 }

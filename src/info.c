@@ -7,11 +7,12 @@
  * /frames exists) has a describer in `kinds` (else "unknown kind"). The frames describer
  * prints the scene, version, frame count, time span, particle counts of the first and
  * last frames, the datasets of the first frame with type and shape, the energy table's
- * rows and columns and the file size per particle and frame. Only metadata, the frame
- * times and the energy time column are read. A file starting with the checkpoint
- * signature is described by checkpoint.c (esf_ckpt_describe: verified, what it holds
- * and the resume command) instead. HDF5 is kept silent (esf_h5_quiet);
- * everything opened is closed. */
+ * rows and columns and the size per particle and frame (the file's, plus, for frames
+ * that are external links into segment files (frames.h), those files'). Only metadata,
+ * the frame times and the energy time column are read. A file starting with the
+ * checkpoint signature is described by checkpoint.c (esf_ckpt_describe: verified, what it
+ * holds and the resume command) instead. HDF5 is kept silent (esf_h5_quiet); everything
+ * opened is closed. */
 #include "info.h"
 
 #include <errno.h>
@@ -116,6 +117,35 @@ static void describe_energy(hid_t file, FILE *out) {
   H5Gclose(g);
 }
 
+/* The segment files the frames link to (frames.h: consecutive frames share one). */
+typedef struct segments {
+  long count;
+  double bytes;
+  char last[1200]; /* the previous frame's file name */
+} segments;
+
+/* Counts the file frame `name` of fg links to, if it is an external link to a file
+ * other than the previous frame's; its size from its path relative to the index's. */
+static void segments_add(hid_t fg, const char *name, const char *path, segments *sg) {
+  H5L_info_t li;
+  char val[1200];
+  const char *file = NULL, *obj = NULL;
+  unsigned flags = 0;
+  if (H5Lget_info(fg, name, &li, H5P_DEFAULT) < 0 || li.type != H5L_TYPE_EXTERNAL ||
+      li.u.val_size > sizeof val ||
+      H5Lget_val(fg, name, val, li.u.val_size, H5P_DEFAULT) < 0 ||
+      H5Lunpack_elink_val(val, li.u.val_size, &flags, &file, &obj) < 0 || !file ||
+      strcmp(file, sg->last) == 0)
+    return;
+  snprintf(sg->last, sizeof sg->last, "%s", file);
+  const char *slash = strrchr(path, '/');
+  char full[2500];
+  snprintf(full, sizeof full, "%.*s%s", slash ? (int)(slash - path + 1) : 0, path, file);
+  struct stat sb;
+  sg->count++;
+  if (stat(full, &sb) == 0) sg->bytes += (double)sb.st_size;
+}
+
 static int describe_frames(hid_t file, const char *path, FILE *out, esf_error *err) {
   char buf[256];
   read_string_attr(file, "scene", buf, sizeof buf);
@@ -127,6 +157,7 @@ static int describe_frames(hid_t file, const char *path, FILE *out, esf_error *e
   H5G_info_t gi = {0};
   H5Gget_info(fg, &gi);
   long nf = (long)gi.nlinks;
+  segments segs = {0, 0.0, ""};
   fprintf(out, "frames: %ld\n", nf);
   double sum = 0;
   if (nf > 0) {
@@ -145,6 +176,7 @@ static int describe_frames(hid_t file, const char *path, FILE *out, esf_error *e
       if (H5Lget_name_by_idx(fg, ".", H5_INDEX_NAME, H5_ITER_INC, (hsize_t)k, name,
                              sizeof name, H5P_DEFAULT) < 0)
         continue;
+      segments_add(fg, name, path, &segs);
       size_t l = strlen(name);
       snprintf(name + l, sizeof name - l, "/id");
       long n = rows_of(fg, name);
@@ -160,9 +192,14 @@ static int describe_frames(hid_t file, const char *path, FILE *out, esf_error *e
   H5Gclose(fg);
   describe_energy(file, out);
   struct stat sb;
-  if (stat(path, &sb) == 0)
-    fprintf(out, "size: %lld bytes (%.1f bytes per particle per frame)\n",
-            (long long)sb.st_size, sum > 0 ? (double)sb.st_size / sum : 0.0);
+  if (stat(path, &sb) == 0) {
+    double size = (double)sb.st_size + segs.bytes;
+    if (segs.count > 0)
+      fprintf(out, "segments: %ld files, %.0f bytes (the index: %lld bytes)\n",
+              segs.count, segs.bytes, (long long)sb.st_size);
+    fprintf(out, "size: %.0f bytes (%.1f bytes per particle per frame)\n", size,
+            sum > 0 ? size / sum : 0.0);
+  }
   H5Eclear2(H5E_DEFAULT);
   return ESF_OK;
 }

@@ -5,17 +5,15 @@
  * row counts are recorded; then the checkpoint file is replaced atomically. Everything
  * a checkpoint counts is thus on disk before the checkpoint names it.
  * Reopening (resume): energy.csv must be at least the recorded size (else it was
- * damaged: an error) and is cut back to it. frames.h5 is appended in place during a run
- * and HDF5 does not promise a file killed mid-append is intact, so a resume never
- * appends to it: it renames it to frames.h5.prev (atomic, durable), creates a new
- * frames.h5 holding copies of the checkpoint's frames and rows, syncs it and only then
- * removes frames.h5.prev. Killed anywhere in between, the next resume finds .prev and
- * starts over from it. The frames copied are the ones the checkpoint's fsync made
- * durable, so a kill during later appends costs only frames after the checkpoint,
- * which the resumed run writes again. Should the old file still be unreadable (HDF5
- * does not promise an in-place append is atomic), it is kept as frames.h5.damaged with a
- * warning in log.txt and the resumed run starts a new frames.h5 at the checkpoint, so
- * the resume itself does not fail. */
+ * damaged: an error) and is cut back to it. frames.h5 is a small index replaced only
+ * atomically, and the segment files holding the checkpoint's frames were closed and
+ * fsync'ed before the checkpoint named them and never written again (frames.h), so a
+ * kill at any instant damages neither: the resume reads the checkpoint's frames and
+ * rows through the index, removes the segments written after it and writes a new
+ * index (esf_frames_resume). Should the index be unreadable all the same (changed by
+ * hand), it is kept as frames.h5.damaged (frames.d as frames.d.damaged) with a warning
+ * in log.txt and the resumed run starts a new frames.h5 at the checkpoint, so the
+ * resume itself does not fail. */
 #include "run_ckpt.h"
 
 #include <errno.h>
@@ -93,41 +91,26 @@ int esf_run_ckpt_reopen(const char *out_dir, const esf_sim *s, const esf_ckpt_ru
   int rc = s->led.on && run->csv_bytes >= 0 ? reopen_csv(out_dir, run->csv_bytes, ef, err)
                                             : ESF_OK;
   if (rc) return rc;
-  char path[1200], prev[1210];
+  char path[1200];
   snprintf(path, sizeof path, "%s/frames.h5", out_dir);
-  snprintf(prev, sizeof prev, "%s.prev", path);
-  struct stat sb;
-  if (stat(prev, &sb) != 0) { /* no earlier resume died half-way: move the file aside */
-    if (rename(path, prev) != 0)
-      return esf_fail(err, ESF_EIO, "cannot move '%s' aside to resume: %s", path,
-                      strerror(errno));
-    rc = esf_fsync_parent(path, err);
-  }
-  if (!rc) rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, fr, err);
-  if (!rc)
-    rc = esf_frames_copy(*fr, prev, run->frames, run->erows, ESF_LEDGER_NCOLS,
-                         esf_ledger_columns, err);
-  if (rc == ESF_EIO && *fr) { /* the old file is damaged: keep it aside, go on */
-    char damaged[1220];
+  rc = esf_frames_resume(path, s->cfg.name, ESF_VERSION, run->frames, run->erows,
+                         ESF_LEDGER_NCOLS, esf_ledger_columns, fr, err);
+  if (rc == ESF_EIO) { /* the index is damaged: keep it aside, go on */
+    char damaged[1220], segs[1220], segs_damaged[1240];
     snprintf(damaged, sizeof damaged, "%s.damaged", path);
+    snprintf(segs, sizeof segs, "%s/frames.d", out_dir);
+    snprintf(segs_damaged, sizeof segs_damaged, "%s.damaged", segs);
+    int kept = rename(segs, segs_damaged) == 0; /* its segments, for the user */
     esf_sim_log(s,
-                "WARNING: %s; it is kept as %s and the resumed run writes a new "
+                "WARNING: %s; it is kept as %s%s and the resumed run writes a new "
                 "frames.h5 from the checkpoint on (energy.csv keeps every row)",
-                err->msg, damaged);
-    esf_error e2;
-    esf_frames_close(fr, &e2);
-    rc = rename(prev, damaged) != 0
-             ? esf_fail(err, ESF_EIO, "cannot move '%s' aside: %s", prev, strerror(errno))
+                err->msg, damaged, kept ? ", its frames in frames.d.damaged/," : "");
+    esf_error_clear(err);
+    rc = rename(path, damaged) != 0
+             ? esf_fail(err, ESF_EIO, "cannot move '%s' aside: %s", path, strerror(errno))
              : esf_fsync_parent(path, err);
     if (!rc) rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, fr, err);
-    if (!rc) {
-      esf_error_clear(err);
-      return esf_frames_sync(*fr, err);
-    }
   }
-  if (!rc && unlink(prev) != 0)
-    rc = esf_fail(err, ESF_EIO, "cannot remove '%s': %s", prev, strerror(errno));
-  if (!rc) rc = esf_fsync_parent(path, err);
   if (rc) {
     esf_error e2;
     esf_frames_close(fr, &e2);
@@ -138,9 +121,9 @@ int esf_run_ckpt_reopen(const char *out_dir, const esf_sim *s, const esf_ckpt_ru
 }
 
 void esf_run_ckpt_forget(const char *out_dir) {
-  const char *names[] = {ESF_CKPT_NAME, ESF_CKPT_NAME ".tmp", "frames.h5.prev"};
+  const char *names[] = {ESF_CKPT_NAME, ESF_CKPT_NAME ".tmp"};
   char path[1200];
-  for (int k = 0; k < 3; k++) {
+  for (int k = 0; k < 2; k++) {
     snprintf(path, sizeof path, "%s/%s", out_dir, names[k]);
     unlink(path); /* absent is fine */
   }

@@ -16,16 +16,15 @@ int esf_run_ckpt_save(const char *out_dir, esf_sim *s, const esf_integrator_type
                       esf_frames *fr, esf_error *err);
 
 /* A resumed run's outputs: energy.csv (when the ledger is on) truncated to the
- * checkpoint's size and opened for appending; frames.h5 rebuilt with the checkpoint's
- * frames and energy rows (rows and frames a killed run wrote after it are dropped),
- * crash-safely: the old file is first renamed frames.h5.prev, and a resume that finds
- * a frames.h5.prev (an earlier resume died while copying) copies from it; an unreadable
- * old file is kept as frames.h5.damaged (warning in log.txt) and a new one started. */
+ * checkpoint's size and opened for appending; frames.h5 rewritten to name the
+ * checkpoint's frames and energy rows (segments a killed run wrote after it are
+ * removed; nothing is copied, esf_frames_resume); an unreadable index is kept as
+ * frames.h5.damaged (warning in log.txt) and a new one started. */
 int esf_run_ckpt_reopen(const char *out_dir, const esf_sim *s, const esf_ckpt_run *run,
                         FILE **ef, esf_frames **fr, esf_error *err);
 
-/* A new run into out_dir: removes a checkpoint, its temporary and a frames.h5.prev an
- * earlier run left there (they describe output this run overwrites). */
+/* A new run into out_dir: removes a checkpoint and its temporary an earlier run left
+ * there (they describe output this run overwrites). */
 void esf_run_ckpt_forget(const char *out_dir);
 
 #endif

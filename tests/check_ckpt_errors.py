@@ -4,8 +4,9 @@ written (its temporary name taken by a directory) fail with status 2 and a messa
 naming the path, earlier output intact; a file-size limit (RLIMIT_FSIZE with SIGXFSZ
 ignored: EFBIG, as a full disk) stops the run with status 2, leaves the previous
 checkpoint valid, and resuming without the limit ends identical to an uninterrupted
-run; a frames.h5 damaged after its checkpoint is kept as frames.h5.damaged and the
-resume still succeeds; `--resume` with a scene or --set is refused; `--resume` and `esfera info` on a missing, empty, truncated, corrupted, foreign
+run; a frames.h5 (the index) damaged by hand after its checkpoint is kept as
+frames.h5.damaged (its segments as frames.d.damaged) and the resume still succeeds; a
+segment damaged after the checkpoint is dropped and the resume ends identical; `--resume` with a scene or --set is refused; `--resume` and `esfera info` on a missing, empty, truncated, corrupted, foreign
 (text, HDF5) checkpoint, or one from a build with another esf_contact_hist layout, exit
 2 naming the cause. Usage: check_ckpt_errors.py ESFERA"""
 import os
@@ -69,7 +70,7 @@ def main():
         ref = os.path.join(tmp, "ref")
         run_ok(exe, "run", scene, "--out", ref, "--quiet")
         big = os.path.join(tmp, "efbig")
-        lim = 400 * 1024
+        lim = 100 * 1024  # below the final energy.csv (150 kB); the other files stay under
 
         def limit():
             resource.setrlimit(resource.RLIMIT_FSIZE, (lim, lim))
@@ -94,12 +95,36 @@ def main():
         log = open(os.path.join(dmg, "log.txt")).read()
         check(os.path.exists(fh5 + ".damaged") and "WARNING" in log and
               "frames.h5.damaged" in log, "damaged frames.h5: kept aside with a warning")
+        check(os.path.exists(os.path.join(dmg, "frames.d.damaged", "000000.h5")),
+              "damaged frames.h5: its segments kept aside in frames.d.damaged")
         with h5py.File(fh5, "r") as f:
             check(len(f["frames"]) >= 1, "damaged frames.h5: the new file has frames")
         with open(os.path.join(dmg, "energy.csv"), "rb") as fa, \
                 open(os.path.join(ref, "energy.csv"), "rb") as fb:
             check(fa.read() == fb.read(), "damaged frames.h5: energy.csv still identical")
         print("damaged frames.h5: resumed, old file kept as frames.h5.damaged")
+
+        # a segment damaged after the checkpoint (what a kill in the middle of an HDF5
+        # append can leave): the checkpoint's frames are in other, closed segments, so
+        # the resume drops it and ends identical to the uninterrupted run
+        seg = os.path.join(tmp, "segment")
+        run_ok(exe, "run", scene, "--out", seg, "--quiet", "--checkpoint-every", "0.013")
+        r = run_ok(exe, "info", os.path.join(seg, "checkpoint.esf"))
+        nck = int([ln for ln in r.stdout.splitlines() if ln.startswith("frames: ")][0][8:])
+        segs = sorted(os.listdir(os.path.join(seg, "frames.d")))
+        after = [f for f in segs if int(f[:-3]) >= nck]
+        check(len(after) == 1 and len(segs) > 2,
+              f"segments {segs}: one expected after the checkpoint's {nck} frames")
+        for f in after:
+            path = os.path.join(seg, "frames.d", f)
+            with open(path, "r+b") as fh:
+                fh.truncate(os.path.getsize(path) // 3)
+        run_ok(exe, "run", "--resume", seg, "--quiet")
+        n, diffs = identical(ref, seg)
+        check(n > 5 and not diffs and not os.path.exists(os.path.join(seg, "frames.h5.damaged")),
+              f"segment damaged after the checkpoint: output differs: {diffs[:5]}")
+        print(f"segment {after} damaged after the checkpoint ({nck} frames): resumed, "
+              f"{n} frames identical")
 
         # bad checkpoint files
         ck = os.path.join(ref, "checkpoint.esf")

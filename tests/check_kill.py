@@ -4,10 +4,10 @@ uninterrupted run (every frame dataset, /energy, energy.csv). Checkpoints come e
 1 ms of simulated time (about every 50 ms of wall time); every other kill comes at a
 random moment, the others as soon as a checkpoint.esf.tmp appears (a checkpoint being
 written, synced or renamed), so kills land before, during and after checkpoint writes
-and during the resumes' own rebuilding of frames.h5; after
+and during the resumes' own rewriting of the frames index; after
 every kill the checkpoint must still load (`esfera info` exits 0). Counts the kills
-that found a checkpoint.esf.tmp (killed while writing one) or a frames.h5.prev (killed
-while a resume rebuilt frames.h5). Usage: check_kill.py ESFERA"""
+that found a checkpoint.esf.tmp (killed while writing one) or a frames.h5.tmp (killed
+while the index frames.h5 was being rewritten, frames.h). Usage: check_kill.py ESFERA"""
 import os
 import random
 import shutil
@@ -34,7 +34,7 @@ def main():
         out = os.path.join(tmp, "out")
         ck = os.path.join(out, "checkpoint.esf")
         cmd = [exe, "run", scene, "--out", out, "--quiet", "--checkpoint-every", "0.001"]
-        kills = mid_ckpt = mid_resume = resumes = 0
+        kills = mid_ckpt = mid_index = resumes = 0
         done = False
         while not done:
             if os.path.exists(ck + ".tmp"):  # left by a kill: counts only fresh ones
@@ -57,7 +57,7 @@ def main():
                     p.send_signal(signal.SIGKILL)
                     kills += 1
                     mid_ckpt += os.path.exists(ck + ".tmp")
-                    mid_resume += os.path.exists(os.path.join(out, "frames.h5.prev"))
+                    mid_index += os.path.exists(os.path.join(out, "frames.h5.tmp"))
             _, err = p.communicate(timeout=120)
             if p.returncode == 0:
                 done = True
@@ -75,7 +75,7 @@ def main():
         check(done and n > 5 and not diffs, f"after {kills} kills: output differs: "
               f"{diffs[:5]}")
         print(f"{kills} SIGKILLs ({mid_ckpt} while a checkpoint was being written, "
-              f"{mid_resume} while a resume rebuilt frames.h5), {resumes - 1} resumes: "
+              f"{mid_index} while the index was being rewritten), {resumes - 1} resumes: "
               f"{n} frames identical to the uninterrupted run")
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

@@ -10,6 +10,7 @@
  * left as it was found. (tests/check_xdmf.py parses the XDMF of a real run.) */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 
+#include <dirent.h>
 #include <hdf5.h>
 #include <math.h>
 #include <stdint.h>
@@ -24,6 +25,22 @@
 #include "xdmf.h"
 
 static char tmpdir[256];
+
+/* Removes path (an .h5 frames file) and its segment directory (.d). */
+static void remove_frames(const char *path) {
+  char dir[600];
+  size_t n = strlen(path);
+  snprintf(dir, sizeof dir, "%.*s.d", (int)(n - 3), path);
+  DIR *d = opendir(dir);
+  for (struct dirent *e; d && (e = readdir(d)) != NULL;) {
+    char p[900];
+    snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
+    if (e->d_name[0] != '.') unlink(p);
+  }
+  if (d) closedir(d);
+  rmdir(dir);
+  unlink(path);
+}
 
 /* Fills p deterministically from a frame number. */
 static void fill(esf_particles *p, int frame) {
@@ -214,7 +231,7 @@ static void test_roundtrip(void) {
   esf_particles_release(&p);
   esf_particles_release(&big);
   esf_particles_release(&none);
-  unlink(path);
+  remove_frames(path);
   snprintf(path, sizeof path, "%s/frames.xdmf", tmpdir);
   unlink(path);
 }
@@ -375,7 +392,7 @@ static void test_walls_contacts_energy(void) {
   H5Fclose(file);
   esf_particles_release(&p);
   esf_walls_release(&w);
-  unlink(path);
+  remove_frames(path);
   unlink(xdmf);
 }
 
@@ -407,7 +424,7 @@ static void test_xdmf_schedule(void) {
         "after close the XDMF describes %d frames, expected 150",
         count_in_file(xdmf, "<Grid Name=\"particles_"));
   esf_particles_release(&p);
-  unlink(path);
+  remove_frames(path);
   unlink(xdmf);
 }
 
