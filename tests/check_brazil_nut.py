@@ -17,7 +17,6 @@ control moves under 0.25 d (measured 0.05 d, creep) and its bed's mean height un
 0.1 d, while the shaken intruder rises at least three times as much (0.88-1.27 d over
 the three fills). The bed must stay in the box (no particle removed) in both runs."""
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -26,17 +25,13 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..",
                                 "studies"))
 from esfera_h5 import load_frames  # noqa: E402
-from pycheck import check, finish  # noqa: E402
+from pycheck import check, finish, run_sets  # noqa: E402
 
 D = 0.008
 
 
 def measure(esfera, scene, out, *sets):
-    args = [esfera, "run", scene, "--out", out, "--quiet"]
-    for s in sets:
-        args += ["--set", s]
-    r = subprocess.run(args, capture_output=True, text=True)
-    check(r.returncode == 0, f"run {sets}: exit {r.returncode} {r.stderr}")
+    r = run_sets(esfera, scene, out, *sets)
     print(r.stdout.strip())
     check(" removed=0 " in r.stdout, f"no particle leaves the box {sets}")
     rows = []

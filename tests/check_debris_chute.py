@@ -30,7 +30,7 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..",
                                 "studies"))
 from esfera_h5 import load_frames  # noqa: E402
-from pycheck import check, finish  # noqa: E402
+from pycheck import check, finish, run_sets  # noqa: E402
 from runout import add_kinetic, front_table  # noqa: E402
 
 D = 0.02
@@ -38,11 +38,7 @@ DIR = (math.cos(math.radians(35)), 0, math.sin(math.radians(35)))
 
 
 def run(esfera, scene, out, *sets):
-    args = [esfera, "run", scene, "--out", out, "--quiet"]
-    for s in sets:
-        args += ["--set", s]
-    r = subprocess.run(args, capture_output=True, text=True)
-    check(r.returncode == 0, f"run {sets}: exit {r.returncode} {r.stderr}")
+    r = run_sets(esfera, scene, out, *sets)
     check(" removed=0 " in r.stdout, f"no particle leaves the domain {sets}")
     tab = front_table(load_frames(out), DIR, (0, 0, 0), (50, 95, 99), disks=True)
     add_kinetic(tab, out)

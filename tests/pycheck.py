@@ -33,3 +33,16 @@ def run_scene(esfera, tmp, text, *extra):
                        capture_output=True, text=True)
     check(r.returncode == 0, f"run: exit {r.returncode} {r.stderr}")
     return out
+
+
+def run_sets(esfera, scene, out, *sets):
+    """Runs `esfera run SCENE --out OUT --quiet` with each of sets as a --set override;
+    checks the exit status; returns the finished process (stdout holds the summary)."""
+    import subprocess
+
+    args = [esfera, "run", scene, "--out", out, "--quiet"]
+    for s in sets:
+        args += ["--set", s]
+    r = subprocess.run(args, capture_output=True, text=True)
+    check(r.returncode == 0, f"run {sets}: exit {r.returncode} {r.stderr}")
+    return r

@@ -16,4 +16,15 @@
   "    material: m\n"                                                                    \
   "    motion: {servo: {stress: 2.0e4, direction: [0, 0, -1], max_speed: 0.2}}\n"
 
+/* Water through the box toward a drilled hole along y at x = z = 0.02 m (well radius
+ * 8 mm, 3e5 Pa drop over a 1 m drainage radius), the `fluid:` keys after start and
+ * porosity; then the leapfrog at 0.2 of the critical step. */
+#define SERVO_BOX_RADIAL_FLOW                                                            \
+  "  viscosity: 1.0e-3\n"                                                                \
+  "  density: 1000\n"                                                                    \
+  "  permeability: 1.0e-10\n"                                                            \
+  "  radial: {center: [0.02, 0.02, 0.02], axis: [0, 1, 0], well_radius: 0.008, "         \
+  "drainage_radius: 1, pressure_drop: 3.0e5}\n"                                          \
+  "integrator: {method: leapfrog, dt: auto, frac: 0.2}\n"
+
 #endif

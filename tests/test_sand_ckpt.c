@@ -20,14 +20,7 @@ static const char *const scene =
     "0], radius: 0.008}}}]\n"
     "fluid:\n"
     "  start: 0.16\n"
-    "  porosity: {cell: 0.02}\n"
-    "  viscosity: 1.0e-3\n"
-    "  density: 1000\n"
-    "  permeability: 1.0e-10\n"
-    "  radial: {center: [0.02, 0.02, 0.02], axis: [0, 1, 0], well_radius: 0.008, "
-    "drainage_radius: 1, pressure_drop: 3.0e5}\n"
-    "integrator: {method: leapfrog, dt: auto, frac: 0.2}\n"
-    "run: {duration: 0.2}\n"
+    "  porosity: {cell: 0.02}\n" SERVO_BOX_RADIAL_FLOW "run: {duration: 0.2}\n"
     "output: {energy_every: 1.0e-3}\n";
 
 static int run_to(simtest *T, double t) {
