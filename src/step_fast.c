@@ -43,6 +43,7 @@
 #endif
 
 #include "forces.h"
+#include "pair_batch.h"
 #include "vec3.h"
 
 #define SLOT 9 /* force on A (3), torque on A (3), torque on B (3) */
@@ -99,19 +100,23 @@ void esf_step_fast_free(esf_step_fast **f) {
 #define HAS_FEATURES 1
 #endif
 
-static int minimal_ok(const esf_sim *s) {
+static int has_cohesion(const esf_sim *s) {
   const esf_materials *mt = &s->mats;
   for (int k = 0; k < mt->n * mt->n; k++)
-    if (mt->pair[k].cohesion != 0.0) return 0;
-  return s->cfg.tframe == ESF_TFRAME_ROTATE && s->cfg.dim == 3 && !s->local &&
-         s->alpha_r == 0.0 && s->alpha_t == 0.0 && !s->walls.moving;
+    if (mt->pair[k].cohesion != 0.0) return 1;
+  return 0;
+}
+
+static int minimal_ok(const esf_sim *s) {
+  return !has_cohesion(s) && s->cfg.tframe == ESF_TFRAME_ROTATE && s->cfg.dim == 3 &&
+         !s->local && s->alpha_r == 0.0 && s->alpha_t == 0.0 && !s->walls.moving;
 }
 
 int esf_step_fast_eligible(const esf_sim *s) {
   return s->cfg.fused && !s->led.on && !s->cfg.autod.on && !s->tally &&
          s->law == &esf_contact_linear && !s->nb.pp.vc0 && !s->nb.pp.xs && !s->nb.pw.xs &&
-         (HAS_FEATURES || minimal_ok(s)) &&
-         !s->walls.gforce && !s->drag; /* servo walls, fluid force: general path */
+         (HAS_FEATURES || minimal_ok(s)) && !s->walls.gforce &&
+         !s->drag; /* servo walls, fluid force: general path */
 }
 
 static int grow(void **p, size_t n, size_t size) {
@@ -212,139 +217,75 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   return ESF_OK;
 }
 
-/* Step 2's screening of the pairs [k0, k1) of a block: the interior pairs (b < hi)
- * whose spheres overlap go to list[0 .. return value); interior pairs that stopped
- * touching lose the flag. Branch-free for the common cases, so the contact pass runs
- * without the distance test. The boundary pairs are left to step 1. */
-static size_t screen_block(esf_sim *s, size_t k0, size_t k1, size_t hi, uint32_t *list) {
+/* Step 2's screening of the pairs of particles [lo, hi): the interior pairs (b < hi)
+ * whose spheres overlap go to list[0 .. return value) in ascending k; interior pairs
+ * that stopped touching lose the flag. Branch-free, so the contact pass runs without
+ * the distance test. The boundary pairs are left to step 1. */
+static size_t screen_block(esf_sim *s, const esf_step_fast *f, size_t lo, size_t hi,
+                           uint32_t *list) {
   const esf_particles *p = &s->p;
   esf_contacts *c = &s->nb.pp;
   const double *x = p->x, *r = p->radius;
+  const uint32_t *cb = c->b;
+  uint8_t *touch = c->touch;
   size_t cnt = 0;
-  for (size_t k = k0; k < k1; k++) {
-    const size_t a = c->a[k], b = c->b[k];
-    const double dx = x[3 * b] - x[3 * a], dy = x[3 * b + 1] - x[3 * a + 1],
-                 dz = x[3 * b + 2] - x[3 * a + 2], R = r[a] + r[b];
-    const int in = dx * dx + dy * dy + dz * dz < R * R, inner = b < hi;
-    list[cnt] = (uint32_t)k;
-    cnt += (size_t)(in & inner);
-    if ((in ^ 1) & inner & c->touch[k]) c->touch[k] = 0; /* the contact ended (rare) */
+  for (size_t a = lo; a < hi; a++) {
+    const double xa = x[3 * a], ya = x[3 * a + 1], za = x[3 * a + 2], ra = r[a];
+    for (size_t k = f->astart[a]; k < f->astart[a + 1]; k++) {
+      const size_t b = cb[k];
+      const double dx = x[3 * b] - xa, dy = x[3 * b + 1] - ya, dz = x[3 * b + 2] - za,
+                   R = ra + r[b];
+      const int in = dx * dx + dy * dy + dz * dz < R * R, inner = b < hi;
+      list[cnt] = (uint32_t)k;
+      cnt += (size_t)(in & inner);
+      touch[k] &= (uint8_t)(in | !inner); /* an interior contact that ended */
+    }
   }
   return cnt;
 }
 
-/* The contact of an overlapping pair k: force on A, torque on A, torque on B into
- * out[SLOT]; history and flag committed. Returns 1 when the overlap exceeds the limit
- * (nothing written). */
-static inline int pair_kernel(esf_sim *s, const esf_step_fast *f, size_t k, int rotate,
-                              double dt, double *restrict out) {
+/* Step 1 for the boundary pairs bk[j0 .. j1): each one's slot, zero when not touching,
+ * the touching ones computed in batches. Returns the lowest pair index whose overlap
+ * exceeds the limit (its slot unwritten), or SIZE_MAX; adds the touching ones to *nt. */
+static size_t boundary_pairs(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx *bc,
+                             size_t j0, size_t j1, size_t *nt) {
   const esf_particles *p = &s->p;
   esf_contacts *c = &s->nb.pp;
-  const uint32_t a = c->a[k], b = c->b[k];
-  const double *xa = p->x + 3 * (size_t)a, *xb = p->x + 3 * (size_t)b;
-  const double dx = xb[0] - xa[0], dy = xb[1] - xa[1], dz = xb[2] - xa[2];
-  const double ra = p->radius[a], rb = p->radius[b], R = ra + rb;
-  const double d2 = dx * dx + dy * dy + dz * dz;
-  const double dist = sqrt(d2);
-  double n[3];
-  if (dist > 0) {
-    const double inv = 1.0 / dist;
-    n[0] = dx * inv;
-    n[1] = dy * inv;
-    n[2] = dz * inv;
-  } else {
-    n[0] = 0, n[1] = 0, n[2] = 1;
-  }
-  const double un = R - dist;
-  if (un > s->cfg.max_overlap * (ra < rb ? ra : rb)) return 1;
-  const double la = ra - 0.5 * un, lb = rb - 0.5 * un;
-  const double *va = p->v + 3 * (size_t)a, *vb = p->v + 3 * (size_t)b;
-  const double *wa = p->w + 3 * (size_t)a, *wb = p->w + 3 * (size_t)b;
-  /* vc = (vB - vA) - (la wA + lb wB) x n  (000 3-21) */
-  double sw[3], vc[3];
-  for (int q = 0; q < 3; q++) sw[q] = la * wa[q] + lb * wb[q];
-  v3_cross(vc, sw, n);
-  for (int q = 0; q < 3; q++) vc[q] = vb[q] - va[q] - vc[q];
-  const esf_materials *mt = &s->mats;
-  const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
-
-  const double vn = v3_dot(vc, n);
-  const double fel = pp->kn * un;
-  double fn = fel - f->cn[k] * vn;
-  if (fn < 0.0) fn = 0.0;
-
-  esf_contact_hist *h = &c->h[k];
-  double xi[3] = {0, 0, 0};
-  if (c->touch[k]) {
-    if (!HAS_FEATURES || rotate) { /* 000 (3-17)-(3-18) */
-      double t1[3], t2[3];
-      v3_cross(t1, h->n, n);
-      v3_cross(t2, t1, h->xi);
-      v3_add(xi, h->xi, t2);
-      const double ang = 0.5 * (v3_dot(wa, n) + v3_dot(wb, n)) * dt;
-      double sp[3] = {ang * n[0], ang * n[1], ang * n[2]};
-      v3_cross(t2, sp, xi);
-      v3_add(xi, xi, t2);
-    } else {
-      const double m0 = v3_norm(h->xi);
-      v3_copy(xi, h->xi);
-      v3_axpy(xi, -v3_dot(xi, n), n);
-      const double m1 = v3_norm(xi);
-      if (m1 > 0) v3_scale(xi, m0 / m1, xi);
+  uint32_t kb[ESF_BATCH];
+  size_t jb[ESF_BATCH], bad = SIZE_MAX;
+  int m = 0;
+  double out[ESF_BATCH_OUT][ESF_BATCH];
+  for (size_t j = j0; j < j1 || m > 0;) {
+    if (j < j1) {
+      const size_t k = f->bk[j], a = c->a[k], b = c->b[k];
+      double d[3];
+      v3_sub(d, p->x + 3 * b, p->x + 3 * a);
+      const double R = p->radius[a] + p->radius[b];
+      if (v3_norm2(d) >= R * R) {
+        if (c->touch[k]) {
+          c->touch[k] = 0;
+          memset(f->slot + SLOT * j, 0, SLOT * sizeof(double));
+        }
+        j++;
+        continue;
+      }
+      (*nt)++;
+      kb[m] = (uint32_t)k;
+      jb[m++] = j++;
+      if (m < ESF_BATCH) continue;
     }
-  }
-  double vct[3];
-  for (int q = 0; q < 3; q++) {
-    vct[q] = vc[q] - vn * n[q];
-    xi[q] += dt * vct[q];
-  }
-  double ft[3];
-  const double ctk = f->ct[k];
-  for (int q = 0; q < 3; q++) ft[q] = pp->kt * xi[q] + ctk * vct[q];
-  /* fn >= 0 here (no tension), so the tension cut-off never applies */
-  const double tau = HAS_FEATURES ? pp->cohesion + pp->mu * fn : pp->mu * fn;
-  const double ftm2 = v3_norm2(ft);
-  if (ftm2 > tau * tau) { /* sliding: radial return, no dashpot (004 2.16) */
-    const double sc = tau / sqrt(ftm2);
-    const double ikt = pp->kt > 0 ? 1.0 / pp->kt : 0.0;
-    for (int q = 0; q < 3; q++) {
-      ft[q] *= sc;
-      xi[q] = ikt * ft[q];
+    const unsigned fail = esf_pair_batch_linear(bc, kb, m, out);
+    for (int l = 0; l < m; l++) {
+      if (fail >> l & 1u) {
+        if (kb[l] < bad) bad = kb[l];
+        continue;
+      }
+      double *sl = f->slot + SLOT * jb[l];
+      for (int q = 0; q < SLOT; q++) sl[q] = out[q][l];
     }
+    m = 0;
   }
-  v3_copy(h->xi, xi);
-  v3_copy(h->n, n);
-  c->touch[k] = 1;
-  double m[3];
-  v3_cross(m, n, ft);
-  for (int q = 0; q < 3; q++) {
-    out[q] = -fn * n[q] + ft[q];
-    out[3 + q] = la * m[q];
-    out[6 + q] = lb * m[q];
-  }
-  return 0;
-}
-
-/* Step 1 for boundary pair j: its slot, zero when not touching. Returns 1 on an
- * overlap beyond the limit; adds 1 to *nt when touching. */
-static int boundary_pair(esf_sim *s, esf_step_fast *f, size_t j, int rotate, double dt,
-                         size_t *nt) {
-  const esf_particles *p = &s->p;
-  esf_contacts *c = &s->nb.pp;
-  const size_t k = f->bk[j], a = c->a[k], b = c->b[k];
-  double *sl = f->slot + SLOT * j;
-  double d[3];
-  v3_sub(d, p->x + 3 * b, p->x + 3 * a);
-  const double R = p->radius[a] + p->radius[b];
-  if (v3_norm2(d) >= R * R) {
-    if (c->touch[k]) {
-      c->touch[k] = 0;
-      memset(sl, 0, SLOT * sizeof *sl);
-    }
-    return 0;
-  }
-  (*nt)++;
-  return pair_kernel(s, f, k, rotate, dt, sl);
+  return bad;
 }
 
 /* Step 2's particle loop for range [lo, hi): walls, 2D, local damping, kick, drift. */
@@ -409,17 +350,29 @@ static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, si
   }
 }
 
+/* Step 2: adds the A side of outgoing boundary slot j (its pair's a is in range). */
+static inline void outgoing(const esf_step_fast *f, const esf_contacts *c, size_t j,
+                            double *pf, double *pt) {
+  const size_t a = c->a[f->bk[j]];
+  const double *sl = f->slot + SLOT * j;
+  for (int r = 0; r < 3; r++) {
+    pf[3 * a + r] += sl[r];
+    pt[3 * a + r] += sl[3 + r];
+  }
+}
+
 /* Step 2's pair pass for range t: forces of all pairs touching its particles, in
  * ascending k per particle. Returns the lowest failing pair index or SIZE_MAX. */
-static size_t pairs_range(esf_sim *s, esf_step_fast *f, size_t t, size_t lo, size_t hi,
-                          int rotate, double dt, size_t *nt_pp) {
+static size_t pairs_range(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx *bc,
+                          size_t t, size_t lo, size_t hi, size_t *nt_pp) {
   esf_particles *p = &s->p;
   const esf_contacts *c = &s->nb.pp;
   const double *g = s->cfg.gravity;
+  double *pf = p->f, *pt = p->t;
   size_t bad = SIZE_MAX;
   for (size_t i = lo; i < hi; i++) {
     const double mass = p->mass[i];
-    double *fi = p->f + 3 * i, *ti = p->t + 3 * i;
+    double *fi = pf + 3 * i, *ti = pt + 3 * i;
     fi[0] = mass * g[0], fi[1] = mass * g[1], fi[2] = mass * g[2];
     ti[0] = 0.0, ti[1] = 0.0, ti[2] = 0.0;
   }
@@ -427,40 +380,36 @@ static size_t pairs_range(esf_sim *s, esf_step_fast *f, size_t t, size_t lo, siz
     const size_t j = f->bin[q], b = c->b[f->bk[j]];
     const double *sl = f->slot + SLOT * j;
     for (int r = 0; r < 3; r++) {
-      p->f[3 * b + r] -= sl[r];
-      p->t[3 * b + r] += sl[6 + r];
+      pf[3 * b + r] -= sl[r];
+      pt[3 * b + r] += sl[6 + r];
     }
   }
-  const size_t k0 = f->astart[lo], k1 = f->astart[hi];
-  uint32_t *list = f->list + k0;
-  const size_t cnt = screen_block(s, k0, k1, hi, list);
+  uint32_t *list = f->list + f->astart[lo];
+  const size_t cnt = screen_block(s, f, lo, hi, list);
   *nt_pp += cnt;
   size_t jo = f->bout[t];
   const size_t jo1 = f->bout[t + 1];
-  double out[SLOT];
-  for (size_t q = 0; q < cnt || jo < jo1;) {
-    if (jo < jo1 && (q == cnt || f->bk[jo] < list[q])) { /* outgoing: A's side */
-      const size_t a = c->a[f->bk[jo]];
-      const double *sl = f->slot + SLOT * jo++;
-      for (int r = 0; r < 3; r++) {
-        p->f[3 * a + r] += sl[r];
-        p->t[3 * a + r] += sl[3 + r];
+  double out[ESF_BATCH_OUT][ESF_BATCH];
+  for (size_t q0 = 0; q0 < cnt; q0 += ESF_BATCH) {
+    const int nl = cnt - q0 < ESF_BATCH ? (int)(cnt - q0) : ESF_BATCH;
+    const unsigned fail = esf_pair_batch_linear(bc, list + q0, nl, out);
+    for (int l = 0; l < nl; l++) {
+      const size_t k = list[q0 + l];
+      for (; jo < jo1 && f->bk[jo] < k; jo++) outgoing(f, c, jo, pf, pt);
+      if (fail >> l & 1u) {
+        if (k < bad) bad = k;
+        continue;
       }
-      continue;
-    }
-    const size_t k = list[q++];
-    if (pair_kernel(s, f, k, rotate, dt, out)) {
-      if (k < bad) bad = k;
-      continue;
-    }
-    const size_t a = c->a[k], b = c->b[k];
-    for (int r = 0; r < 3; r++) {
-      p->f[3 * a + r] += out[r];
-      p->f[3 * b + r] -= out[r];
-      p->t[3 * a + r] += out[3 + r];
-      p->t[3 * b + r] += out[6 + r];
+      const size_t a = c->a[k], b = c->b[k];
+      for (int r = 0; r < 3; r++) {
+        pf[3 * a + r] += out[r][l];
+        pf[3 * b + r] -= out[r][l];
+        pt[3 * a + r] += out[3 + r][l];
+        pt[3 * b + r] += out[6 + r][l];
+      }
     }
   }
+  for (; jo < jo1; jo++) outgoing(f, c, jo, pf, pt);
   return bad;
 }
 
@@ -474,7 +423,23 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
   }
   const size_t n = p->n, T = (size_t)nth;
   const double dt = s->dt, h = 0.5 * dt;
-  const int rotate = s->cfg.tframe == ESF_TFRAME_ROTATE;
+  const esf_contacts *cp = &s->nb.pp;
+  const esf_pair_batch_ctx bc = {p->x,
+                                 p->v,
+                                 p->w,
+                                 p->radius,
+                                 p->material,
+                                 &s->mats,
+                                 cp->a,
+                                 cp->b,
+                                 cp->h,
+                                 cp->touch,
+                                 f->cn,
+                                 f->ct,
+                                 dt,
+                                 s->cfg.max_overlap,
+                                 !HAS_FEATURES || s->cfg.tframe == ESF_TFRAME_ROTATE,
+                                 HAS_FEATURES && has_cohesion(s)};
   const kick_ctx K = {dt,
                       1.0 - s->alpha_r * h,
                       1.0 / (1.0 + s->alpha_r * h),
@@ -498,20 +463,21 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
     const size_t me = 0, got = 1;
 #endif
     /* ranges t = me, me + got, ...: any number of threads covers all T ranges */
-    for (size_t t = me; t < T; t += got)
-      for (size_t j = f->bout[t]; j < f->bout[t + 1]; j++)
-        if (boundary_pair(s, f, j, rotate, dt, &nt_pp)) {
-          if (f->bk[j] < bad_pair) bad_pair = f->bk[j];
+    for (size_t t = me; t < T; t += got) {
+      const size_t bad = boundary_pairs(s, f, &bc, f->bout[t], f->bout[t + 1], &nt_pp);
+      if (bad != SIZE_MAX) {
+        if (bad < bad_pair) bad_pair = bad;
 #pragma omp atomic write
-          bad_bound = 1;
-        }
+        bad_bound = 1;
+      }
+    }
 #pragma omp barrier
     int stop;
 #pragma omp atomic read
     stop = bad_bound;
     for (size_t t = me; t < T && !stop; t += got) {
       const size_t lo = range_lo(n, t, T), hi = range_lo(n, t + 1, T);
-      size_t bad = pairs_range(s, f, t, lo, hi, rotate, dt, &nt_pp);
+      size_t bad = pairs_range(s, f, &bc, t, lo, hi, &nt_pp);
       if (bad < bad_pair) bad_pair = bad;
       if (bad_pair == SIZE_MAX)
         kick_range(s, f, &K, lo, hi, &nt_pw, &bad_part, &max2, &nonfinite);
