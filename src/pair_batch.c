@@ -20,23 +20,28 @@
  * Units: SI. */
 #include "pair_batch.h"
 
+#include "vec4.h"
+
 #include <math.h>
+#include <stddef.h>
+#include <string.h>
 
 #if defined(__AVX__)
 #include <immintrin.h>
 #endif
 
-/* The vector helpers below are static and inlined, so no vector crosses a call
- * boundary: GCC's note that AVX-sized vectors change the ABI of non-AVX builds does
- * not apply. */
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
-
-typedef double vd __attribute__((vector_size(ESF_BATCH * sizeof(double))));
-typedef long long vm __attribute__((vector_size(ESF_BATCH * sizeof(double))));
+typedef esf_v4 vd;
+typedef esf_v4m vm;
 
 _Static_assert(ESF_BATCH == 4, "the gathers below are written for four lanes");
+
+/* The history is read and written as rows of four doubles: xi[0..2], n[0] from HXI
+ * and n[1], n[2] (with the two fields after them) from HN1. */
+#define HXI offsetof(esf_contact_hist, xi)
+#define HN1 (offsetof(esf_contact_hist, n) + sizeof(double))
+_Static_assert(offsetof(esf_contact_hist, n) == HXI + 3 * sizeof(double) &&
+                   HN1 + 4 * sizeof(double) <= sizeof(esf_contact_hist),
+               "xi, n contiguous, and 32 bytes readable from n[1]");
 
 static inline vd sel(vm m, vd a, vd b) { return (vd)(((vm)a & m) | ((vm)b & ~m)); }
 
@@ -55,6 +60,41 @@ static inline vd gat(const double *p, const size_t *i) {
   return (vd){p[i[0]], p[i[1]], p[i[2]], p[i[3]]};
 }
 
+static inline vd ld(const char *p) { return v4_ld(p); }
+
+/* Rows r[l] (lane l's four values) to columns c[j] (value j of the four lanes), and
+ * back: the same operation. */
+static inline void transpose(const vd r[4], vd c[4]) {
+  const vm lo = {0, 4, 2, 6}, hi = {1, 5, 3, 7}, first = {0, 1, 4, 5},
+           last = {2, 3, 6, 7};
+  const vd t0 = __builtin_shuffle(r[0], r[1], lo), t1 = __builtin_shuffle(r[0], r[1], hi);
+  const vd t2 = __builtin_shuffle(r[2], r[3], lo), t3 = __builtin_shuffle(r[2], r[3], hi);
+  c[0] = __builtin_shuffle(t0, t2, first);
+  c[1] = __builtin_shuffle(t1, t3, first);
+  c[2] = __builtin_shuffle(t0, t2, last);
+  c[3] = __builtin_shuffle(t1, t3, last);
+}
+
+static inline void st(double *p, vd v) { v4_st(p, v); }
+
+/* Columns c to the lanes' rows at out[l] + off. */
+static inline void store_rows(const vd c[4], double out[ESF_BATCH][ESF_BATCH_OUT],
+                              int off) {
+  vd r[4];
+  transpose(c, r);
+  st(out[0] + off, r[0]);
+  st(out[1] + off, r[1]);
+  st(out[2] + off, r[2]);
+  st(out[3] + off, r[3]);
+}
+
+/* The four doubles at byte base + off[l] of each lane, as columns. */
+static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
+  const char *b = base;
+  const vd r[4] = {ld(b + off[0]), ld(b + off[1]), ld(b + off[2]), ld(b + off[3])};
+  transpose(r, c);
+}
+
 static inline void cross(vd r[3], const vd a[3], const vd b[3]) {
   r[0] = a[1] * b[2] - a[2] * b[1];
   r[1] = a[2] * b[0] - a[0] * b[2];
@@ -66,37 +106,48 @@ static inline vd dot(const vd a[3], const vd b[3]) {
 }
 
 unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
-                               double out[ESF_BATCH_OUT][ESF_BATCH]) {
+                               double out[ESF_BATCH][ESF_BATCH_OUT]) {
   size_t kk[ESF_BATCH], ia[ESF_BATCH], ib[ESF_BATCH], a3[ESF_BATCH], b3[ESF_BATCH];
-  const esf_pair_params *pp[ESF_BATCH];
-  const esf_materials *mt = c->mt;
+  size_t hk[ESF_BATCH]; /* byte offsets of the histories */
   vm tch;
   for (int l = 0; l < ESF_BATCH; l++) {
     kk[l] = k[l < nl ? l : 0];
     ia[l] = c->a[kk[l]];
     ib[l] = c->b[kk[l]];
-    a3[l] = 3 * ia[l];
-    b3[l] = 3 * ib[l];
-    pp[l] = &mt->pair[c->material[ia[l]] * mt->n + c->material[ib[l]]];
-    tch[l] = c->touch[kk[l]] ? -1 : 0;
+    a3[l] = 3 * sizeof(double) * ia[l]; /* byte offsets of the 3-vectors */
+    b3[l] = 3 * sizeof(double) * ib[l];
+    hk[l] = kk[l] * sizeof(esf_contact_hist);
+    tch[l] = -(long long)c->touch[kk[l]];
   }
-  const vd kn = {pp[0]->kn, pp[1]->kn, pp[2]->kn, pp[3]->kn};
-  const vd kt = {pp[0]->kt, pp[1]->kt, pp[2]->kt, pp[3]->kt};
-  const vd mu = {pp[0]->mu, pp[1]->mu, pp[2]->mu, pp[3]->mu};
+  vd kn, kt, mu, coh = {0, 0, 0, 0};
+  if (c->one) { /* one material: the same parameters in every lane */
+    kn = (vd){0, 0, 0, 0} + c->one->kn;
+    kt = (vd){0, 0, 0, 0} + c->one->kt;
+    mu = (vd){0, 0, 0, 0} + c->one->mu;
+    if (c->cohesion) coh += c->one->cohesion;
+  } else {
+    const esf_materials *mt = c->mt;
+    const esf_pair_params *pp[ESF_BATCH];
+    for (int l = 0; l < ESF_BATCH; l++)
+      pp[l] = &mt->pair[c->material[ia[l]] * mt->n + c->material[ib[l]]];
+    kn = (vd){pp[0]->kn, pp[1]->kn, pp[2]->kn, pp[3]->kn};
+    kt = (vd){pp[0]->kt, pp[1]->kt, pp[2]->kt, pp[3]->kt};
+    mu = (vd){pp[0]->mu, pp[1]->mu, pp[2]->mu, pp[3]->mu};
+    if (c->cohesion)
+      coh = (vd){pp[0]->cohesion, pp[1]->cohesion, pp[2]->cohesion, pp[3]->cohesion};
+  }
   const vd cn = gat(c->cn, kk), ct = gat(c->ct, kk);
-  vd d[3], n[3], wa[3], wb[3], hx[3], hn[3];
-  for (int q = 0; q < 3; q++) {
-    d[q] = gat(c->x + q, b3) - gat(c->x + q, a3);
-    wa[q] = gat(c->w + q, a3);
-    wb[q] = gat(c->w + q, b3);
-  }
-  for (int l = 0; l < ESF_BATCH; l++) {
-    const esf_contact_hist *h = c->h + kk[l];
-    for (int q = 0; q < 3; q++) {
-      hx[q][l] = h->xi[q];
-      hn[q][l] = h->n[q];
-    }
-  }
+  vd xa[4], xb[4], va[4], vb[4], wa[4], wb[4], h0[4], h1[4], d[3], n[3];
+  load_cols(c->x, a3, xa);
+  load_cols(c->x, b3, xb);
+  load_cols(c->v, a3, va);
+  load_cols(c->v, b3, vb);
+  load_cols(c->w, a3, wa);
+  load_cols(c->w, b3, wb);
+  load_cols((const char *)c->h + HXI, hk, h0); /* xi[0..2], n[0] */
+  load_cols((const char *)c->h + HN1, hk, h1); /* n[1..2], bond_s, bond and spare */
+  const vd hx[3] = {h0[0], h0[1], h0[2]}, hn[3] = {h0[3], h1[0], h1[1]};
+  for (int q = 0; q < 3; q++) d[q] = xb[q] - xa[q];
   const vd ra = gat(c->radius, ia), rb = gat(c->radius, ib);
   const vd dist = vsqrt(dot(d, d));
   const vm pos = dist > 0;
@@ -111,7 +162,7 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, i
   vd sw[3], vc[3];
   for (int q = 0; q < 3; q++) sw[q] = la * wa[q] + lb * wb[q];
   cross(vc, sw, n);
-  for (int q = 0; q < 3; q++) vc[q] = gat(c->v + q, b3) - gat(c->v + q, a3) - vc[q];
+  for (int q = 0; q < 3; q++) vc[q] = vb[q] - va[q] - vc[q];
   const vd vn = dot(vc, n);
   vd fn = kn * un - cn * vn;
   fn = sel(fn < 0.0, zero, fn);
@@ -139,9 +190,8 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, i
     xi[q] = sel(tch, xi[q], zero) + c->dt * vct[q];
     ft[q] = kt * xi[q] + ct * vct[q];
   }
-  vd tau = mu * fn; /* fn >= 0 here (no tension): the tension cut-off never applies */
-  if (c->cohesion)
-    tau += (vd){pp[0]->cohesion, pp[1]->cohesion, pp[2]->cohesion, pp[3]->cohesion};
+  /* fn >= 0 here (no tension): the tension cut-off never applies */
+  const vd tau = c->cohesion ? coh + mu * fn : mu * fn;
   const vd ftm2 = dot(ft, ft);
   const vm slide = ftm2 > tau * tau;
   if (any(slide)) { /* sliding: radial return, no dashpot (004 2.16) */
@@ -151,27 +201,29 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, i
       xi[q] = sel(slide, ikt * ft[q], xi[q]);
     }
   }
-  vd m[3];
+  vd m[3], rows[4];
   cross(m, n, ft);
-  for (int q = 0; q < 3; q++) {
-    const vd fo = ft[q] - fn * n[q], ma = la * m[q], mb = lb * m[q];
-    for (int l = 0; l < ESF_BATCH; l++) {
-      out[q][l] = fo[l];
-      out[3 + q][l] = ma[l];
-      out[6 + q][l] = mb[l];
-    }
-  }
+  const vd f4[4] = {ft[0] - fn * n[0], ft[1] - fn * n[1], ft[2] - fn * n[2], zero};
+  const vd ta[4] = {la * m[0], la * m[1], la * m[2], zero};
+  const vd tb[4] = {lb * m[0], lb * m[1], lb * m[2], zero};
+  store_rows(f4, out, 0);
+  store_rows(ta, out, 4);
+  store_rows(tb, out, 8);
+  /* the history: xi and n[0] in one row, n[1], n[2] in the next (h1's other values
+     go back unchanged) */
+  const vd c0[4] = {xi[0], xi[1], xi[2], n[0]}, c1[4] = {n[1], n[2], h1[2], h1[3]};
+  vd r1[4];
+  transpose(c0, rows);
+  transpose(c1, r1);
   unsigned badmask = 0;
   for (int l = 0; l < nl; l++) {
     if (bad[l]) {
       badmask |= 1u << l;
       continue;
     }
-    esf_contact_hist *h = c->h + kk[l];
-    for (int q = 0; q < 3; q++) {
-      h->xi[q] = xi[q][l];
-      h->n[q] = n[q][l];
-    }
+    char *h = (char *)c->h + hk[l];
+    memcpy(h + HXI, &rows[l], sizeof rows[l]);
+    memcpy(h + HN1, &r1[l], 2 * sizeof(double));
     c->touch[kk[l]] = 1;
   }
   return badmask;

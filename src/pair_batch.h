@@ -16,31 +16,34 @@
 #include "material.h"
 
 #define ESF_BATCH     4
-#define ESF_BATCH_OUT 9 /* force on A (3), torque on A (3), torque on B (3) */
+#define ESF_BATCH_OUT 12 /* force on A, torque on A, torque on B: 3 + a zero each */
 
 /* What the batch reads and commits: the particles, the candidate pairs' ends and
  * history, the per-pair dashpot coefficients, and the step's constants. */
 typedef struct esf_pair_batch_ctx {
-  const double *x, *v, *w; /* 3n: m, m/s, rad/s */
-  const double *radius;    /* n, m */
-  const int32_t *material; /* n */
-  const esf_materials *mt; /* pair parameters (kn, kt, mu, cohesion) */
-  const uint32_t *a, *b;   /* per candidate pair k: its particles, a < b */
-  esf_contact_hist *h;     /* per pair: tangential history, committed */
-  uint8_t *touch;          /* per pair: 1 once committed touching */
-  const double *cn, *ct;   /* per pair: normal, tangential dashpot, N s/m */
-  double dt;               /* s */
-  double max_overlap;      /* the overlap limit, fraction of the smaller radius */
-  int rotate;              /* 1: xi rotated into the new plane (000 3-17, 3-18);
-                              0: projected and rescaled */
-  int cohesion;            /* 1: the Coulomb cap includes the pair's cohesion */
+  const double *x, *v, *w;    /* 3n: m, m/s, rad/s */
+  const double *radius;       /* n, m */
+  const int32_t *material;    /* n */
+  const esf_materials *mt;    /* pair parameters (kn, kt, mu, cohesion) */
+  const esf_pair_params *one; /* non-NULL: one material, these parameters everywhere */
+  const uint32_t *a, *b;      /* per candidate pair k: its particles, a < b */
+  esf_contact_hist *h;        /* per pair: tangential history, committed */
+  uint8_t *touch;             /* per pair: 1 once committed touching */
+  const double *cn, *ct;      /* per pair: normal, tangential dashpot, N s/m */
+  double dt;                  /* s */
+  double max_overlap;         /* the overlap limit, fraction of the smaller radius */
+  int rotate;                 /* 1: xi rotated into the new plane (000 3-17, 3-18);
+                                 0: projected and rescaled */
+  int cohesion;               /* 1: the Coulomb cap includes the pair's cohesion */
 } esf_pair_batch_ctx;
 
 /* The contacts of pairs k[0 .. nl) (1 <= nl <= ESF_BATCH; the pairs must overlap:
- * |x_b - x_a| < r_a + r_b). Writes out[c][lane] for c < ESF_BATCH_OUT (component
- * major) and commits each pair's history and touch flag. Returns a bit mask of the
- * lanes whose overlap exceeds the limit: nothing is committed for those. */
+ * |x_b - x_a| < r_a + r_b). Writes out[lane][0 .. ESF_BATCH_OUT) and commits each
+ * pair's history and touch flag. Returns a bit mask of the lanes whose overlap exceeds
+ * the limit: nothing is committed for those. The particle arrays x, v, w are read four
+ * doubles at a time, so one double past the last w must be readable (esf_particles'
+ * y has it). */
 unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *ctx, const uint32_t *k, int nl,
-                               double out[ESF_BATCH_OUT][ESF_BATCH]);
+                               double out[ESF_BATCH][ESF_BATCH_OUT]);
 
 #endif

@@ -43,7 +43,7 @@ int esf_particles_alloc(esf_particles *p, size_t n, esf_error *err) {
   memset(p, 0, sizeof *p);
   size_t m = n ? n : 1; /* never hand out NULL arrays */
   p->n = n;
-  p->y = calloc(9 * m, sizeof(double));
+  p->y = calloc(9 * m + 1, sizeof(double)); /* + 1: pair_batch.c's 4-wide loads */
   p->f = calloc(3 * m, sizeof(double));
   p->t = calloc(3 * m, sizeof(double));
   p->radius = calloc(m, sizeof(double));

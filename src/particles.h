@@ -17,7 +17,7 @@
 
 typedef struct esf_particles {
   size_t n;            /* particle count */
-  double *y;           /* 9n: x | v | w */
+  double *y;           /* 9n: x | v | w, and one spare double (pair_batch.c) */
   double *x;           /* 3n positions, m (= y) */
   double *v;           /* 3n velocities, m/s (= y + 3n) */
   double *w;           /* 3n angular velocities, rad/s (= y + 6n) */

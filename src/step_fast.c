@@ -44,9 +44,11 @@
 
 #include "forces.h"
 #include "pair_batch.h"
+#include "vec4.h"
 #include "vec3.h"
 
-#define SLOT 9 /* force on A (3), torque on A (3), torque on B (3) */
+#define ACC  8             /* the accumulators' stride: four-wide force and torque */
+#define SLOT ESF_BATCH_OUT /* force on A, torque on A, torque on B (4 each) */
 
 struct esf_step_fast {
   long built;       /* nb.builds the indices below belong to (-1: none) */
@@ -54,6 +56,7 @@ struct esf_step_fast {
   int nth;          /* ranges (threads) the split was made for */
   size_t cap_k;     /* pair capacity */
   size_t cap_n;     /* particle capacity */
+  double *acc;      /* ACC per particle: force (3, N), 0, torque (3, N m), 0 */
   double *cn;       /* normal dashpot coefficient per pair, N s/m */
   double *ct;       /* tangential dashpot coefficient per pair, N s/m */
   uint32_t *list;   /* per pair: the overlapping interior pairs of each block */
@@ -82,6 +85,7 @@ void esf_step_fast_free(esf_step_fast **f) {
   free(q->list);
   free(q->astart);
   free(q->wstart);
+  free(q->acc);
   free(q->bk);
   free(q->slot);
   free(q->bout);
@@ -142,7 +146,8 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   }
   if (n + 1 > f->cap_n) {
     if (!grow((void **)&f->astart, n + 1, sizeof(size_t)) ||
-        !grow((void **)&f->wstart, n + 1, sizeof(size_t)))
+        !grow((void **)&f->wstart, n + 1, sizeof(size_t)) ||
+        !grow((void **)&f->acc, n + 1, ACC * sizeof(double)))
       return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particle ranges", n);
     f->cap_n = n + 1;
   }
@@ -254,7 +259,7 @@ static size_t boundary_pairs(esf_sim *s, esf_step_fast *f, const esf_pair_batch_
   uint32_t kb[ESF_BATCH];
   size_t jb[ESF_BATCH], bad = SIZE_MAX;
   int m = 0;
-  double out[ESF_BATCH_OUT][ESF_BATCH];
+  double out[ESF_BATCH][ESF_BATCH_OUT];
   for (size_t j = j0; j < j1 || m > 0;) {
     if (j < j1) {
       const size_t k = f->bk[j], a = c->a[k], b = c->b[k];
@@ -280,8 +285,7 @@ static size_t boundary_pairs(esf_sim *s, esf_step_fast *f, const esf_pair_batch_
         if (kb[l] < bad) bad = kb[l];
         continue;
       }
-      double *sl = f->slot + SLOT * jb[l];
-      for (int q = 0; q < SLOT; q++) sl[q] = out[q][l];
+      memcpy(f->slot + SLOT * jb[l], out[l], sizeof out[l]);
     }
     m = 0;
   }
@@ -302,7 +306,7 @@ static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, si
   esf_particles *p = &s->p;
   const double dt = K->dt;
   for (size_t i = lo; i < hi; i++) {
-    double *fi = p->f + 3 * i, *ti = p->t + 3 * i;
+    double *fi = f->acc + ACC * i, *ti = fi + 4;
     if (f->wstart[i] < f->wstart[i + 1] &&
         esf_forces_wall_particle(s, f->wstart[i], f->wstart[i + 1], p->x, p->v, p->w, dt,
                                  ESF_FORCES_COMMIT, NULL, NULL, nt_pw, fi, ti, NULL)) {
@@ -318,6 +322,8 @@ static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, si
     double fk[3], tk[3];
     v3_copy(fk, fi);
     v3_copy(tk, ti);
+    v3_copy(p->f + 3 * i, fi); /* F_n, M_n for whoever reads them after the step */
+    v3_copy(p->t + 3 * i, ti);
     if (HAS_FEATURES && K->loc) {
       double fd[3], md[3];
       K->loc->force(K->lc, fk, v, fd);
@@ -351,14 +357,11 @@ static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, si
 }
 
 /* Step 2: adds the A side of outgoing boundary slot j (its pair's a is in range). */
-static inline void outgoing(const esf_step_fast *f, const esf_contacts *c, size_t j,
-                            double *pf, double *pt) {
-  const size_t a = c->a[f->bk[j]];
+static inline void outgoing(const esf_step_fast *f, const esf_contacts *c, size_t j) {
+  double *fa = f->acc + ACC * c->a[f->bk[j]];
   const double *sl = f->slot + SLOT * j;
-  for (int r = 0; r < 3; r++) {
-    pf[3 * a + r] += sl[r];
-    pt[3 * a + r] += sl[3 + r];
-  }
+  v4_acc(fa, sl);
+  v4_acc(fa + 4, sl + 4);
 }
 
 /* Step 2's pair pass for range t: forces of all pairs touching its particles, in
@@ -368,48 +371,45 @@ static size_t pairs_range(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx
   esf_particles *p = &s->p;
   const esf_contacts *c = &s->nb.pp;
   const double *g = s->cfg.gravity;
-  double *pf = p->f, *pt = p->t;
+  double *acc = f->acc;
   size_t bad = SIZE_MAX;
   for (size_t i = lo; i < hi; i++) {
     const double mass = p->mass[i];
-    double *fi = pf + 3 * i, *ti = pt + 3 * i;
-    fi[0] = mass * g[0], fi[1] = mass * g[1], fi[2] = mass * g[2];
-    ti[0] = 0.0, ti[1] = 0.0, ti[2] = 0.0;
+    double *ai = acc + ACC * i;
+    ai[0] = mass * g[0], ai[1] = mass * g[1], ai[2] = mass * g[2], ai[3] = 0.0;
+    ai[4] = 0.0, ai[5] = 0.0, ai[6] = 0.0, ai[7] = 0.0;
   }
   for (size_t q = f->binstart[t]; q < f->binstart[t + 1]; q++) { /* incoming */
-    const size_t j = f->bin[q], b = c->b[f->bk[j]];
+    const size_t j = f->bin[q];
+    double *ab = acc + ACC * c->b[f->bk[j]];
     const double *sl = f->slot + SLOT * j;
-    for (int r = 0; r < 3; r++) {
-      pf[3 * b + r] -= sl[r];
-      pt[3 * b + r] += sl[6 + r];
-    }
+    v4_dec(ab, sl);
+    v4_acc(ab + 4, sl + 8);
   }
   uint32_t *list = f->list + f->astart[lo];
   const size_t cnt = screen_block(s, f, lo, hi, list);
   *nt_pp += cnt;
   size_t jo = f->bout[t];
   const size_t jo1 = f->bout[t + 1];
-  double out[ESF_BATCH_OUT][ESF_BATCH];
+  double out[ESF_BATCH][ESF_BATCH_OUT];
   for (size_t q0 = 0; q0 < cnt; q0 += ESF_BATCH) {
     const int nl = cnt - q0 < ESF_BATCH ? (int)(cnt - q0) : ESF_BATCH;
     const unsigned fail = esf_pair_batch_linear(bc, list + q0, nl, out);
     for (int l = 0; l < nl; l++) {
       const size_t k = list[q0 + l];
-      for (; jo < jo1 && f->bk[jo] < k; jo++) outgoing(f, c, jo, pf, pt);
+      for (; jo < jo1 && f->bk[jo] < k; jo++) outgoing(f, c, jo);
       if (fail >> l & 1u) {
         if (k < bad) bad = k;
         continue;
       }
-      const size_t a = c->a[k], b = c->b[k];
-      for (int r = 0; r < 3; r++) {
-        pf[3 * a + r] += out[r][l];
-        pf[3 * b + r] -= out[r][l];
-        pt[3 * a + r] += out[3 + r][l];
-        pt[3 * b + r] += out[6 + r][l];
-      }
+      double *aa = acc + ACC * c->a[k], *ab = acc + ACC * c->b[k];
+      v4_acc(aa, out[l]);
+      v4_dec(ab, out[l]);
+      v4_acc(aa + 4, out[l] + 4);
+      v4_acc(ab + 4, out[l] + 8);
     }
   }
-  for (; jo < jo1; jo++) outgoing(f, c, jo, pf, pt);
+  for (; jo < jo1; jo++) outgoing(f, c, jo);
   return bad;
 }
 
@@ -430,6 +430,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
                                  p->radius,
                                  p->material,
                                  &s->mats,
+                                 s->mats.n == 1 ? s->mats.pair : NULL,
                                  cp->a,
                                  cp->b,
                                  cp->h,
