@@ -68,6 +68,7 @@ struct esf_step_fast {
   size_t *bout;     /* nth+1: bk[bout[t] .. bout[t+1]) have a in range t */
   uint32_t *bin;    /* boundary ordinals by the range of b, ascending within */
   size_t *binstart; /* nth+1 */
+  size_t *rlo;      /* nth+1: the particle ranges (cut_ranges) */
 };
 
 int esf_step_fast_create(esf_step_fast **out, esf_error *err) {
@@ -91,6 +92,7 @@ void esf_step_fast_free(esf_step_fast **f) {
   free(q->bout);
   free(q->bin);
   free(q->binstart);
+  free(q->rlo);
   free(q);
   *f = NULL;
 }
@@ -130,7 +132,27 @@ static int grow(void **p, size_t n, size_t size) {
   return 1;
 }
 
-static size_t range_lo(size_t n, size_t t, size_t T) { return n * t / T; }
+/* The particle ranges, rlo[t] .. rlo[t + 1] for thread t, cut where the estimated work
+ * (per particle 1, per candidate pair 1, per wall candidate 6: the instruction counts'
+ * proportions) is shared equally, so threads finish together although a bed's bottom
+ * has more contacts than its surface. Any cut gives the same results. */
+static void cut_ranges(esf_step_fast *f, size_t n, size_t T) {
+  const size_t total = n + f->astart[n] + 6 * f->wstart[n];
+  size_t i = 0, acc = 0;
+  f->rlo[0] = 0;
+  for (size_t t = 1; t < T; t++) {
+    const size_t goal = total / T * t + total % T * t / T;
+    while (i < n && acc < goal) {
+      acc +=
+          1 + (f->astart[i + 1] - f->astart[i]) + 6 * (f->wstart[i + 1] - f->wstart[i]);
+      i++;
+    }
+    f->rlo[t] = i;
+  }
+  f->rlo[T] = n;
+}
+
+static size_t range_lo(const esf_step_fast *f, size_t t) { return f->rlo[t]; }
 
 /* Step 0: indices and coefficients for the current lists and T ranges. */
 static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
@@ -152,7 +174,8 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
     f->cap_n = n + 1;
   }
   if (!grow((void **)&f->bout, T + 1, sizeof(size_t)) ||
-      !grow((void **)&f->binstart, T + 1, sizeof(size_t)))
+      !grow((void **)&f->binstart, T + 1, sizeof(size_t)) ||
+      !grow((void **)&f->rlo, T + 1, sizeof(size_t)))
     return esf_fail(err, ESF_ENOMEM, "out of memory");
   const esf_materials *mt = &s->mats;
   for (size_t k = 0; k < m; k++) {
@@ -175,13 +198,14 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
     f->astart[i + 1] += f->astart[i];
     f->wstart[i + 1] += f->wstart[i];
   }
+  cut_ranges(f, n, T);
   /* boundary pairs: a in range t, b in a higher range (b > a) */
   size_t nb = 0;
   memset(f->bout, 0, (T + 1) * sizeof(size_t));
   memset(f->binstart, 0, (T + 1) * sizeof(size_t));
   for (size_t t = 0; t < T; t++) {
-    const size_t hi = range_lo(n, t + 1, T);
-    for (size_t k = f->astart[range_lo(n, t, T)]; k < f->astart[hi]; k++)
+    const size_t hi = range_lo(f, t + 1);
+    for (size_t k = f->astart[range_lo(f, t)]; k < f->astart[hi]; k++)
       if (c->b[k] >= hi) nb++;
   }
   if (nb > f->cap_b) {
@@ -194,13 +218,13 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   f->nb = nb;
   nb = 0;
   for (size_t t = 0; t < T; t++) {
-    const size_t hi = range_lo(n, t + 1, T);
+    const size_t hi = range_lo(f, t + 1);
     f->bout[t] = nb;
-    for (size_t k = f->astart[range_lo(n, t, T)]; k < f->astart[hi]; k++)
+    for (size_t k = f->astart[range_lo(f, t)]; k < f->astart[hi]; k++)
       if (c->b[k] >= hi) {
         f->bk[nb++] = (uint32_t)k;
         size_t tb = t + 1; /* the range of b */
-        while (tb + 1 < T && c->b[k] >= range_lo(n, tb + 1, T)) tb++;
+        while (tb + 1 < T && c->b[k] >= range_lo(f, tb + 1)) tb++;
         f->binstart[tb + 1]++;
       }
   }
@@ -211,7 +235,7 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   memcpy(cu, f->binstart, T * sizeof *cu);
   for (size_t j = 0; j < nb; j++) { /* ascending k within each range of b */
     size_t tb = 0;
-    while (tb + 1 < T && c->b[f->bk[j]] >= range_lo(n, tb + 1, T)) tb++;
+    while (tb + 1 < T && c->b[f->bk[j]] >= range_lo(f, tb + 1)) tb++;
     f->bin[cu[tb]++] = (uint32_t)j;
   }
   if (cu != cur) free(cu);
@@ -232,11 +256,12 @@ static size_t screen_block(esf_sim *s, const esf_step_fast *f, size_t lo, size_t
   esf_contacts *c = &s->nb.pp;
   const double *x = p->x, *r = p->radius;
   const uint32_t *cb = c->b;
-  uint8_t *touch = c->touch;
+  const size_t *astart = f->astart;
+  uint8_t *touch = c->touch; /* a byte store may alias anything: bounds kept in locals */
   size_t cnt = 0;
-  for (size_t a = lo; a < hi; a++) {
+  for (size_t a = lo, k = astart[lo]; a < hi; a++) {
     const double xa = x[3 * a], ya = x[3 * a + 1], za = x[3 * a + 2], ra = r[a];
-    for (size_t k = f->astart[a]; k < f->astart[a + 1]; k++) {
+    for (const size_t k1 = astart[a + 1]; k < k1; k++) {
       const size_t b = cb[k];
       const double dx = x[3 * b] - xa, dy = x[3 * b + 1] - ya, dz = x[3 * b + 2] - za,
                    R = ra + r[b];
@@ -421,7 +446,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
     rc = index_lists(s, f, nth, err);
     if (rc) return rc;
   }
-  const size_t n = p->n, T = (size_t)nth;
+  const size_t T = (size_t)nth;
   const double dt = s->dt, h = 0.5 * dt;
   const esf_contacts *cp = &s->nb.pp;
   const esf_pair_batch_ctx bc = {p->x,
@@ -477,7 +502,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
 #pragma omp atomic read
     stop = bad_bound;
     for (size_t t = me; t < T && !stop; t += got) {
-      const size_t lo = range_lo(n, t, T), hi = range_lo(n, t + 1, T);
+      const size_t lo = range_lo(f, t), hi = range_lo(f, t + 1);
       size_t bad = pairs_range(s, f, &bc, t, lo, hi, &nt_pp);
       if (bad < bad_pair) bad_pair = bad;
       if (bad_pair == SIZE_MAX)
