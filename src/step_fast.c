@@ -44,6 +44,7 @@
 
 #include "forces.h"
 #include "vec3.h"
+#include "wall_fast.h"
 
 #define SLOT 9 /* force on A (3), torque on A (3), torque on B (3) */
 
@@ -110,8 +111,8 @@ static int minimal_ok(const esf_sim *s) {
 int esf_step_fast_eligible(const esf_sim *s) {
   return s->cfg.fused && !s->led.on && !s->cfg.autod.on && !s->tally &&
          s->law == &esf_contact_linear && !s->nb.pp.vc0 && !s->nb.pp.xs && !s->nb.pw.xs &&
-         (HAS_FEATURES || minimal_ok(s)) &&
-         !s->walls.gforce && !s->drag; /* servo walls, fluid force: general path */
+         (HAS_FEATURES || minimal_ok(s)) && !s->walls.gforce &&
+         !s->drag; /* servo walls, fluid force: general path */
 }
 
 static int grow(void **p, size_t n, size_t size) {
@@ -360,11 +361,11 @@ static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, si
                        int *nonfinite) {
   esf_particles *p = &s->p;
   const double dt = K->dt;
+  const esf_wall_pass_fn wall_pass = esf_wall_pass_select(s); /* wall_fast.h */
   for (size_t i = lo; i < hi; i++) {
     double *fi = p->f + 3 * i, *ti = p->t + 3 * i;
     if (f->wstart[i] < f->wstart[i + 1] &&
-        esf_forces_wall_particle(s, f->wstart[i], f->wstart[i + 1], p->x, p->v, p->w, dt,
-                                 ESF_FORCES_COMMIT, NULL, NULL, nt_pw, fi, ti, NULL)) {
+        wall_pass(s, f->wstart[i], f->wstart[i + 1], dt, nt_pw, fi, ti)) {
       if (i < *bad_part) *bad_part = i;
       continue;
     }
