@@ -111,8 +111,8 @@ static int minimal_ok(const esf_sim *s) {
 int esf_step_fast_eligible(const esf_sim *s) {
   return s->cfg.fused && !s->led.on && !s->cfg.autod.on && !s->tally &&
          s->law == &esf_contact_linear && !s->nb.pp.vc0 && !s->nb.pp.xs && !s->nb.pw.xs &&
-         (HAS_FEATURES || minimal_ok(s)) && !s->walls.gforce &&
-         !s->drag; /* servo walls, fluid force: general path */
+         (HAS_FEATURES || minimal_ok(s)) &&
+         !s->walls.gforce && !s->drag; /* servo walls, fluid force: general path */
 }
 
 static int grow(void **p, size_t n, size_t size) {

@@ -25,9 +25,8 @@
 
 #define AREA_TOL   1e-12 /* zero area below this fraction of size^2 */
 #define REPEAT_TOL 1e-12 /* vertices closer than this fraction of the size coincide */
-#define PLANAR_TOL                                                                       \
-  1e-9 /* a quadrilateral may bend off its plane this much of its size                   \
-        */
+/* a quadrilateral may bend off its plane this much of its size */
+#define PLANAR_TOL 1e-9
 
 static int finite3(const double *a) {
   return isfinite(a[0]) && isfinite(a[1]) && isfinite(a[2]);
