@@ -16,6 +16,7 @@
  *            the fan's centre touches 40 coincident faces (more than the pass keeps on
  *            the stack: the lists' scratch);
  *   disks  — 2D: disks in a box with a plane in a corner.
+ * The box also runs on 1 and 2 threads (the fused step's ranges) to the same bits.
  * The counts of what was exercised (multi-wall contacts, edge or vertex contacts,
  * dropped duplicates, sliding contacts, scratch) must be positive, so that the
  * comparison cannot pass vacuously. */
@@ -270,6 +271,37 @@ static void run_scene(const char *name, const char *yaml, const char *tframe, in
   simtest_close(&T);
 }
 
+/* The fused step with the fast pass on 1 and 2 threads: the same state bit for bit. */
+static void threads_same(void) {
+  double *y[2] = {NULL, NULL};
+  esf_contact_hist *h[2] = {NULL, NULL};
+  size_t n = 0, m = 0;
+  for (int q = 0; q < 2; q++) {
+    const char *sets[] = {"integrator.fused=true"};
+    simtest T;
+    int rc = simtest_open(&T, box_scene, sets, 1);
+    CHECK(rc == 0, "threads: open");
+    if (rc) return;
+    T.s.cfg.threads = q + 1;
+    for (int k = 0; k < 4000 && !rc; k++) rc = simtest_step(&T);
+    CHECK(rc == 0, "threads %d: run", q + 1);
+    n = T.s.p.n;
+    m = T.s.nb.pw.n;
+    y[q] = malloc(9 * n * sizeof(double));
+    h[q] = malloc((m ? m : 1) * sizeof *h[q]);
+    memcpy(y[q], T.s.p.y, 9 * n * sizeof(double));
+    memcpy(h[q], T.s.nb.pw.h, m * sizeof *h[q]);
+    simtest_close(&T);
+  }
+  CHECK(!memcmp(y[0], y[1], 9 * n * sizeof(double)) &&
+            !memcmp(h[0], h[1], m * sizeof *h[0]),
+        "1 and 2 threads differ");
+  for (int q = 0; q < 2; q++) {
+    free(y[q]);
+    free(h[q]);
+  }
+}
+
 /* A sphere too deep in a wall: the fused step (fast pass) and the general path stop
  * with the same message. */
 static void overlap_failure(const double pos[3], int fused_general_same) {
@@ -327,6 +359,8 @@ int main(void) {
   run_scene("disks", disks_scene, "rotate", 5000, &st);
   CHECK(st.multi > 0 && st.sliding > 0, "disks: multi %ld, sliding %ld", st.multi,
         st.sliding);
+
+  threads_same();
 
   /* the overlap limit (50% of the radius): a face, and a corner with three hits */
   overlap_failure((const double[3]){0.01, 0.005, 0.0004}, 1);
