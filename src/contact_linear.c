@@ -7,9 +7,11 @@
  * Mohr-Coulomb surface of the normal force.
  * Dashpots: c = 2 gamma sqrt(m* k) (Tsuji, 004 2.27–2.29), or c = beta k (Rayleigh).
  * Elastic energy: (1/2) kn un^2 and (1/2) kt |xi|^2.
- * Units: SI. Forces are those on A. The history written never carries a bond. */
+ * Units: SI. Forces are those on A. The history written never carries a bond.
+ * The evaluation itself is the inline esf_contact_linear_eval (contact_linear.h), which
+ * the fast wall pass (wall_fast.c) shares. */
 #include "contact_law.h"
-#include "contact_tangential.h"
+#include "contact_linear.h"
 
 #include <math.h>
 
@@ -18,28 +20,7 @@
 static void linear_eval(const esf_pair_params *pp, double beta, int tframe,
                         const esf_contact_in *in, const esf_contact_hist *hist, int first,
                         esf_contact_hist *hist_out, esf_contact_out *out) {
-  const double *n = in->n;
-  if (in->un <= 0.0) {
-    *out = (esf_contact_out){0};
-    if (hist_out) *hist_out = (esf_contact_hist){{0, 0, 0}, {n[0], n[1], n[2]}, 0, 0, 0};
-    return;
-  }
-  double sm = sqrt(in->mstar);
-  double cn = beta > 0 ? beta * pp->kn : pp->cn_factor * sm;
-  double ct = beta > 0 ? beta * pp->kt : pp->ct_factor * sm;
-
-  double vn = v3_dot(in->vc, n); /* < 0 approaching */
-  double fel = pp->kn * in->un;
-  double fd = -cn * vn;
-  double fn = fel + fd;
-  if (fn < 0.0) {
-    fn = 0.0;
-    fd = -fel;
-  }
-  double xi[3];
-  esf_contact_tangential(pp, ct, tframe, in, hist, first, vn, fn, xi, out);
-  esf_contact_finish(in, fn, fd, xi, 0, 0.0, hist_out, out);
-  out->e_el_n = 0.5 * pp->kn * in->un * in->un;
+  esf_contact_linear_eval(pp, beta, tframe, in, hist, first, hist_out, out); /* .h */
 }
 
 static double linear_energy_n(const esf_pair_params *pp, const esf_contact_hist *h,

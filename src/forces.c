@@ -211,6 +211,15 @@ static void select_wall_hits(const esf_walls *walls, const uint32_t *elem,
   }
 }
 
+/* ---- exposed for the fast wall pass (wall_fast.c), which keeps this rule exactly ----
+ */
+void esf_forces_select_wall_hits(const esf_walls *walls, const uint32_t *elem,
+                                 const esf_wall_hit *hits, const double *un, size_t m,
+                                 double r, unsigned char *keep) {
+  select_wall_hits(walls, elem, hits, un, m, r, keep);
+}
+/* ---- */
+
 int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
                              const double *v, const double *w, double dt, int commit,
                              double *led, double *slip, size_t *nt, double *f, double *t,

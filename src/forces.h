@@ -51,6 +51,14 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
                              double *led, double *slip, size_t *nt, double *f, double *t,
                              esf_error *err);
 
+/* Which of one particle's wall hits carry force (forces.c's rule: faces first, edges
+ * and vertices unless on a touched face or already kept; shared points once): keep[k]
+ * for hits[0..m) on elements elem[0..m) with overlaps un (entries with un <= 0 are
+ * ignored and not read), particle radius r. For the fast wall pass (wall_fast.c). */
+void esf_forces_select_wall_hits(const esf_walls *walls, const uint32_t *elem,
+                                 const esf_wall_hit *hits, const double *un, size_t m,
+                                 double r, unsigned char *keep);
+
 /* After a leapfrog kick (before the drift): accumulates the dashpot dissipation and the
  * work of walls over the step with the mid-step velocities vbar, wbar (the average of
  * the half steps), using the dashpot forces the last COMMIT evaluation stored, and

@@ -46,6 +46,7 @@
 #include "pair_batch.h"
 #include "vec4.h"
 #include "vec3.h"
+#include "wall_fast.h"
 
 #define ACC  8             /* the accumulators' stride: four-wide force and torque */
 #define SLOT ESF_BATCH_OUT /* force on A, torque on A, torque on B (4 each) */
@@ -330,11 +331,11 @@ static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, si
                        int *nonfinite) {
   esf_particles *p = &s->p;
   const double dt = K->dt;
+  const esf_wall_pass_fn wall_pass = esf_wall_pass_select(s); /* wall_fast.h */
   for (size_t i = lo; i < hi; i++) {
     double *fi = f->acc + ACC * i, *ti = fi + 4;
     if (f->wstart[i] < f->wstart[i + 1] &&
-        esf_forces_wall_particle(s, f->wstart[i], f->wstart[i + 1], p->x, p->v, p->w, dt,
-                                 ESF_FORCES_COMMIT, NULL, NULL, nt_pw, fi, ti, NULL)) {
+        wall_pass(s, f->wstart[i], f->wstart[i + 1], dt, nt_pw, fi, ti)) {
       if (i < *bad_part) *bad_part = i;
       continue;
     }

@@ -25,10 +25,8 @@
 
 #define AREA_TOL   1e-12 /* zero area below this fraction of size^2 */
 #define REPEAT_TOL 1e-12 /* vertices closer than this fraction of the size coincide */
-#define PLANAR_TOL                                                                       \
-  1e-9                   /* a quadrilateral may bend off its plane this much of its size \
-                          */
-#define INSIDE_TOL 1e-12 /* inside test slack, as a fraction of bound_r */
+/* a quadrilateral may bend off its plane this much of its size */
+#define PLANAR_TOL 1e-9
 
 static int finite3(const double *a) {
   return isfinite(a[0]) && isfinite(a[1]) && isfinite(a[2]);
@@ -180,10 +178,10 @@ int esf_wall_polygon_init(esf_wall_elem *e, int nv, const double (*verts)[3],
 }
 
 void esf_wall_nearest(const esf_wall_elem *e, const double x[3], esf_wall_hit *hit) {
-  double r[3];
-  v3_sub(r, x, e->p);
-  double h = v3_dot(r, e->n); /* signed height of x over the element's plane */
   if (e->kind == ESF_WALL_PLANE) {
+    double r[3];
+    v3_sub(r, x, e->p);
+    double h = v3_dot(r, e->n); /* signed height of x over the plane */
     v3_copy(hit->q, x);
     v3_axpy(hit->q, -h, e->n);
     v3_scale(hit->n, -1, e->n);
@@ -192,17 +190,8 @@ void esf_wall_nearest(const esf_wall_elem *e, const double x[3], esf_wall_hit *h
     return;
   }
 
-  double foot[3];
-  v3_copy(foot, x);
-  v3_axpy(foot, -h, e->n);
-  const double tol = INSIDE_TOL * e->bound_r;
-  int inside = 1;
-  for (int k = 0; k < e->nv && inside; k++) {
-    double d[3];
-    v3_sub(d, foot, e->v[k]);
-    if (v3_dot(d, e->edge_n[k]) > tol) inside = 0;
-  }
-  if (inside) {
+  double h, foot[3];
+  if (esf_wall_polygon_foot(e, x, &h, foot)) { /* wall_geom.h */
     v3_copy(hit->q, foot);
     hit->dist = fabs(h);
     v3_scale(hit->n, h < 0 ? 1 : -1, e->n); /* (q - x)/dist; -n when on the face */
