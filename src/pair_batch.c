@@ -119,11 +119,13 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, i
     hk[l] = kk[l] * sizeof(esf_contact_hist);
     tch[l] = -(long long)c->touch[kk[l]];
   }
-  vd kn, kt, mu, coh = {0, 0, 0, 0};
+  vd kn, kt, mu, cnf, ctf, coh = {0, 0, 0, 0};
   if (c->one) { /* one material: the same parameters in every lane */
     kn = (vd){0, 0, 0, 0} + c->one->kn;
     kt = (vd){0, 0, 0, 0} + c->one->kt;
     mu = (vd){0, 0, 0, 0} + c->one->mu;
+    cnf = (vd){0, 0, 0, 0} + c->one->cn_factor;
+    ctf = (vd){0, 0, 0, 0} + c->one->ct_factor;
     if (c->cohesion) coh += c->one->cohesion;
   } else {
     const esf_materials *mt = c->mt;
@@ -133,10 +135,21 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, i
     kn = (vd){pp[0]->kn, pp[1]->kn, pp[2]->kn, pp[3]->kn};
     kt = (vd){pp[0]->kt, pp[1]->kt, pp[2]->kt, pp[3]->kt};
     mu = (vd){pp[0]->mu, pp[1]->mu, pp[2]->mu, pp[3]->mu};
+    cnf = (vd){pp[0]->cn_factor, pp[1]->cn_factor, pp[2]->cn_factor, pp[3]->cn_factor};
+    ctf = (vd){pp[0]->ct_factor, pp[1]->ct_factor, pp[2]->ct_factor, pp[3]->ct_factor};
     if (c->cohesion)
       coh = (vd){pp[0]->cohesion, pp[1]->cohesion, pp[2]->cohesion, pp[3]->cohesion};
   }
-  const vd cn = gat(c->cn, kk), ct = gat(c->ct, kk);
+  vd cn, ct; /* the dashpots, N s/m */
+  if (c->beta > 0) {
+    cn = c->beta * kn;
+    ct = c->beta * kt;
+  } else { /* c = factor sqrt(m*), m* = ma mb / (ma + mb) */
+    const vd ma = gat(c->mass, ia), mb = gat(c->mass, ib),
+             sm = vsqrt(ma * mb / (ma + mb));
+    cn = cnf * sm;
+    ct = ctf * sm;
+  }
   vd xa[4], xb[4], va[4], vb[4], wa[4], wb[4], h0[4], h1[4], d[3], n[3];
   load_cols(c->x, a3, xa);
   load_cols(c->x, b3, xb);

@@ -29,7 +29,9 @@ typedef struct esf_pair_batch_ctx {
   const uint32_t *a, *b;      /* per candidate pair k: its particles, a < b */
   esf_contact_hist *h;        /* per pair: tangential history, committed */
   uint8_t *touch;             /* per pair: 1 once committed touching */
-  const double *cn, *ct;      /* per pair: normal, tangential dashpot, N s/m */
+  const double *mass;         /* n, kg: the dashpots' reduced mass */
+  double beta;                /* > 0: Rayleigh dashpots c = beta k (001 3.47); else c =
+                                 factor sqrt(m*) (004 2.28) */
   double dt;                  /* s */
   double max_overlap;         /* the overlap limit, fraction of the smaller radius */
   int rotate;                 /* 1: xi rotated into the new plane (000 3-17, 3-18);

@@ -11,7 +11,7 @@
  * ranges, one per thread; as the pair list is sorted by (a, b) with a < b, the pairs
  * whose a lies in range t form one block of k. A pair whose b lies in a higher range
  * is a boundary pair.
- *   0. after a list rebuild (or a new T): per-pair dashpot coefficients, the ranges'
+ *   0. after a list rebuild (or a new T): the ranges (cut by estimated work), their
  *      pair blocks, the wall candidates of each particle, the boundary pairs;
  *   1. each thread computes its boundary pairs (force on A, torques on A and B) into
  *      their slots (zero when not touching), committing their history; barrier;
@@ -58,8 +58,6 @@ struct esf_step_fast {
   size_t cap_k;     /* pair capacity */
   size_t cap_n;     /* particle capacity */
   double *acc;      /* ACC per particle: force (3, N), 0, torque (3, N m), 0 */
-  double *cn;       /* normal dashpot coefficient per pair, N s/m */
-  double *ct;       /* tangential dashpot coefficient per pair, N s/m */
   uint32_t *list;   /* per pair: the overlapping interior pairs of each block */
   size_t *astart;   /* n+1: pairs k in [astart[i], astart[i+1]) have a == i */
   size_t *wstart;   /* n+1: wall candidates of particle i */
@@ -82,8 +80,6 @@ int esf_step_fast_create(esf_step_fast **out, esf_error *err) {
 void esf_step_fast_free(esf_step_fast **f) {
   if (!f || !*f) return;
   esf_step_fast *q = *f;
-  free(q->cn);
-  free(q->ct);
   free(q->list);
   free(q->astart);
   free(q->wstart);
@@ -161,9 +157,7 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   const esf_contacts *c = &s->nb.pp, *cw = &s->nb.pw;
   const size_t n = p->n, m = c->n, T = (size_t)nth;
   if (m > f->cap_k) {
-    if (!grow((void **)&f->cn, m, sizeof(double)) ||
-        !grow((void **)&f->ct, m, sizeof(double)) ||
-        !grow((void **)&f->list, m, sizeof(uint32_t)))
+    if (!grow((void **)&f->list, m, sizeof(uint32_t)))
       return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact candidates", m);
     f->cap_k = m;
   }
@@ -178,19 +172,6 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
       !grow((void **)&f->binstart, T + 1, sizeof(size_t)) ||
       !grow((void **)&f->rlo, T + 1, sizeof(size_t)))
     return esf_fail(err, ESF_ENOMEM, "out of memory");
-  const esf_materials *mt = &s->mats;
-  for (size_t k = 0; k < m; k++) {
-    uint32_t a = c->a[k], b = c->b[k];
-    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
-    if (s->beta > 0) {
-      f->cn[k] = s->beta * pp->kn;
-      f->ct[k] = s->beta * pp->kt;
-    } else {
-      double sm = sqrt(p->mass[a] * p->mass[b] / (p->mass[a] + p->mass[b]));
-      f->cn[k] = pp->cn_factor * sm;
-      f->ct[k] = pp->ct_factor * sm;
-    }
-  }
   memset(f->astart, 0, (n + 1) * sizeof(size_t));
   memset(f->wstart, 0, (n + 1) * sizeof(size_t));
   for (size_t k = 0; k < m; k++) f->astart[c->a[k] + 1]++;
@@ -461,8 +442,8 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
                                  cp->b,
                                  cp->h,
                                  cp->touch,
-                                 f->cn,
-                                 f->ct,
+                                 p->mass,
+                                 s->beta,
                                  dt,
                                  s->cfg.max_overlap,
                                  !HAS_FEATURES || s->cfg.tframe == ESF_TFRAME_ROTATE,
