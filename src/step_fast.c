@@ -4,7 +4,8 @@
  * 001 3.50–3.54) with the linear law of contact_linear.c (PHYSICS.md §3.1–3.2: normal
  * spring and dashpot without tension, incremental tangential spring carried into the
  * new contact plane, tangential dashpot while sticking, Mohr-Coulomb cap with radial
- * return), written out for the pair loop without the ledger's by-products.
+ * return), written out for the pair loop without the ledger's by-products, four pairs
+ * at a time in vector lanes (pair_batch.c).
  *
  * Order of operations in one call (state on entry: x_n, v_{n-1/2}, w_{n-1/2}, lists
  * valid for x_n, history at t_{n-1}). The particles are split into T contiguous
@@ -13,16 +14,18 @@
  * is a boundary pair.
  *   0. after a list rebuild (or a new T): the ranges (cut by estimated work), their
  *      pair blocks, the wall candidates of each particle, the boundary pairs;
- *   1. each thread computes its boundary pairs (force on A, torques on A and B) into
- *      their slots (zero when not touching), committing their history; barrier;
- *   2. each thread, for its own range: sets f = m g, t = 0; subtracts the incoming
- *      boundary slots (pairs whose b is its particle) in ascending k; screens its pair
- *      block for overlapping spheres into a list without branches; goes through its
- *      block in ascending k, computing the listed pairs and scattering their forces
- *      to both particles, and adding the A side of its outgoing boundary slots; then,
- *      particle by particle: wall contacts (esf_forces_wall_particle, forces.c), the
- *      2D projection, local damping, kick with global damping (1 -+ alpha dt/2), drift
- *      x += v dt, the squared displacement since the last build.
+ *   1. each thread computes its touching boundary pairs in batches (force on A,
+ *      torques on A and B) into their slots (zeroed when the contact ends),
+ *      committing their history; barrier;
+ *   2. each thread, for its own range: sets its four-wide accumulators to f = m g,
+ *      t = 0; subtracts the incoming boundary slots (pairs whose b is its particle) in
+ *      ascending k; screens its pair block for overlapping spheres into a list without
+ *      branches; computes the listed pairs in batches of four, in ascending k, adding
+ *      their forces to both particles and, between them in k order, the A side of its
+ *      outgoing boundary slots; then, particle by particle: wall contacts (the pass of
+ *      wall_fast.h), copy of F and M to p.f, p.t, the 2D projection, local damping,
+ *      kick with global damping (1 -+ alpha dt/2), drift x += v dt, the squared
+ *      displacement since the last build.
  * After the barrier no thread reads another range's particles (an interior pair has
  * both ends in the range; the boundary pairs were done before), so each thread drifts
  * its range as soon as it is done. Every particle receives its pair forces in
