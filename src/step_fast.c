@@ -306,13 +306,16 @@ static size_t boundary_pairs(esf_sim *s, esf_step_fast *f, const esf_pair_batch_
 typedef struct kick_ctx {
   double dt, cr0, cr1, ct0, ct1, lc;
   int dim2;
+  int plain; /* 1: no damping of either form, 3D (kick_impl) */
   const esf_local_damping *loc;
   const double *xref;
 } kick_ctx;
 
-static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, size_t lo,
-                       size_t hi, size_t *nt_pw, size_t *bad_part, double *max2,
-                       int *nonfinite) {
+/* plain (a constant in each instantiation): no global or local damping, 3D; the
+ * damped kick with unit factors gives the same bits, the plain one skips their work. */
+static inline void kick_impl(esf_sim *s, const esf_step_fast *f, const kick_ctx *K,
+                             size_t lo, size_t hi, size_t *nt_pw, size_t *bad_part,
+                             double *max2, int *nonfinite, const int plain) {
   esf_particles *p = &s->p;
   const double dt = K->dt;
   const esf_wall_pass_fn wall_pass = esf_wall_pass_select(s); /* wall_fast.h */
@@ -323,7 +326,7 @@ static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, si
       if (i < *bad_part) *bad_part = i;
       continue;
     }
-    if (HAS_FEATURES && K->dim2) {
+    if (HAS_FEATURES && !plain && K->dim2) {
       fi[1] = 0.0;
       ti[0] = 0.0;
       ti[2] = 0.0;
@@ -334,7 +337,7 @@ static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, si
     v3_copy(tk, ti);
     v3_copy(p->f + 3 * i, fi); /* F_n, M_n for whoever reads them after the step */
     v3_copy(p->t + 3 * i, ti);
-    if (HAS_FEATURES && K->loc) {
+    if (HAS_FEATURES && !plain && K->loc) {
       double fd[3], md[3];
       K->loc->force(K->lc, fk, v, fd);
       K->loc->force(K->lc, tk, w, md);
@@ -344,7 +347,7 @@ static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, si
     const double im = p->inv_mass[i] * dt, ii = p->inv_inertia[i] * dt;
     double d2 = 0.0;
     for (int q = 0; q < 3; q++) {
-      if (HAS_FEATURES) {
+      if (HAS_FEATURES && !plain) {
         v[q] = (K->cr0 * v[q] + fk[q] * im) * K->cr1;
         w[q] = (K->ct0 * w[q] + tk[q] * ii) * K->ct1;
       } else {
@@ -364,6 +367,15 @@ static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, si
         *nonfinite = 1; /* NaN */
     }
   }
+}
+
+static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, size_t lo,
+                       size_t hi, size_t *nt_pw, size_t *bad_part, double *max2,
+                       int *nonfinite) {
+  if (K->plain)
+    kick_impl(s, f, K, lo, hi, nt_pw, bad_part, max2, nonfinite, 1);
+  else
+    kick_impl(s, f, K, lo, hi, nt_pw, bad_part, max2, nonfinite, 0);
 }
 
 /* Step 2: adds the A side of outgoing boundary slot j (its pair's a is in range). */
@@ -451,13 +463,17 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
                                  s->cfg.max_overlap,
                                  !HAS_FEATURES || s->cfg.tframe == ESF_TFRAME_ROTATE,
                                  HAS_FEATURES && has_cohesion(s)};
+  const double cr0 = 1.0 - s->alpha_r * h, cr1 = 1.0 / (1.0 + s->alpha_r * h),
+               ct0 = 1.0 - s->alpha_t * h, ct1 = 1.0 / (1.0 + s->alpha_t * h);
   const kick_ctx K = {dt,
-                      1.0 - s->alpha_r * h,
-                      1.0 / (1.0 + s->alpha_r * h),
-                      1.0 - s->alpha_t * h,
-                      1.0 / (1.0 + s->alpha_t * h),
+                      cr0,
+                      cr1,
+                      ct0,
+                      ct1,
                       s->cfg.local_coef,
                       s->cfg.dim == 2,
+                      cr0 == 1.0 && cr1 == 1.0 && ct0 == 1.0 && ct1 == 1.0 && !s->local &&
+                          s->cfg.dim == 3,
                       s->local,
                       s->nb.xref};
   size_t nt_pp = 0, nt_pw = 0;
