@@ -58,8 +58,9 @@ static double removed_elastic(const esf_sim *s, const unsigned char *keep) {
     v3_sub(d, p->x + 3 * b, p->x + 3 * a);
     double un = p->radius[a] + p->radius[b] - v3_norm(d);
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
-    double fel;
-    e += pp->law->energy_n(pp, &c->h[k], un, &fel) + 0.5 * pp->kt * v3_norm2(c->h[k].xi);
+    double fel; /* a separated pair stores no normal energy unless a bond holds it */
+    if (un > 0 || c->h[k].bond) e += pp->law->energy_n(pp, &c->h[k], un, &fel);
+    e += 0.5 * pp->kt * v3_norm2(c->h[k].xi);
   }
   c = &s->nb.pw;
   for (size_t k = 0; k < c->n; k++) {
@@ -70,8 +71,9 @@ static double removed_elastic(const esf_sim *s, const unsigned char *keep) {
     esf_wall_nearest(el, p->x + 3 * a, &hit);
     double un = p->radius[a] - hit.dist;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
-    double fel;
-    e += pp->law->energy_n(pp, &c->h[k], un, &fel) + 0.5 * pp->kt * v3_norm2(c->h[k].xi);
+    double fel; /* walls never bond */
+    if (un > 0) e += pp->law->energy_n(pp, &c->h[k], un, &fel);
+    e += 0.5 * pp->kt * v3_norm2(c->h[k].xi);
   }
   return e;
 }

@@ -100,16 +100,27 @@ int esf_run_ckpt_reopen(const char *out_dir, const esf_sim *s, const esf_ckpt_ru
     snprintf(damaged, sizeof damaged, "%s.damaged", path);
     snprintf(segs, sizeof segs, "%s/frames.d", out_dir);
     snprintf(segs_damaged, sizeof segs_damaged, "%s.damaged", segs);
-    int kept = rename(segs, segs_damaged) == 0; /* its segments, for the user */
-    esf_sim_log(s,
-                "WARNING: %s; it is kept as %s%s and the resumed run writes a new "
-                "frames.h5 from the checkpoint on (energy.csv keeps every row)",
-                err->msg, damaged, kept ? ", its frames in frames.d.damaged/," : "");
-    esf_error_clear(err);
-    rc = rename(path, damaged) != 0
-             ? esf_fail(err, ESF_EIO, "cannot move '%s' aside: %s", path, strerror(errno))
-             : esf_fsync_parent(path, err);
-    if (!rc) rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, fr, err);
+    const int kept = rename(segs, segs_damaged) == 0; /* its segments, for the user */
+    const int why = errno;
+    if (!kept && why != ENOENT) { /* new frames would overwrite them: stop instead */
+      esf_error_clear(err);
+      rc = esf_fail(err, ESF_EIO,
+                    "the frame index '%s' is damaged and its segments '%s' cannot be "
+                    "moved aside to '%s' (%s); nothing was changed: move them away "
+                    "and resume again",
+                    path, segs, segs_damaged, strerror(why));
+    } else {
+      esf_sim_log(s,
+                  "WARNING: %s; it is kept as %s%s and the resumed run writes a new "
+                  "frames.h5 from the checkpoint on (energy.csv keeps every row)",
+                  err->msg, damaged, kept ? ", its frames in frames.d.damaged/," : "");
+      esf_error_clear(err);
+      rc = rename(path, damaged) != 0
+               ? esf_fail(err, ESF_EIO, "cannot move '%s' aside: %s", path,
+                          strerror(errno))
+               : esf_fsync_parent(path, err);
+      if (!rc) rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, fr, err);
+    }
   }
   if (rc) {
     esf_error e2;

@@ -14,6 +14,7 @@ import re
 import resource
 import shutil
 import struct
+import subprocess
 import sys
 import tempfile
 import zlib
@@ -103,6 +104,25 @@ def main():
                 open(os.path.join(ref, "energy.csv"), "rb") as fb:
             check(fa.read() == fb.read(), "damaged frames.h5: energy.csv still identical")
         print("damaged frames.h5: resumed, old file kept as frames.h5.damaged")
+
+        # the same, but frames.d.damaged is taken: the resume stops, nothing is lost
+        dmg2 = os.path.join(tmp, "damaged2")
+        shutil.copytree(big, dmg2)
+        fh5 = os.path.join(dmg2, "frames.h5")
+        with open(fh5, "r+b") as fh:
+            fh.truncate(os.path.getsize(fh5) // 3)
+        taken = os.path.join(dmg2, "frames.d.damaged")
+        os.makedirs(taken)
+        open(os.path.join(taken, "keep"), "w").close()
+        segs = sorted(os.listdir(os.path.join(dmg2, "frames.d")))
+        r = subprocess.run([exe, "run", "--resume", dmg2, "--quiet"], capture_output=True,
+                           text=True)
+        check(r.returncode != 0 and "cannot be moved aside" in r.stderr,
+              f"frames.d.damaged taken: the resume stops ({r.returncode}: {r.stderr.strip()})")
+        check(sorted(os.listdir(os.path.join(dmg2, "frames.d"))) == segs and
+              os.path.exists(fh5) and not os.path.exists(fh5 + ".damaged"),
+              "frames.d.damaged taken: the segments and the index are left as they were")
+        print(f"damaged frames.h5 with frames.d.damaged taken: stopped, {len(segs)} segments kept")
 
         # a segment damaged after the checkpoint (what a kill in the middle of an HDF5
         # append can leave): the checkpoint's frames are in other, closed segments, so
