@@ -113,7 +113,6 @@ int esf_materials_mix(esf_materials *t, esf_error *err) {
       /* the adhesive law where both materials are adhesive (F > 0) */
       p->law = &esf_contact_linear;
       p->adh = (esf_adhesion){0};
-      p->adh.k_max = p->kn;
       if (A->adhesion_force > 0 && B->adhesion_force > 0) {
         double F = esf_mix(r->adhesion_force, A->adhesion_force, B->adhesion_force);
         double eps =
@@ -125,7 +124,7 @@ int esf_materials_mix(esf_materials *t, esf_error *err) {
           return rc;
         }
         p->adh.gap = esf_mix(r->adhesion_gap, A->adhesion_gap, B->adhesion_gap);
-        if (F > 0) p->law = &esf_contact_adhesive;
+        p->law = &esf_contact_adhesive;
       }
     }
   }
