@@ -19,6 +19,7 @@
  * (esf_h5_quiet) and adds its wall time to `seconds`. Between calls only the open
  * segment (file and /frames) stays open. */
 #include "frames.h"
+#include "clock.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -63,12 +64,6 @@ struct esf_frames {
   double pub_cost;           /* what it took, s */
   double seconds;            /* wall time spent writing */
 };
-
-static double now_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static char *dup_str(const char *s, size_t extra) {
   size_t n = strlen(s);
@@ -197,7 +192,7 @@ static int seg_close(esf_frames *fr, int durable, esf_error *err) {
  * index is fsync'ed). */
 static int publish(esf_frames *fr, int force, int durable, esf_error *err) {
   if (fr->pub_frames == fr->count && (!force || fr->pub_rows == fr->nrows)) return ESF_OK;
-  double t = now_s();
+  double t = esf_now_s();
   if (!force && fr->count > PUBLISH_EVERY_MAX &&
       t - fr->pub_last < PUBLISH_COST_RATIO * fr->pub_cost)
     return ESF_OK;
@@ -209,7 +204,7 @@ static int publish(esf_frames *fr, int force, int durable, esf_error *err) {
   if (!rc) {
     fr->pub_frames = fr->count;
     fr->pub_rows = fr->nrows;
-    fr->pub_last = now_s();
+    fr->pub_last = esf_now_s();
     fr->pub_cost = fr->pub_last - t;
   }
   return rc;
@@ -295,7 +290,7 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
                      const esf_walls *walls, const esf_contact_net *contacts,
                      esf_error *err) {
   if (!fr) return esf_fail(err, ESF_EINTERNAL, "frames: write on a closed file");
-  double t0 = now_s();
+  double t0 = esf_now_s();
   char name[32], sp[1400];
   snprintf(name, sizeof name, "%06ld", fr->count);
   esf_xdmf_frame x = {time, fr->count, p->n, 0, 0, 0, 0, 0};
@@ -343,7 +338,7 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
     H5Eclear2(H5E_DEFAULT);
   }
   esf_h5_quiet_end(&q);
-  fr->seconds += now_s() - t0;
+  fr->seconds += esf_now_s() - t0;
   return rc;
 }
 
@@ -376,14 +371,14 @@ long esf_frames_energy_rows(const esf_frames *fr) { return fr ? fr->nrows : 0; }
 double esf_frames_seconds(const esf_frames *fr) { return fr ? fr->seconds : 0.0; }
 
 int esf_frames_sync(esf_frames *fr, esf_error *err) {
-  double t0 = now_s();
+  double t0 = esf_now_s();
   esf_h5_quiet q;
   esf_h5_quiet_begin(&q);
   int rc = seg_close(fr, 1, err);
   if (!rc) rc = publish(fr, 1, 1, err);
   H5Eclear2(H5E_DEFAULT);
   esf_h5_quiet_end(&q);
-  fr->seconds += now_s() - t0;
+  fr->seconds += esf_now_s() - t0;
   return rc;
 }
 

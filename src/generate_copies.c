@@ -24,6 +24,7 @@
  * (materials, damping, integrator), so nothing of a stage leaks into the next but the
  * particle positions, radii and materials. The library never prints except to `log`. */
 #include "generate_copies.h"
+#include "clock.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -48,12 +49,6 @@ typedef struct gen_spec {
   settle_spec settle, resettle;
   double strain, compact_time; /* compaction: lateral strain, its duration (s); 0: off */
 } gen_spec;
-
-static double now_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static int read_settle(const esf_ynode *g, const char *key, settle_spec *sp,
                        esf_error *err) {
@@ -173,7 +168,7 @@ static int settle(esf_sim *s, const settle_spec *sp, esf_settle_report *rep,
   for (size_t i = 0; i < s->p.n; i++) floor_e += s->p.mass[i] * g * s->p.radius[i];
   energies(s, &ek, &ep0);
   void *ist = NULL;
-  double t0 = s->t, w0 = now_s();
+  double t0 = s->t, w0 = esf_now_s();
   double check = sp->check_every > 0 ? sp->check_every : sp->max_time / 100.0;
   long every = (long)fmax(1.0, floor(check / s->dt + 0.5));
   long nmax = (long)ceil(sp->max_time / s->dt - 1e-9);
@@ -200,7 +195,7 @@ static int settle(esf_sim *s, const settle_spec *sp, esf_settle_report *rep,
   rep->top = -INFINITY;
   for (size_t i = 0; i < s->p.n; i++)
     rep->top = fmax(rep->top, s->p.x[3 * i + 2] + s->p.radius[i]);
-  rep->wall_s = now_s() - w0;
+  rep->wall_s = esf_now_s() - w0;
   return ESF_OK;
 }
 

@@ -8,6 +8,7 @@
  * run stops with the step, the dt and the critical dt. Wall time is measured around the
  * loop alone (set-up excluded), as LAMMPS's "Loop time". */
 #include "run.h"
+#include "clock.h"
 
 #include <errno.h>
 #include <math.h>
@@ -22,12 +23,6 @@
 #include "run_ckpt.h"
 #include "vec3.h"
 #include "version.h"
-
-static double now_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 int esf_mkdirs(const char *path, esf_error *err) {
   char buf[1024];
@@ -143,7 +138,7 @@ static int energy_row(const esf_sim *s, FILE *ef, esf_frames *fr, esf_error *err
 }
 
 static void progress(const esf_sim *s, double t_end, double t0, double ps) {
-  double el = now_s() - t0;
+  double el = esf_now_s() - t0;
   double frac = t_end > 0 ? s->t / t_end : 1.0;
   double eta = frac > 0 ? el * (1.0 - frac) / frac : 0.0;
   fprintf(stdout, "\r  t = %.4g s  %5.1f%%  %.3g particle-steps/s  ETA %.0f s   ", s->t,
@@ -220,7 +215,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                 "run: %ld steps to t = %.6g s; frames every %ld steps, energy rows "
                 "every %ld steps",
                 nsteps, t_end, every_f, every_e);
-  double t0 = now_s(), next_prog = t0 + 0.5, psum = cr.psum;
+  double t0 = esf_now_s(), next_prog = t0 + 0.5, psum = cr.psum;
   /* adaptive methods are not forced onto the output times (that would cap their
      steps): rows and frames are written at the first step at or past each time */
   double te = s->cfg.energy_every, tf = s->cfg.out_every;
@@ -289,14 +284,14 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       break;
     }
     if (o->progress && !o->quiet && (n & 63) == 0) {
-      double tn = now_s();
+      double tn = esf_now_s();
       if (tn >= next_prog) {
         progress(s, t_end, t0, psum);
         next_prog = tn + 0.25;
       }
     }
   }
-  double wall = now_s() - t0;
+  double wall = esf_now_s() - t0;
   if (o->progress && !o->quiet) fputs("\r\033[K", stdout);
   st->steps = s->step;
   st->wall_s = wall;

@@ -15,6 +15,7 @@
  * in log.txt and the resumed run starts a new frames.h5 at the checkpoint, so the
  * resume itself does not fail. */
 #include "run_ckpt.h"
+#include "clock.h"
 
 #include <errno.h>
 #include <string.h>
@@ -25,16 +26,10 @@
 #include "atomic_file.h"
 #include "version.h"
 
-static double now_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 int esf_run_ckpt_save(const char *out_dir, esf_sim *s, const esf_integrator_type *it,
                       void *ist, const esf_ckpt_scene *sc, esf_ckpt_run *run, FILE *ef,
                       esf_frames *fr, esf_error *err) {
-  double t0 = now_s();
+  double t0 = esf_now_s();
   char path[1200];
   run->csv_bytes = -1;
   if (ef) {
@@ -58,7 +53,7 @@ int esf_run_ckpt_save(const char *out_dir, esf_sim *s, const esf_integrator_type
     esf_sim_log(s,
                 "checkpoint %ld at step %ld, t = %.9g s: %.3f s to sync the output "
                 "and write it",
-                run->count, s->step, s->t, now_s() - t0);
+                run->count, s->step, s->t, esf_now_s() - t0);
   return rc;
 }
 
