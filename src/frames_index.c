@@ -72,28 +72,15 @@ int esf_frames_index_write(const char *path, const esf_frames_index *ix, int dur
 
 /* Rows of the first dimension of dataset loc/name. */
 static int dims_of(hid_t loc, const char *name, size_t *d0) {
-  hid_t d = H5Dopen2(loc, name, H5P_DEFAULT), s = d >= 0 ? H5Dget_space(d) : -1;
-  hsize_t dims[2] = {0, 0};
-  int ok = s >= 0 && H5Sget_simple_extent_ndims(s) >= 1 &&
-           H5Sget_simple_extent_dims(s, dims, NULL) >= 1;
-  if (s >= 0) H5Sclose(s);
-  if (d >= 0) H5Dclose(d);
-  *d0 = (size_t)dims[0];
-  return ok ? 0 : -1;
+  const long rows = esf_h5_rows(loc, name);
+  *d0 = rows > 0 ? (size_t)rows : 0;
+  return rows >= 0 ? 0 : -1;
 }
 
 /* The segment of link `name` in g (an external link to SEG_DIR/SSSSSS.h5). */
 static int link_segment(hid_t g, const char *name, long *seg) {
-  H5L_info_t li;
-  if (H5Lget_info(g, name, &li, H5P_DEFAULT) < 0 || li.type != H5L_TYPE_EXTERNAL ||
-      li.u.val_size == 0 || li.u.val_size > 4096)
-    return -1;
-  char buf[4096];
-  const char *file = NULL, *obj = NULL;
-  unsigned flags = 0;
-  if (H5Lget_val(g, name, buf, li.u.val_size, H5P_DEFAULT) < 0 ||
-      H5Lunpack_elink_val(buf, li.u.val_size, &flags, &file, &obj) < 0 || !file)
-    return -1;
+  char file[4096];
+  if (esf_h5_elink_file(g, name, file, sizeof file)) return -1;
   const char *slash = strrchr(file, '/');
   char *end = NULL;
   *seg = slash ? strtol(slash + 1, &end, 10) : -1;

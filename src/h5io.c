@@ -111,3 +111,31 @@ int esf_h5_dataset_write(hid_t group, const char *name, hid_t ftype, hid_t mtype
   if (space >= 0) H5Sclose(space);
   return ok ? 0 : -1;
 }
+
+long esf_h5_rows(hid_t loc, const char *path) {
+  if (H5Lexists(loc, path, H5P_DEFAULT) <= 0) return -1;
+  hid_t d = H5Dopen2(loc, path, H5P_DEFAULT), s = d >= 0 ? H5Dget_space(d) : -1;
+  hsize_t dims[H5S_MAX_RANK] = {0};
+  long rows = s >= 0 && H5Sget_simple_extent_ndims(s) >= 1 &&
+                      H5Sget_simple_extent_dims(s, dims, NULL) >= 1
+                  ? (long)dims[0]
+                  : -1;
+  if (s >= 0) H5Sclose(s);
+  if (d >= 0) H5Dclose(d);
+  return rows;
+}
+
+int esf_h5_elink_file(hid_t g, const char *name, char *file, size_t n) {
+  H5L_info_t li;
+  char val[4096];
+  const char *f = NULL, *obj = NULL;
+  unsigned flags = 0;
+  if (H5Lget_info(g, name, &li, H5P_DEFAULT) < 0 || li.type != H5L_TYPE_EXTERNAL ||
+      li.u.val_size == 0 || li.u.val_size > sizeof val ||
+      H5Lget_val(g, name, val, li.u.val_size, H5P_DEFAULT) < 0 ||
+      H5Lunpack_elink_val(val, li.u.val_size, &flags, &f, &obj) < 0 || !f ||
+      strlen(f) >= n)
+    return -1;
+  memcpy(file, f, strlen(f) + 1);
+  return 0;
+}

@@ -44,4 +44,12 @@ enum { ESF_H5_CHUNK_MIN = 1024, ESF_H5_CHUNK_ROWS = 32768, ESF_H5_DEFLATE = 1 };
 int esf_h5_dataset_write(hid_t group, const char *name, hid_t ftype, hid_t mtype,
                          size_t n, int cols, const void *data);
 
+/* Rows (first dimension) of dataset `path` under loc; -1 when it is missing or not a
+ * dataset with at least one dimension. */
+long esf_h5_rows(hid_t loc, const char *path);
+
+/* The file an external link `name` in g points to, copied into file[n]; -1 when name is
+ * not an external link or its value does not fit. */
+int esf_h5_elink_file(hid_t g, const char *name, char *file, size_t n);
+
 #endif

@@ -59,17 +59,6 @@ static double read_time(hid_t frames, const char *name) {
   return t;
 }
 
-/* Rows of dataset `path` under loc (first dimension), or -1. */
-static long rows_of(hid_t loc, const char *path) {
-  if (H5Lexists(loc, path, H5P_DEFAULT) <= 0) return -1;
-  hid_t d = H5Dopen2(loc, path, H5P_DEFAULT), s = d >= 0 ? H5Dget_space(d) : -1;
-  hsize_t dims[H5S_MAX_RANK] = {0};
-  long n = s >= 0 && H5Sget_simple_extent_dims(s, dims, NULL) >= 1 ? (long)dims[0] : -1;
-  if (s >= 0) H5Sclose(s);
-  if (d >= 0) H5Dclose(d);
-  return n;
-}
-
 /* H5Lvisit callback: prints each dataset as " name type [d0xd1]". */
 static herr_t list_dataset(hid_t g, const char *name, const H5L_info_t *info,
                            void *data) {
@@ -102,7 +91,7 @@ static void describe_energy(hid_t file, FILE *out) {
   hid_t g = H5Gopen2(file, "energy", H5P_DEFAULT);
   H5G_info_t gi = {0};
   H5Gget_info(g, &gi);
-  long n = rows_of(g, "time");
+  long n = esf_h5_rows(g, "time");
   fprintf(out, "energy rows: %ld (%llu columns in /energy)\n", n < 0 ? 0 : n,
           (unsigned long long)gi.nlinks);
   if (n > 0) {
@@ -127,15 +116,8 @@ typedef struct segments {
 /* Counts the file frame `name` of fg links to, if it is an external link to a file
  * other than the previous frame's; its size from its path relative to the index's. */
 static void segments_add(hid_t fg, const char *name, const char *path, segments *sg) {
-  H5L_info_t li;
-  char val[1200];
-  const char *file = NULL, *obj = NULL;
-  unsigned flags = 0;
-  if (H5Lget_info(fg, name, &li, H5P_DEFAULT) < 0 || li.type != H5L_TYPE_EXTERNAL ||
-      li.u.val_size > sizeof val ||
-      H5Lget_val(fg, name, val, li.u.val_size, H5P_DEFAULT) < 0 ||
-      H5Lunpack_elink_val(val, li.u.val_size, &flags, &file, &obj) < 0 || !file ||
-      strcmp(file, sg->last) == 0)
+  char file[sizeof sg->last];
+  if (esf_h5_elink_file(fg, name, file, sizeof file) || strcmp(file, sg->last) == 0)
     return;
   snprintf(sg->last, sizeof sg->last, "%s", file);
   const char *slash = strrchr(path, '/');
@@ -168,10 +150,10 @@ static int describe_frames(hid_t file, const char *path, FILE *out, esf_error *e
                        sizeof last, H5P_DEFAULT);
     fprintf(out, "time: %.9g .. %.9g s\n", read_time(fg, first), read_time(fg, last));
     snprintf(name, sizeof name, "%s/id", first);
-    long n0 = rows_of(fg, name);
+    long n0 = esf_h5_rows(fg, name);
     snprintf(name, sizeof name, "%s/id", last);
     fprintf(out, "particles: %ld (first frame), %ld (last frame)\n", n0,
-            rows_of(fg, name));
+            esf_h5_rows(fg, name));
     for (long k = 0; k < nf; k++) {
       if (H5Lget_name_by_idx(fg, ".", H5_INDEX_NAME, H5_ITER_INC, (hsize_t)k, name,
                              sizeof name, H5P_DEFAULT) < 0)
@@ -179,7 +161,7 @@ static int describe_frames(hid_t file, const char *path, FILE *out, esf_error *e
       segments_add(fg, name, path, &segs);
       size_t l = strlen(name);
       snprintf(name + l, sizeof name - l, "/id");
-      long n = rows_of(fg, name);
+      long n = esf_h5_rows(fg, name);
       sum += n > 0 ? (double)n : 0.0;
     }
     fprintf(out, "datasets (frame %s):\n", first);
