@@ -32,6 +32,7 @@
 #include <time.h>
 
 #include "atomic_file.h"
+#include "integ_common.h"
 #include "integrator.h"
 #include "scene.h"
 #include "vec3.h"
@@ -146,16 +147,11 @@ static int add_box(esf_sim *s, const double min[3], const double max[3], int32_t
   return add_faces(s, min, max, 31u, mat, NULL, err);
 }
 
+/* Kinetic (translational + rotational) and gravitational energy, J. */
 static void energies(const esf_sim *s, double *ek, double *ep) {
-  const esf_particles *p = &s->p;
-  double k = 0, u = 0;
-  for (size_t i = 0; i < p->n; i++) {
-    k += 0.5 *
-         (p->mass[i] * v3_norm2(p->v + 3 * i) + p->inertia[i] * v3_norm2(p->w + 3 * i));
-    u -= p->mass[i] * v3_dot(s->cfg.gravity, p->x + 3 * i);
-  }
-  *ek = k;
-  *ep = u;
+  double kt, kr;
+  esf_integ_energies(s, s->p.x, s->p.v, s->p.w, &kt, &kr, ep);
+  *ek = kt + kr;
 }
 
 /* Settles the set-up sim (see the prologue); fills rep. */
