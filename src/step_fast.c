@@ -152,9 +152,7 @@ static void cut_ranges(esf_step_fast *f, size_t n, size_t T) {
   f->rlo[T] = n;
 }
 
-static size_t range_lo(const esf_step_fast *f, size_t t) { return f->rlo[t]; }
-
-/* Step 0: indices and coefficients for the current lists and T ranges. */
+/* Step 0: indices for the current lists and T ranges. */
 static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   const esf_particles *p = &s->p;
   const esf_contacts *c = &s->nb.pp, *cw = &s->nb.pw;
@@ -189,8 +187,8 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   memset(f->bout, 0, (T + 1) * sizeof(size_t));
   memset(f->binstart, 0, (T + 1) * sizeof(size_t));
   for (size_t t = 0; t < T; t++) {
-    const size_t hi = range_lo(f, t + 1);
-    for (size_t k = f->astart[range_lo(f, t)]; k < f->astart[hi]; k++)
+    const size_t hi = f->rlo[t + 1];
+    for (size_t k = f->astart[f->rlo[t]]; k < f->astart[hi]; k++)
       if (c->b[k] >= hi) nb++;
   }
   if (nb > f->cap_b) {
@@ -203,13 +201,13 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   f->nb = nb;
   nb = 0;
   for (size_t t = 0; t < T; t++) {
-    const size_t hi = range_lo(f, t + 1);
+    const size_t hi = f->rlo[t + 1];
     f->bout[t] = nb;
-    for (size_t k = f->astart[range_lo(f, t)]; k < f->astart[hi]; k++)
+    for (size_t k = f->astart[f->rlo[t]]; k < f->astart[hi]; k++)
       if (c->b[k] >= hi) {
         f->bk[nb++] = (uint32_t)k;
         size_t tb = t + 1; /* the range of b */
-        while (tb + 1 < T && c->b[k] >= range_lo(f, tb + 1)) tb++;
+        while (tb + 1 < T && c->b[k] >= f->rlo[tb + 1]) tb++;
         f->binstart[tb + 1]++;
       }
   }
@@ -220,7 +218,7 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   memcpy(cu, f->binstart, T * sizeof *cu);
   for (size_t j = 0; j < nb; j++) { /* ascending k within each range of b */
     size_t tb = 0;
-    while (tb + 1 < T && c->b[f->bk[j]] >= range_lo(f, tb + 1)) tb++;
+    while (tb + 1 < T && c->b[f->bk[j]] >= f->rlo[tb + 1]) tb++;
     f->bin[cu[tb]++] = (uint32_t)j;
   }
   if (cu != cur) free(cu);
@@ -503,7 +501,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
 #pragma omp atomic read
     stop = bad_bound;
     for (size_t t = me; t < T && !stop; t += got) {
-      const size_t lo = range_lo(f, t), hi = range_lo(f, t + 1);
+      const size_t lo = f->rlo[t], hi = f->rlo[t + 1];
       size_t bad = pairs_range(s, f, &bc, t, lo, hi, &nt_pp);
       if (bad < bad_pair) bad_pair = bad;
       if (bad_pair == SIZE_MAX)
