@@ -106,21 +106,14 @@ void esf_step_fast_free(esf_step_fast **f) {
 #define HAS_FEATURES 1
 #endif
 
-static int has_cohesion(const esf_sim *s) {
-  const esf_materials *mt = &s->mats;
-  for (int k = 0; k < mt->n * mt->n; k++)
-    if (mt->pair[k].cohesion != 0.0) return 1;
-  return 0;
-}
-
 static int minimal_ok(const esf_sim *s) {
-  return !has_cohesion(s) && s->cfg.tframe == ESF_TFRAME_ROTATE && s->cfg.dim == 3 &&
+  return !s->mats.any_cohesion && s->cfg.tframe == ESF_TFRAME_ROTATE && s->cfg.dim == 3 &&
          !s->local && s->alpha_r == 0.0 && s->alpha_t == 0.0 && !s->walls.moving;
 }
 
 int esf_step_fast_eligible(const esf_sim *s) {
   return s->cfg.fused && !s->led.on && !s->cfg.autod.on && !s->tally &&
-         s->law == &esf_contact_linear && !s->nb.pp.vc0 && !s->nb.pp.xs && !s->nb.pw.xs &&
+         s->mats.particles_linear && !s->nb.pp.vc0 && !s->nb.pp.xs && !s->nb.pw.xs &&
          (HAS_FEATURES || minimal_ok(s)) && !s->walls.gforce &&
          !s->drag; /* servo walls, fluid force: general path */
 }
@@ -304,7 +297,8 @@ static size_t boundary_pairs(esf_sim *s, esf_step_fast *f, const esf_pair_batch_
 typedef struct kick_ctx {
   double dt, cr0, cr1, ct0, ct1, lc;
   int dim2;
-  int plain; /* 1: no damping of either form, 3D (kick_impl) */
+  int plain;                  /* 1: no damping of either form, 3D (kick_impl) */
+  esf_wall_pass_fn wall_pass; /* wall_fast.h, chosen once per step */
   const esf_local_damping *loc;
   const double *xref;
 } kick_ctx;
@@ -316,7 +310,7 @@ static inline void kick_impl(esf_sim *s, const esf_step_fast *f, const kick_ctx 
                              double *max2, int *nonfinite, const int plain) {
   esf_particles *p = &s->p;
   const double dt = K->dt;
-  const esf_wall_pass_fn wall_pass = esf_wall_pass_select(s); /* wall_fast.h */
+  const esf_wall_pass_fn wall_pass = K->wall_pass;
   for (size_t i = lo; i < hi; i++) {
     double *fi = f->acc + ACC * i, *ti = fi + 4;
     if (f->wstart[i] < f->wstart[i + 1] &&
@@ -460,7 +454,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
                                  dt,
                                  s->cfg.max_overlap,
                                  !HAS_FEATURES || s->cfg.tframe == ESF_TFRAME_ROTATE,
-                                 HAS_FEATURES && has_cohesion(s)};
+                                 HAS_FEATURES && s->mats.any_cohesion};
   const double cr0 = 1.0 - s->alpha_r * h, cr1 = 1.0 / (1.0 + s->alpha_r * h),
                ct0 = 1.0 - s->alpha_t * h, ct1 = 1.0 / (1.0 + s->alpha_t * h);
   const kick_ctx K = {dt,
@@ -472,6 +466,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
                       s->cfg.dim == 2,
                       cr0 == 1.0 && cr1 == 1.0 && ct0 == 1.0 && ct1 == 1.0 && !s->local &&
                           s->cfg.dim == 3,
+                      esf_wall_pass_select(s),
                       s->local,
                       s->nb.xref};
   size_t nt_pp = 0, nt_pw = 0;

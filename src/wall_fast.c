@@ -170,11 +170,8 @@ int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_
 }
 
 esf_wall_pass_fn esf_wall_pass_select(const esf_sim *s) {
-  const esf_materials *mt = &s->mats;
-  int linear = 1; /* wall materials may pair by a law the particles' pairs do not use */
-  for (int k = 0; k < mt->n * mt->n; k++)
-    linear &= mt->pair[k].law == &esf_contact_linear;
-  const int fast = linear && !s->walls.moving && !s->led.on && !s->tally &&
+  /* all pairs: wall materials may pair by a law the particles' pairs do not use */
+  const int fast = s->mats.all_linear && !s->walls.moving && !s->led.on && !s->tally &&
                    !s->walls.gforce && !s->nb.pw.xs && !s->nb.pw.vc0;
   return fast ? esf_wall_fast_particle : esf_wall_general_particle;
 }
