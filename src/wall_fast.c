@@ -9,7 +9,7 @@
  *      (esf_wall_polygon_foot, wall_geom.h, shared with esf_wall_nearest); a centre
  *      whose foot falls outside goes to esf_wall_nearest for the edge or vertex;
  *   2. which hits carry force: with at most one overlapping candidate, that one; with
- *      more, forces.c's select_wall_hits itself (faces first, shared points once);
+ *      more, esf_forces_select_wall_hits itself (faces first, shared points once);
  *   3. per kept hit, in candidate order: the overlap limit, then the law
  *      (esf_contact_linear_eval, contact_linear.h, inline: no strategy-table call)
  *      with the contact velocity vc = v_wall - [vA + wA x (lA n)], lA = dist, where a
