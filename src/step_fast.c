@@ -13,7 +13,9 @@
  * whose a lies in range t form one block of k. A pair whose b lies in a higher range
  * is a boundary pair.
  *   0. after a list rebuild (or a new T): the ranges (cut by estimated work), their
- *      pair blocks, the wall candidates of each particle, the boundary pairs;
+ *      pair blocks, the wall candidates of each particle, the boundary pairs, and
+ *      whether all particles have one material (its pair parameters are then
+ *      broadcast to the batches' lanes instead of gathered);
  *   1. each thread computes its touching boundary pairs in batches (force on A,
  *      torques on A and B) into their slots (zeroed when the contact ends),
  *      committing their history; barrier;
@@ -71,6 +73,7 @@ struct esf_step_fast {
   uint32_t *bin;    /* boundary ordinals by the range of b, ascending within */
   size_t *binstart; /* nth+1 */
   size_t *rlo;      /* nth+1: the particle ranges (cut_ranges) */
+  int32_t m0;       /* the material every particle has, or -1 (pair_batch.h's one) */
 };
 
 int esf_step_fast_create(esf_step_fast **out, esf_error *err) {
@@ -175,6 +178,9 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
     f->wstart[i + 1] += f->wstart[i];
   }
   cut_ranges(f, n, T);
+  f->m0 = n ? p->material[0] : -1;
+  for (size_t i = 1; i < n && f->m0 >= 0; i++)
+    if (p->material[i] != f->m0) f->m0 = -1;
   /* boundary pairs: a in range t, b in a higher range (b > a) */
   size_t nb = 0;
   memset(f->bout, 0, (T + 1) * sizeof(size_t));
@@ -444,7 +450,8 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
                                  p->radius,
                                  p->material,
                                  &s->mats,
-                                 s->mats.n == 1 ? s->mats.pair : NULL,
+                                 f->m0 >= 0 ? s->mats.pair + f->m0 * (s->mats.n + 1)
+                                            : NULL,
                                  cp->a,
                                  cp->b,
                                  cp->h,
