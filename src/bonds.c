@@ -5,8 +5,9 @@
  * material pairs for the adhesive law and takes the bond reach
  *   reach = max over those pairs of (bond_gap > 0 ? bond_gap + u_eq : 0) - u_rupture,
  * an upper bound of the gap at which any bond ruptures (m). With bonds, s->law (the
- * scene's law family, which the fused linear step of step_fast.c requires to be the
- * linear law) becomes the adhesive law; pairs still use their own pp->law.
+ * scene's law family, for the log) becomes the adhesive law; pairs still use their
+ * own pp->law. It also records mats.particles_linear (every pair of the particles'
+ * materials linear: the fused linear step of step_fast.c requires it).
  * esf_bonds_form, on entry: the candidate list just built at the initial positions,
  * no force evaluated yet. For each candidate of an adhesive pair that meets the rule
  * of bonds.h it sets touch = 1, xi = 0, n = the current normal, bond = 1 and the
@@ -21,15 +22,17 @@
 #include "vec3.h"
 
 int esf_bonds_setup(esf_sim *s, int skin_auto, esf_error *err) {
-  const esf_materials *mt = &s->mats;
+  esf_materials *mt = &s->mats;
   esf_bonds *B = &s->bonds;
   *B = (esf_bonds){0};
   unsigned char *used = calloc((size_t)(mt->n ? mt->n : 1), 1);
   if (!used) return esf_fail(err, ESF_ENOMEM, "out of memory");
   for (size_t i = 0; i < s->p.n; i++) used[s->p.material[i]] = 1;
+  mt->particles_linear = 1;
   for (int a = 0; a < mt->n; a++)
     for (int b = 0; b < mt->n; b++) {
       const esf_pair_params *pp = &mt->pair[a * mt->n + b];
+      if (used[a] && used[b]) mt->particles_linear &= pp->law == &esf_contact_linear;
       if (!used[a] || !used[b] || !(pp->law->flags & ESF_LAW_TENSION)) continue;
       B->on = 1;
       double G = pp->adh.gap;

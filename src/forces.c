@@ -11,7 +11,7 @@
  * For a wall element: q its nearest point (wall_geom.h), un = rA - |q - xA|, n toward
  * q, lever lA = |q - xA|, vc = v_wall(q) - [vA + wA x (lA n)], m* = mA. Hits of
  * one particle on edges and vertices shared by wall elements count once
- * (select_wall_hits).
+ * (esf_forces_select_wall_hits, also used by the fast wall pass of wall_fast.c).
  * Gravity: f += m g. In 2D only x, z forces and the y torque act.
  * Entry: candidate lists valid for x; on exit f, t hold the totals. */
 #include "forces.h"
@@ -182,9 +182,9 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
  * nearest point is that face's) or coincides with a hit already kept (a shared edge or
  * vertex reported by both its elements). Coincident face hits (a centre right above a
  * shared edge) count once. keep[k] is set for the kept hits among hits[0..m). */
-static void select_wall_hits(const esf_walls *walls, const uint32_t *elem,
-                             const esf_wall_hit *hits, const double *un, size_t m,
-                             double r, unsigned char *keep) {
+void esf_forces_select_wall_hits(const esf_walls *walls, const uint32_t *elem,
+                                 const esf_wall_hit *hits, const double *un, size_t m,
+                                 double r, unsigned char *keep) {
   double tol = 1e-9 * r;
   for (size_t k = 0; k < m; k++)
     keep[k] = un[k] > 0 && hits[k].feature == ESF_FEATURE_FACE;
@@ -211,15 +211,6 @@ static void select_wall_hits(const esf_walls *walls, const uint32_t *elem,
   }
 }
 
-/* ---- exposed for the fast wall pass (wall_fast.c), which keeps this rule exactly ----
- */
-void esf_forces_select_wall_hits(const esf_walls *walls, const uint32_t *elem,
-                                 const esf_wall_hit *hits, const double *un, size_t m,
-                                 double r, unsigned char *keep) {
-  select_wall_hits(walls, elem, hits, un, m, r, keep);
-}
-/* ---- */
-
 int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
                              const double *v, const double *w, double dt, int commit,
                              double *led, double *slip, size_t *nt, double *f, double *t,
@@ -239,7 +230,7 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
   if (k1 - k0 == 1)
     keep[0] = un[0] > 0;
   else
-    select_wall_hits(&s->walls, c->b + k0, hits, un, k1 - k0, r, keep);
+    esf_forces_select_wall_hits(&s->walls, c->b + k0, hits, un, k1 - k0, r, keep);
   for (size_t k = k0; k < k1; k++) {
     const esf_wall_hit *hit = &hits[k - k0];
     if (!keep[k - k0]) {

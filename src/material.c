@@ -77,6 +77,8 @@ int esf_materials_mix(esf_materials *t, esf_error *err) {
   t->pair = calloc((size_t)t->n * (size_t)(t->n ? t->n : 1), sizeof *t->pair);
   if (!t->pair) return esf_fail(err, ESF_ENOMEM, "out of memory for the pair table");
   const esf_mixing *r = &t->mixing;
+  t->all_linear = 1;
+  t->any_cohesion = 0;
   for (int a = 0; a < t->n; a++) {
     for (int b = 0; b < t->n; b++) {
       const esf_material *A = &t->m[a], *B = &t->m[b];
@@ -126,8 +128,11 @@ int esf_materials_mix(esf_materials *t, esf_error *err) {
         p->adh.gap = esf_mix(r->adhesion_gap, A->adhesion_gap, B->adhesion_gap);
         p->law = &esf_contact_adhesive;
       }
+      t->all_linear &= p->law == &esf_contact_linear;
+      t->any_cohesion |= p->cohesion != 0.0;
     }
   }
+  t->particles_linear = t->all_linear;
   return ESF_OK;
 }
 

@@ -35,8 +35,9 @@ typedef esf_v4m vm;
 
 _Static_assert(ESF_BATCH == 4, "the gathers below are written for four lanes");
 
-/* The history is read and written as rows of four doubles: xi[0..2], n[0] from HXI
- * and n[1], n[2] (with the two fields after them) from HN1. */
+/* The history is read as rows of four doubles: xi[0..2], n[0] from HXI and n[1], n[2]
+ * (with the two fields after them) from HN1; written back: the first row whole, n[1]
+ * and n[2] alone. */
 #define HXI offsetof(esf_contact_hist, xi)
 #define HN1 (offsetof(esf_contact_hist, n) + sizeof(double))
 _Static_assert(offsetof(esf_contact_hist, n) == HXI + 3 * sizeof(double) &&
@@ -222,12 +223,10 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, i
   store_rows(f4, out, 0);
   store_rows(ta, out, 4);
   store_rows(tb, out, 8);
-  /* the history: xi and n[0] in one row, n[1], n[2] in the next (h1's other values
-     go back unchanged) */
-  const vd c0[4] = {xi[0], xi[1], xi[2], n[0]}, c1[4] = {n[1], n[2], h1[2], h1[3]};
-  vd r1[4];
+  /* the history: xi and n[0] as one row, then n[1], n[2] (the fields after them in
+     that row are not written) */
+  const vd c0[4] = {xi[0], xi[1], xi[2], n[0]};
   transpose(c0, rows);
-  transpose(c1, r1);
   unsigned badmask = 0;
   for (int l = 0; l < nl; l++) {
     if (bad[l]) {
@@ -236,7 +235,8 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, i
     }
     char *h = (char *)c->h + hk[l];
     memcpy(h + HXI, &rows[l], sizeof rows[l]);
-    memcpy(h + HN1, &r1[l], 2 * sizeof(double));
+    const double n12[2] = {n[1][l], n[2][l]};
+    memcpy(h + HN1, n12, sizeof n12);
     c->touch[kk[l]] = 1;
   }
   return badmask;

@@ -19,7 +19,7 @@
 #define ESF_BATCH_OUT 12 /* force on A, torque on A, torque on B: 3 + a zero each */
 
 /* What the batch reads and commits: the particles, the candidate pairs' ends and
- * history, the per-pair dashpot coefficients, and the step's constants. */
+ * history, the masses the dashpots' coefficients come from, and the step's constants. */
 typedef struct esf_pair_batch_ctx {
   const double *x, *v, *w;    /* 3n: m, m/s, rad/s */
   const double *radius;       /* n, m */

@@ -13,7 +13,9 @@
  * whose a lies in range t form one block of k. A pair whose b lies in a higher range
  * is a boundary pair.
  *   0. after a list rebuild (or a new T): the ranges (cut by estimated work), their
- *      pair blocks, the wall candidates of each particle, the boundary pairs;
+ *      pair blocks, the wall candidates of each particle, the boundary pairs, and
+ *      whether all particles have one material (its pair parameters are then
+ *      broadcast to the batches' lanes instead of gathered);
  *   1. each thread computes its touching boundary pairs in batches (force on A,
  *      torques on A and B) into their slots (zeroed when the contact ends),
  *      committing their history; barrier;
@@ -71,6 +73,7 @@ struct esf_step_fast {
   uint32_t *bin;    /* boundary ordinals by the range of b, ascending within */
   size_t *binstart; /* nth+1 */
   size_t *rlo;      /* nth+1: the particle ranges (cut_ranges) */
+  int32_t m0;       /* the material every particle has, or -1 (pair_batch.h's one) */
 };
 
 int esf_step_fast_create(esf_step_fast **out, esf_error *err) {
@@ -106,21 +109,14 @@ void esf_step_fast_free(esf_step_fast **f) {
 #define HAS_FEATURES 1
 #endif
 
-static int has_cohesion(const esf_sim *s) {
-  const esf_materials *mt = &s->mats;
-  for (int k = 0; k < mt->n * mt->n; k++)
-    if (mt->pair[k].cohesion != 0.0) return 1;
-  return 0;
-}
-
 static int minimal_ok(const esf_sim *s) {
-  return !has_cohesion(s) && s->cfg.tframe == ESF_TFRAME_ROTATE && s->cfg.dim == 3 &&
+  return !s->mats.any_cohesion && s->cfg.tframe == ESF_TFRAME_ROTATE && s->cfg.dim == 3 &&
          !s->local && s->alpha_r == 0.0 && s->alpha_t == 0.0 && !s->walls.moving;
 }
 
 int esf_step_fast_eligible(const esf_sim *s) {
   return s->cfg.fused && !s->led.on && !s->cfg.autod.on && !s->tally &&
-         s->law == &esf_contact_linear && !s->nb.pp.vc0 && !s->nb.pp.xs && !s->nb.pw.xs &&
+         s->mats.particles_linear && !s->nb.pp.vc0 && !s->nb.pp.xs && !s->nb.pw.xs &&
          (HAS_FEATURES || minimal_ok(s)) && !s->walls.gforce &&
          !s->drag; /* servo walls, fluid force: general path */
 }
@@ -152,9 +148,7 @@ static void cut_ranges(esf_step_fast *f, size_t n, size_t T) {
   f->rlo[T] = n;
 }
 
-static size_t range_lo(const esf_step_fast *f, size_t t) { return f->rlo[t]; }
-
-/* Step 0: indices and coefficients for the current lists and T ranges. */
+/* Step 0: indices for the current lists and T ranges. */
 static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   const esf_particles *p = &s->p;
   const esf_contacts *c = &s->nb.pp, *cw = &s->nb.pw;
@@ -184,13 +178,16 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
     f->wstart[i + 1] += f->wstart[i];
   }
   cut_ranges(f, n, T);
+  f->m0 = n ? p->material[0] : -1;
+  for (size_t i = 1; i < n && f->m0 >= 0; i++)
+    if (p->material[i] != f->m0) f->m0 = -1;
   /* boundary pairs: a in range t, b in a higher range (b > a) */
   size_t nb = 0;
   memset(f->bout, 0, (T + 1) * sizeof(size_t));
   memset(f->binstart, 0, (T + 1) * sizeof(size_t));
   for (size_t t = 0; t < T; t++) {
-    const size_t hi = range_lo(f, t + 1);
-    for (size_t k = f->astart[range_lo(f, t)]; k < f->astart[hi]; k++)
+    const size_t hi = f->rlo[t + 1];
+    for (size_t k = f->astart[f->rlo[t]]; k < f->astart[hi]; k++)
       if (c->b[k] >= hi) nb++;
   }
   if (nb > f->cap_b) {
@@ -203,13 +200,13 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   f->nb = nb;
   nb = 0;
   for (size_t t = 0; t < T; t++) {
-    const size_t hi = range_lo(f, t + 1);
+    const size_t hi = f->rlo[t + 1];
     f->bout[t] = nb;
-    for (size_t k = f->astart[range_lo(f, t)]; k < f->astart[hi]; k++)
+    for (size_t k = f->astart[f->rlo[t]]; k < f->astart[hi]; k++)
       if (c->b[k] >= hi) {
         f->bk[nb++] = (uint32_t)k;
         size_t tb = t + 1; /* the range of b */
-        while (tb + 1 < T && c->b[k] >= range_lo(f, tb + 1)) tb++;
+        while (tb + 1 < T && c->b[k] >= f->rlo[tb + 1]) tb++;
         f->binstart[tb + 1]++;
       }
   }
@@ -220,7 +217,7 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   memcpy(cu, f->binstart, T * sizeof *cu);
   for (size_t j = 0; j < nb; j++) { /* ascending k within each range of b */
     size_t tb = 0;
-    while (tb + 1 < T && c->b[f->bk[j]] >= range_lo(f, tb + 1)) tb++;
+    while (tb + 1 < T && c->b[f->bk[j]] >= f->rlo[tb + 1]) tb++;
     f->bin[cu[tb]++] = (uint32_t)j;
   }
   if (cu != cur) free(cu);
@@ -306,7 +303,8 @@ static size_t boundary_pairs(esf_sim *s, esf_step_fast *f, const esf_pair_batch_
 typedef struct kick_ctx {
   double dt, cr0, cr1, ct0, ct1, lc;
   int dim2;
-  int plain; /* 1: no damping of either form, 3D (kick_impl) */
+  int plain;                  /* 1: no damping of either form, 3D (kick_impl) */
+  esf_wall_pass_fn wall_pass; /* wall_fast.h, chosen once per step */
   const esf_local_damping *loc;
   const double *xref;
 } kick_ctx;
@@ -318,7 +316,7 @@ static inline void kick_impl(esf_sim *s, const esf_step_fast *f, const kick_ctx 
                              double *max2, int *nonfinite, const int plain) {
   esf_particles *p = &s->p;
   const double dt = K->dt;
-  const esf_wall_pass_fn wall_pass = esf_wall_pass_select(s); /* wall_fast.h */
+  const esf_wall_pass_fn wall_pass = K->wall_pass;
   for (size_t i = lo; i < hi; i++) {
     double *fi = f->acc + ACC * i, *ti = fi + 4;
     if (f->wstart[i] < f->wstart[i + 1] &&
@@ -452,7 +450,8 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
                                  p->radius,
                                  p->material,
                                  &s->mats,
-                                 s->mats.n == 1 ? s->mats.pair : NULL,
+                                 f->m0 >= 0 ? s->mats.pair + f->m0 * (s->mats.n + 1)
+                                            : NULL,
                                  cp->a,
                                  cp->b,
                                  cp->h,
@@ -462,7 +461,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
                                  dt,
                                  s->cfg.max_overlap,
                                  !HAS_FEATURES || s->cfg.tframe == ESF_TFRAME_ROTATE,
-                                 HAS_FEATURES && has_cohesion(s)};
+                                 HAS_FEATURES && s->mats.any_cohesion};
   const double cr0 = 1.0 - s->alpha_r * h, cr1 = 1.0 / (1.0 + s->alpha_r * h),
                ct0 = 1.0 - s->alpha_t * h, ct1 = 1.0 / (1.0 + s->alpha_t * h);
   const kick_ctx K = {dt,
@@ -474,6 +473,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
                       s->cfg.dim == 2,
                       cr0 == 1.0 && cr1 == 1.0 && ct0 == 1.0 && ct1 == 1.0 && !s->local &&
                           s->cfg.dim == 3,
+                      esf_wall_pass_select(s),
                       s->local,
                       s->nb.xref};
   size_t nt_pp = 0, nt_pw = 0;
@@ -503,7 +503,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
 #pragma omp atomic read
     stop = bad_bound;
     for (size_t t = me; t < T && !stop; t += got) {
-      const size_t lo = range_lo(f, t), hi = range_lo(f, t + 1);
+      const size_t lo = f->rlo[t], hi = f->rlo[t + 1];
       size_t bad = pairs_range(s, f, &bc, t, lo, hi, &nt_pp);
       if (bad < bad_pair) bad_pair = bad;
       if (bad_pair == SIZE_MAX)

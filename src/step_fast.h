@@ -3,12 +3,15 @@
  * When a run needs nothing beyond the linear law with tangential history, walls, global
  * and local damping and gravity (no energy ledger, no adaptive damping, no per-
  * evaluation tallies), the leapfrog's force evaluation, kick and drift run here as two
- * threaded passes whose results do not depend on the thread count, bit for bit:
- *   1. over candidate pairs (any order, any split): each pair's force and the two
- *      torques are computed into a per-pair slot and its history committed;
- *   2. over particles: each particle gathers its pairs' slots in ascending pair order
- *      (as B, then as A: the order the serial scatter of forces.c adds them in), adds
- *      its wall contacts, and is kicked and drifted.
+ * threaded passes whose results do not depend on the thread count, bit for bit. The
+ * particles are cut into one contiguous range per thread:
+ *   1. the boundary pairs (ends in two ranges) are computed into per-pair slots (force
+ *      on A, torques on A and B) and their history committed; barrier;
+ *   2. each thread, for its own range: subtracts the incoming boundary slots, computes
+ *      its interior pairs in batches of four (pair_batch.h) and adds the outgoing
+ *      slots between them, so every particle receives its pair forces in ascending
+ *      pair order (the order the serial scatter of forces.c adds them in); then adds
+ *      its wall contacts, and kicks and drifts its particles.
  * Every sum therefore has one fixed order. Anything else takes forces.c's general path
  * (esf_step_fast_eligible says which). */
 #ifndef ESF_STEP_FAST_H

@@ -5,11 +5,12 @@
  * 2.4–2.5 for the nearest point; 000 3-15..3-26 and 004 2.16–2.29 for the law), with
  * the same operations in the same order, so the results are the same bits:
  *   1. per candidate element, the nearest point and the overlap un = r - dist
- *      (esf_wall_nearest): a plane by its signed height; a polygon by its face test
- *      (esf_wall_polygon_foot, wall_geom.h, shared with esf_wall_nearest); a centre
+ *      (esf_wall_nearest): the signed height over the element's plane, once
+ *      (esf_wall_height); a plane by it; a polygon by its face test given it
+ *      (esf_wall_polygon_foot; both wall_geom.h, shared with esf_wall_nearest); a centre
  *      whose foot falls outside goes to esf_wall_nearest for the edge or vertex;
  *   2. which hits carry force: with at most one overlapping candidate, that one; with
- *      more, forces.c's select_wall_hits itself (faces first, shared points once);
+ *      more, esf_forces_select_wall_hits itself (faces first, shared points once);
  *   3. per kept hit, in candidate order: the overlap limit, then the law
  *      (esf_contact_linear_eval, contact_linear.h, inline: no strategy-table call)
  *      with the contact velocity vc = v_wall - [vA + wA x (lA n)], lA = dist, where a
@@ -53,9 +54,7 @@ static inline double max3abs(const double *a) {
  * esf_wall_nearest, and *hit when it is > 0. Returns 0 for a polygon out of reach. */
 static inline double wall_overlap(const esf_wall_elem *e, const double *x, double xm,
                                   double r, esf_wall_hit *hit) {
-  double d[3];
-  v3_sub(d, x, e->p);
-  const double h0 = v3_dot(d, e->n); /* signed height of x over the plane */
+  const double h0 = esf_wall_height(e, x); /* signed height of x over the plane */
   if (e->kind == ESF_WALL_PLANE) {
     const double un = r - h0;
     if (un > 0) {
@@ -69,13 +68,13 @@ static inline double wall_overlap(const esf_wall_elem *e, const double *x, doubl
   }
   const double slack = 4e-9 * e->bound_r + 1e-12 * (xm + max3abs(e->p) + e->bound_r + r);
   if (!(fabs(h0) < r + slack)) return 0.0; /* out of reach (prologue) */
-  double h, foot[3];
-  if (esf_wall_polygon_foot(e, x, &h, foot)) { /* h == h0: the same operations */
-    const double dist = fabs(h), un = r - dist;
+  double foot[3];
+  if (esf_wall_polygon_foot(e, x, h0, foot)) { /* as esf_wall_nearest */
+    const double dist = fabs(h0), un = r - dist;
     if (un > 0) {
       v3_copy(hit->q, foot);
       hit->dist = dist;
-      v3_scale(hit->n, h < 0 ? 1 : -1, e->n);
+      v3_scale(hit->n, h0 < 0 ? 1 : -1, e->n);
       hit->feature = ESF_FEATURE_FACE;
     }
     return un;
@@ -170,11 +169,8 @@ int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_
 }
 
 esf_wall_pass_fn esf_wall_pass_select(const esf_sim *s) {
-  const esf_materials *mt = &s->mats;
-  int linear = 1; /* wall materials may pair by a law the particles' pairs do not use */
-  for (int k = 0; k < mt->n * mt->n; k++)
-    linear &= mt->pair[k].law == &esf_contact_linear;
-  const int fast = linear && !s->walls.moving && !s->led.on && !s->tally &&
+  /* all pairs: wall materials may pair by a law the particles' pairs do not use */
+  const int fast = s->mats.all_linear && !s->walls.moving && !s->led.on && !s->tally &&
                    !s->walls.gforce && !s->nb.pw.xs && !s->nb.pw.vc0;
   return fast ? esf_wall_fast_particle : esf_wall_general_particle;
 }

@@ -178,10 +178,8 @@ int esf_wall_polygon_init(esf_wall_elem *e, int nv, const double (*verts)[3],
 }
 
 void esf_wall_nearest(const esf_wall_elem *e, const double x[3], esf_wall_hit *hit) {
+  const double h = esf_wall_height(e, x); /* signed height of x over the plane */
   if (e->kind == ESF_WALL_PLANE) {
-    double r[3];
-    v3_sub(r, x, e->p);
-    double h = v3_dot(r, e->n); /* signed height of x over the plane */
     v3_copy(hit->q, x);
     v3_axpy(hit->q, -h, e->n);
     v3_scale(hit->n, -1, e->n);
@@ -190,8 +188,8 @@ void esf_wall_nearest(const esf_wall_elem *e, const double x[3], esf_wall_hit *h
     return;
   }
 
-  double h, foot[3];
-  if (esf_wall_polygon_foot(e, x, &h, foot)) { /* wall_geom.h */
+  double foot[3];
+  if (esf_wall_polygon_foot(e, x, h, foot)) { /* wall_geom.h */
     v3_copy(hit->q, foot);
     hit->dist = fabs(h);
     v3_scale(hit->n, h < 0 ? 1 : -1, e->n); /* (q - x)/dist; -n when on the face */

@@ -51,20 +51,25 @@ int esf_wall_plane_init(esf_wall_elem *e, const double point[3], const double no
 int esf_wall_polygon_init(esf_wall_elem *e, int nv, const double (*verts)[3],
                           int32_t material, int32_t group, esf_error *err);
 
+/* The signed height (x - p).n of centre x over element e's plane, m. */
+static inline double esf_wall_height(const esf_wall_elem *e, const double x[3]) {
+  double r[3];
+  v3_sub(r, x, e->p);
+  return v3_dot(r, e->n);
+}
+
 /* Inside test slack of a polygon's face test, as a fraction of bound_r. */
 #define ESF_WALL_INSIDE_TOL 1e-12
 
-/* The face test of esf_wall_nearest for a polygon e: the signed height *h of centre x
- * over the polygon's plane, the foot of the normal, and whether the foot lies inside
- * every edge (then it is the nearest point, a FACE hit). Inline so that the fast wall
- * pass (wall_fast.c) computes the same bits as esf_wall_nearest. */
+/* The face test of esf_wall_nearest for a polygon e, given the signed height h of
+ * centre x over the polygon's plane (esf_wall_height): the foot of the normal, and
+ * whether it lies inside every edge (then it is the nearest point, a FACE hit). Inline
+ * so that the fast wall pass (wall_fast.c) computes the same bits as
+ * esf_wall_nearest. */
 static inline int esf_wall_polygon_foot(const esf_wall_elem *e, const double x[3],
-                                        double *h, double foot[3]) {
-  double r[3];
-  v3_sub(r, x, e->p);
-  *h = v3_dot(r, e->n); /* signed height of x over the element's plane */
+                                        double h, double foot[3]) {
   v3_copy(foot, x);
-  v3_axpy(foot, -*h, e->n);
+  v3_axpy(foot, -h, e->n);
   const double tol = ESF_WALL_INSIDE_TOL * e->bound_r;
   for (int k = 0; k < e->nv; k++) {
     double d[3];
