@@ -10,9 +10,9 @@
  * half-step velocities at every step, each peak refined by a parabola through its
  * three samples. Two checks on each ratio: (1) against the leapfrog's discrete closed
  * form (the decay of the recurrence's complex root over half a discrete period), within
- * 3e-5 (measured: at most 9.1e-6); (2) against the
- * seed's 0.5 within 1% (0.005): at omega dt = 0.0707 ((omega dt)^2 = 5e-3) the discrete
- * ratio is 0.497268, 0.55% below 0.5.
+ * 3e-5 (measured: at most 9.1e-6); (2) against the seed's 0.5 within 1% (0.005): at
+ * omega dt = 0.0707 ((omega dt)^2 = 5e-3) the discrete ratio is 0.497268, 0.55% below
+ * 0.5.
  *
  * Restitution 1e-7 gives zeta = 0.98: the closed form's first rebound is 1e-7 of the
  * approach peak. The check: after its downward peak the velocity of sphere B never
