@@ -1,7 +1,7 @@
 /* bench_cells.c — times the contact-candidate search (esf_cells_pairs) with one grid and
  * with size classes, on random polydisperse sets and on packings read from CSV files.
  * A benchmark, not a test: it prints figures and asserts nothing about speed; it does
- * check that every mode finds the same number of pairs.
+ * check that every mode finds the same number of pairs (exit status 1 when one does not).
  *
  * usage: bench_cells [-n N] [-r REPS] [-p PHI] [FILE.csv ...]
  *   without files: N spheres (default 20000), radii in [r, q r] uniform by number,
@@ -45,7 +45,8 @@ static const struct {
              {ESF_CELLS_AUTO, 0, "auto"}};
 enum { NMODES = sizeof modes / sizeof modes[0] };
 
-static void run(const char *what, size_t n, const double *x, const double *r, int reps) {
+/* Returns the number of modes whose pair count differs from the first mode's. */
+static int run(const char *what, size_t n, const double *x, const double *r, int reps) {
   double rmin = INFINITY, rmax = 0, rsum = 0;
   for (size_t i = 0; i < n; i++) {
     rsum += r[i];
@@ -58,6 +59,7 @@ static void run(const char *what, size_t n, const double *x, const double *r, in
   esf_pairbuf b = {0};
   double *t = malloc((size_t)reps * sizeof *t), t0 = 0, tmin0 = 0;
   size_t np0 = 0;
+  int differ = 0;
   printf("%-28s n=%zu r=[%.3g, %.3g] skin=%.3g S=%.2f\n", what, n, rmin, rmax, skin,
          (2 * rmax + skin) / (2 * rmin + skin));
   for (int m = 0; m < NMODES; m++) {
@@ -81,11 +83,12 @@ static void run(const char *what, size_t n, const double *x, const double *r, in
            modes[m].name, 1e3 * med, 1e3 * t[0], b.n, b.n == np0 ? "" : " DIFFER",
            t0 / med, tmin0 / t[0], esf_cells_nclasses(c),
            (double)esf_cells_bytes(c) / (double)n);
+    differ += b.n != np0;
     esf_cells_free(&c);
   }
   free(t);
   esf_pairbuf_release(&b);
-  return;
+  return differ;
 fail:
   fprintf(stderr, "bench_cells: %s\n", err.msg);
   exit(1);
@@ -129,6 +132,13 @@ static size_t read_csv(const char *path, double **x, double **r) {
   return n;
 }
 
+/* Exit status: 1 when some mode's pair count differed. */
+static int report(int differ) {
+  if (differ)
+    fprintf(stderr, "bench_cells: %d pair counts DIFFER between modes\n", differ);
+  return differ ? 1 : 0;
+}
+
 int main(int argc, char **argv) {
   size_t n = 20000;
   int reps = 21, a = 1;
@@ -145,15 +155,16 @@ int main(int argc, char **argv) {
       return 2;
   }
   if (reps < 1) reps = 1;
+  int differ = 0;
   if (a < argc) {
     for (; a < argc; a++) {
       double *x, *r;
       size_t m = read_csv(argv[a], &x, &r);
-      run(argv[a], m, x, r, reps);
+      differ += run(argv[a], m, x, r, reps);
       free(x);
       free(r);
     }
-    return 0;
+    return report(differ);
   }
   double *x = malloc(3 * n * sizeof *x), *r = malloc(n * sizeof *r);
   esf_rng g;
@@ -197,9 +208,9 @@ int main(int argc, char **argv) {
                            : sets[k].kind == 'b' ? 2
                                                  : 3];
     snprintf(what, sizeof what, "%s 1:%g", kn, q);
-    run(what, n, x, r, reps);
+    differ += run(what, n, x, r, reps);
   }
   free(x);
   free(r);
-  return 0;
+  return report(differ);
 }

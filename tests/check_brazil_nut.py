@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """check_brazil_nut.py ESFERA SOURCE_ROOT — scenes/brazil_nut-quick.yaml: a 24 mm
 sphere (id 0) under 500 spheres of 8 mm in a box shaken at 20 Hz, 3 g, against the
-same scene unshaken (--set walls.0.motion.oscillate.acceleration=0), run to 2 s.
+same scene unshaken (--set walls.0.motion.oscillate.acceleration=0); the shaken run
+goes to 4 s (the scene's duration), the control to 2 s.
 
 Measure: the intruder's height minus the mean height of the small spheres, in small
 diameters d, from t = 0.5 s (the poured bed has settled) to the end (4 s, 70 cycles

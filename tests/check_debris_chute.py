@@ -10,7 +10,7 @@ measured with studies/runout.py along the floor from the toe.
   5e-5), and the 95th-percentile front moves at under a tenth of its peak speed;
 - no particle leaves the domain;
 - the peak front speed is below the frictionless slide from the gate to the toe,
-  sqrt(2 g sin 35 * 0.8 m) = 3.0 m/s, and the percentiles are ordered;
+  sqrt(2 g sin 35 * 0.8 m) = 3.0 m/s;
 - runout grows with released volume: the deposit front of the full mass lies at least
   5 d beyond the small one's (measured 0.27 m = 13.5 d). Over the fills of seeds 1-3
   the small mass's front spread over 0.71-1.20 m and the full one's over 1.38-1.61 m:
@@ -70,8 +70,6 @@ def main():
             check(v_end < 0.1 * t["front_speed"].max(), f"{name}: front speed {v_end} m/s")
             check(0 < t["front_speed"].max() < vmax,
                   f"{name}: peak front speed {t['front_speed'].max()} vs {vmax}")
-            check(np.all(t["front_p95"] <= t["front_p99"] + 1e-12)
-                  and np.all(t["front_p99"] <= t["front_max"] + 1e-12), "percentiles ordered")
         gain = fronts["full"] - fronts["small"]
         print(f"runout gain with 4x the volume: {gain:.4f} m = {gain / D:.2f} d")
         check(gain >= 5 * D, f"runout grows with volume: {fronts}")

@@ -18,13 +18,12 @@ the flight's) and at each frame's time it is frame 0's turned by -omega t about 
 axis (1e-9 m)."""
 import math
 import os
-import subprocess
 import sys
 import tempfile
 
 import numpy as np
 
-from pycheck import check, finish
+from pycheck import check, finish, run_sets
 
 AXIS_XY = (0.15, 0.15)
 RADIUS, PITCH, SEGMENTS, TURNS = 0.1, 0.1, 36, 4
@@ -81,10 +80,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         for rpm in (95, 190):
             out = os.path.join(tmp, f"rpm{rpm}")
-            r = subprocess.run([esfera, "run", scene, "--out", out, "--quiet",
-                                "--set", f"walls.1.motion.rotate.rpm={rpm}"],
-                               capture_output=True, text=True)
-            check(r.returncode == 0, f"{rpm} rpm: exit {r.returncode} {r.stderr}")
+            r = run_sets(esfera, scene, out, f"walls.1.motion.rotate.rpm={rpm}")
             if r.returncode:
                 return finish("helical_screw")
             q, se, u, nb, frames = measure(esfera_h5, out)

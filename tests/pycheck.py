@@ -35,14 +35,15 @@ def run_scene(esfera, tmp, text, *extra):
     return out
 
 
-def run_sets(esfera, scene, out, *sets):
-    """Runs `esfera run SCENE --out OUT --quiet` with each of sets as a --set override;
-    checks the exit status; returns the finished process (stdout holds the summary)."""
+def run_sets(esfera, scene, out, *sets, command="run"):
+    """Runs `esfera COMMAND SCENE --out OUT` (with --quiet for run) with each of sets as
+    a --set override; checks the exit status; returns the finished process (stdout
+    holds the summary, or generate's stage lines)."""
     import subprocess
 
-    args = [esfera, "run", scene, "--out", out, "--quiet"]
+    args = [esfera, command, scene, "--out", out] + (["--quiet"] if command == "run" else [])
     for s in sets:
         args += ["--set", s]
     r = subprocess.run(args, capture_output=True, text=True)
-    check(r.returncode == 0, f"run {sets}: exit {r.returncode} {r.stderr}")
+    check(r.returncode == 0, f"{command} {sets}: exit {r.returncode} {r.stderr}")
     return r

@@ -266,10 +266,18 @@ static void pull_and_recontact(double eps) {
   CHECK(touched && overlap(s) < -1e-4, "%s: the pair separated", what);
   CHECK_NEAR(e_out, x.e, 0.005 * x.e, what);
   double w_rebound = 0.5 * mstar * pow(2 * v * e_out, 2);
-  CHECK(w_rebound < esf_adhesion_energy(KN, &a, a.u_rupture) || eps < exp(-1),
-        "the rebound energy %g J must be below the bond's work of separation", w_rebound);
-  printf("recontact eps=%-6g: restitution %.5f (linear closed form %.5f)\n", eps, e_out,
-         x.e);
+  /* the work to open the bond from rest, W(u_rupture) - W(u_eq) (W(u_rupture) alone is 0
+     for eps < 1/e, where u_rupture = 0) */
+  double w_open =
+      esf_adhesion_energy(KN, &a, a.u_rupture) - esf_adhesion_energy(KN, &a, a.u_eq);
+  CHECK(w_rebound < w_open,
+        "eps %g: the rebound energy %g J must be below the bond's work "
+        "of separation from rest %g J",
+        eps, w_rebound, w_open);
+  printf(
+      "recontact eps=%-6g: restitution %.5f (linear closed form %.5f), rebound %.3e J, "
+      "work to open from rest %.3e J\n",
+      eps, e_out, x.e, w_rebound, w_open);
   simtest_close(&T);
 }
 
@@ -330,8 +338,11 @@ static double ledger_case(double v, int expect_break, double frac) {
   CHECK(s->bonds.broken == expect_break, "v %g: %ld ruptures, expected %d", v,
         s->bonds.broken, expect_break);
   if (expect_break) {
-    CHECK_NEAR(s->led.d_bonds, wr, 0.02 * wr, "dissipated_bonds vs W(u_rupture)");
-    CHECK_NEAR(ke1, ke0 - wr, 0.02 * wr, "kinetic energy after the rupture");
+    /* the rupture is detected at the first step past u_rupture, not at it: measured
+       errors 2.4e-4 (dissipated, w dt 0.02), 4.7e-5 (w dt 0.01), 8.3e-5 and 1.5e-5
+       (kinetic energy) of W(u_rupture); 1e-3 leaves 4x margin */
+    CHECK_NEAR(s->led.d_bonds, wr, 1e-3 * wr, "dissipated_bonds vs W(u_rupture)");
+    CHECK_NEAR(ke1, ke0 - wr, 1e-3 * wr, "kinetic energy after the rupture");
   } else {
     CHECK(s->led.d_bonds == 0.0, "no rupture energy");
   }

@@ -4,8 +4,8 @@
  * truncated binary, a wrong count) is an ESF_EINPUT error naming the file and the line
  * (ASCII) or the triangle (binary); a box made of 12 STL triangles gives the same
  * nearest distance as the box's 6 quadrilaterals and as a dense sampling of its surface
- * (brute force); a sphere resting on a triangulated floor (over a vertex shared by six
- * triangles, over a shared edge, inside a face) rests at the plane's height
+ * (brute force); a sphere resting on a triangulated floor (over vertices shared by eight
+ * and by four triangles, over a shared edge, inside a face) rests at the plane's height
  * r - m g / kn, without drifting sideways. */
 #include <math.h>
 #include <stdint.h>

@@ -210,6 +210,7 @@ static void compare_all(esf_sim *s, stats *st) {
     const size_t nt = R[0].nt - 5;
     st->contacts += (long)nt;
     st->multi += nt >= 2;
+    /* more than 8 candidates (FAST_MAX, private to src/wall_fast.c) use the scratch */
     st->scratch += nt >= 1 && m > 8;
     const double *x = s->p.x + 3 * a, r = s->p.radius[a];
     size_t over = 0;
@@ -275,7 +276,7 @@ static void run_scene(const char *name, const char *yaml, const char *tframe, in
 static void threads_same(void) {
   double *y[2] = {NULL, NULL};
   esf_contact_hist *h[2] = {NULL, NULL};
-  size_t n = 0, m = 0;
+  size_t n[2] = {0, 0}, m[2] = {0, 0};
   for (int q = 0; q < 2; q++) {
     const char *sets[] = {"integrator.fused=true"};
     simtest T;
@@ -285,16 +286,18 @@ static void threads_same(void) {
     T.s.cfg.threads = q + 1;
     for (int k = 0; k < 4000 && !rc; k++) rc = simtest_step(&T);
     CHECK(rc == 0, "threads %d: run", q + 1);
-    n = T.s.p.n;
-    m = T.s.nb.pw.n;
-    y[q] = malloc(9 * n * sizeof(double));
-    h[q] = malloc((m ? m : 1) * sizeof *h[q]);
-    memcpy(y[q], T.s.p.y, 9 * n * sizeof(double));
-    memcpy(h[q], T.s.nb.pw.h, m * sizeof *h[q]);
+    n[q] = T.s.p.n;
+    m[q] = T.s.nb.pw.n;
+    y[q] = malloc(9 * n[q] * sizeof(double));
+    h[q] = malloc((m[q] ? m[q] : 1) * sizeof *h[q]);
+    memcpy(y[q], T.s.p.y, 9 * n[q] * sizeof(double));
+    memcpy(h[q], T.s.nb.pw.h, m[q] * sizeof *h[q]);
     simtest_close(&T);
   }
-  CHECK(!memcmp(y[0], y[1], 9 * n * sizeof(double)) &&
-            !memcmp(h[0], h[1], m * sizeof *h[0]),
+  CHECK(n[0] == n[1], "1 and 2 threads: %zu and %zu particles", n[0], n[1]);
+  CHECK(m[0] == m[1], "1 and 2 threads: %zu and %zu wall pairs", m[0], m[1]);
+  CHECK(n[0] == n[1] && m[0] == m[1] && !memcmp(y[0], y[1], 9 * n[0] * sizeof(double)) &&
+            !memcmp(h[0], h[1], m[0] * sizeof *h[0]),
         "1 and 2 threads differ");
   for (int q = 0; q < 2; q++) {
     free(y[q]);

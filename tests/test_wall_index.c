@@ -112,9 +112,11 @@ static void test_screw(void) {
   esf_walls_release(&w);
 }
 
-/* every element within r of x (brute force) is in the query's answer, each once */
-static void compare(esf_wall_index *ix, const esf_walls *w, const double x[3], double r,
-                    long *found, long *reported, long *missed, long *dup) {
+/* every element within r of x (brute force) is in the query's answer, each once; every
+ * element flagged in always[] is in it whatever its distance */
+static void compare(esf_wall_index *ix, const esf_walls *w, const unsigned char *always,
+                    const double x[3], double r, long *found, long *reported,
+                    long *missed, long *dup, long *always_missed) {
   const uint32_t *c;
   size_t n;
   esf_wall_index_query(ix, w, x, r, &c, &n);
@@ -126,6 +128,7 @@ static void compare(esf_wall_index *ix, const esf_walls *w, const double x[3], d
   }
   *reported += (long)n;
   for (size_t e = 0; e < w->n; e++) {
+    if (always[e] && !seen[e]) (*always_missed)++;
     esf_wall_hit h;
     esf_wall_nearest(&w->e[e], x, &h);
     if (fabs(h.dist) >= r) continue;
@@ -172,6 +175,26 @@ static void test_index(void) {
   CHECK_OK(esf_wall_index_sync(&ix, &w, &err), err);
   CHECK(esf_wall_index_grids(ix) == 2, "%d groups indexed, want 2 (screw, cylinder)",
         esf_wall_index_grids(ix));
+  /* the elements of groups with a plane or fewer than ESF_WALL_INDEX_MIN polygons */
+  static unsigned char always[4096];
+  size_t npoly[8] = {0}, nalways = 0;
+  int has_plane[8] = {0};
+  CHECK(w.ngroups <= 8 && w.n <= 4096, "test arrays too small");
+  for (size_t k = 0; k < w.n; k++) {
+    if (w.e[k].kind == ESF_WALL_PLANE)
+      has_plane[w.e[k].group] = 1;
+    else
+      npoly[w.e[k].group]++;
+  }
+  for (size_t k = 0; k < w.n; k++) {
+    int g = w.e[k].group;
+    always[k] = has_plane[g] || npoly[g] < ESF_WALL_INDEX_MIN;
+    nalways += always[k];
+  }
+  CHECK(nalways == 1 + (size_t)nb,
+        "%zu elements always reported, want the plane and the "
+        "box's %d",
+        nalways, nb);
   srand(11);
   const double times[3] = {0, 0.137, 1.9};
   for (int ti = 0; ti < 3; ti++) {
@@ -179,14 +202,17 @@ static void test_index(void) {
     esf_wall_index *same = ix;
     CHECK_OK(esf_wall_index_sync(&ix, &w, &err), err);
     CHECK(ix == same, "moving the walls rebuilt the index");
-    long found = 0, reported = 0, missed = 0, dup = 0;
+    long found = 0, reported = 0, missed = 0, dup = 0, always_missed = 0;
     for (int k = 0; k < 4000; k++) {
       double x[3] = {-0.02 + 0.34 * rand() / (double)RAND_MAX,
                      -0.02 + 0.34 * rand() / (double)RAND_MAX,
                      -0.02 + 0.4 * rand() / (double)RAND_MAX};
       double r = 0.005 + 0.03 * rand() / (double)RAND_MAX;
-      compare(ix, &w, x, r, &found, &reported, &missed, &dup);
+      compare(ix, &w, always, x, r, &found, &reported, &missed, &dup, &always_missed);
     }
+    CHECK(always_missed == 0,
+          "t = %g s: %ld omissions of plane or small-group elements (always reported)",
+          times[ti], always_missed);
     CHECK(missed == 0 && dup == 0,
           "t = %g s: %ld of %ld elements within reach missed, "
           "%ld reported twice",
