@@ -131,7 +131,6 @@ int esf_wall_gen_screw(const esf_screw_spec *c, int32_t material, int32_t group,
                     ">= 1 (got %d)",
                     c->segments, c->radial);
   double top = c->start + c->turns * fabs(c->pitch), bottom = c->start;
-  if (c->pitch < 0) bottom = c->start, top = c->start + c->turns * -c->pitch;
   if (!(c->start >= 0) || !(c->length >= top * (1 - 1e-12)))
     return esf_fail(err, ESF_EINPUT,
                     "the flight (from %g m to %g m along the axis) must "
