@@ -213,10 +213,10 @@ typedef struct class_info {
   double rmax;         /* its largest radius (m) */
 } class_info;
 
-/* The class plan for a size ratio S: K classes of ratio F in s, and the bounds. */
+/* The class plan for a size ratio S: K classes of ratio F = S^(1/K) in s, and the
+ * bounds. */
 typedef struct class_plan {
   int K;
-  double F;
   double bound[ESF_CELLS_MAX_CLASSES]; /* s <= bound[k]: class k + 1 or smaller */
 } class_plan;
 
@@ -225,9 +225,9 @@ static void plan_classes(class_plan *pl, double smax, double S, double factor) {
   if (K < 2) K = 2;
   if (K > ESF_CELLS_MAX_CLASSES) K = ESF_CELLS_MAX_CLASSES;
   pl->K = K;
-  pl->F = pow(S, 1.0 / K);
+  double F = pow(S, 1.0 / K);
   double b = smax;
-  for (int k = 0; k < K - 1; k++) pl->bound[k] = b /= pl->F;
+  for (int k = 0; k < K - 1; k++) pl->bound[k] = b /= F;
 }
 
 static inline int class_of(const class_plan *pl, double s) {
@@ -268,24 +268,15 @@ static void classify(esf_cells *c, size_t n, const double *x, const double *radi
 /* ---- cost estimate ------------------------------------------------------------------
  */
 
-/* The cells per axis (nc) of a grid of edge h over extent ext for n particles, as
- * esf_grid_build would make them (capped at max(64, 4 n) cells); returns their count. */
+/* The cells per axis (nc) of the grid esf_grid_build makes of edge h over extent ext
+ * for n particles (esf_grid_dims); returns their count. */
 static double est_cells(const double ext[3], double h, double n, double nc[3]) {
-  double C = 1, cap = 4 * n > 64 ? 4 * n : 64;
-  int k = 0;
+  int64_t k[3];
+  double inv_h[3], C = 1;
+  esf_grid_dims(ext, h, (size_t)n, k, inv_h);
   for (int d = 0; d < 3; d++) {
-    nc[d] = floor(fmin(ext[d] / h, 1e15));
-    if (nc[d] < 1) nc[d] = 1;
-    k += nc[d] > 1;
+    nc[d] = (double)k[d];
     C *= nc[d];
-  }
-  if (C > cap) { /* the grid grows its edge: shrink the counts alike */
-    double g = pow(cap / C, 1.0 / k);
-    C = 1;
-    for (int d = 0; d < 3; d++) {
-      if (nc[d] > 1) nc[d] = fmax(1, floor(nc[d] * g));
-      C *= nc[d];
-    }
   }
   return C;
 }

@@ -47,10 +47,10 @@ void esf_grid_release(esf_grid *g) {
   g->head_cap = 0;
 }
 
-/* Cell counts per dimension for a box of extent ext: cell edges >= edge, at most cap
- * cells in all. inv_h[d] maps a coordinate offset to a cell coordinate. */
-static void grid_dims(const double ext[3], double edge, size_t cap, int64_t nc[3],
-                      double inv_h[3]) {
+void esf_grid_dims(const double ext[3], double edge, size_t m, int64_t nc[3],
+                   double inv_h[3]) {
+  size_t cap = CELL_PER_PART * m;
+  if (cap < CELL_MIN_CAP) cap = CELL_MIN_CAP;
   double h = edge * (1 + CELL_EDGE_SLACK), f[3];
   for (;;) {
     double prod = 1;
@@ -85,9 +85,7 @@ int esf_grid_build(esf_grid *g, size_t m, const uint32_t *idx, const double *x,
                       "the particles span a non-finite extent along axis %d (%g to %g m)",
                       d, lo[d], hi[d]);
   }
-  size_t cap = CELL_PER_PART * m;
-  if (cap < CELL_MIN_CAP) cap = CELL_MIN_CAP;
-  grid_dims(ext, edge, cap, g->nc, g->inv_h);
+  esf_grid_dims(ext, edge, m, g->nc, g->inv_h);
   const int64_t nx = g->nc[0], ny = g->nc[1], nz = g->nc[2];
   const size_t ncell = (size_t)(nx * ny * nz);
   if (ncell > g->head_cap) {

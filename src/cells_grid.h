@@ -28,6 +28,12 @@ typedef struct esf_grid {
 
 void esf_grid_release(esf_grid *g);
 
+/* Cell counts per axis of the grid esf_grid_build makes for m particles over a box of
+ * extent ext (m): cell edges >= edge, at most max(64, 4 m) cells in all. inv_h[d] maps
+ * a coordinate offset to a cell coordinate (0 when one cell thick). */
+void esf_grid_dims(const double ext[3], double edge, size_t m, int64_t nc[3],
+                   double inv_h[3]);
+
 /* Builds the grid over the m particles idx[0..m) (ascending; idx NULL: particles 0..m-1)
  * whose bounding box is [lo, hi], cells of edge >= edge (> 0), at most max(64, 4 m)
  * cells. list[i] (indexed by particle) receives the next particle of i's cell; each

@@ -29,6 +29,14 @@ int esf_scene_wall_cylinder(const esf_ynode *e, esf_sim *s, int group, int32_t m
 int esf_scene_wall_screw(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
                          esf_error *err);
 
+/* Helpers shared by the wall readers (scene_walls.c). */
+/* Re-raises err's message (set by a geometry builder) at node n's position. */
+int esf_scene_fail_at(const esf_ynode *n, esf_error *err);
+/* A unit vector from key `key` of map m: finite and non-zero, normalised. When not
+ * required and the key is absent, u's value on entry (the default) is normalised. */
+int esf_scene_unit_vector(const esf_ynode *m, const char *key, int required, double u[3],
+                          esf_error *err);
+
 /* The material index named by a scalar node, or an error listing the materials. */
 int esf_scene_material(const esf_ynode *node, const esf_materials *m, int32_t *index,
                        esf_error *err);

@@ -14,12 +14,6 @@
 #include "vec3.h"
 #include "wall_gen.h"
 
-static int fail_at(const esf_ynode *n, esf_error *err) {
-  char msg[ESF_ERROR_MSG_MAX];
-  snprintf(msg, sizeof msg, "%s", err->msg);
-  return esf_ynode_fail(n, err, "%s", msg);
-}
-
 /* `caps: [bottom, top]` (either, both or none) */
 static int read_caps(const esf_ynode *m, int *bottom, int *top, esf_error *err) {
   const esf_ynode *c = esf_ymap_get(m, "caps");
@@ -41,14 +35,10 @@ static int read_caps(const esf_ynode *m, int *bottom, int *top, esf_error *err) 
   return rc;
 }
 
+/* `axis` (default z), normalised */
 static int read_axis(const esf_ynode *m, double a[3], esf_error *err) {
   v3_set(a, 0, 0, 1);
-  int rc = esf_yget_doubles(m, "axis", 0, a, 3, err);
-  double len = v3_norm(a);
-  if (!rc && !(len > 0))
-    return esf_ynode_fail(esf_ymap_get(m, "axis"), err, "must be a non-zero vector");
-  if (!rc) v3_scale(a, 1 / len, a);
-  return rc;
+  return esf_scene_unit_vector(m, "axis", 0, a, err);
 }
 
 static int read_count(const esf_ynode *m, const char *key, int lo, int *out,
@@ -88,7 +78,7 @@ int esf_scene_wall_cylinder(const esf_ynode *e, esf_sim *s, int group, int32_t m
   if (!rc) rc = read_elements(c, &sp.quads, err);
   if (rc) return rc;
   rc = esf_wall_gen_cylinder(&sp, mat, group, &s->walls, err);
-  return rc ? fail_at(c, err) : ESF_OK;
+  return rc ? esf_scene_fail_at(c, err) : ESF_OK;
 }
 
 int esf_scene_wall_screw(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
@@ -116,15 +106,7 @@ int esf_scene_wall_screw(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
   if (!rc) rc = read_caps(c, &sp.cap_bottom, &sp.cap_top, err);
   if (rc) return rc;
   rc = esf_wall_gen_screw(&sp, mat, group, &s->walls, err);
-  return rc ? fail_at(c, err) : ESF_OK;
-}
-
-/* rotate v by angle a about unit axis k */
-static void rotate(double out[3], const double k[3], double a, const double v[3]) {
-  double c = cos(a), sn = sin(a), kxv[3];
-  v3_cross(kxv, k, v);
-  double kv = v3_dot(k, v) * (1 - c);
-  for (int q = 0; q < 3; q++) out[q] = v[q] * c + kxv[q] * sn + k[q] * kv;
+  return rc ? esf_scene_fail_at(c, err) : ESF_OK;
 }
 
 int esf_scene_wall_stl(const esf_ynode *e, const char *dir, esf_sim *s, int group,
@@ -164,7 +146,7 @@ int esf_scene_wall_stl(const esf_ynode *e, const char *dir, esf_sim *s, int grou
     for (int k = 0; k < 3; k++) {
       double sv[3];
       v3_scale(sv, scale, stl.v[t][k]);
-      rotate(v[k], axis, ang, sv);
+      v3_rotate(v[k], sv, axis, ang);
       v3_add(v[k], v[k], tr);
     }
     esf_wall_elem el;

@@ -20,7 +20,7 @@ static int wall_material(const esf_ynode *e, const esf_sim *s, int32_t *m,
   return esf_scene_material(mn, &s->mats, m, err);
 }
 
-static int geometry_fail(const esf_ynode *n, esf_error *err) {
+int esf_scene_fail_at(const esf_ynode *n, esf_error *err) {
   char msg[ESF_ERROR_MSG_MAX];
   snprintf(msg, sizeof msg, "%s", err->msg);
   return esf_ynode_fail(n, err, "%s", msg);
@@ -60,7 +60,7 @@ static int read_box(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
   esf_wall_elem el[6];
   int count = 0;
   rc = esf_wall_box(lo, hi, mask, mat, group, el, &count, err);
-  if (rc) return geometry_fail(b, err);
+  if (rc) return esf_scene_fail_at(b, err);
   for (int k = 0; k < count && !rc; k++) rc = esf_walls_add_elem(&s->walls, &el[k], err);
   return rc;
 }
@@ -77,7 +77,7 @@ static int read_plane(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
   if (rc) return rc;
   esf_wall_elem el;
   rc = esf_wall_plane_init(&el, pt, nr, mat, group, err);
-  if (rc) return geometry_fail(p, err);
+  if (rc) return esf_scene_fail_at(p, err);
   return esf_walls_add_elem(&s->walls, &el, err);
 }
 
@@ -94,13 +94,13 @@ static int read_polygon(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
   if (rc) return rc;
   esf_wall_elem el;
   rc = esf_wall_polygon_init(&el, (int)p->n, (const double(*)[3])v, mat, group, err);
-  if (rc) return geometry_fail(p, err);
+  if (rc) return esf_scene_fail_at(p, err);
   return esf_walls_add_elem(&s->walls, &el, err);
 }
 
-/* A unit vector from key `key` of map m (required). */
-static int unit_vector(const esf_ynode *m, const char *key, double u[3], esf_error *err) {
-  int rc = esf_yget_doubles(m, key, 1, u, 3, err);
+int esf_scene_unit_vector(const esf_ynode *m, const char *key, int required, double u[3],
+                          esf_error *err) {
+  int rc = esf_yget_doubles(m, key, required, u, 3, err);
   if (rc) return rc;
   double len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
   if (!(len > 0) || !isfinite(len))
@@ -139,7 +139,7 @@ static int read_motion(const esf_ynode *mo, esf_wall_motion *m, esf_error *err) 
     m->kind = ESF_MOTION_ROTATE;
     rc = esf_ynode_require_map(r, err);
     if (!rc) rc = esf_ymap_check_keys(r, rkeys, err);
-    if (!rc) rc = unit_vector(r, "axis", m->axis, err);
+    if (!rc) rc = esf_scene_unit_vector(r, "axis", 1, m->axis, err);
     if (!rc) rc = esf_yget_doubles(r, "center", 0, m->pivot, 3, err);
     const esf_ynode *rpm = esf_ymap_get(r, "rpm"), *om = esf_ymap_get(r, "omega");
     if (!rc && (rpm != NULL) == (om != NULL))
@@ -152,7 +152,7 @@ static int read_motion(const esf_ynode *mo, esf_wall_motion *m, esf_error *err) 
     m->kind = ESF_MOTION_OSCILLATE;
     rc = esf_ynode_require_map(o, err);
     if (!rc) rc = esf_ymap_check_keys(o, okeys, err);
-    if (!rc) rc = unit_vector(o, "direction", m->dir, err);
+    if (!rc) rc = esf_scene_unit_vector(o, "direction", 1, m->dir, err);
     if (!rc) rc = esf_yget_double(o, "frequency", 1, &m->freq, err);
     if (!rc && !(m->freq > 0))
       return esf_ynode_fail(esf_ymap_get(o, "frequency"), err, "must be positive (Hz)");

@@ -22,6 +22,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "atomic_file.h"
 #include "vec3.h"
 
 int esf_stl_check_triangle(const double v[3][3], esf_error *err) {
@@ -73,11 +74,10 @@ static int grow(esf_stl *s, size_t *cap, esf_error *err) {
   return ESF_OK;
 }
 
-static int read_binary(const unsigned char *b, size_t nb, const char *path, esf_stl *s,
+static int read_binary(const unsigned char *b, const char *path, esf_stl *s,
                        esf_error *err) {
   size_t n =
       (size_t)b[80] | (size_t)b[81] << 8 | (size_t)b[82] << 16 | (size_t)b[83] << 24;
-  (void)nb;
   s->binary = 1;
   s->v = malloc((n ? n : 1) * sizeof *s->v);
   s->line = calloc(n ? n : 1, sizeof *s->line);
@@ -204,32 +204,12 @@ static int read_ascii(const char *text, const char *path, const char *hint, esf_
 
 int esf_stl_read(const char *path, esf_stl *out, esf_error *err) {
   memset(out, 0, sizeof *out);
-  FILE *f = fopen(path, "rb");
-  if (!f)
-    return esf_fail(err, ESF_EIO, "%s: cannot open STL file: %s", path, strerror(errno));
-  size_t cap = 1 << 16, nb = 0;
-  unsigned char *b = malloc(cap + 1);
-  while (b) {
-    nb += fread(b + nb, 1, cap - nb, f);
-    if (nb < cap) break;
-    unsigned char *nbuf = realloc(b, 2 * cap + 1);
-    if (!nbuf) {
-      free(b);
-      b = NULL;
-    } else {
-      b = nbuf;
-      cap *= 2;
-    }
-  }
-  int bad = ferror(f);
-  fclose(f);
-  if (!b)
-    return esf_fail(err, ESF_ENOMEM, "%s: out of memory reading the STL file", path);
-  if (bad) {
-    free(b);
-    return esf_fail(err, ESF_EIO, "%s: read error", path);
-  }
-  b[nb] = 0;
+  char *buf = NULL;
+  size_t nb = 0;
+  esf_error rerr = {0};
+  int rrc = esf_read_file(path, &buf, &nb, &rerr);
+  if (rrc) return esf_fail(err, rrc, "%s: cannot open STL file (%s)", path, rerr.msg);
+  unsigned char *b = (unsigned char *)buf; /* NUL-terminated past nb */
   size_t hn = 0;
   if (nb >= 84)
     hn = (size_t)b[80] | (size_t)b[81] << 8 | (size_t)b[82] << 16 | (size_t)b[83] << 24;
@@ -238,7 +218,7 @@ int esf_stl_read(const char *path, esf_stl *out, esf_error *err) {
   while (*s && isspace((unsigned char)*s)) s++;
   int solid = strncasecmp(s, "solid", 5) == 0;
   if (nb >= 84 && nb == 84 + 50 * hn) {
-    rc = read_binary(b, nb, path, out, err);
+    rc = read_binary(b, path, out, err);
   } else if (solid && memchr(b, 0, nb) == NULL) {
     char hint[160] = "";
     if (nb >= 84)

@@ -50,5 +50,25 @@ static inline void v3_cross(double *o, const double *a, const double *b) {
   o[1] = y;
   o[2] = z;
 }
+/* o = v rotated by angle a (rad) about the unit axis k (Rodrigues' formula); o may
+ * alias v. */
+static inline void v3_rotate(double *o, const double *v, const double *k, double a) {
+  double c = cos(a), s = sin(a), kxv[3];
+  v3_cross(kxv, k, v);
+  double kv = v3_dot(k, v) * (1 - c);
+  for (int q = 0; q < 3; q++) o[q] = v[q] * c + kxv[q] * s + k[q] * kv;
+}
+/* u, v completing the unit vector n to a right-handed orthonormal frame (u, v, n):
+ * u = unit(n x e) with e the coordinate axis least aligned with n, v = n x u. */
+static inline void v3_basis(double *u, double *v, const double *n) {
+  int ax = 0;
+  for (int q = 1; q < 3; q++)
+    if (fabs(n[q]) < fabs(n[ax])) ax = q;
+  double e[3] = {0, 0, 0};
+  e[ax] = 1.0;
+  v3_cross(u, n, e);
+  v3_scale(u, 1.0 / v3_norm(u), u);
+  v3_cross(v, n, u);
+}
 
 #endif

@@ -33,14 +33,7 @@ static int make_frame(frame *f, const double base[3], const double axis[3],
                     axis[1], axis[2]);
   v3_copy(f->o, base);
   v3_scale(f->a, 1 / len, axis);
-  int ax = 0;
-  for (int q = 1; q < 3; q++)
-    if (fabs(f->a[q]) < fabs(f->a[ax])) ax = q;
-  double e[3] = {0, 0, 0};
-  e[ax] = 1;
-  v3_cross(f->u, f->a, e);
-  v3_scale(f->u, 1 / v3_norm(f->u), f->u);
-  v3_cross(f->v, f->a, f->u);
+  v3_basis(f->u, f->v, f->a);
   return ESF_OK;
 }
 
@@ -138,7 +131,6 @@ int esf_wall_gen_screw(const esf_screw_spec *c, int32_t material, int32_t group,
                     ">= 1 (got %d)",
                     c->segments, c->radial);
   double top = c->start + c->turns * fabs(c->pitch), bottom = c->start;
-  if (c->pitch < 0) bottom = c->start, top = c->start + c->turns * -c->pitch;
   if (!(c->start >= 0) || !(c->length >= top * (1 - 1e-12)))
     return esf_fail(err, ESF_EINPUT,
                     "the flight (from %g m to %g m along the axis) must "

@@ -204,6 +204,11 @@ static void to_reference(const esf_wall_group *g, const double x[3], double out[
 
 void esf_wall_index_query(esf_wall_index *ix, const esf_walls *w, const double x[3],
                           double r, const uint32_t **out, size_t *n) {
+  if (ix->ngrids == 0) { /* only loose elements: no copy */
+    *out = ix->loose;
+    *n = ix->nloose;
+    return;
+  }
   size_t m = ix->nloose;
   memcpy(ix->out, ix->loose, m * sizeof *ix->out);
   for (int k = 0; k < ix->ngrids; k++) {

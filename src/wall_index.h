@@ -26,7 +26,7 @@ typedef struct esf_wall_index esf_wall_index;
 int esf_wall_index_sync(esf_wall_index **idx, const esf_walls *w, esf_error *err);
 
 /* Elements possibly within r of point x (w placed at its current time); *out points
- * into idx's scratch, valid until the next query. */
+ * into idx's storage (read only), valid until the next query or sync. */
 void esf_wall_index_query(esf_wall_index *idx, const esf_walls *w, const double x[3],
                           double r, const uint32_t **out, size_t *n);
 

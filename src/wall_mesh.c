@@ -73,14 +73,8 @@ static void plane_patch(const esf_wall_elem *e, int have_box, const double blo[3
     v3_axpy(c, -v3_dot(d, n), n);
     if (v3_norm(diag) > 0) s = v3_norm(diag);
   }
-  int ax = 0; /* the axis least aligned with n */
-  for (int q = 1; q < 3; q++)
-    if (fabs(n[q]) < fabs(n[ax])) ax = q;
-  double a[3] = {0, 0, 0}, u[3], v[3];
-  a[ax] = 1.0;
-  v3_cross(u, n, a);
-  v3_scale(u, 1.0 / v3_norm(u), u);
-  v3_cross(v, n, u);
+  double u[3], v[3];
+  v3_basis(u, v, n);
   const double su[4] = {-1, 1, 1, -1}, sv[4] = {-1, -1, 1, 1};
   for (int j = 0; j < 4; j++)
     for (int q = 0; q < 3; q++)

@@ -21,14 +21,6 @@
 #include "vec3.h"
 #include "walls.h"
 
-/* rotate v by angle a about unit axis k */
-static void rodrigues(double out[3], const double k[3], double a, const double v[3]) {
-  double c = cos(a), s = sin(a), kxv[3];
-  v3_cross(kxv, k, v);
-  double kv = v3_dot(k, v) * (1 - c);
-  for (int q = 0; q < 3; q++) out[q] = v[q] * c + kxv[q] * s + k[q] * kv;
-}
-
 static void motion_at(const esf_wall_motion *m, double t, double d[3], double v[3],
                       double *angle) {
   v3_set(d, 0, 0, 0);
@@ -59,7 +51,7 @@ static void place(const esf_wall_group *g, const double x0[3], double out[3]) {
   if (m->kind == ESF_MOTION_ROTATE) {
     double r[3], rr[3];
     v3_sub(r, x0, m->pivot);
-    rodrigues(rr, m->axis, g->angle, r);
+    v3_rotate(rr, r, m->axis, g->angle);
     v3_add(out, m->pivot, rr);
   } else {
     v3_copy(out, x0);
@@ -119,7 +111,7 @@ void esf_walls_set_time(esf_walls *w, double t) {
       double pt[3], nn[3];
       place(g, r->p, pt);
       if (g->motion.kind == ESF_MOTION_ROTATE)
-        rodrigues(nn, g->motion.axis, g->angle, r->n);
+        v3_rotate(nn, r->n, g->motion.axis, g->angle);
       else
         v3_copy(nn, r->n);
       esf_wall_plane_init(e, pt, nn, r->material, r->group, &ignore);
