@@ -20,13 +20,14 @@
  *      torques on A and B) into their slots (zeroed when the contact ends),
  *      committing their history; barrier;
  *   2. each thread, for its own range: sets its four-wide accumulators to f = m g,
- *      t = 0; subtracts the incoming boundary slots (pairs whose b is its particle) in
- *      ascending k; screens its pair block for overlapping spheres into a list without
- *      branches; computes the listed pairs in batches of four, in ascending k, adding
- *      their forces to both particles and, between them in k order, the A side of its
- *      outgoing boundary slots; then, particle by particle: wall contacts (the pass of
- *      wall_fast.h), copy of F and M to p.f, p.t, the 2D projection, local damping,
- *      kick with global damping (1 -+ alpha dt/2), drift x += v dt, the squared
+ *      t = 0 (each just ahead of its first use, in ascending particle order, so that
+ *      the add into a pair's b finds the line in cache); subtracts the incoming boundary
+ * slots (pairs whose b is its particle) in ascending k; screens its pair block for
+ * overlapping spheres into a list without branches; computes the listed pairs in batches
+ * of four, in ascending k, adding their forces to both particles and, between them in k
+ * order, the A side of its outgoing boundary slots; then, particle by particle: wall
+ * contacts (the pass of wall_fast.h), copy of F and M to p.f, p.t, the 2D projection,
+ * local damping, kick with global damping (1 -+ alpha dt/2), drift x += v dt, the squared
  *      displacement since the last build.
  * After the barrier no thread reads another range's particles (an interior pair has
  * both ends in the range; the boundary pairs were done before), so each thread drifts
@@ -384,6 +385,19 @@ static inline void outgoing(const esf_step_fast *f, const esf_contacts *c, size_
   v4_acc(fa + 4, sl + 4);
 }
 
+/* Sets the accumulators of particles [from, to) to f = m g, t = 0; returns the new
+ * frontier (max(from, to)). */
+static inline size_t acc_set(const esf_particles *p, const double *g, double *acc,
+                             size_t from, size_t to) {
+  for (size_t i = from; i < to; i++) {
+    const double mass = p->mass[i];
+    double *ai = acc + ACC * i;
+    ai[0] = mass * g[0], ai[1] = mass * g[1], ai[2] = mass * g[2], ai[3] = 0.0;
+    ai[4] = 0.0, ai[5] = 0.0, ai[6] = 0.0, ai[7] = 0.0;
+  }
+  return from > to ? from : to;
+}
+
 /* Step 2's pair pass for range t: forces of all pairs touching its particles, in
  * ascending k per particle. Returns the lowest failing pair index or SIZE_MAX. */
 static size_t pairs_range(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx *bc,
@@ -393,12 +407,16 @@ static size_t pairs_range(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx
   const double *g = s->cfg.gravity;
   double *acc = f->acc;
   size_t bad = SIZE_MAX;
-  for (size_t i = lo; i < hi; i++) {
-    const double mass = p->mass[i];
-    double *ai = acc + ACC * i;
-    ai[0] = mass * g[0], ai[1] = mass * g[1], ai[2] = mass * g[2], ai[3] = 0.0;
-    ai[4] = 0.0, ai[5] = 0.0, ai[6] = 0.0, ai[7] = 0.0;
+  /* The accumulators are set (f = m g, t = 0) just ahead of their first use, not in a
+   * pass of their own: a pair's b lies a few thousand particles ahead of its a, and a
+   * separate pass would leave its line to be fetched again from memory at the add. */
+  size_t fr = lo; /* acc[lo .. fr) are set */
+  size_t bmax = lo;
+  for (size_t q = f->binstart[t]; q < f->binstart[t + 1]; q++) {
+    const size_t b = c->b[f->bk[f->bin[q]]];
+    if (b >= bmax) bmax = b + 1;
   }
+  fr = acc_set(p, g, acc, fr, bmax);
   for (size_t q = f->binstart[t]; q < f->binstart[t + 1]; q++) { /* incoming */
     const size_t j = f->bin[q];
     double *ab = acc + ACC * c->b[f->bk[j]];
@@ -415,6 +433,9 @@ static size_t pairs_range(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx
   for (size_t q0 = 0; q0 < cnt; q0 += ESF_BATCH) {
     const int nl = cnt - q0 < ESF_BATCH ? (int)(cnt - q0) : ESF_BATCH;
     const unsigned fail = esf_pair_batch_linear(bc, list + q0, nl, out);
+    for (int l = 0; l < nl; l++) /* b > a: covers the a sides and outgoing slots too */
+      if (c->b[list[q0 + l]] >= bmax) bmax = c->b[list[q0 + l]] + 1;
+    fr = acc_set(p, g, acc, fr, bmax);
     for (int l = 0; l < nl; l++) {
       const size_t k = list[q0 + l];
       for (; jo < jo1 && f->bk[jo] < k; jo++) outgoing(f, c, jo);
@@ -429,6 +450,7 @@ static size_t pairs_range(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx
       v4_acc(ab + 4, out[l] + 8);
     }
   }
+  acc_set(p, g, acc, fr, hi);
   for (; jo < jo1; jo++) outgoing(f, c, jo);
   return bad;
 }
