@@ -45,6 +45,7 @@ static int lf_create(esf_sim *s, void **state, esf_error *err) {
   leapfrog *lf = calloc(1, sizeof *lf);
   if (!lf) return esf_fail(err, ESF_ENOMEM, "out of memory");
   *state = lf;
+  s->reorder_ok = 1; /* x, v, w and p.f, p.t are all the state between steps */
   return esf_step_fast_create(&lf->fast, err);
 }
 

@@ -122,6 +122,7 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
   int rc = esf_particles_alloc(p, (size_t)n, err);
   if (rc) return rc;
   esf_blob_get(&in, p->y, 9 * n * sizeof(double));
+  s->ft_lazy = NULL;
   esf_blob_get(&in, p->f, 3 * n * sizeof(double));
   esf_blob_get(&in, p->t, 3 * n * sizeof(double));
   double *cols[] = {p->radius, p->mass, p->inv_mass, p->inertia, p->inv_inertia};

@@ -17,9 +17,9 @@ typedef struct esf_drag {
   double porosity; /* void fraction epsilon, fixed (grid off) */
   int grid;        /* 1: epsilon from a coarse grid of cells (porosity.h) */
   esf_porosity_grid pg;
-  double mu;       /* fluid viscosity, Pa s */
-  double rho;      /* fluid density, kg/m^3 */
-  double perm;     /* permeability k, m^2 (radial: Darcy velocity) */
+  double mu;   /* fluid viscosity, Pa s */
+  double rho;  /* fluid density, kg/m^3 */
+  double perm; /* permeability k, m^2 (radial: Darcy velocity) */
   /* radial: the well's axis through center, radii and the pressure drop p_e - p_w */
   double center[3], axis[3]; /* m, unit */
   double rw, re;             /* well and drainage radii, m */

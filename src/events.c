@@ -101,6 +101,7 @@ static int apply_one(esf_sim *s, esf_event *ev, esf_error *err) {
   int rc = ESF_OK;
   if (out) {
     if (s->led.on) s->led.e_removed += e_gone + removed_elastic(s, keep);
+    esf_sim_forces_sync(s); /* compaction carries p.f, p.t along */
     rc = esf_particles_compact(p, keep, remap, err);
     if (!rc) esf_neighbor_remap(&s->nb, remap, n_old);
   }

@@ -290,6 +290,7 @@ int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *
                     double dt, int mode, size_t *touching, esf_error *err) {
   esf_particles *p = &s->p;
   const double *g = s->cfg.gravity;
+  s->ft_lazy = NULL; /* p.f, p.t are written here */
   for (size_t i = 0; i < p->n; i++) {
     double m = p->mass[i];
     p->f[3 * i] = m * g[0];

@@ -233,17 +233,75 @@ static int particle_box(const esf_particles *p, double lo[3], double hi[3]) {
   return p->n > 0;
 }
 
-static int write_particles(hid_t g, const esf_particles *p) {
-  size_t n = p->n;
+/* Frames list the particles in ascending id whatever order the run keeps them in
+ * (reorder.h): ord[r] is the particle written in row r, row[i] the row of particle i;
+ * both NULL when the ids already ascend. */
+typedef struct id_order {
+  size_t *ord, *row;
+  void *buf; /* 3 n doubles of scratch */
+} id_order;
+
+static int by_id(const void *x, const void *y) {
+  const int64_t *a = x, *b = y; /* (id, index) */
+  return (a[0] > b[0]) - (a[0] < b[0]);
+}
+
+static int id_order_make(const esf_particles *p, id_order *o, esf_error *err) {
+  memset(o, 0, sizeof *o);
+  size_t n = p->n, i = 1;
+  while (i < n && p->id[i - 1] < p->id[i]) i++;
+  if (i >= n) return ESF_OK;
+  int64_t *kv = malloc(2 * n * sizeof *kv);
+  o->ord = malloc(n * sizeof *o->ord);
+  o->row = malloc(n * sizeof *o->row);
+  o->buf = malloc(3 * n * sizeof(double));
+  if (!kv || !o->ord || !o->row || !o->buf) {
+    free(kv);
+    free(o->ord);
+    free(o->row);
+    free(o->buf);
+    return esf_fail(err, ESF_ENOMEM, "out of memory for a frame of %zu particles", n);
+  }
+  for (i = 0; i < n; i++) kv[2 * i] = p->id[i], kv[2 * i + 1] = (int64_t)i;
+  qsort(kv, n, 2 * sizeof *kv, by_id);
+  for (size_t r = 0; r < n; r++) {
+    o->ord[r] = (size_t)kv[2 * r + 1];
+    o->row[o->ord[r]] = r;
+  }
+  free(kv);
+  return ESF_OK;
+}
+
+static void id_order_free(id_order *o) {
+  free(o->ord);
+  free(o->row);
+  free(o->buf);
+}
+
+/* src (n rows of `width` elements of `size` bytes) in row order: src itself, or its
+ * rows gathered into o->buf */
+static const void *rows(const id_order *o, const void *src, size_t n, size_t width,
+                        size_t size) {
+  if (!o->ord) return src;
+  const size_t w = width * size;
+  for (size_t r = 0; r < n; r++)
+    memcpy((char *)o->buf + r * w, (const char *)src + o->ord[r] * w, w);
+  return o->buf;
+}
+
+static int write_particles(hid_t g, const esf_particles *p, const id_order *o) {
+  size_t n = p->n, D = sizeof(double);
   hid_t f64 = H5T_IEEE_F64LE, d = H5T_NATIVE_DOUBLE;
-  return esf_h5_dataset_write(g, "id", H5T_STD_I64LE, H5T_NATIVE_INT64, n, 1, p->id) ||
-         esf_h5_dataset_write(g, "position", f64, d, n, 3, p->x) ||
-         esf_h5_dataset_write(g, "velocity", f64, d, n, 3, p->v) ||
-         esf_h5_dataset_write(g, "angular_velocity", f64, d, n, 3, p->w) ||
-         esf_h5_dataset_write(g, "force", f64, d, n, 3, p->f) ||
-         esf_h5_dataset_write(g, "radius", f64, d, n, 1, p->radius) ||
+  return esf_h5_dataset_write(g, "id", H5T_STD_I64LE, H5T_NATIVE_INT64, n, 1,
+                              rows(o, p->id, n, 1, sizeof *p->id)) ||
+         esf_h5_dataset_write(g, "position", f64, d, n, 3, rows(o, p->x, n, 3, D)) ||
+         esf_h5_dataset_write(g, "velocity", f64, d, n, 3, rows(o, p->v, n, 3, D)) ||
+         esf_h5_dataset_write(g, "angular_velocity", f64, d, n, 3,
+                              rows(o, p->w, n, 3, D)) ||
+         esf_h5_dataset_write(g, "force", f64, d, n, 3, rows(o, p->f, n, 3, D)) ||
+         esf_h5_dataset_write(g, "radius", f64, d, n, 1, rows(o, p->radius, n, 1, D)) ||
          esf_h5_dataset_write(g, "material", H5T_STD_I32LE, H5T_NATIVE_INT32, n, 1,
-                              p->material);
+                              rows(o, p->material, n, 1, sizeof *p->material));
 }
 
 static int write_walls(hid_t frame, const esf_wall_mesh *m) {
@@ -259,14 +317,22 @@ static int write_walls(hid_t frame, const esf_wall_mesh *m) {
   return bad ? -1 : 0;
 }
 
-static int write_contacts(hid_t frame, const esf_contact_net *c) {
+/* The contact pairs name particles by their rows in the frame. */
+static int write_contacts(hid_t frame, const esf_contact_net *c, const id_order *o) {
+  int64_t *pr = NULL;
+  if (o->row && c->n) {
+    pr = malloc(2 * c->n * sizeof *pr);
+    if (!pr) return -1;
+    for (size_t k = 0; k < 2 * c->n; k++) pr[k] = (int64_t)o->row[c->pair[k]];
+  }
   hid_t g = H5Gcreate2(frame, "contacts", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   int bad = g < 0 ||
             esf_h5_dataset_write(g, "pairs", H5T_STD_I64LE, H5T_NATIVE_INT64, c->n, 2,
-                                 c->pair) ||
+                                 pr ? pr : c->pair) ||
             esf_h5_dataset_write(g, "normal_force", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
                                  c->n, 1, c->fn);
   if (g >= 0 && H5Gclose(g) < 0) bad = 1;
+  free(pr);
   return bad ? -1 : 0;
 }
 
@@ -300,6 +366,8 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
   int rc = with_walls ? esf_wall_mesh_build(walls, time, have_box ? lo : NULL,
                                             have_box ? hi : NULL, &fr->mesh, err)
                       : ESF_OK;
+  id_order o = {0};
+  if (!rc) rc = id_order_make(p, &o, err);
   esf_h5_quiet q;
   esf_h5_quiet_begin(&q);
   if (!rc && fr->seg < 0) rc = seg_open(fr, err);
@@ -307,14 +375,16 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
   if (rc) {
     H5Eclear2(H5E_DEFAULT);
     esf_h5_quiet_end(&q);
+    id_order_free(&o);
     return rc;
   }
   seg_path(fr, fr->seg_start, sp, sizeof sp);
   hid_t g = H5Gcreate2(fr->segframes, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   int ok = g >= 0 && esf_h5_attr_write_double(g, "time", time) == 0 &&
-           write_particles(g, p) == 0 &&
+           write_particles(g, p, &o) == 0 &&
            (!with_walls || write_walls(g, &fr->mesh) == 0) &&
-           (!contacts || write_contacts(g, contacts) == 0);
+           (!contacts || write_contacts(g, contacts, &o) == 0);
+  id_order_free(&o);
   if (!ok) {
     char what[96];
     snprintf(what, sizeof what, "cannot write frame %s to", name);

@@ -281,6 +281,10 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
   return ESF_OK;
 }
 
+/* Renumbers a list through remap (dropping removed particles). A particle pair whose
+ * new numbers come in the other order is turned round to keep a < b: A and B swap,
+ * so the history's tangential displacement (force on A = kt xi), its normal (A to B)
+ * and the carried relative velocity (B - A) change sign. */
 static void remap_list(esf_contacts *c, const size_t *remap, size_t n_old, int walls) {
   size_t m = 0;
   for (size_t k = 0; k < c->n; k++) {
@@ -292,6 +296,17 @@ static void remap_list(esf_contacts *c, const size_t *remap, size_t n_old, int w
     c->h[m] = c->h[k];
     c->touch[m] = c->touch[k];
     if (c->vc0) memcpy(c->vc0 + 3 * m, c->vc0 + 3 * k, 3 * sizeof(double));
+    if (!walls && c->a[m] > c->b[m]) {
+      const uint32_t t = c->a[m];
+      c->a[m] = c->b[m];
+      c->b[m] = t;
+      esf_contact_hist *h = &c->h[m];
+      for (int q = 0; q < 3; q++) {
+        h->xi[q] = -h->xi[q];
+        h->n[q] = -h->n[q];
+        if (c->vc0) c->vc0[3 * m + q] = -c->vc0[3 * m + q];
+      }
+    }
     m++;
   }
   c->n = m;

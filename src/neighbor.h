@@ -74,9 +74,11 @@ int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wa
 int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls *w,
                        esf_error *err);
 
-/* After particles were removed (esf_particles_compact's remap, n_old entries), drops
- * the candidates of removed particles and renumbers the rest. The lists stay valid
- * until the next check. */
+/* After particles were removed or reordered (remap: old index -> new index, SIZE_MAX
+ * for removed; n_old entries), drops the candidates of removed particles and renumbers
+ * the rest, turning pairs round where needed (a < b). The lists stay valid until the
+ * next check, which asks for a build (xref is dropped); a reordering leaves them out of
+ * (a, b) order, which only a build restores. */
 void esf_neighbor_remap(esf_neighbor *nb, const size_t *remap, size_t n_old);
 
 /* Makes room for npp particle-particle and npw particle-wall candidates (and the wall

@@ -64,20 +64,13 @@ int esf_particles_alloc(esf_particles *p, size_t n, esf_error *err) {
   return ESF_OK;
 }
 
-int esf_particles_compact(esf_particles *p, const unsigned char *keep, size_t *remap,
-                          esf_error *err) {
-  size_t n = p->n, m = 0;
-  for (size_t i = 0; i < n; i++) m += keep[i] ? 1 : 0;
+/* p becomes the particles src[0 .. m) of p, in that order. */
+static int gather(esf_particles *p, const size_t *src, size_t m, esf_error *err) {
   esf_particles q;
   int rc = esf_particles_alloc(&q, m, err);
   if (rc) return rc;
-  size_t k = 0;
-  for (size_t i = 0; i < n; i++) {
-    if (!keep[i]) {
-      if (remap) remap[i] = SIZE_MAX;
-      continue;
-    }
-    if (remap) remap[i] = k;
+  for (size_t k = 0; k < m; k++) {
+    const size_t i = src[k];
     memcpy(q.x + 3 * k, p->x + 3 * i, 3 * sizeof(double));
     memcpy(q.v + 3 * k, p->v + 3 * i, 3 * sizeof(double));
     memcpy(q.w + 3 * k, p->w + 3 * i, 3 * sizeof(double));
@@ -90,9 +83,26 @@ int esf_particles_compact(esf_particles *p, const unsigned char *keep, size_t *r
     q.inv_inertia[k] = p->inv_inertia[i];
     q.material[k] = p->material[i];
     q.id[k] = p->id[i];
-    k++;
   }
   esf_particles_release(p);
   *p = q;
   return ESF_OK;
+}
+
+int esf_particles_compact(esf_particles *p, const unsigned char *keep, size_t *remap,
+                          esf_error *err) {
+  size_t n = p->n, m = 0;
+  size_t *src = malloc((n ? n : 1) * sizeof *src);
+  if (!src) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particles", n);
+  for (size_t i = 0; i < n; i++) {
+    if (remap) remap[i] = keep[i] ? m : SIZE_MAX;
+    if (keep[i]) src[m++] = i;
+  }
+  int rc = gather(p, src, m, err);
+  free(src);
+  return rc;
+}
+
+int esf_particles_permute(esf_particles *p, const size_t *src, esf_error *err) {
+  return gather(p, src, p->n, err);
 }

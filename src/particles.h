@@ -58,4 +58,8 @@ void esf_particles_release(esf_particles *p);
 int esf_particles_compact(esf_particles *p, const unsigned char *keep, size_t *remap,
                           esf_error *err);
 
+/* Reorders the particles: the new particle k is the old src[k] (src a permutation of
+ * 0 .. n-1). */
+int esf_particles_permute(esf_particles *p, const size_t *src, esf_error *err);
+
 #endif

@@ -276,7 +276,7 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
   static const char *const ckeys[] = {"tangential_frame", "max_overlap",
                                       "allow_initial_overlap", NULL};
   static const char *const frames[] = {"rotate", "project", NULL};
-  static const char *const skeys[] = {"skin", NULL};
+  static const char *const skeys[] = {"skin", "reorder", NULL};
   static const char *const rkeys[] = {"duration", "steps", NULL};
   static const char *const okeys[] = {"every",    "energy_every",     "dir",
                                       "contacts", "checkpoint_every", NULL};
@@ -293,8 +293,11 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
   const esf_ynode *se = esf_ymap_get(root, "search");
   if (!rc && se) {
     rc = esf_ymap_check_keys(se, skeys, err);
-    if (!rc) rc = esf_yget_double(se, "skin", 1, &c->skin, err);
-    if (!rc) rc = positive(se, "skin", c->skin, 1, err);
+    if (!rc && esf_ymap_get(se, "skin")) {
+      rc = esf_yget_double(se, "skin", 1, &c->skin, err);
+      if (!rc) rc = positive(se, "skin", c->skin, 1, err);
+    }
+    if (!rc) rc = esf_yget_bool(se, "reorder", 0, &c->reorder, err);
   }
   const esf_ynode *ru = esf_ymap_get(root, "run");
   if (!rc && !ru && !esf_ymap_get(root, "generate")) /* esfera generate: no run */

@@ -46,6 +46,7 @@ void esf_config_default(esf_config *c) {
   c->max_steps = 100000000;
   c->max_overlap = 0.5;
   c->skin = -1;
+  c->reorder = 1;
   c->out_every = 0;
   c->energy_every = 0;
 }
@@ -162,6 +163,17 @@ void esf_sim_release(esf_sim *s) {
   esf_drag_free(&s->drag);
 }
 
+void esf_sim_forces_sync(esf_sim *s) {
+  const double *a = s->ft_lazy;
+  if (!a) return;
+  esf_particles *p = &s->p;
+  for (size_t i = 0; i < p->n; i++) {
+    v3_copy(p->f + 3 * i, a + ESF_FT_STRIDE * i);
+    v3_copy(p->t + 3 * i, a + ESF_FT_STRIDE * i + 4);
+  }
+  s->ft_lazy = NULL;
+}
+
 int esf_sim_remove_escaped(esf_sim *s, esf_error *err) {
   if (!s->cfg.has_domain) return ESF_OK;
   esf_particles *p = &s->p;
@@ -176,6 +188,7 @@ int esf_sim_remove_escaped(esf_sim *s, esf_error *err) {
       }
   }
   if (!out) return ESF_OK;
+  esf_sim_forces_sync(s); /* compaction carries p.f, p.t along */
   unsigned char *keep = malloc(p->n);
   size_t *remap = malloc(p->n * sizeof *remap);
   if (!keep || !remap) {

@@ -59,6 +59,7 @@ typedef struct esf_config {
   double max_overlap;        /* failure when overlap > this x the smaller radius */
   int allow_initial_overlap; /* explicit particles may start overlapping */
   double skin;               /* m; <= 0: 0.2 x mean radius */
+  int reorder;               /* renumber particles along cells at rebuilds (reorder.h) */
 
   double duration;     /* s (when steps == 0) */
   long steps;          /* steps, or 0 */
@@ -108,7 +109,19 @@ typedef struct esf_sim {
   struct esf_force_tally *tally; /* filled by force evaluations when not NULL */
   struct esf_events *events;     /* scene events (events.c), or NULL */
   struct esf_drag *drag;         /* fluid force (drag.c), or NULL: no cost */
+  int reorder_ok; /* the scheme keeps no per-particle state of its own between steps, so
+                     particles may be renumbered at rebuilds (set by its create) */
+  /* F_n and M_n of the last fused step (step_fast.c), ESF_FT_STRIDE doubles per particle
+   * (force 3, N; one spare; torque 3, N m; one spare), not yet copied to p.f and p.t;
+   * NULL when p.f and p.t are current. esf_sim_forces_sync copies them. */
+  const double *ft_lazy;
 } esf_sim;
+
+#define ESF_FT_STRIDE 8
+
+/* Makes p.f and p.t current (copies the fused step's forces when it left them in its
+ * accumulators). Called by whoever reads p.f, p.t: frames, checkpoints, compaction. */
+void esf_sim_forces_sync(esf_sim *s);
 
 /* Prepares a sim whose cfg, particles, materials and walls are filled in: mixes the
  * pair table, sets masses and inertias, picks dt (auto or checked), allocates lists. */

@@ -26,13 +26,13 @@
  * overlapping spheres into a list without branches; computes the listed pairs in batches
  * of four, in ascending k, adding their forces to both particles and, between them in k
  * order, the A side of its outgoing boundary slots; then, particle by particle: wall
- * contacts (the pass of wall_fast.h), copy of F and M to p.f, p.t, the 2D projection,
- * local damping, kick with global damping (1 -+ alpha dt/2), drift x += v dt, the squared
- *      displacement since the last build.
- * After the barrier no thread reads another range's particles (an interior pair has
- * both ends in the range; the boundary pairs were done before), so each thread drifts
- * its range as soon as it is done. Every particle receives its pair forces in
- * ascending k, the order of the serial scatter in forces.c, whatever T: the results
+ * contacts (the pass of wall_fast.h), the 2D projection (the accumulators then hold
+ * F_n, M_n: they stay there, s->ft_lazy, for esf_sim_forces_sync), local damping, kick
+ * with global damping (1 -+ alpha dt/2), drift x += v dt, the squared displacement since
+ * the last build. After the barrier no thread reads another range's particles (an
+ * interior pair has both ends in the range; the boundary pairs were done before), so each
+ * thread drifts its range as soon as it is done. Every particle receives its pair forces
+ * in ascending k, the order of the serial scatter in forces.c, whatever T: the results
  * are the same bit for bit on any thread count (and T = 1 is a plain serial scatter
  * without slots). Failures (overlap beyond the limit) are reported for the lowest
  * pair or particle index, also independent of threads.
@@ -54,7 +54,7 @@
 #include "vec3.h"
 #include "wall_fast.h"
 
-#define ACC  8             /* the accumulators' stride: four-wide force and torque */
+#define ACC  ESF_FT_STRIDE /* the accumulators' stride: four-wide force and torque */
 #define SLOT ESF_BATCH_OUT /* force on A, torque on A, torque on B (4 each) */
 
 struct esf_step_fast {
@@ -331,11 +331,9 @@ static inline void kick_impl(esf_sim *s, const esf_step_fast *f, const kick_ctx 
       ti[2] = 0.0;
     }
     double *v = p->v + 3 * i, *w = p->w + 3 * i, *x = p->x + 3 * i;
-    double fk[3], tk[3];
+    double fk[3], tk[3]; /* fi, ti stay: F_n, M_n for p.f, p.t (s->ft_lazy) */
     v3_copy(fk, fi);
     v3_copy(tk, ti);
-    v3_copy(p->f + 3 * i, fi); /* F_n, M_n for whoever reads them after the step */
-    v3_copy(p->t + 3 * i, ti);
     if (HAS_FEATURES && !plain && K->loc) {
       double fd[3], md[3];
       K->loc->force(K->lc, fk, v, fd);
@@ -389,11 +387,10 @@ static inline void outgoing(const esf_step_fast *f, const esf_contacts *c, size_
  * frontier (max(from, to)). */
 static inline size_t acc_set(const esf_particles *p, const double *g, double *acc,
                              size_t from, size_t to) {
-  for (size_t i = from; i < to; i++) {
-    const double mass = p->mass[i];
-    double *ai = acc + ACC * i;
-    ai[0] = mass * g[0], ai[1] = mass * g[1], ai[2] = mass * g[2], ai[3] = 0.0;
-    ai[4] = 0.0, ai[5] = 0.0, ai[6] = 0.0, ai[7] = 0.0;
+  const esf_v4 gv = {g[0], g[1], g[2], 0.0}, zero = {0.0, 0.0, 0.0, 0.0};
+  for (size_t i = from; i < to; i++) { /* four-wide stores: the adds' four-wide loads */
+    v4_st(acc + ACC * i, p->mass[i] * gv); /* are then forwarded from the store buffer */
+    v4_st(acc + ACC * i + 4, zero);
   }
   return from > to ? from : to;
 }
@@ -460,6 +457,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
   int rc;
   const int nth = s->cfg.threads > 0 ? s->cfg.threads : 1;
   if (f->built != s->nb.builds || f->np != p->n || f->nth != nth) {
+    esf_sim_forces_sync(s); /* acc may move */
     rc = index_lists(s, f, nth, err);
     if (rc) return rc;
   }
@@ -532,6 +530,9 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
         kick_range(s, f, &K, lo, hi, &nt_pw, &bad_part, &max2, &nonfinite);
     }
   }
+  /* the accumulators hold F_n, M_n; on failure they are partly overwritten, and p.f,
+   * p.t keep what the last sync left */
+  s->ft_lazy = bad_pair == SIZE_MAX && bad_part == SIZE_MAX ? f->acc : NULL;
   if (bad_pair != SIZE_MAX) {
     const esf_contacts *c = &s->nb.pp;
     uint32_t a = c->a[bad_pair], b = c->b[bad_pair];

@@ -30,7 +30,9 @@ int esf_step_fast_eligible(const esf_sim *s);
 
 /* One leapfrog step from x_n, v_{n-1/2}, w_{n-1/2} (candidate lists valid): forces at
  * x_n committing the history, kick with global and local damping, drift. On exit x,
- * v, w advanced, p.f and p.t hold F_n and M_n, *touching the contacts carrying force,
+ * v, w advanced, F_n and M_n left in the step's accumulators with s->ft_lazy pointing
+ * at them (esf_sim_forces_sync copies them to p.f and p.t; not copied every step, as
+ * only frames and checkpoints read them), *touching the contacts carrying force,
  * and nb.max_disp2 the largest squared displacement since the last build. s->step
  * and s->t are left to the caller. */
 int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error *err);

@@ -6,8 +6,10 @@
  * than one buffer) come back exactly from /energy with their column names; frames.xdmf
  * describes every frame flushed so far after each of the first 100 writes, never more
  * than were flushed later, and all of them after close; an unwritable path is an
- * ESF_EIO error naming the file (for the XDMF too); HDF5's automatic error printing is
- * left as it was found. (tests/check_xdmf.py parses the XDMF of a real run.) */
+ * ESF_EIO error naming the file (for the XDMF too); particles held out of id order are
+ * written in id order with the contact pairs renumbered to match; HDF5's automatic
+ * error printing is left as it was found. (tests/check_xdmf.py parses the XDMF of a
+ * real run.) */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 
 #include <dirent.h>
@@ -396,6 +398,48 @@ static void test_walls_contacts_energy(void) {
   unlink(xdmf);
 }
 
+/* Particles kept in another order than their ids (reorder.h) are written in ascending
+ * id, whatever order the run holds them in, and the contact pairs name their rows. */
+static void test_id_order(void) {
+  char path[512], xdmf[512];
+  snprintf(path, sizeof path, "%s/order.h5", tmpdir);
+  snprintf(xdmf, sizeof xdmf, "%s/order.xdmf", tmpdir);
+  esf_error err = {0};
+  esf_particles p, q;
+  CHECK_OK(esf_particles_alloc(&p, 5, &err), err);
+  CHECK_OK(esf_particles_alloc(&q, 5, &err), err);
+  fill(&p, 1);
+  fill(&q, 1);
+  const size_t shuffle[5] = {3, 0, 4, 1, 2}; /* q[k] = p[shuffle[k]] */
+  CHECK_OK(esf_particles_permute(&q, shuffle, &err), err);
+  CHECK(q.id[0] == p.id[3] && q.x[3 * 2] == p.x[3 * 4] &&
+            q.f[3 * 4 + 2] == p.f[3 * 2 + 2],
+        "permute: particle k is the old shuffle[k]");
+  int64_t pairs[6] = {0, 1, 2, 4, 3, 0};      /* q's numbers */
+  const int64_t rows[6] = {3, 0, 4, 2, 1, 3}; /* p's (id order) */
+  double fn[3] = {1.5, 2.5, 0.5};
+  esf_contact_net net = {3, pairs, fn, 3};
+  esf_frames *fr = NULL;
+  CHECK_OK(esf_frames_open(path, "order", "9.9", &fr, &err), err);
+  if (!fr) return;
+  CHECK_OK(esf_frames_write(fr, 0.25, &q, NULL, &net, &err), err);
+  CHECK_OK(esf_frames_close(&fr, &err), err);
+  hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  CHECK(file >= 0, "cannot reopen %s", path);
+  if (file >= 0) {
+    check_frame(file, "/frames/000000", &p, 0.25, 8);
+    hid_t cg = H5Gopen2(file, "/frames/000000/contacts", H5P_DEFAULT);
+    check_exact(cg, "pairs", H5T_NATIVE_INT64, rows, 3, 2, "order");
+    check_exact(cg, "normal_force", H5T_NATIVE_DOUBLE, fn, 3, 1, "order");
+    H5Gclose(cg);
+    H5Fclose(file);
+  }
+  esf_particles_release(&p);
+  esf_particles_release(&q);
+  remove_frames(path);
+  unlink(xdmf);
+}
+
 /* 150 small frames: the XDMF follows every one of the first 100, may lag after that
  * (it is rewritten only when cheap against the time since the last rewrite), and is
  * complete after close. */
@@ -469,6 +513,7 @@ int main(void) {
   }
   test_roundtrip();
   test_walls_contacts_energy();
+  test_id_order();
   test_xdmf_schedule();
   test_errors();
   if (rmdir(tmpdir) != 0) fprintf(stderr, "could not remove %s\n", tmpdir);
