@@ -12,13 +12,15 @@
  * ranges, one per thread; as the pair list is sorted by (a, b) with a < b, the pairs
  * whose a lies in range t form one block of k. A pair whose b lies in a higher range
  * is a boundary pair.
- *   0. after a list rebuild (or a new T): the ranges (cut by estimated work), their
+ *   0. after a list rebuild (or a new T, or when the ranges' measured times came out
+ *      unequal: balance_check): the ranges (cut by estimated work, scaled by the
+ *      measured time per unit of work of the old ranges when re-cut), their
  *      pair blocks, the wall candidates of each particle, the boundary pairs, and
  *      whether all particles have one material (its pair parameters are then
  *      broadcast to the batches' lanes instead of gathered);
- *   1. each thread computes its touching boundary pairs in batches (force on A,
- *      torques on A and B) into their slots (zeroed when the contact ends),
- *      committing their history; barrier;
+ *   1. the threads compute the touching boundary pairs, in equal shares, in batches
+ *      (force on A, torques on A and B) into their slots (zeroed when the contact
+ *      ends), committing their history; barrier;
  *   2. each thread, for its own range: sets its four-wide accumulators to f = m g,
  *      t = 0 (each just ahead of its first use, in ascending particle order, so that
  *      the add into a pair's b finds the line in cache); subtracts the incoming boundary
@@ -75,6 +77,11 @@ struct esf_step_fast {
   size_t *binstart; /* nth+1 */
   size_t *rlo;      /* nth+1: the particle ranges (cut_ranges) */
   int32_t m0;       /* the material every particle has, or -1 (pair_batch.h's one) */
+  /* balance (balance_check): step 2's seconds per range since the cut, the estimated
+   * work of each range, and, when a re-cut is due, seconds per unit of work */
+  double *busy, *work, *rate;
+  long busy_steps;
+  int recut;
 };
 
 int esf_step_fast_create(esf_step_fast **out, esf_error *err) {
@@ -97,6 +104,9 @@ void esf_step_fast_free(esf_step_fast **f) {
   free(q->bin);
   free(q->binstart);
   free(q->rlo);
+  free(q->busy);
+  free(q->work);
+  free(q->rate);
   free(q);
   *f = NULL;
 }
@@ -129,24 +139,82 @@ static int grow(void **p, size_t n, size_t size) {
   return 1;
 }
 
-/* The particle ranges, rlo[t] .. rlo[t + 1] for thread t, cut where the estimated work
- * (per particle 1, per candidate pair 1, per wall candidate 6: the instruction counts'
- * proportions) is shared equally, so threads finish together although a bed's bottom
- * has more contacts than its surface. Any cut gives the same results. */
-static void cut_ranges(esf_step_fast *f, size_t n, size_t T) {
-  const size_t total = n + f->astart[n] + 6 * f->wstart[n];
+/* Estimated work of the step per particle, in units of one screened candidate (about
+ * 33 instructions): 2 for the kick, 1 per candidate pair, 5 more per touching one
+ * (computing and adding it), 6 per wall candidate. */
+enum { W_PART = 2, W_CAND = 1, W_TOUCH = 5, W_WALL = 6 };
+
+static size_t work_of(const esf_step_fast *f, const esf_contacts *c, size_t i) {
+  size_t w = W_PART + W_WALL * (f->wstart[i + 1] - f->wstart[i]);
+  for (size_t k = f->astart[i]; k < f->astart[i + 1]; k++)
+    w += W_CAND + W_TOUCH * c->touch[k];
+  return w;
+}
+
+/* The particle ranges, rlo[t] .. rlo[t + 1] for thread t, cut where the estimated
+ * work of step 2 (wt, per particle) is shared equally, so threads finish together
+ * although a bed's bottom has more contacts than its surface. The touching boundary
+ * pairs are computed in step 1, shared by all threads, so a second cut takes their
+ * compute out of their range's share. Any cut gives the same results. */
+static void cut_once(esf_step_fast *f, const size_t *wt, size_t n, size_t T) {
+  size_t total = 0;
+  for (size_t i = 0; i < n; i++) total += wt[i];
   size_t i = 0, acc = 0;
   f->rlo[0] = 0;
   for (size_t t = 1; t < T; t++) {
     const size_t goal = total / T * t + total % T * t / T;
-    while (i < n && acc < goal) {
-      acc +=
-          1 + (f->astart[i + 1] - f->astart[i]) + 6 * (f->wstart[i + 1] - f->wstart[i]);
-      i++;
-    }
+    while (i < n && acc < goal) acc += wt[i++];
     f->rlo[t] = i;
   }
   f->rlo[T] = n;
+}
+
+/* With f->recut (same particles and lists, ranges measured unequal), each particle's
+ * work is scaled by its old range's measured seconds per unit (rounded to 1/64). */
+static void cut_ranges(esf_step_fast *f, const esf_contacts *c, size_t *wt, size_t n,
+                       size_t T) {
+  for (size_t i = 0; i < n; i++) wt[i] = work_of(f, c, i);
+  if (f->recut) {
+    double mean = 0.0;
+    for (size_t t = 0; t < T; t++) mean += f->rate[t] / (double)T;
+    for (size_t t = 0; t < T && mean > 0; t++) {
+      const size_t q = (size_t)(64.0 * f->rate[t] / mean + 0.5);
+      for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++) wt[i] *= q;
+    }
+  } else {
+    cut_once(f, wt, n, T);
+    for (size_t t = 0; t + 1 < T; t++)
+      for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++)
+        for (size_t k = f->astart[i]; k < f->astart[i + 1]; k++)
+          if (c->b[k] >= f->rlo[t + 1] && c->touch[k]) wt[i] -= W_TOUCH;
+  }
+  cut_once(f, wt, n, T);
+  for (size_t t = 0; t < T; t++) {
+    f->work[t] = 0.0;
+    for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++) f->work[t] += (double)wt[i];
+    f->busy[t] = 0.0;
+  }
+  f->busy_steps = 0;
+  f->recut = 0;
+}
+
+/* After every 32 steps on the same cut: when the slowest range took more than 3%
+ * longer than the mean, the next step cuts again with the measured rates. */
+static void balance_check(esf_step_fast *f, size_t T) {
+  if (T < 2 || ++f->busy_steps < 32) return;
+  double mean = 0.0, worst = 0.0;
+  for (size_t t = 0; t < T; t++) {
+    mean += f->busy[t] / (double)T;
+    worst = f->busy[t] > worst ? f->busy[t] : worst;
+  }
+  if (worst > 1.03 * mean && mean > 0) {
+    for (size_t t = 0; t < T; t++)
+      f->rate[t] = f->work[t] > 0 ? f->busy[t] / f->work[t] : 0.0;
+    f->recut = 1;
+  } else {
+    for (size_t t = 0; t < T; t++) f->busy[t] = 0.0;
+    f->busy_steps = 0;
+  }
 }
 
 /* Step 0: indices for the current lists and T ranges. */
@@ -166,9 +234,13 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
       return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particle ranges", n);
     f->cap_n = n + 1;
   }
+  if (f->nth != nth || f->np != n || f->built != s->nb.builds) f->recut = 0;
   if (!grow((void **)&f->bout, T + 1, sizeof(size_t)) ||
       !grow((void **)&f->binstart, T + 1, sizeof(size_t)) ||
-      !grow((void **)&f->rlo, T + 1, sizeof(size_t)))
+      !grow((void **)&f->rlo, T + 1, sizeof(size_t)) ||
+      !grow((void **)&f->busy, T, sizeof(double)) ||
+      !grow((void **)&f->work, T, sizeof(double)) ||
+      !grow((void **)&f->rate, T, sizeof(double)))
     return esf_fail(err, ESF_ENOMEM, "out of memory");
   memset(f->astart, 0, (n + 1) * sizeof(size_t));
   memset(f->wstart, 0, (n + 1) * sizeof(size_t));
@@ -178,7 +250,10 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
     f->astart[i + 1] += f->astart[i];
     f->wstart[i + 1] += f->wstart[i];
   }
-  cut_ranges(f, n, T);
+  size_t *wt = calloc(n ? n : 1, sizeof *wt);
+  if (!wt) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particle ranges", n);
+  cut_ranges(f, c, wt, n, T);
+  free(wt);
   f->m0 = n ? p->material[0] : -1;
   for (size_t i = 1; i < n && f->m0 >= 0; i++)
     if (p->material[i] != f->m0) f->m0 = -1;
@@ -456,7 +531,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
   esf_particles *p = &s->p;
   int rc;
   const int nth = s->cfg.threads > 0 ? s->cfg.threads : 1;
-  if (f->built != s->nb.builds || f->np != p->n || f->nth != nth) {
+  if (f->built != s->nb.builds || f->np != p->n || f->nth != nth || f->recut) {
     esf_sim_forces_sync(s); /* acc may move */
     rc = index_lists(s, f, nth, err);
     if (rc) return rc;
@@ -509,9 +584,9 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
 #else
     const size_t me = 0, got = 1;
 #endif
-    /* ranges t = me, me + got, ...: any number of threads covers all T ranges */
-    for (size_t t = me; t < T; t += got) {
-      const size_t bad = boundary_pairs(s, f, &bc, f->bout[t], f->bout[t + 1], &nt_pp);
+    { /* the boundary pairs in equal shares (each has its own slot and history) */
+      const size_t j0 = f->nb * me / got, j1 = f->nb * (me + 1) / got;
+      const size_t bad = boundary_pairs(s, f, &bc, j0, j1, &nt_pp);
       if (bad != SIZE_MAX) {
         if (bad < bad_pair) bad_pair = bad;
 #pragma omp atomic write
@@ -524,10 +599,16 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
     stop = bad_bound;
     for (size_t t = me; t < T && !stop; t += got) {
       const size_t lo = f->rlo[t], hi = f->rlo[t + 1];
+#ifdef _OPENMP
+      const double t0 = omp_get_wtime();
+#endif
       size_t bad = pairs_range(s, f, &bc, t, lo, hi, &nt_pp);
       if (bad < bad_pair) bad_pair = bad;
       if (bad_pair == SIZE_MAX)
         kick_range(s, f, &K, lo, hi, &nt_pw, &bad_part, &max2, &nonfinite);
+#ifdef _OPENMP
+      f->busy[t] += omp_get_wtime() - t0; /* range t is this thread's alone */
+#endif
     }
   }
   /* the accumulators hold F_n, M_n; on failure they are partly overwritten, and p.f,
@@ -553,6 +634,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
   s->nb.max_disp2 = max2;
   s->nb.disp_valid = K.xref && !nonfinite;
   s->rhs_evals++;
+  balance_check(f, T);
   *touching = nt_pp + nt_pw;
   return ESF_OK;
 }
