@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "lines.h"
 #include "vec3.h"
 #include "wall_index.h"
 
@@ -35,7 +36,7 @@ static int contacts_reserve(esf_contacts *c, size_t n, int ledger, int carry,
   if (a) c->a = a;
   uint32_t *b = realloc(c->b, cap * sizeof *b);
   if (b) c->b = b;
-  esf_contact_hist *h = realloc(c->h, cap * sizeof *h);
+  esf_contact_hist *h = esf_lines_realloc(c->h, c->n * sizeof *h, cap * sizeof *h);
   if (h) c->h = h;
   uint8_t *t = realloc(c->touch, cap * sizeof *t);
   if (t) c->touch = t;

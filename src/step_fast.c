@@ -51,6 +51,7 @@
 #endif
 
 #include "forces.h"
+#include "lines.h"
 #include "pair_batch.h"
 #include "vec4.h"
 #include "vec3.h"
@@ -227,10 +228,11 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
       return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact candidates", m);
     f->cap_k = m;
   }
-  if (n + 1 > f->cap_n) {
-    if (!grow((void **)&f->astart, n + 1, sizeof(size_t)) ||
-        !grow((void **)&f->wstart, n + 1, sizeof(size_t)) ||
-        !grow((void **)&f->acc, n + 1, ACC * sizeof(double)))
+  if (n + 1 > f->cap_n) { /* acc: one line per particle (its contents were synced) */
+    double *acc = esf_lines_realloc(f->acc, 0, (n + 1) * ACC * sizeof(double));
+    if (acc) f->acc = acc;
+    if (!acc || !grow((void **)&f->astart, n + 1, sizeof(size_t)) ||
+        !grow((void **)&f->wstart, n + 1, sizeof(size_t)))
       return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particle ranges", n);
     f->cap_n = n + 1;
   }
