@@ -59,6 +59,7 @@
 
 #define ACC  ESF_FT_STRIDE /* the accumulators' stride: four-wide force and torque */
 #define SLOT ESF_BATCH_OUT /* force on A, torque on A, torque on B (4 each) */
+#define PF   8             /* history prefetch distance, pairs */
 
 struct esf_step_fast {
   long built;       /* nb.builds the indices below belong to (-1: none) */
@@ -504,8 +505,19 @@ static size_t pairs_range(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx
   size_t jo = f->bout[t];
   const size_t jo1 = f->bout[t + 1];
   double out[ESF_BATCH][ESF_BATCH_OUT];
+  const char *hist = (const char *)c->h;
   for (size_t q0 = 0; q0 < cnt; q0 += ESF_BATCH) {
     const int nl = cnt - q0 < ESF_BATCH ? (int)(cnt - q0) : ESF_BATCH;
+    /* what the pairs PF ahead will load: their histories (sparse in memory, so the
+     * hardware's stream prefetch does not see them coming), and b's velocity, spin
+     * and accumulator (b lies up to a slab of cells ahead of a) */
+    for (size_t q = q0 + PF; q < q0 + PF + ESF_BATCH && q < cnt; q++) {
+      const size_t b = c->b[list[q]];
+      __builtin_prefetch(hist + (size_t)list[q] * sizeof(esf_contact_hist), 1, 3);
+      __builtin_prefetch(p->v + 3 * b, 0, 3);
+      __builtin_prefetch(p->w + 3 * b, 0, 3);
+      __builtin_prefetch(acc + ACC * b, 1, 3);
+    }
     const unsigned fail = esf_pair_batch_linear(bc, list + q0, nl, out);
     for (int l = 0; l < nl; l++) /* b > a: covers the a sides and outgoing slots too */
       if (c->b[list[q0 + l]] >= bmax) bmax = c->b[list[q0 + l]] + 1;
