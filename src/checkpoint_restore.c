@@ -157,6 +157,7 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
   s->walls.t = cs.walls_t;
 
   /* candidate lists: one build sizes the derived scratch, then the saved lists */
+  s->nb.threads = s->cfg.threads;
   rc = esf_neighbor_build(&s->nb, p, &s->walls, err);
   uint64_t npp = 0, npw = 0;
   memcpy(&npp, esf_ckpt_sec(c, "CONTPP").d, 8);

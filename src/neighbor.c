@@ -66,6 +66,11 @@ int esf_neighbor_init(esf_neighbor *nb, double skin, int ledger, esf_error *err)
 void esf_neighbor_release(esf_neighbor *nb) {
   contacts_release(&nb->pp);
   contacts_release(&nb->pw);
+  contacts_release(&nb->pp_spare);
+  contacts_release(&nb->pw_spare);
+  free(nb->ws_start);
+  free(nb->ws_ostart);
+  free(nb->ws_ok);
   esf_cells_free(&nb->cells);
   esf_pairbuf_release(&nb->buf);
   esf_wall_index_free(&nb->widx);
@@ -103,66 +108,91 @@ int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wa
   return ESF_OK;
 }
 
-/* sorted index of the touching contacts of a list: key (a, b) -> position */
-typedef struct hkey {
-  uint32_t a, b;
-  size_t k;
-} hkey;
+/* ---- the build's history transfer --------------------------------------------------
+ * Both lists are kept by particle: the new keys are ordered by a counting sort on a and
+ * an insertion sort of each particle's few b; the old list's touching contacts are
+ * indexed the same way (ostart, ok), so each new candidate finds its old history by a
+ * scan of the few old contacts of its a. No comparison sort, no hashing: O(n + m). The
+ * per-particle passes run on nb->threads threads over particle ranges; each particle's
+ * output has a fixed place, so the lists do not depend on the thread count. */
 
-static int hkey_cmp(const void *x, const void *y) {
-  const hkey *p = x, *q = y;
-  if (p->a != q->a) return p->a < q->a ? -1 : 1;
-  if (p->b != q->b) return p->b < q->b ? -1 : 1;
-  return 0;
+/* Sets start[0..n] to the offsets of each a's keys (start[a] .. start[a + 1]) and
+ * writes each key's b to bs[] in that order (keys of one a in input order). */
+static void count_by_a(size_t n, const uint32_t *ka, const uint32_t *kb, size_t m,
+                       size_t *start, uint32_t *bs, uint32_t *src) {
+  memset(start, 0, (n + 2) * sizeof *start);
+  for (size_t k = 0; k < m; k++) start[ka[k] + 2]++;
+  for (size_t i = 2; i < n + 2; i++) start[i] += start[i - 1];
+  for (size_t k = 0; k < m; k++) { /* start[a + 1] runs from a's first slot to its end */
+    const size_t q = start[ka[k] + 1]++;
+    if (bs) bs[q] = kb[k];
+    if (src) src[q] = (uint32_t)k;
+  }
 }
 
-static int index_touching(const esf_contacts *c, hkey **out, size_t *nout,
-                          esf_error *err) {
-  size_t m = 0;
-  for (size_t k = 0; k < c->n; k++) m += c->touch[k];
-  *nout = m;
-  *out = NULL;
-  if (!m) return ESF_OK;
-  hkey *h = malloc(m * sizeof *h);
-  if (!h) return esf_fail(err, ESF_ENOMEM, "out of memory for the contact index");
-  m = 0;
-  for (size_t k = 0; k < c->n; k++)
-    if (c->touch[k]) h[m++] = (hkey){c->a[k], c->b[k], k};
-  qsort(h, m, sizeof *h, hkey_cmp);
-  *out = h;
-  return ESF_OK;
-}
-
-static const hkey *index_find(const hkey *h, size_t m, uint32_t a, uint32_t b) {
-  hkey key = {a, b, 0};
-  return m ? bsearch(&key, h, m, sizeof *h, hkey_cmp) : NULL;
-}
-
-static int cand_cmp(const void *x, const void *y) {
-  const uint32_t *p = x, *q = y;
-  if (p[0] != q[0]) return p[0] < q[0] ? -1 : 1;
-  return (p[1] > q[1]) - (p[1] < q[1]);
-}
-
-/* Fills dst from candidate keys (pairs of uint32), copying history from the old list. */
-static int fill_from(esf_contacts *dst, const uint32_t *keys, size_t m,
-                     const esf_contacts *old, const hkey *idx, size_t nidx, int ledger,
-                     int carry, esf_error *err) {
-  int rc = contacts_reserve(dst, m, ledger, carry, err);
+/* Fills dst (reserved for m) from the keys (a, b) of one list, copying the history of
+ * the old list's touching contacts. ws: scratch of the build. */
+static int fill_list(esf_neighbor *nb, esf_contacts *dst, const esf_contacts *old,
+                     size_t n, const uint32_t *ka, const uint32_t *kb, size_t m,
+                     esf_error *err) {
+  int rc = contacts_reserve(dst, m, nb->ledger, nb->carry, err);
   if (rc) return rc;
-  for (size_t k = 0; k < m; k++) {
-    uint32_t a = keys[2 * k], b = keys[2 * k + 1];
-    dst->a[k] = a;
-    dst->b[k] = b;
-    const hkey *f = index_find(idx, nidx, a, b);
-    if (f) {
-      dst->h[k] = old->h[f->k];
-      dst->touch[k] = 1;
-      if (carry && old->vc0)
-        memcpy(dst->vc0 + 3 * k, old->vc0 + 3 * f->k, 3 * sizeof(double));
-    } else {
-      memset(&dst->h[k], 0, sizeof dst->h[k]);
-      dst->touch[k] = 0;
+  size_t nt = 0;
+  for (size_t k = 0; k < old->n; k++) nt += old->touch[k];
+  if (n + 2 > nb->ws_n || m > nb->ws_m || nt > nb->ws_m) {
+    const size_t cn = n + 2 > nb->ws_n ? n + 2 : nb->ws_n;
+    const size_t cm = m > nt ? m : nt, cmm = cm > nb->ws_m ? cm : nb->ws_m;
+    size_t *st = realloc(nb->ws_start, cn * sizeof *st);
+    if (st) nb->ws_start = st;
+    size_t *os = realloc(nb->ws_ostart, cn * sizeof *os);
+    if (os) nb->ws_ostart = os;
+    uint32_t *ok = realloc(nb->ws_ok, (cmm ? cmm : 1) * sizeof *ok);
+    if (ok) nb->ws_ok = ok;
+    if (!st || !os || !ok)
+      return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact candidates", m);
+    nb->ws_n = cn;
+    nb->ws_m = cmm;
+  }
+  size_t *start = nb->ws_start, *ostart = nb->ws_ostart;
+  uint32_t *okk = nb->ws_ok;
+  count_by_a(n, ka, kb, m, start, dst->b, NULL);
+  { /* the old touching contacts by a: positions in old */
+    memset(ostart, 0, (n + 2) * sizeof *ostart);
+    for (size_t k = 0; k < old->n; k++)
+      if (old->touch[k] && old->a[k] < n) ostart[old->a[k] + 2]++;
+    for (size_t i = 2; i < n + 2; i++) ostart[i] += ostart[i - 1];
+    for (size_t k = 0; k < old->n; k++)
+      if (old->touch[k] && old->a[k] < n) okk[ostart[old->a[k] + 1]++] = (uint32_t)k;
+  }
+  const int carry = nb->carry && old->vc0 != NULL;
+  const long nn = (long)n;
+#pragma omp parallel for num_threads(nb->threads > 0 ? nb->threads : 1) schedule(static)
+  for (long ia = 0; ia < nn; ia++) {
+    const size_t a = (size_t)ia, k0 = start[a], k1 = start[a + 1];
+    uint32_t *b = dst->b;
+    for (size_t k = k0 + 1; k < k1; k++) { /* insertion sort of a's few b */
+      const uint32_t v = b[k];
+      size_t j = k;
+      for (; j > k0 && b[j - 1] > v; j--) b[j] = b[j - 1];
+      b[j] = v;
+    }
+    for (size_t k = k0; k < k1; k++) {
+      dst->a[k] = (uint32_t)a;
+      size_t f = SIZE_MAX;
+      for (size_t j = ostart[a]; j < ostart[a + 1]; j++)
+        if (old->b[okk[j]] == b[k]) {
+          f = okk[j];
+          break;
+        }
+      if (f != SIZE_MAX) {
+        dst->h[k] = old->h[f];
+        dst->touch[k] = 1;
+        if (carry) memcpy(dst->vc0 + 3 * k, old->vc0 + 3 * f, 3 * sizeof(double));
+      } else {
+        memset(&dst->h[k], 0, sizeof dst->h[k]);
+        dst->touch[k] = 0;
+        if (dst->vc0) memset(dst->vc0 + 3 * k, 0, 3 * sizeof(double));
+      }
     }
   }
   dst->n = m;
@@ -176,22 +206,17 @@ static void contacts_swap(esf_contacts *x, esf_contacts *y) {
   *y = t;
 }
 
-static int rebuild_list(esf_contacts *list, uint32_t *keys, size_t m, int ledger,
-                        int carry, esf_error *err) {
-  hkey *idx = NULL;
-  size_t nidx = 0;
-  int rc = index_touching(list, &idx, &nidx, err);
+/* Rebuilds *list from the keys, its old storage kept in *spare for the next build (no
+ * fresh allocation, so no page faults, once the storage has grown). */
+static int rebuild_list(esf_neighbor *nb, esf_contacts *list, esf_contacts *spare,
+                        size_t n, const uint32_t *ka, const uint32_t *kb, size_t m,
+                        esf_error *err) {
+  spare->n = 0;
+  spare->xs = NULL; /* the ODE methods bind the state again before evaluating */
+  spare->xsdot = NULL;
+  int rc = fill_list(nb, spare, list, n, ka, kb, m, err);
   if (rc) return rc;
-  qsort(keys, m, 2 * sizeof(uint32_t), cand_cmp);
-  esf_contacts fresh = {0};
-  rc = fill_from(&fresh, keys, m, list, idx, nidx, ledger, carry, err);
-  free(idx);
-  if (rc) {
-    contacts_release(&fresh);
-    return rc;
-  }
-  contacts_swap(list, &fresh);
-  contacts_release(&fresh);
+  contacts_swap(list, spare);
   return ESF_OK;
 }
 
@@ -213,24 +238,15 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
                        esf_error *err) {
   int rc = esf_cells_pairs(nb->cells, p->n, p->x, p->radius, nb->skin, &nb->buf, err);
   if (rc) return rc;
-  size_t m = nb->buf.n;
-  uint32_t *keys = malloc((m ? m : 1) * 2 * sizeof *keys);
-  if (!keys) return esf_fail(err, ESF_ENOMEM, "out of memory for contact candidates");
-  for (size_t k = 0; k < m; k++) {
-    uint32_t a = nb->buf.i[k], b = nb->buf.j[k];
-    keys[2 * k] = a < b ? a : b;
-    keys[2 * k + 1] = a < b ? b : a;
-  }
-  rc = rebuild_list(&nb->pp, keys, m, nb->ledger, nb->carry, err);
-  free(keys);
+  /* the search stores each pair as (min, max) */
+  rc = rebuild_list(nb, &nb->pp, &nb->pp_spare, p->n, nb->buf.i, nb->buf.j, nb->buf.n,
+                    err);
   if (rc) return rc;
 
-  /* particle-wall candidates */
+  /* particle-wall candidates, in particle order */
   rc = esf_wall_index_sync(&nb->widx, w, err);
   if (rc) return rc;
-  size_t cap = 64, mw = 0;
-  keys = malloc(cap * 2 * sizeof *keys);
-  if (!keys) return esf_fail(err, ESF_ENOMEM, "out of memory for wall candidates");
+  nb->buf.n = 0;
   for (size_t i = 0; i < p->n; i++) {
     const uint32_t *cand = NULL;
     size_t ncand = 0;
@@ -250,22 +266,12 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
       esf_wall_hit hit;
       esf_wall_nearest(el, x, &hit);
       if (hit.dist >= reach) continue;
-      if (mw == cap) {
-        cap *= 2;
-        uint32_t *nk = realloc(keys, cap * 2 * sizeof *nk);
-        if (!nk) {
-          free(keys);
-          return esf_fail(err, ESF_ENOMEM, "out of memory for wall candidates");
-        }
-        keys = nk;
-      }
-      keys[2 * mw] = (uint32_t)i;
-      keys[2 * mw + 1] = (uint32_t)e;
-      mw++;
+      rc = esf_pairbuf_push(&nb->buf, (uint32_t)i, (uint32_t)e, err);
+      if (rc) return rc;
     }
   }
-  rc = rebuild_list(&nb->pw, keys, mw, nb->ledger, nb->carry, err);
-  free(keys);
+  rc = rebuild_list(nb, &nb->pw, &nb->pw_spare, p->n, nb->buf.i, nb->buf.j, nb->buf.n,
+                    err);
   if (rc) return rc;
   rc = wall_scratch_reserve(nb, err);
   if (rc) return rc;

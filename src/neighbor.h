@@ -57,6 +57,12 @@ typedef struct esf_neighbor {
   double max_disp2; /* largest squared displacement since the build, m^2 */
   /* the wall element index (wall_index.h) */
   struct esf_wall_index *widx;
+  int threads; /* threads for the build's per-particle passes (>= 1; set by the caller) */
+  /* the build's storage, kept between builds: the lists' previous storage, and the
+   * history transfer's scratch (ws_n particle offsets, ws_m contact entries) */
+  esf_contacts pp_spare, pw_spare;
+  size_t *ws_start, *ws_ostart, ws_n, ws_m;
+  uint32_t *ws_ok;
 } esf_neighbor;
 
 int esf_neighbor_init(esf_neighbor *nb, double skin, int ledger, esf_error *err);
