@@ -193,9 +193,10 @@ static void cut_ranges(esf_step_fast *f, const esf_contacts *c, size_t *wt, size
           if (c->b[k] >= f->rlo[t + 1] && c->touch[k]) wt[i] -= W_TOUCH;
   }
   cut_once(f, wt, n, T);
-  for (size_t t = 0; t < T; t++) {
+  for (size_t t = 0; t < T; t++) { /* unscaled: the next rates are the ranges' own */
     f->work[t] = 0.0;
-    for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++) f->work[t] += (double)wt[i];
+    for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++)
+      f->work[t] += (double)work_of(f, c, i);
     f->busy[t] = 0.0;
   }
   f->busy_steps = 0;
