@@ -59,7 +59,7 @@
 
 #define ACC  ESF_FT_STRIDE /* the accumulators' stride: four-wide force and torque */
 #define SLOT ESF_BATCH_OUT /* force on A, torque on A, torque on B (4 each) */
-#define PF   8             /* history prefetch distance, pairs */
+#define PF   32            /* history prefetch distance, pairs */
 
 struct esf_step_fast {
   long built;       /* nb.builds the indices below belong to (-1: none) */
