@@ -30,10 +30,15 @@
 #include <immintrin.h>
 #endif
 
-typedef esf_v4 vd;
-typedef esf_v4m vm;
+/* The lanes: eight doubles (AVX-512 registers when the build targets them, two AVX or
+ * four SSE2 halves otherwise). Rows of four doubles (a lane's x, v, w, history) are
+ * loaded and stored as esf_v4 and transposed in two groups of four lanes. */
+typedef double vd __attribute__((vector_size(ESF_BATCH * sizeof(double))));
+typedef long long vm __attribute__((vector_size(ESF_BATCH * sizeof(double))));
+typedef esf_v4 v4;
+typedef esf_v4m v4m;
 
-_Static_assert(ESF_BATCH == 4, "the gathers below are written for four lanes");
+_Static_assert(ESF_BATCH == 8, "the gathers below are written for eight lanes");
 
 /* The history is read as rows of four doubles: xi[0..2], n[0] from HXI and n[1], n[2]
  * (with the two fields after them) from HN1; written back: the first row whole, n[1]
@@ -47,53 +52,74 @@ _Static_assert(offsetof(esf_contact_hist, n) == HXI + 3 * sizeof(double) &&
 static inline vd sel(vm m, vd a, vd b) { return (vd)(((vm)a & m) | ((vm)b & ~m)); }
 
 static inline vd vsqrt(vd x) {
-#if defined(__AVX__)
-  return (vd)_mm256_sqrt_pd((__m256d)x);
+#if defined(__AVX512F__)
+  return (vd)_mm512_sqrt_pd((__m512d)x);
+#elif defined(__AVX__)
+  const v4 lo = __builtin_shufflevector(x, x, 0, 1, 2, 3),
+           hi = __builtin_shufflevector(x, x, 4, 5, 6, 7);
+  const v4 rl = (v4)_mm256_sqrt_pd((__m256d)lo), rh = (v4)_mm256_sqrt_pd((__m256d)hi);
+  return __builtin_shufflevector(rl, rh, 0, 1, 2, 3, 4, 5, 6, 7);
 #else
-  return (vd){sqrt(x[0]), sqrt(x[1]), sqrt(x[2]), sqrt(x[3])};
+  vd r;
+  for (int l = 0; l < ESF_BATCH; l++) r[l] = sqrt(x[l]);
+  return r;
 #endif
 }
 
-static inline int any(vm m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
-
-/* p[i[0]], ..., p[i[3]] */
-static inline vd gat(const double *p, const size_t *i) {
-  return (vd){p[i[0]], p[i[1]], p[i[2]], p[i[3]]};
+static inline int any(vm m) {
+#if defined(__AVX512F__)
+  return _mm512_test_epi64_mask((__m512i)m, (__m512i)m) != 0;
+#else
+  const v4m o = __builtin_shufflevector(m, m, 0, 1, 2, 3) |
+                __builtin_shufflevector(m, m, 4, 5, 6, 7);
+  return (o[0] | o[1] | o[2] | o[3]) != 0;
+#endif
 }
 
-static inline vd ld(const char *p) { return v4_ld(p); }
+/* p[i[0]], ..., p[i[7]] */
+static inline vd gat(const double *p, const size_t *i) {
+  return (vd){p[i[0]], p[i[1]], p[i[2]], p[i[3]], p[i[4]], p[i[5]], p[i[6]], p[i[7]]};
+}
+
+static inline v4 ld(const char *p) { return v4_ld(p); }
 
 /* Rows r[l] (lane l's four values) to columns c[j] (value j of the four lanes), and
  * back: the same operation. */
-static inline void transpose(const vd r[4], vd c[4]) {
-  const vm lo = {0, 4, 2, 6}, hi = {1, 5, 3, 7}, first = {0, 1, 4, 5},
-           last = {2, 3, 6, 7};
-  const vd t0 = __builtin_shuffle(r[0], r[1], lo), t1 = __builtin_shuffle(r[0], r[1], hi);
-  const vd t2 = __builtin_shuffle(r[2], r[3], lo), t3 = __builtin_shuffle(r[2], r[3], hi);
+static inline void transpose(const v4 r[4], v4 c[4]) {
+  const v4m lo = {0, 4, 2, 6}, hi = {1, 5, 3, 7}, first = {0, 1, 4, 5},
+            last = {2, 3, 6, 7};
+  const v4 t0 = __builtin_shuffle(r[0], r[1], lo), t1 = __builtin_shuffle(r[0], r[1], hi);
+  const v4 t2 = __builtin_shuffle(r[2], r[3], lo), t3 = __builtin_shuffle(r[2], r[3], hi);
   c[0] = __builtin_shuffle(t0, t2, first);
   c[1] = __builtin_shuffle(t1, t3, first);
   c[2] = __builtin_shuffle(t0, t2, last);
   c[3] = __builtin_shuffle(t1, t3, last);
 }
 
-static inline void st(double *p, vd v) { v4_st(p, v); }
-
 /* Columns c to the lanes' rows at out[l] + off. */
 static inline void store_rows(const vd c[4], double out[ESF_BATCH][ESF_BATCH_OUT],
                               int off) {
-  vd r[4];
-  transpose(c, r);
-  st(out[0] + off, r[0]);
-  st(out[1] + off, r[1]);
-  st(out[2] + off, r[2]);
-  st(out[3] + off, r[3]);
+  v4 lo[4], hi[4], r[4];
+  for (int j = 0; j < 4; j++) {
+    lo[j] = __builtin_shufflevector(c[j], c[j], 0, 1, 2, 3);
+    hi[j] = __builtin_shufflevector(c[j], c[j], 4, 5, 6, 7);
+  }
+  transpose(lo, r);
+  for (int l = 0; l < 4; l++) v4_st(out[l] + off, r[l]);
+  transpose(hi, r);
+  for (int l = 0; l < 4; l++) v4_st(out[4 + l] + off, r[l]);
 }
 
-/* The four doubles at byte base + off[l] of each lane, as columns. */
+/* The four doubles at byte base + off[l] of each of the eight lanes, as columns. */
 static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
   const char *b = base;
-  const vd r[4] = {ld(b + off[0]), ld(b + off[1]), ld(b + off[2]), ld(b + off[3])};
-  transpose(r, c);
+  const v4 r0[4] = {ld(b + off[0]), ld(b + off[1]), ld(b + off[2]), ld(b + off[3])};
+  const v4 r1[4] = {ld(b + off[4]), ld(b + off[5]), ld(b + off[6]), ld(b + off[7])};
+  v4 lo[4], hi[4];
+  transpose(r0, lo);
+  transpose(r1, hi);
+  for (int j = 0; j < 4; j++)
+    c[j] = __builtin_shufflevector(lo[j], hi[j], 0, 1, 2, 3, 4, 5, 6, 7);
 }
 
 static inline void cross(vd r[3], const vd a[3], const vd b[3]) {
@@ -120,26 +146,28 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, i
     hk[l] = kk[l] * sizeof(esf_contact_hist);
     tch[l] = -(long long)c->touch[kk[l]];
   }
-  vd kn, kt, mu, cnf, ctf, coh = {0, 0, 0, 0};
+  const vd zero = {0}, one = zero + 1.0;
+  vd kn, kt, mu, cnf, ctf, coh = zero;
   if (c->one) { /* one material: the same parameters in every lane */
-    kn = (vd){0, 0, 0, 0} + c->one->kn;
-    kt = (vd){0, 0, 0, 0} + c->one->kt;
-    mu = (vd){0, 0, 0, 0} + c->one->mu;
-    cnf = (vd){0, 0, 0, 0} + c->one->cn_factor;
-    ctf = (vd){0, 0, 0, 0} + c->one->ct_factor;
+    kn = zero + c->one->kn;
+    kt = zero + c->one->kt;
+    mu = zero + c->one->mu;
+    cnf = zero + c->one->cn_factor;
+    ctf = zero + c->one->ct_factor;
     if (c->cohesion) coh += c->one->cohesion;
   } else {
     const esf_materials *mt = c->mt;
     const esf_pair_params *pp[ESF_BATCH];
     for (int l = 0; l < ESF_BATCH; l++)
       pp[l] = &mt->pair[c->material[ia[l]] * mt->n + c->material[ib[l]]];
-    kn = (vd){pp[0]->kn, pp[1]->kn, pp[2]->kn, pp[3]->kn};
-    kt = (vd){pp[0]->kt, pp[1]->kt, pp[2]->kt, pp[3]->kt};
-    mu = (vd){pp[0]->mu, pp[1]->mu, pp[2]->mu, pp[3]->mu};
-    cnf = (vd){pp[0]->cn_factor, pp[1]->cn_factor, pp[2]->cn_factor, pp[3]->cn_factor};
-    ctf = (vd){pp[0]->ct_factor, pp[1]->ct_factor, pp[2]->ct_factor, pp[3]->ct_factor};
-    if (c->cohesion)
-      coh = (vd){pp[0]->cohesion, pp[1]->cohesion, pp[2]->cohesion, pp[3]->cohesion};
+    for (int l = 0; l < ESF_BATCH; l++) {
+      kn[l] = pp[l]->kn;
+      kt[l] = pp[l]->kt;
+      mu[l] = pp[l]->mu;
+      cnf[l] = pp[l]->cn_factor;
+      ctf[l] = pp[l]->ct_factor;
+      if (c->cohesion) coh[l] = pp[l]->cohesion;
+    }
   }
   vd cn, ct; /* the dashpots, N s/m */
   if (c->beta > 0) {
@@ -165,7 +193,7 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, i
   const vd ra = gat(c->radius, ia), rb = gat(c->radius, ib);
   const vd dist = vsqrt(dot(d, d));
   const vm pos = dist > 0;
-  const vd inv = 1.0 / dist, zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+  const vd inv = 1.0 / dist;
   n[0] = sel(pos, d[0] * inv, zero);
   n[1] = sel(pos, d[1] * inv, zero);
   n[2] = sel(pos, d[2] * inv, one);
@@ -215,7 +243,7 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, i
       xi[q] = sel(slide, ikt * ft[q], xi[q]);
     }
   }
-  vd m[3], rows[4];
+  vd m[3];
   cross(m, n, ft);
   const vd f4[4] = {ft[0] - fn * n[0], ft[1] - fn * n[1], ft[2] - fn * n[2], zero};
   const vd ta[4] = {la * m[0], la * m[1], la * m[2], zero};
@@ -226,7 +254,8 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, i
   /* the history: xi and n[0] as one row, then n[1], n[2] (the fields after them in
      that row are not written) */
   const vd c0[4] = {xi[0], xi[1], xi[2], n[0]};
-  transpose(c0, rows);
+  double rows[ESF_BATCH][ESF_BATCH_OUT];
+  store_rows(c0, rows, 0);
   unsigned badmask = 0;
   for (int l = 0; l < nl; l++) {
     if (bad[l]) {
@@ -234,7 +263,7 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, i
       continue;
     }
     char *h = (char *)c->h + hk[l];
-    memcpy(h + HXI, &rows[l], sizeof rows[l]);
+    memcpy(h + HXI, rows[l], 4 * sizeof(double));
     const double n12[2] = {n[1][l], n[2][l]};
     memcpy(h + HN1, n12, sizeof n12);
     c->touch[kk[l]] = 1;

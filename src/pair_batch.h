@@ -1,8 +1,8 @@
 /* pair_batch.h — the linear contact law of the fused step for ESF_BATCH pairs at once.
  *
  * One function computes the contact of up to ESF_BATCH overlapping particle pairs in
- * the lanes of vectors (GCC vector extensions: AVX2 when the build targets it, SSE2 or
- * scalar code otherwise). Every lane goes through the same instructions, so a pair's
+ * the lanes of vectors (GCC vector extensions: AVX-512 when the build targets it, AVX
+ * or SSE2 halves otherwise). Every lane goes through the same instructions, so a pair's
  * result does not depend on the batch it lands in nor on its lane: the fused step
  * stays bit for bit independent of the thread count however its ranges cut the
  * batches. */
@@ -15,7 +15,7 @@
 #include "contact_law.h"
 #include "material.h"
 
-#define ESF_BATCH     4
+#define ESF_BATCH     8
 #define ESF_BATCH_OUT 12 /* force on A, torque on A, torque on B: 3 + a zero each */
 
 /* What the batch reads and commits: the particles, the candidate pairs' ends and

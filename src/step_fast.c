@@ -4,7 +4,7 @@
  * 001 3.50–3.54) with the linear law of contact_linear.c (PHYSICS.md §3.1–3.2: normal
  * spring and dashpot without tension, incremental tangential spring carried into the
  * new contact plane, tangential dashpot while sticking, Mohr-Coulomb cap with radial
- * return), written out for the pair loop without the ledger's by-products, four pairs
+ * return), written out for the pair loop without the ledger's by-products, eight pairs
  * at a time in vector lanes (pair_batch.c).
  *
  * Order of operations in one call (state on entry: x_n, v_{n-1/2}, w_{n-1/2}, lists
@@ -26,7 +26,7 @@
  *      the add into a pair's b finds the line in cache); subtracts the incoming boundary
  * slots (pairs whose b is its particle) in ascending k; screens its pair block for
  * overlapping spheres into a list without branches; computes the listed pairs in batches
- * of four, in ascending k, adding their forces to both particles and, between them in k
+ * of eight, in ascending k, adding their forces to both particles and, between them in k
  * order, the A side of its outgoing boundary slots; then, particle by particle: wall
  * contacts (the pass of wall_fast.h), the 2D projection (the accumulators then hold
  * F_n, M_n: they stay there, s->ft_lazy, for esf_sim_forces_sync), local damping, kick
