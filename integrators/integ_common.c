@@ -22,11 +22,13 @@ int esf_integ_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
     return rc;
   }
   if (!rebuild) return ESF_OK;
+  esf_neighbor_skin_tune(&s->nb, s->p.n, s->step); /* before particles go or move */
   rc = esf_sim_remove_escaped(s, err);
   int moved = 0;
   if (!rc && s->reorder_ok && s->cfg.reorder) rc = esf_reorder_particles(s, &moved, err);
   s->nb.threads = s->cfg.threads;
   if (!rc) rc = esf_neighbor_build(&s->nb, &s->p, &s->walls, err);
+  if (!rc) s->nb.built_step = s->step;
   if (!rc) esf_walls_mark(&s->walls);
   if (!rc && s->bonds.pending) rc = esf_bonds_form(s, err); /* the start's contacts */
   if (!rc && rebuilt) *rebuilt = 1;

@@ -73,7 +73,9 @@ struct esf_cells {
   size_t cap, class_cap; /* particles allocated in list; in ord and cls */
   esf_grid grid[ESF_CELLS_MAX_CLASSES];
   esf_cells_mode mode; /* tuning (esf_cells_tune) */
-  int nclasses;        /* grids used by the last search */
+  int threads;         /* threads of the one-grid sweep (esf_cells_threads) */
+  esf_pairbuf tbuf[ESF_CELLS_MAX_THREADS]; /* their pair buffers (kept for reuse) */
+  int nclasses;                            /* grids used by the last search */
   double factor;
 };
 
@@ -165,6 +167,7 @@ void esf_cells_free(esf_cells **c) {
   free((*c)->ord);
   free((*c)->cls);
   for (int k = 0; k < ESF_CELLS_MAX_CLASSES; k++) esf_grid_release(&(*c)->grid[k]);
+  for (int t = 0; t < ESF_CELLS_MAX_THREADS; t++) esf_pairbuf_release(&(*c)->tbuf[t]);
   free(*c);
   *c = NULL;
 }
@@ -180,6 +183,12 @@ int esf_cells_tune(esf_cells *c, esf_cells_mode mode, double factor, esf_error *
   c->mode = mode;
   c->factor = factor;
   return ESF_OK;
+}
+
+void esf_cells_threads(esf_cells *c, int threads) {
+  c->threads = threads < 1                       ? 1
+               : threads > ESF_CELLS_MAX_THREADS ? ESF_CELLS_MAX_THREADS
+                                                 : threads;
 }
 
 int esf_cells_nclasses(const esf_cells *c) { return c->nclasses; }
@@ -351,6 +360,40 @@ static int pairs_by_class(esf_cells *c, size_t n, const double *x, const double 
   return ESF_OK;
 }
 
+/* The one grid's pairs, swept in c->threads slabs of layers, each into its own
+ * buffer, appended to out in slab order (the same pairs in the same order whatever the
+ * thread count, as the slabs' sweeps are the serial sweep cut at layer boundaries). */
+static int sweep_threaded(esf_cells *c, const esf_grid *g, const double *x,
+                          const double *radius, double skin, esf_pairbuf *out,
+                          esf_error *err) {
+  const int T = c->threads > 1 && g->nc[2] > 1 ? c->threads : 1;
+  if (T == 1) return esf_grid_self_pairs(g, c->list, x, radius, skin, out, err);
+  int trc[ESF_CELLS_MAX_THREADS];
+  esf_error terr[ESF_CELLS_MAX_THREADS];
+#pragma omp parallel for num_threads(T) schedule(static, 1)
+  for (int t = 0; t < T; t++) {
+    const int64_t nz = g->nc[2], z0 = nz * t / T, z1 = nz * (t + 1) / T;
+    c->tbuf[t].n = 0;
+    trc[t] = esf_grid_self_pairs_layers(g, c->list, x, radius, skin, z0, z1, &c->tbuf[t],
+                                        &terr[t]);
+  }
+  for (int t = 0; t < T; t++) {
+    if (trc[t]) {
+      if (err) *err = terr[t];
+      return trc[t];
+    }
+    const esf_pairbuf *b = &c->tbuf[t];
+    while (out->cap < out->n + b->n) {
+      const int rc = esf_pairbuf_grow(out, err);
+      if (rc) return rc;
+    }
+    memcpy(out->i + out->n, b->i, b->n * sizeof *b->i);
+    memcpy(out->j + out->n, b->j, b->n * sizeof *b->j);
+    out->n += b->n;
+  }
+  return ESF_OK;
+}
+
 int esf_cells_pairs(esf_cells *c, size_t n, const double *x, const double *radius,
                     double skin, esf_pairbuf *out, esf_error *err) {
   out->n = 0;
@@ -384,7 +427,7 @@ int esf_cells_pairs(esf_cells *c, size_t n, const double *x, const double *radiu
     rc = pairs_by_class(c, n, x, radius, skin, &pl, out, err);
   else {
     rc = esf_grid_build(&c->grid[0], n, NULL, x, lo, hi, smax, c->list, err);
-    if (!rc) rc = esf_grid_self_pairs(&c->grid[0], c->list, x, radius, skin, out, err);
+    if (!rc) rc = sweep_threaded(c, &c->grid[0], x, radius, skin, out, err);
   }
   if (rc) out->n = 0;
   return rc;

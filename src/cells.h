@@ -52,6 +52,13 @@ typedef enum esf_cells_mode {
  * target ratio of the largest to the smallest 2 r + skin within one size class. */
 int esf_cells_tune(esf_cells *c, esf_cells_mode mode, double factor, esf_error *err);
 
+#define ESF_CELLS_MAX_THREADS 64 /* threads of the one-grid sweep, at most */
+
+/* Sweeps the one grid (the usual search) in `threads` slabs of cell layers at once
+ * (clamped to 1 .. ESF_CELLS_MAX_THREADS; 1 until set). The pairs and their order do
+ * not depend on it. */
+void esf_cells_threads(esf_cells *c, int threads);
+
 /* The number of grids the last search used: 1 (one grid, or no search needed) or the
  * number of size classes. */
 int esf_cells_nclasses(const esf_cells *c);

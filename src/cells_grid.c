@@ -117,6 +117,12 @@ int esf_grid_build(esf_grid *g, size_t m, const uint32_t *idx, const double *x,
 int esf_grid_self_pairs(const esf_grid *g, const uint32_t *list, const double *x,
                         const double *radius, double skin, esf_pairbuf *out,
                         esf_error *err) {
+  return esf_grid_self_pairs_layers(g, list, x, radius, skin, 0, g->nc[2], out, err);
+}
+
+int esf_grid_self_pairs_layers(const esf_grid *g, const uint32_t *list, const double *x,
+                               const double *radius, double skin, int64_t z0, int64_t z1,
+                               esf_pairbuf *out, esf_error *err) {
   const int64_t nx = g->nc[0], ny = g->nc[1], nz = g->nc[2];
   const uint32_t *head = g->head;
   /* The half shell: 13 of the 26 neighbours, so each adjacent pair of cells once. */
@@ -128,8 +134,8 @@ int esf_grid_self_pairs(const esf_grid *g, const uint32_t *list, const double *x
     delta[s] = ((int64_t)shell[s][2] * ny + shell[s][1]) * nx + shell[s][0];
 
   int rc;
-  size_t cell = 0;
-  for (int64_t cz = 0; cz < nz; cz++)
+  size_t cell = (size_t)(z0 * ny * nx);
+  for (int64_t cz = z0; cz < z1; cz++)
     for (int64_t cy = 0; cy < ny; cy++)
       for (int64_t cx = 0; cx < nx; cx++, cell++) {
         uint32_t first = head[cell];
@@ -138,11 +144,12 @@ int esf_grid_self_pairs(const esf_grid *g, const uint32_t *list, const double *x
         for (uint32_t i = first; i != ESF_CELL_EMPTY; i = list[i]) {
           const double *xi = x + 3 * (size_t)i;
           const double ri = radius[i];
-          for (uint32_t j = list[i]; j != ESF_CELL_EMPTY; j = list[j])
-            if (esf_pair_near(xi, x + 3 * (size_t)j, ri, radius[j], skin)) {
-              rc = esf_pair_push(out, i, j, err);
-              if (rc) return rc;
-            }
+          for (uint32_t j = list[i]; j != ESF_CELL_EMPTY; j = list[j]) {
+            rc = esf_pair_push_if(
+                out, i, j, esf_pair_near(xi, x + 3 * (size_t)j, ri, radius[j], skin),
+                err);
+            if (rc) return rc;
+          }
         }
         /* pairs with the half-shell neighbours */
         for (int s = 0; s < 13; s++) {
@@ -153,11 +160,12 @@ int esf_grid_self_pairs(const esf_grid *g, const uint32_t *list, const double *x
           for (uint32_t i = first; i != ESF_CELL_EMPTY; i = list[i]) {
             const double *xi = x + 3 * (size_t)i;
             const double ri = radius[i];
-            for (uint32_t j = other; j != ESF_CELL_EMPTY; j = list[j])
-              if (esf_pair_near(xi, x + 3 * (size_t)j, ri, radius[j], skin)) {
-                rc = esf_pair_push(out, i, j, err);
-                if (rc) return rc;
-              }
+            for (uint32_t j = other; j != ESF_CELL_EMPTY; j = list[j]) {
+              rc = esf_pair_push_if(
+                  out, i, j, esf_pair_near(xi, x + 3 * (size_t)j, ri, radius[j], skin),
+                  err);
+              if (rc) return rc;
+            }
           }
         }
       }
@@ -204,11 +212,12 @@ int esf_grid_cross_pairs(const esf_grid *g, const uint32_t *list, double rgrid, 
       for (int64_t cy = lo[1]; cy <= hi[1]; cy++) {
         const size_t row = (size_t)((cz * ny + cy) * nx);
         for (int64_t cx = lo[0]; cx <= hi[0]; cx++)
-          for (uint32_t j = head[row + (size_t)cx]; j != ESF_CELL_EMPTY; j = list[j])
-            if (esf_pair_near(xi, x + 3 * (size_t)j, ri, radius[j], skin)) {
-              int rc = esf_pair_push(out, i, j, err);
-              if (rc) return rc;
-            }
+          for (uint32_t j = head[row + (size_t)cx]; j != ESF_CELL_EMPTY; j = list[j]) {
+            const int rc = esf_pair_push_if(
+                out, i, j, esf_pair_near(xi, x + 3 * (size_t)j, ri, radius[j], skin),
+                err);
+            if (rc) return rc;
+          }
       }
   }
   return ESF_OK;

@@ -47,6 +47,13 @@ int esf_grid_self_pairs(const esf_grid *g, const uint32_t *list, const double *x
                         const double *radius, double skin, esf_pairbuf *out,
                         esf_error *err);
 
+/* The same for the cells of layers z0 <= cz < z1 (with their half-shell neighbours,
+ * which reach into layer z1): disjoint layer ranges give disjoint sets of pairs, so
+ * threads can sweep a grid in slabs. */
+int esf_grid_self_pairs_layers(const esf_grid *g, const uint32_t *list, const double *x,
+                               const double *radius, double skin, int64_t z0, int64_t z1,
+                               esf_pairbuf *out, esf_error *err);
+
 /* Appends every pair (i, j), i one of the m particles idx[0..m) (none of them in the
  * grid), j in the grid, closer than skin. rgrid: the largest radius in the grid (m). */
 int esf_grid_cross_pairs(const esf_grid *g, const uint32_t *list, double rgrid, size_t m,
@@ -65,6 +72,21 @@ static inline int esf_pair_push(esf_pairbuf *b, uint32_t i, uint32_t j, esf_erro
   b->i[b->n] = i < j ? i : j;
   b->j[b->n] = i < j ? j : i;
   b->n++;
+  return ESF_OK;
+}
+
+/* Stores the pair (min, max) when near is 1, without a branch on it (the test is as
+ * often true as not in a packed bed, which no branch predictor guesses): the slot is
+ * always written, the count advances by near. */
+static inline int esf_pair_push_if(esf_pairbuf *b, uint32_t i, uint32_t j, int near,
+                                   esf_error *err) {
+  if (b->n == b->cap) {
+    int rc = esf_pairbuf_grow(b, err);
+    if (rc) return rc;
+  }
+  b->i[b->n] = i < j ? i : j;
+  b->j[b->n] = i < j ? j : i;
+  b->n += (size_t)near;
   return ESF_OK;
 }
 

@@ -199,6 +199,10 @@ int esf_ckpt_write(const char *path, esf_sim *s, const esf_integrator_type *it, 
   esf_blob_put(&b, s->nb.xref, 3 * nref * sizeof(double));
   sec_end(&b, st);
 
+  { /* the adaptive skin's state (neighbor.h): the lists' skin and build step */
+    const double sk[2] = {s->nb.skin, (double)s->nb.built_step};
+    put_sec(&b, "NBSKIN", sk, sizeof sk);
+  }
   put_sec(&b, "INTEG", integ.d, integ.n);
   esf_blob_free(&integ);
   put_sec(&b, "END", NULL, 0);

@@ -184,6 +184,15 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
     s->nb.nref = (size_t)nref;
   }
   s->nb.builds = cs.builds;
+  in = esf_ckpt_sec(c, "NBSKIN"); /* absent from older checkpoints: the skin stays */
+  if (!in.short_read) {
+    double sk[2];
+    if (esf_blob_get(&in, sk, sizeof sk) || in.pos != in.n || !(sk[0] > 0))
+      return mismatch(c, err, "the NBSKIN section");
+    s->nb.skin = sk[0];
+    s->nb.built_step = (long)sk[1];
+  } else
+    s->nb.built_step = (long)cs.step;
 
   in = esf_ckpt_sec(c, "RUN");
   if (esf_blob_get(&in, run, sizeof *run) || in.pos != in.n)

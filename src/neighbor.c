@@ -87,7 +87,7 @@ int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wa
   double lim2 = 0.25 * nb->skin * nb->skin, max2 = 0.0;
   if (!*rebuild && nb->disp_valid) { /* measured during the drift, all finite */
     max2 = nb->max_disp2;
-    if (max2 > lim2) *rebuild = 1;
+    if (max2 > lim2 || nb->escaped) *rebuild = 1;
     if (wall_moved > 0 && sqrt(max2) + wall_moved > 0.5 * nb->skin) *rebuild = 1;
     return ESF_OK;
   }
@@ -98,6 +98,12 @@ int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wa
                       "particle id %lld has a non-finite position (%g, %g, %g)",
                       (long long)p->id[i], x[0], x[1], x[2]);
     if (*rebuild) continue;
+    if (nb->dom_lo &&
+        (x[0] < nb->dom_lo[0] || x[0] > nb->dom_hi[0] || x[1] < nb->dom_lo[1] ||
+         x[1] > nb->dom_hi[1] || x[2] < nb->dom_lo[2] || x[2] > nb->dom_hi[2])) {
+      *rebuild = 1; /* esf_sim_remove_escaped's test */
+      continue;
+    }
     const double *r = nb->xref + 3 * i;
     double dx = x[0] - r[0], dy = x[1] - r[1], dz = x[2] - r[2];
     double d2 = dx * dx + dy * dy + dz * dz;
@@ -236,6 +242,7 @@ static int wall_scratch_reserve(esf_neighbor *nb, esf_error *err) {
 
 int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls *w,
                        esf_error *err) {
+  esf_cells_threads(nb->cells, nb->threads);
   int rc = esf_cells_pairs(nb->cells, p->n, p->x, p->radius, nb->skin, &nb->buf, err);
   if (rc) return rc;
   /* the search stores each pair as (min, max) */
@@ -300,9 +307,11 @@ static void remap_list(esf_contacts *c, const size_t *remap, size_t n_old, int w
     if (!walls && (b >= n_old || remap[b] == SIZE_MAX)) continue;
     c->a[m] = (uint32_t)remap[a];
     c->b[m] = walls ? b : (uint32_t)remap[b];
-    c->h[m] = c->h[k];
-    c->touch[m] = c->touch[k];
-    if (c->vc0) memcpy(c->vc0 + 3 * m, c->vc0 + 3 * k, 3 * sizeof(double));
+    if (m != k) { /* entries move only after a removed particle's (a reordering: never) */
+      c->h[m] = c->h[k];
+      c->touch[m] = c->touch[k];
+      if (c->vc0) memcpy(c->vc0 + 3 * m, c->vc0 + 3 * k, 3 * sizeof(double));
+    }
     if (!walls && c->a[m] > c->b[m]) {
       const uint32_t t = c->a[m];
       c->a[m] = c->b[m];
@@ -325,6 +334,25 @@ void esf_neighbor_remap(esf_neighbor *nb, const size_t *remap, size_t n_old) {
   free(nb->xref); /* force a rebuild at the next check */
   nb->xref = NULL;
   nb->nref = 0;
+}
+
+void esf_neighbor_skin_range(esf_neighbor *nb, double lo, double hi) {
+  nb->skin_lo = lo;
+  nb->skin_hi = hi;
+}
+
+void esf_neighbor_skin_tune(esf_neighbor *nb, size_t n, long step) {
+  if (!(nb->skin_hi > 0) || !nb->xref || nb->nref != n || n == 0 || nb->builds == 0)
+    return;
+  const long I = step - nb->built_step > 1 ? step - nb->built_step : 1;
+  size_t shell = 0; /* candidates not touching at the last evaluation */
+  for (size_t k = 0; k < nb->pp.n; k++) shell += !nb->pp.touch[k];
+  const double ms = (double)shell / (double)n;
+  double f = ms > 0 ? sqrt(ESF_SKIN_BUILD_COST / (ms * (double)I)) : 2.0;
+  f = f < 0.5 ? 0.5 : f > 2.0 ? 2.0 : f;
+  double s = nb->skin * f;
+  s = s < nb->skin_lo ? nb->skin_lo : s > nb->skin_hi ? nb->skin_hi : s;
+  nb->skin = s;
 }
 
 size_t esf_neighbor_touching(const esf_neighbor *nb) {

@@ -17,6 +17,10 @@
 #include "particles.h"
 #include "walls.h"
 
+/* A build's cost in screened candidates per particle (the adaptive skin): about 500 ns
+ * per particle against 4-5 ns per screened candidate (scene S1, 50 000 spheres). */
+#define ESF_SKIN_BUILD_COST 100.0
+
 /* Ledger scratch per contact (only allocated when the energy ledger is on):
  * [0] overlap (m), [1] normal dashpot force applied (N), [2..4] tangential dashpot force
  * on A (N), [5..7] total force on the particle (N, wall contacts). */
@@ -55,9 +59,17 @@ typedef struct esf_neighbor {
    * Cleared after every check (esf_integ_refresh). */
   int disp_valid;
   double max_disp2; /* largest squared displacement since the build, m^2 */
+  int escaped;      /* with disp_valid: some particle left the domain */
+  /* the scene's domain (particles leaving it are removed at the next build, which
+   * esf_neighbor_check then asks for), or NULL, m */
+  const double *dom_lo, *dom_hi;
   /* the wall element index (wall_index.h) */
   struct esf_wall_index *widx;
   int threads; /* threads for the build's per-particle passes (>= 1; set by the caller) */
+  /* the adaptive skin (esf_neighbor_skin_tune): the range it moves in (both 0: fixed),
+   * and the step of the last build (set by the caller after a build), m, m, steps */
+  double skin_lo, skin_hi;
+  long built_step;
   /* the build's storage, kept between builds: the lists' previous storage, and the
    * history transfer's scratch (ws_n particle offsets, ws_m contact entries) */
   esf_contacts pp_spare, pw_spare;
@@ -70,10 +82,27 @@ void esf_neighbor_release(esf_neighbor *nb);
 
 /* Sets *rebuild when a particle moved more than skin/2 since the last build, or the
  * largest particle displacement plus wall_moved (how far a moving wall went, m) exceeds
- * skin/2 (or no build was made, or the count changed). A non-finite position is an
+ * skin/2, or a particle is outside the domain (or no build was made, or the count
+ * changed). A non-finite position is an
  * ESF_ENUMERIC error naming the particle (by id). */
 int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wall_moved,
                        int *rebuild, esf_error *err);
+
+/* Lets esf_neighbor_skin_tune move the skin within [lo, hi], m. */
+void esf_neighbor_skin_range(esf_neighbor *nb, double lo, double hi);
+
+/* The adaptive skin, for a rebuild at step `step` of the lists built at
+ * nb->built_step for n particles (call it before removing or renumbering particles; it
+ * does nothing with a fixed skin, a first build, or a changed count). Balances two costs
+ * per particle and step that the skin trades: screening the candidates the skin adds
+ * (those not touching: m_s per particle, proportional to the skin), and the build,
+ * worth ESF_SKIN_BUILD_COST screened candidates per particle, amortised over the I
+ * steps the lists lasted (proportional to the skin). Both go as s, their product m_s I
+ * as s^2, and the balance m_s I = ESF_SKIN_BUILD_COST is met by s' = s sqrt(
+ * ESF_SKIN_BUILD_COST / (m_s I)), taken within a factor 2 of s and within the range.
+ * It depends on the state only (counts and steps), never on timings or threads, so runs
+ * stay reproducible and thread-count independent. */
+void esf_neighbor_skin_tune(esf_neighbor *nb, size_t n, long step);
 
 /* Rebuilds both lists from the current positions, carrying the history of contacts
  * that were touching over to the new lists. */

@@ -39,38 +39,51 @@ void esf_particles_release(esf_particles *p) {
   memset(p, 0, sizeof *p);
 }
 
-int esf_particles_alloc(esf_particles *p, size_t n, esf_error *err) {
+/* The arrays for n particles, zeroed or (zero = 0, for a gather that writes them all)
+ * not. */
+static int alloc_arrays(esf_particles *p, size_t n, int zero, esf_error *err) {
   memset(p, 0, sizeof *p);
-  size_t m = n ? n : 1; /* never hand out NULL arrays */
+  const size_t m = n ? n : 1; /* never hand out NULL arrays */
+#define ESF_PALLOC(k, size) (zero ? calloc((k), (size)) : malloc((k) * (size)))
   p->n = n;
-  p->y = calloc(9 * m + 1, sizeof(double)); /* + 1: pair_batch.c's 4-wide loads */
-  p->f = calloc(3 * m, sizeof(double));
-  p->t = calloc(3 * m, sizeof(double));
-  p->radius = calloc(m, sizeof(double));
-  p->mass = calloc(m, sizeof(double));
-  p->inv_mass = calloc(m, sizeof(double));
-  p->inertia = calloc(m, sizeof(double));
-  p->inv_inertia = calloc(m, sizeof(double));
-  p->material = calloc(m, sizeof(int32_t));
-  p->id = calloc(m, sizeof(int64_t));
+  p->y = ESF_PALLOC(9 * m + 1, sizeof(double)); /* + 1: pair_batch.c's 4-wide loads */
+  p->f = ESF_PALLOC(3 * m, sizeof(double));
+  p->t = ESF_PALLOC(3 * m, sizeof(double));
+  p->radius = ESF_PALLOC(m, sizeof(double));
+  p->mass = ESF_PALLOC(m, sizeof(double));
+  p->inv_mass = ESF_PALLOC(m, sizeof(double));
+  p->inertia = ESF_PALLOC(m, sizeof(double));
+  p->inv_inertia = ESF_PALLOC(m, sizeof(double));
+  p->material = ESF_PALLOC(m, sizeof(int32_t));
+  p->id = ESF_PALLOC(m, sizeof(int64_t));
+#undef ESF_PALLOC
   if (!p->y || !p->f || !p->t || !p->radius || !p->mass || !p->inv_mass || !p->inertia ||
       !p->inv_inertia || !p->material || !p->id) {
     esf_particles_release(p);
     return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particles", n);
   }
+  p->y[9 * m] = 0.0; /* the spare double */
   p->x = p->y;
   p->v = p->y + 3 * n;
   p->w = p->y + 6 * n;
   return ESF_OK;
 }
 
-/* p becomes the particles src[0 .. m) of p, in that order. */
-static int gather(esf_particles *p, const size_t *src, size_t m, esf_error *err) {
+int esf_particles_alloc(esf_particles *p, size_t n, esf_error *err) {
+  return alloc_arrays(p, n, 1, err);
+}
+
+/* p becomes the particles src[0 .. m) of p, in that order (threads > 1: the copy is
+ * shared among that many threads). */
+static int gather(esf_particles *p, const size_t *src, size_t m, int threads,
+                  esf_error *err) {
   esf_particles q;
-  int rc = esf_particles_alloc(&q, m, err);
+  int rc = alloc_arrays(&q, m, m == 0, err); /* every entry is written below */
   if (rc) return rc;
-  for (size_t k = 0; k < m; k++) {
-    const size_t i = src[k];
+  const long mm = (long)m;
+#pragma omp parallel for num_threads(threads > 1 ? threads : 1) schedule(static)
+  for (long kk = 0; kk < mm; kk++) {
+    const size_t k = (size_t)kk, i = src[k];
     memcpy(q.x + 3 * k, p->x + 3 * i, 3 * sizeof(double));
     memcpy(q.v + 3 * k, p->v + 3 * i, 3 * sizeof(double));
     memcpy(q.w + 3 * k, p->w + 3 * i, 3 * sizeof(double));
@@ -98,11 +111,12 @@ int esf_particles_compact(esf_particles *p, const unsigned char *keep, size_t *r
     if (remap) remap[i] = keep[i] ? m : SIZE_MAX;
     if (keep[i]) src[m++] = i;
   }
-  int rc = gather(p, src, m, err);
+  int rc = gather(p, src, m, 1, err);
   free(src);
   return rc;
 }
 
-int esf_particles_permute(esf_particles *p, const size_t *src, esf_error *err) {
-  return gather(p, src, p->n, err);
+int esf_particles_permute(esf_particles *p, const size_t *src, int threads,
+                          esf_error *err) {
+  return gather(p, src, p->n, threads, err);
 }

@@ -59,7 +59,8 @@ int esf_particles_compact(esf_particles *p, const unsigned char *keep, size_t *r
                           esf_error *err);
 
 /* Reorders the particles: the new particle k is the old src[k] (src a permutation of
- * 0 .. n-1). */
-int esf_particles_permute(esf_particles *p, const size_t *src, esf_error *err);
+ * 0 .. n-1); the copy is shared among `threads` threads. */
+int esf_particles_permute(esf_particles *p, const size_t *src, int threads,
+                          esf_error *err);
 
 #endif

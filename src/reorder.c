@@ -65,7 +65,10 @@ int esf_reorder_particles(esf_sim *s, int *changed, esf_error *err) {
     rc = esf_fail(err, ESF_ENOMEM, "out of memory for reordering %zu particles", n);
     goto done;
   }
-  for (size_t i = 0; i < n; i++) {
+  const long nn = (long)n;
+#pragma omp parallel for num_threads(s->cfg.threads > 1 ? s->cfg.threads : 1)
+  for (long ii = 0; ii < nn; ii++) {
+    const size_t i = (size_t)ii;
     size_t c[3];
     for (int q = 0; q < 3; q++) {
       const double f = floor((p->x[3 * i + ax[q]] - lo[ax[q]]) / h);
@@ -73,8 +76,8 @@ int esf_reorder_particles(esf_sim *s, int *changed, esf_error *err) {
       c[q] = f > 0 ? ((size_t)f < m ? (size_t)f : m) : 0;
     }
     key[i] = (uint32_t)((c[0] * d1 + c[1]) * d2 + c[2]);
-    start[key[i] + 1]++;
   }
+  for (size_t i = 0; i < n; i++) start[key[i] + 1]++;
   for (size_t c = 0; c < ncell; c++) start[c + 1] += start[c];
   int same = 1;
   for (size_t i = 0; i < n; i++) { /* stable: ties keep the previous order */
@@ -85,7 +88,7 @@ int esf_reorder_particles(esf_sim *s, int *changed, esf_error *err) {
   }
   if (same) goto done;
   esf_sim_forces_sync(s);
-  rc = esf_particles_permute(p, src, err);
+  rc = esf_particles_permute(p, src, s->cfg.threads, err);
   if (rc) goto done;
   esf_neighbor_remap(&s->nb, remap, n);
   *changed = 1;

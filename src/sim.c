@@ -146,12 +146,20 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
   }
   rc = esf_bonds_setup(s, skin_auto, err);
   if (rc) return rc;
+  c->skin_auto = skin_auto && !s->bonds.on; /* a bond's reach fixes the skin */
   s->led.on = c->energy_every > 0;
   rc = esf_servo_setup(s, err);           /* servo walls (servo.c) */
   if (!rc) rc = esf_events_setup(s, err); /* scene events (events.c) */
   if (!rc) rc = esf_drag_setup(s, err);   /* fluid force (drag.c) */
   if (rc) return rc;
-  return esf_neighbor_init(&s->nb, c->skin, s->led.on, err);
+  rc = esf_neighbor_init(&s->nb, c->skin, s->led.on, err);
+  if (rc) return rc;
+  if (c->has_domain) {
+    s->nb.dom_lo = c->domain_min;
+    s->nb.dom_hi = c->domain_max;
+  }
+  if (c->skin_auto) esf_neighbor_skin_range(&s->nb, c->skin / 8.0, 2.5 * c->skin);
+  return ESF_OK;
 }
 
 void esf_sim_release(esf_sim *s) {

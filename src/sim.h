@@ -58,7 +58,8 @@ typedef struct esf_config {
   int tframe;                /* ESF_TFRAME_* */
   double max_overlap;        /* failure when overlap > this x the smaller radius */
   int allow_initial_overlap; /* explicit particles may start overlapping */
-  double skin;               /* m; <= 0: 0.2 x mean radius */
+  double skin;               /* m; <= 0: automatic (0.4 x mean radius, then adaptive) */
+  int skin_auto;             /* set up: the skin is retuned at rebuilds (neighbor.h) */
   int reorder;               /* renumber particles along cells at rebuilds (reorder.h) */
 
   double duration;     /* s (when steps == 0) */

@@ -31,14 +31,14 @@
  * contacts (the pass of wall_fast.h), the 2D projection (the accumulators then hold
  * F_n, M_n: they stay there, s->ft_lazy, for esf_sim_forces_sync), local damping, kick
  * with global damping (1 -+ alpha dt/2), drift x += v dt, the squared displacement since
- * the last build. After the barrier no thread reads another range's particles (an
- * interior pair has both ends in the range; the boundary pairs were done before), so each
- * thread drifts its range as soon as it is done. Every particle receives its pair forces
- * in ascending k, the order of the serial scatter in forces.c, whatever T: the results
- * are the same bit for bit on any thread count (and T = 1 is a plain serial scatter
- * without slots). Failures (overlap beyond the limit) are reported for the lowest
- * pair or particle index, also independent of threads.
- * Units: SI. */
+ * the last build and whether it left the domain. After the barrier no thread reads
+ * another range's particles (an interior pair has both ends in the range; the boundary
+ * pairs were done before), so each thread drifts its range as soon as it is done. Every
+ * particle receives its pair forces in ascending k, the order of the serial scatter in
+ * forces.c, whatever T: the results are the same bit for bit on any thread count (and T =
+ * 1 is a plain serial scatter without slots). Failures (overlap beyond the limit) are
+ * reported for the lowest pair or particle index, also independent of threads. Units: SI.
+ */
 #include "step_fast.h"
 
 #include <math.h>
@@ -391,13 +391,15 @@ typedef struct kick_ctx {
   esf_wall_pass_fn wall_pass; /* wall_fast.h, chosen once per step */
   const esf_local_damping *loc;
   const double *xref;
+  const double *dom_lo, *dom_hi; /* the domain, or NULL */
 } kick_ctx;
 
 /* plain (a constant in each instantiation): no global or local damping, 3D; the
  * damped kick with unit factors gives the same bits, the plain one skips their work. */
 static inline void kick_impl(esf_sim *s, const esf_step_fast *f, const kick_ctx *K,
                              size_t lo, size_t hi, size_t *nt_pw, size_t *bad_part,
-                             double *max2, int *nonfinite, const int plain) {
+                             double *max2, int *nonfinite, int *escaped,
+                             const int plain) {
   esf_particles *p = &s->p;
   const double dt = K->dt;
   const esf_wall_pass_fn wall_pass = K->wall_pass;
@@ -446,16 +448,19 @@ static inline void kick_impl(esf_sim *s, const esf_step_fast *f, const kick_ctx 
       else
         *nonfinite = 1; /* NaN */
     }
+    if (K->dom_lo) /* esf_sim_remove_escaped's test */
+      *escaped |= (x[0] < K->dom_lo[0]) | (x[0] > K->dom_hi[0]) | (x[1] < K->dom_lo[1]) |
+                  (x[1] > K->dom_hi[1]) | (x[2] < K->dom_lo[2]) | (x[2] > K->dom_hi[2]);
   }
 }
 
 static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, size_t lo,
                        size_t hi, size_t *nt_pw, size_t *bad_part, double *max2,
-                       int *nonfinite) {
+                       int *nonfinite, int *escaped) {
   if (K->plain)
-    kick_impl(s, f, K, lo, hi, nt_pw, bad_part, max2, nonfinite, 1);
+    kick_impl(s, f, K, lo, hi, nt_pw, bad_part, max2, nonfinite, escaped, 1);
   else
-    kick_impl(s, f, K, lo, hi, nt_pw, bad_part, max2, nonfinite, 0);
+    kick_impl(s, f, K, lo, hi, nt_pw, bad_part, max2, nonfinite, escaped, 0);
 }
 
 /* Step 2: adds the A side of outgoing boundary slot j (its pair's a is in range). */
@@ -589,11 +594,13 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
                           s->cfg.dim == 3,
                       esf_wall_pass_select(s),
                       s->local,
-                      s->nb.xref};
+                      s->nb.xref,
+                      s->nb.dom_lo,
+                      s->nb.dom_hi};
   size_t nt_pp = 0, nt_pw = 0;
   size_t bad_pair = SIZE_MAX, bad_part = SIZE_MAX;
   double max2 = 0.0;
-  int nonfinite = 0, bad_bound = 0; /* a boundary pair failed: nobody moves */
+  int nonfinite = 0, escaped = 0, bad_bound = 0; /* bad_bound: nobody moves */
 
 #ifdef _OPENMP
   const double t_start = omp_get_wtime(), gap = t_start - f->t_left;
@@ -601,7 +608,8 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
     f->busy[0] += gap;
 #endif
 #pragma omp parallel num_threads(nth) reduction(+ : nt_pp, nt_pw) \
-    reduction(min : bad_pair, bad_part) reduction(max : max2) reduction(| : nonfinite)
+    reduction(min : bad_pair, bad_part) reduction(max : max2)                        \
+    reduction(| : nonfinite, escaped)
   {
 #ifdef _OPENMP
     const size_t me = (size_t)omp_get_thread_num(), got = (size_t)omp_get_num_threads();
@@ -629,7 +637,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
       size_t bad = pairs_range(s, f, &bc, t, lo, hi, &nt_pp);
       if (bad < bad_pair) bad_pair = bad;
       if (bad_pair == SIZE_MAX)
-        kick_range(s, f, &K, lo, hi, &nt_pw, &bad_part, &max2, &nonfinite);
+        kick_range(s, f, &K, lo, hi, &nt_pw, &bad_part, &max2, &nonfinite, &escaped);
 #ifdef _OPENMP
       f->busy[t] += omp_get_wtime() - t0; /* range t is this thread's alone */
 #endif
@@ -656,6 +664,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
     return rc ? rc : esf_fail(err, ESF_EINTERNAL, "wall contact failure not reproduced");
   }
   s->nb.max_disp2 = max2;
+  s->nb.escaped = escaped;
   s->nb.disp_valid = K.xref && !nonfinite;
   s->rhs_evals++;
   balance_check(f, T);

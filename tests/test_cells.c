@@ -3,7 +3,8 @@
  * polydisperse sets (radius ratios 1:1 to 1:10, bimodal, 1:100; one class empty, a
  * class of one), dense and sparse, particles on cell
  * boundaries and on the bounding box's faces, flat (2D, 1D) sets, a particle far away
- * (grid cap), n = 0, 1, 2, the strict cutoff, and non-finite positions. */
+ * (grid cap), n = 0, 1, 2, the strict cutoff, and non-finite positions. The one grid
+ * swept by 2 and 3 threads finds one thread's pairs in one thread's order. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -68,6 +69,21 @@ static void compare(esf_cells *cells, size_t n, const double *x, const double *r
           a.n, b.n);
     free(ka);
   }
+  /* the one grid swept by 2 and 3 threads in slabs: the same pairs in the same order
+     as one thread (the slabs' buffers are appended in layer order) */
+  CHECK_OK(esf_cells_tune(cells, ESF_CELLS_ONE_GRID, 0, &err), err);
+  CHECK_OK(esf_cells_pairs(cells, n, x, r, skin, &a, &err), err);
+  for (int T = 2; T <= 3; T++) {
+    esf_pairbuf t = {0};
+    esf_cells_threads(cells, T);
+    CHECK_OK(esf_cells_pairs(cells, n, x, r, skin, &t, &err), err);
+    int same = t.n == a.n && (a.n == 0 || (memcmp(t.i, a.i, a.n * sizeof *a.i) == 0 &&
+                                           memcmp(t.j, a.j, a.n * sizeof *a.j) == 0));
+    CHECK(same, "%s (one grid, %d threads): %zu pairs, not one thread's %zu in order",
+          what, T, t.n, a.n);
+    esf_pairbuf_release(&t);
+  }
+  esf_cells_threads(cells, 1);
   CHECK_OK(esf_cells_tune(cells, ESF_CELLS_AUTO, 0, &err), err);
   free(kb);
   esf_pairbuf_release(&a);

@@ -411,7 +411,7 @@ static void test_id_order(void) {
   fill(&p, 1);
   fill(&q, 1);
   const size_t shuffle[5] = {3, 0, 4, 1, 2}; /* q[k] = p[shuffle[k]] */
-  CHECK_OK(esf_particles_permute(&q, shuffle, &err), err);
+  CHECK_OK(esf_particles_permute(&q, shuffle, 1, &err), err);
   CHECK(q.id[0] == p.id[3] && q.x[3 * 2] == p.x[3 * 4] &&
             q.f[3 * 4 + 2] == p.f[3 * 2 + 2],
         "permute: particle k is the old shuffle[k]");
