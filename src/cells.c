@@ -383,6 +383,7 @@ static int sweep_threaded(esf_cells *c, const esf_grid *g, const double *x,
       return trc[t];
     }
     const esf_pairbuf *b = &c->tbuf[t];
+    if (b->n == 0) continue; /* its arrays may not exist */
     while (out->cap < out->n + b->n) {
       const int rc = esf_pairbuf_grow(out, err);
       if (rc) return rc;
