@@ -30,8 +30,7 @@ static void contacts_release(esf_contacts *c) {
 static int contacts_reserve(esf_contacts *c, size_t n, int ledger, int carry,
                             esf_error *err) {
   if (n <= c->cap) return ESF_OK;
-  size_t cap = c->cap ? c->cap : 64;
-  while (cap < n) cap *= 2;
+  const size_t cap = n + n / 4 + 64; /* a quarter of room: the lists grow and shrink */
   uint32_t *a = realloc(c->a, cap * sizeof *a);
   if (a) c->a = a;
   uint32_t *b = realloc(c->b, cap * sizeof *b);
@@ -223,6 +222,8 @@ static int rebuild_list(esf_neighbor *nb, esf_contacts *list, esf_contacts *spar
   int rc = fill_list(nb, spare, list, n, ka, kb, m, err);
   if (rc) return rc;
   contacts_swap(list, spare);
+  if (spare->cap > 2 * list->n + 1024) /* the old lists were much longer (a larger */
+    contacts_release(spare);           /* skin, a denser state): drop their storage */
   return ESF_OK;
 }
 
