@@ -6,7 +6,9 @@
  * a particle touching a wall element. Checked against brute force (all pairs, all
  * elements) after random displacements of every particle up to just under s/2, for
  * size ratios 1:1, 1:3 and 1:5 and several skins, in a box with walls; and a single
- * particle moved just over s/2 makes the check ask for a rebuild. */
+ * particle moved just over s/2 makes the check ask for a rebuild. Also the adaptive
+ * skin's rule and bounds, and the rebuild asked for by a particle leaving the domain. */
+#include <math.h>
 #include <stdlib.h>
 
 #include "rng.h"
@@ -42,7 +44,9 @@ static int has_pair(const esf_contacts *c, uint32_t a, uint32_t b) {
   return lo < c->n && c->a[lo] == a && c->b[lo] == b;
 }
 
-static double uni(esf_rng *g, double a, double b) { return a + (b - a) * esf_rng_uniform(g); }
+static double uni(esf_rng *g, double a, double b) {
+  return a + (b - a) * esf_rng_uniform(g);
+}
 
 /* Moves every particle by a random vector of length up to frac * skin / 2. */
 static void jiggle(esf_particles *p, esf_rng *g, double skin, double frac) {
@@ -119,7 +123,71 @@ static void check_case(int count, double rmin, double rmax, double skin, int see
   simtest_close(&T);
 }
 
+/* The adaptive skin (esf_neighbor_skin_tune) on lists built for a given skin, with
+ * the idle candidates m_s counted from the touch flags, set here: the balance
+ * s' = s sqrt(C / (m_s I)) within a factor 2 of s and within the range; a fixed skin
+ * (no range) untouched. And a particle outside the domain asks for a rebuild. */
+static void check_skin(void) {
+  char yaml[2048];
+  snprintf(yaml, sizeof yaml, scene_fmt, 1500, 0.0010, 0.0010, 1, 0.0004);
+  simtest T;
+  if (simtest_open(&T, yaml, NULL, 0)) {
+    CHECK(0, "scene did not open: %s", T.err.msg);
+    return;
+  }
+  esf_sim *s = &T.s;
+  esf_neighbor *nb = &s->nb;
+  const size_t n = s->p.n;
+  esf_error err;
+  CHECK_OK(esf_neighbor_build(nb, &s->p, &s->walls, &err), err);
+  const size_t m = nb->pp.n;
+  CHECK(m > n, "enough candidates (%zu for %zu particles)", m, n);
+  for (size_t k = 0; k < m; k++) nb->pp.touch[k] = (uint8_t)(k % 2); /* half idle */
+  const double ms = (double)(m - m / 2) / (double)n, s0 = 0.0004;
+  esf_neighbor_skin_range(nb, 1e-5, 1e-3);
+  /* I steps such that the balance asks for 0.8 s: s sqrt(C / (ms I)) = 0.8 s */
+  const long I = (long)(ESF_SKIN_BUILD_COST / (ms * 0.64) + 0.5);
+  nb->built_step = 1000;
+  esf_neighbor_skin_tune(nb, n, 1000 + I);
+  const double want = s0 * sqrt(ESF_SKIN_BUILD_COST / (ms * (double)I));
+  CHECK(fabs(nb->skin - want) < 1e-12 * s0 && fabs(want / s0 - 0.8) < 0.01,
+        "balance: skin %g, expected %g (0.8 of %g)", nb->skin, want, s0);
+  nb->skin = s0; /* lists that lasted 100 times longer: at most halved */
+  esf_neighbor_skin_tune(nb, n, 1000 + 100 * I);
+  CHECK(nb->skin == 0.5 * s0, "long-lived lists: skin %g, expected %g", nb->skin,
+        0.5 * s0);
+  nb->skin = s0; /* a rebuild every step: at most doubled */
+  esf_neighbor_skin_tune(nb, n, 1001);
+  CHECK(nb->skin == 2 * s0, "short-lived lists: skin %g, expected %g", nb->skin, 2 * s0);
+  nb->skin = s0; /* the range bounds it */
+  esf_neighbor_skin_range(nb, 3.5e-4, 1e-3);
+  esf_neighbor_skin_tune(nb, n, 1000 + 100 * I);
+  CHECK(nb->skin == 3.5e-4, "lower bound: skin %g", nb->skin);
+  nb->skin = s0; /* a fixed skin stays */
+  esf_neighbor_skin_range(nb, 0, 0);
+  esf_neighbor_skin_tune(nb, n, 1001);
+  CHECK(nb->skin == s0, "fixed skin moved to %g", nb->skin);
+  printf("adaptive skin: %zu particles, %.2f idle candidates each, I = %ld: skin %g -> "
+         "%g (0.8)\n",
+         n, ms, I, s0, want);
+
+  /* a particle leaving the domain: the list check (general path) asks for a build */
+  const double lo[3] = {-1e-3, -1e-3, -1e-3}, hi[3] = {0.031, 0.031, 0.031};
+  nb->dom_lo = lo;
+  nb->dom_hi = hi;
+  CHECK_OK(esf_neighbor_build(nb, &s->p, &s->walls, &err), err);
+  int rebuild = 1;
+  CHECK_OK(esf_neighbor_check(nb, &s->p, 0.0, &rebuild, &err), err);
+  CHECK(rebuild == 0, "inside the domain: no rebuild asked");
+  s->p.x[3 * 7 + 2] = hi[2] + 1e-9; /* 1 nm over the top, far under skin/2 */
+  CHECK_OK(esf_neighbor_check(nb, &s->p, 0.0, &rebuild, &err), err);
+  CHECK(rebuild == 1, "a particle over the domain's top did not ask for a rebuild");
+  nb->dom_lo = nb->dom_hi = NULL;
+  simtest_close(&T);
+}
+
 int main(void) {
+  check_skin();
   /* radii chosen so that the random fill is dense: many pairs come within the skin */
   check_case(1500, 0.0010, 0.0010, 0.0004, 1);
   check_case(1500, 0.0005, 0.0015, 0.0002, 2);
