@@ -97,9 +97,7 @@ int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wa
                       "particle id %lld has a non-finite position (%g, %g, %g)",
                       (long long)p->id[i], x[0], x[1], x[2]);
     if (*rebuild) continue;
-    if (nb->dom_lo &&
-        (x[0] < nb->dom_lo[0] || x[0] > nb->dom_hi[0] || x[1] < nb->dom_lo[1] ||
-         x[1] > nb->dom_hi[1] || x[2] < nb->dom_lo[2] || x[2] > nb->dom_hi[2])) {
+    if (nb->dom_lo && v3_outside(x, nb->dom_lo, nb->dom_hi)) {
       *rebuild = 1; /* esf_sim_remove_escaped's test */
       continue;
     }
@@ -121,54 +119,52 @@ int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wa
  * per-particle passes run on nb->threads threads over particle ranges; each particle's
  * output has a fixed place, so the lists do not depend on the thread count. */
 
-/* Sets start[0..n] to the offsets of each a's keys (start[a] .. start[a + 1]) and
- * writes each key's b to bs[] in that order (keys of one a in input order). */
-static void count_by_a(size_t n, const uint32_t *ka, const uint32_t *kb, size_t m,
-                       size_t *start, uint32_t *bs, uint32_t *src) {
+/* Counting sort of entries k < m by their particle ka[k] (only those with keep[k], or
+ * all when keep is NULL): start[a] .. start[a + 1] are particle a's slots, in entry
+ * order; each slot receives the entry's kb[k] in bs (when bs is not NULL) or its
+ * position k in pos. start needs n + 2 entries. */
+static void count_by_a(size_t n, const uint32_t *ka, const uint32_t *kb,
+                       const uint8_t *keep, size_t m, size_t *start, uint32_t *bs,
+                       uint32_t *pos) {
   memset(start, 0, (n + 2) * sizeof *start);
-  for (size_t k = 0; k < m; k++) start[ka[k] + 2]++;
+  for (size_t k = 0; k < m; k++)
+    if (!keep || keep[k]) start[ka[k] + 2]++;
   for (size_t i = 2; i < n + 2; i++) start[i] += start[i - 1];
   for (size_t k = 0; k < m; k++) { /* start[a + 1] runs from a's first slot to its end */
+    if (keep && !keep[k]) continue;
     const size_t q = start[ka[k] + 1]++;
-    if (bs) bs[q] = kb[k];
-    if (src) src[q] = (uint32_t)k;
+    if (bs)
+      bs[q] = kb[k];
+    else
+      pos[q] = (uint32_t)k;
   }
 }
 
-/* Fills dst (reserved for m) from the keys (a, b) of one list, copying the history of
- * the old list's touching contacts. ws: scratch of the build. */
+/* Fills dst from the keys (a, b) of one list (m of them, a < n), copying the history of
+ * the old list's touching contacts (every old a < n: the lists were renumbered). */
 static int fill_list(esf_neighbor *nb, esf_contacts *dst, const esf_contacts *old,
                      size_t n, const uint32_t *ka, const uint32_t *kb, size_t m,
                      esf_error *err) {
   int rc = contacts_reserve(dst, m, nb->ledger, nb->carry, err);
   if (rc) return rc;
-  size_t nt = 0;
-  for (size_t k = 0; k < old->n; k++) nt += old->touch[k];
-  if (n + 2 > nb->ws_n || m > nb->ws_m || nt > nb->ws_m) {
+  if (n + 2 > nb->ws_n || old->n > nb->ws_m) { /* the build's scratch */
     const size_t cn = n + 2 > nb->ws_n ? n + 2 : nb->ws_n;
-    const size_t cm = m > nt ? m : nt, cmm = cm > nb->ws_m ? cm : nb->ws_m;
+    const size_t cm = old->n > nb->ws_m ? old->n : nb->ws_m;
     size_t *st = realloc(nb->ws_start, cn * sizeof *st);
     if (st) nb->ws_start = st;
     size_t *os = realloc(nb->ws_ostart, cn * sizeof *os);
     if (os) nb->ws_ostart = os;
-    uint32_t *ok = realloc(nb->ws_ok, (cmm ? cmm : 1) * sizeof *ok);
+    uint32_t *ok = realloc(nb->ws_ok, (cm ? cm : 1) * sizeof *ok);
     if (ok) nb->ws_ok = ok;
     if (!st || !os || !ok)
       return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact candidates", m);
     nb->ws_n = cn;
-    nb->ws_m = cmm;
+    nb->ws_m = cm;
   }
   size_t *start = nb->ws_start, *ostart = nb->ws_ostart;
   uint32_t *okk = nb->ws_ok;
-  count_by_a(n, ka, kb, m, start, dst->b, NULL);
-  { /* the old touching contacts by a: positions in old */
-    memset(ostart, 0, (n + 2) * sizeof *ostart);
-    for (size_t k = 0; k < old->n; k++)
-      if (old->touch[k] && old->a[k] < n) ostart[old->a[k] + 2]++;
-    for (size_t i = 2; i < n + 2; i++) ostart[i] += ostart[i - 1];
-    for (size_t k = 0; k < old->n; k++)
-      if (old->touch[k] && old->a[k] < n) okk[ostart[old->a[k] + 1]++] = (uint32_t)k;
-  }
+  count_by_a(n, ka, kb, NULL, m, start, dst->b, NULL); /* the new keys' b by a */
+  count_by_a(n, old->a, NULL, old->touch, old->n, ostart, NULL, okk); /* old touching */
   const int carry = nb->carry && old->vc0 != NULL;
   const long nn = (long)n;
 #pragma omp parallel for num_threads(nb->threads > 0 ? nb->threads : 1) schedule(static)

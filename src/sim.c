@@ -187,14 +187,7 @@ int esf_sim_remove_escaped(esf_sim *s, esf_error *err) {
   esf_particles *p = &s->p;
   const double *lo = s->cfg.domain_min, *hi = s->cfg.domain_max;
   size_t out = 0;
-  for (size_t i = 0; i < p->n; i++) {
-    const double *x = p->x + 3 * i;
-    for (int k = 0; k < 3; k++)
-      if (x[k] < lo[k] || x[k] > hi[k]) {
-        out++;
-        break;
-      }
-  }
+  for (size_t i = 0; i < p->n; i++) out += (size_t)v3_outside(p->x + 3 * i, lo, hi);
   if (!out) return ESF_OK;
   esf_sim_forces_sync(s); /* compaction carries p.f, p.t along */
   unsigned char *keep = malloc(p->n);
@@ -206,9 +199,7 @@ int esf_sim_remove_escaped(esf_sim *s, esf_error *err) {
   }
   for (size_t i = 0; i < p->n; i++) {
     const double *x = p->x + 3 * i;
-    keep[i] = 1;
-    for (int k = 0; k < 3; k++)
-      if (x[k] < lo[k] || x[k] > hi[k]) keep[i] = 0;
+    keep[i] = (unsigned char)!v3_outside(x, lo, hi);
     if (!keep[i]) {
       const double *v = p->v + 3 * i, *w = p->w + 3 * i;
       double ek = 0.5 * p->mass[i] * v3_norm2(v) + 0.5 * p->inertia[i] * v3_norm2(w);

@@ -174,10 +174,12 @@ static void cut_once(esf_step_fast *f, const size_t *wt, size_t n, size_t T) {
 }
 
 /* With f->recut (same particles and lists, ranges measured unequal), each particle's
- * work is scaled by its old range's measured seconds per unit (rounded to 1/64). */
+ * work is scaled by its old range's measured seconds per unit (rounded to 1/64).
+ * wt: 2n of scratch, the weights cut by, then each particle's unscaled work. */
 static void cut_ranges(esf_step_fast *f, const esf_contacts *c, size_t *wt, size_t n,
                        size_t T) {
-  for (size_t i = 0; i < n; i++) wt[i] = work_of(f, c, i);
+  size_t *base = wt + n;
+  for (size_t i = 0; i < n; i++) wt[i] = base[i] = work_of(f, c, i);
   if (f->recut) {
     double mean = 0.0;
     for (size_t t = 0; t < T; t++) mean += f->rate[t] / (double)T;
@@ -195,8 +197,7 @@ static void cut_ranges(esf_step_fast *f, const esf_contacts *c, size_t *wt, size
   cut_once(f, wt, n, T);
   for (size_t t = 0; t < T; t++) { /* unscaled: the next rates are the ranges' own */
     f->work[t] = 0.0;
-    for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++)
-      f->work[t] += (double)work_of(f, c, i);
+    for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++) f->work[t] += (double)base[i];
     f->busy[t] = 0.0;
   }
   f->busy_steps = 0;
@@ -258,7 +259,7 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
     f->astart[i + 1] += f->astart[i];
     f->wstart[i + 1] += f->wstart[i];
   }
-  size_t *wt = calloc(n ? n : 1, sizeof *wt);
+  size_t *wt = calloc(n ? 2 * n : 1, sizeof *wt); /* cut_ranges' weights and work */
   if (!wt) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particle ranges", n);
   cut_ranges(f, c, wt, n, T);
   free(wt);
@@ -448,9 +449,7 @@ static inline void kick_impl(esf_sim *s, const esf_step_fast *f, const kick_ctx 
       else
         *nonfinite = 1; /* NaN */
     }
-    if (K->dom_lo) /* esf_sim_remove_escaped's test */
-      *escaped |= (x[0] < K->dom_lo[0]) | (x[0] > K->dom_hi[0]) | (x[1] < K->dom_lo[1]) |
-                  (x[1] > K->dom_hi[1]) | (x[2] < K->dom_lo[2]) | (x[2] > K->dom_hi[2]);
+    if (K->dom_lo) *escaped |= v3_outside(x, K->dom_lo, K->dom_hi); /* as sim.c's */
   }
 }
 

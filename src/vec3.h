@@ -42,6 +42,11 @@ static inline void v3_axpy(double *o, double s, const double *a) {
   o[1] += s * a[1];
   o[2] += s * a[2];
 }
+/* 1 when a lies outside the box [lo, hi] (on a face is inside); no branches. */
+static inline int v3_outside(const double *a, const double *lo, const double *hi) {
+  return (a[0] < lo[0]) | (a[0] > hi[0]) | (a[1] < lo[1]) | (a[1] > hi[1]) |
+         (a[2] < lo[2]) | (a[2] > hi[2]);
+}
 static inline void v3_cross(double *o, const double *a, const double *b) {
   double x = a[1] * b[2] - a[2] * b[1];
   double y = a[2] * b[0] - a[0] * b[2];
