@@ -18,30 +18,39 @@
  *      pair blocks, the wall candidates of each particle, the boundary pairs, and
  *      whether all particles have one material (its pair parameters are then
  *      broadcast to the batches' lanes instead of gathered);
- *   1. the threads compute the touching boundary pairs, in equal shares, in batches
- *      (force on A, torques on A and B) into their slots (zeroed when the contact
- *      ends), committing their history; barrier;
- *   2. each thread, for its own range: sets its four-wide accumulators to f = m g,
- *      t = 0 (each just ahead of its first use, in ascending particle order, so that
- *      the add into a pair's b finds the line in cache); subtracts the incoming boundary
- * slots (pairs whose b is its particle) in ascending k; screens its pair block for
- * overlapping spheres into a list without branches; computes the listed pairs in batches
- * of eight, in ascending k, adding their forces to both particles and, between them in k
- * order, the A side of its outgoing boundary slots; then, particle by particle: wall
- * contacts (the pass of wall_fast.h), the 2D projection (the accumulators then hold
- * F_n, M_n: they stay there, s->ft_lazy, for esf_sim_forces_sync), local damping, kick
- * with global damping (1 -+ alpha dt/2), drift x += v dt, the squared displacement since
- * the last build and whether it left the domain. After the barrier no thread reads
- * another range's particles (an interior pair has both ends in the range; the boundary
- * pairs were done before), so each thread drifts its range as soon as it is done. Every
- * particle receives its pair forces in ascending k, the order of the serial scatter in
- * forces.c, whatever T: the results are the same bit for bit on any thread count (and T =
- * 1 is a plain serial scatter without slots). Failures (overlap beyond the limit) are
- * reported for the lowest pair or particle index, also independent of threads. Units: SI.
+ *   1. each thread, for its own range t: computes the touching boundary pairs whose a
+ *      is in the range, in batches (force on A, torques on A and B), into their slots
+ *      (zeroed when the contact ends), committing their history, and raises the
+ *      range's flag (ready[t] = this call's epoch): range t no longer reads the higher
+ *      ranges' particles;
+ *   2. then: screens its pair block for overlapping interior spheres into a list
+ *      without branches; waits for the lower ranges' flags (by then long raised: the
+ *      screening takes longer than their step 1; this one-way handoff replaces a
+ *      barrier of all threads); sets its four-wide accumulators to f = m g, t = 0
+ *      (each just ahead of its first use, in ascending particle order, so that the
+ *      add into a pair's b finds the line in cache); subtracts the incoming boundary
+ *      slots (pairs whose b is its particle) in ascending k; computes the listed pairs
+ *      in batches of eight, in ascending k, adding their forces to both particles and,
+ *      between them in k order, the A side of its outgoing boundary slots; then,
+ *      particle by particle: wall contacts (the pass of wall_fast.h), the 2D
+ *      projection (the accumulators then hold F_n, M_n: they stay there, s->ft_lazy,
+ *      for esf_sim_forces_sync), local damping, kick with global damping
+ *      (1 -+ alpha dt/2), drift x += v dt, the squared displacement since the last
+ *      build and whether it left the domain. Once the lower flags are up no thread
+ *      reads range t's particles (an interior pair has both ends in one range; the
+ *      boundary pairs were done before the flags), so it drifts its range as soon as it
+ *      is done.
+ * Every particle receives its pair forces in ascending k, the order of the serial
+ * scatter in forces.c, whatever T: the results are the same bit for bit on any thread
+ * count (and T = 1 is a plain serial scatter without slots). Failures (overlap beyond
+ * the limit) are reported for the lowest pair or particle index, also independent of
+ * threads (every range computes all its pairs, failing or not). Units: SI.
  */
 #include "step_fast.h"
 
 #include <math.h>
+#include <sched.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -83,8 +92,10 @@ struct esf_step_fast {
    * work of each range, and, when a re-cut is due, seconds per unit of work */
   double *busy, *work, *rate;
   long busy_steps;
-  double t_left; /* when the last step's threads finished (omp_get_wtime), or 0 */
-  double t_step; /* how long its parallel part took, s */
+  _Atomic long *ready; /* nth: range t's boundary pairs are done for step call epoch */
+  long epoch;          /* calls of esf_step_fast_run */
+  double t_left;       /* when the last step's threads finished (omp_get_wtime), or 0 */
+  double t_step;       /* how long its parallel part took, s */
   int recut;
 };
 
@@ -111,6 +122,7 @@ void esf_step_fast_free(esf_step_fast **f) {
   free(q->busy);
   free(q->work);
   free(q->rate);
+  free((void *)q->ready);
   free(q);
   *f = NULL;
 }
@@ -156,10 +168,9 @@ static size_t work_of(const esf_step_fast *f, const esf_contacts *c, size_t i) {
 }
 
 /* The particle ranges, rlo[t] .. rlo[t + 1] for thread t, cut where the estimated
- * work of step 2 (wt, per particle) is shared equally, so threads finish together
- * although a bed's bottom has more contacts than its surface. The touching boundary
- * pairs are computed in step 1, shared by all threads, so a second cut takes their
- * compute out of their range's share. Any cut gives the same results. */
+ * work of steps 1-2 (wt, per particle) is shared equally, so threads finish together
+ * although a bed's bottom has more contacts than its surface. Any cut gives the same
+ * results. */
 static void cut_once(esf_step_fast *f, const size_t *wt, size_t n, size_t T) {
   size_t total = 0;
   for (size_t i = 0; i < n; i++) total += wt[i];
@@ -187,12 +198,6 @@ static void cut_ranges(esf_step_fast *f, const esf_contacts *c, size_t *wt, size
       const size_t q = (size_t)(64.0 * f->rate[t] / mean + 0.5);
       for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++) wt[i] *= q;
     }
-  } else {
-    cut_once(f, wt, n, T);
-    for (size_t t = 0; t + 1 < T; t++)
-      for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++)
-        for (size_t k = f->astart[i]; k < f->astart[i + 1]; k++)
-          if (c->b[k] >= f->rlo[t + 1] && c->touch[k]) wt[i] -= W_TOUCH;
   }
   cut_once(f, wt, n, T);
   for (size_t t = 0; t < T; t++) { /* unscaled: the next rates are the ranges' own */
@@ -249,8 +254,11 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
       !grow((void **)&f->rlo, T + 1, sizeof(size_t)) ||
       !grow((void **)&f->busy, T, sizeof(double)) ||
       !grow((void **)&f->work, T, sizeof(double)) ||
-      !grow((void **)&f->rate, T, sizeof(double)))
+      !grow((void **)&f->rate, T, sizeof(double)) ||
+      !grow((void **)&f->ready, T, sizeof(_Atomic long)))
     return esf_fail(err, ESF_ENOMEM, "out of memory");
+  for (size_t t = 0; t < T; t++) atomic_init(f->ready + t, 0);
+  f->epoch = 0;
   memset(f->astart, 0, (n + 1) * sizeof(size_t));
   memset(f->wstart, 0, (n + 1) * sizeof(size_t));
   for (size_t k = 0; k < m; k++) f->astart[c->a[k] + 1]++;
@@ -315,8 +323,10 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
 
 /* Step 2's screening of the pairs of particles [lo, hi): the interior pairs (b < hi)
  * whose spheres overlap go to list[0 .. return value) in ascending k; interior pairs
- * that stopped touching lose the flag. Branch-free, so the contact pass runs without
- * the distance test. The boundary pairs are left to step 1. */
+ * that stopped touching lose the flag. Branch-free within the interior, so the contact
+ * pass runs without the distance test. A particle's boundary pairs (left to step 1)
+ * end its block, as its b ascend: the scan stops at the first, and never reads a
+ * particle that another range is moving. */
 static size_t screen_block(esf_sim *s, const esf_step_fast *f, size_t lo, size_t hi,
                            uint32_t *list) {
   const esf_particles *p = &s->p;
@@ -326,16 +336,17 @@ static size_t screen_block(esf_sim *s, const esf_step_fast *f, size_t lo, size_t
   const size_t *astart = f->astart;
   uint8_t *touch = c->touch; /* a byte store may alias anything: bounds kept in locals */
   size_t cnt = 0;
-  for (size_t a = lo, k = astart[lo]; a < hi; a++) {
+  for (size_t a = lo; a < hi; a++) {
     const double xa = x[3 * a], ya = x[3 * a + 1], za = x[3 * a + 2], ra = r[a];
-    for (const size_t k1 = astart[a + 1]; k < k1; k++) {
+    for (size_t k = astart[a], k1 = astart[a + 1]; k < k1; k++) {
       const size_t b = cb[k];
+      if (b >= hi) break;
       const double dx = x[3 * b] - xa, dy = x[3 * b + 1] - ya, dz = x[3 * b + 2] - za,
                    R = ra + r[b];
-      const int in = dx * dx + dy * dy + dz * dz < R * R, inner = b < hi;
+      const int in = dx * dx + dy * dy + dz * dz < R * R;
       list[cnt] = (uint32_t)k;
-      cnt += (size_t)(in & inner);
-      touch[k] &= (uint8_t)(in | !inner); /* an interior contact that ended */
+      cnt += (size_t)in;
+      touch[k] &= (uint8_t)in; /* a contact that ended */
     }
   }
   return cnt;
@@ -482,6 +493,17 @@ static inline size_t acc_set(const esf_particles *p, const double *g, double *ac
   return from > to ? from : to;
 }
 
+/* Waits until the ranges below t have computed their boundary pairs in this call
+ * (their slots are written, and they no longer read range t's particles). A range
+ * sets its flag first thing, so the wait is short, and only ever for lower ranges:
+ * threads taking their ranges in ascending order cannot deadlock. */
+static void wait_lower(esf_step_fast *f, size_t t, long epoch) {
+  for (size_t u = 0; u < t; u++)
+    for (unsigned spin = 0;
+         atomic_load_explicit(f->ready + u, memory_order_acquire) != epoch; spin++)
+      if (spin >= 64) sched_yield(); /* more threads than cores */
+}
+
 /* Step 2's pair pass for range t: forces of all pairs touching its particles, in
  * ascending k per particle. Returns the lowest failing pair index or SIZE_MAX. */
 static size_t pairs_range(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx *bc,
@@ -494,7 +516,11 @@ static size_t pairs_range(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx
   /* The accumulators are set (f = m g, t = 0) just ahead of their first use, not in a
    * pass of their own: a pair's b lies a few thousand particles ahead of its a, and a
    * separate pass would leave its line to be fetched again from memory at the add. */
-  size_t fr = lo; /* acc[lo .. fr) are set */
+  uint32_t *list = f->list + f->astart[lo];
+  const size_t cnt = screen_block(s, f, lo, hi, list);
+  *nt_pp += cnt;
+  wait_lower(f, t, f->epoch); /* the incoming slots */
+  size_t fr = lo;             /* acc[lo .. fr) are set */
   size_t bmax = lo;
   for (size_t q = f->binstart[t]; q < f->binstart[t + 1]; q++) {
     const size_t b = c->b[f->bk[f->bin[q]]];
@@ -508,9 +534,6 @@ static size_t pairs_range(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx
     v4_dec(ab, sl);
     v4_acc(ab + 4, sl + 8);
   }
-  uint32_t *list = f->list + f->astart[lo];
-  const size_t cnt = screen_block(s, f, lo, hi, list);
-  *nt_pp += cnt;
   size_t jo = f->bout[t];
   const size_t jo1 = f->bout[t + 1];
   double out[ESF_BATCH][ESF_BATCH_OUT];
@@ -599,7 +622,8 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
   size_t nt_pp = 0, nt_pw = 0;
   size_t bad_pair = SIZE_MAX, bad_part = SIZE_MAX;
   double max2 = 0.0;
-  int nonfinite = 0, escaped = 0, bad_bound = 0; /* bad_bound: nobody moves */
+  int nonfinite = 0, escaped = 0;
+  const long epoch = ++f->epoch;
 
 #ifdef _OPENMP
   const double t_start = omp_get_wtime(), gap = t_start - f->t_left;
@@ -615,25 +639,15 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
 #else
     const size_t me = 0, got = 1;
 #endif
-    { /* the boundary pairs in equal shares (each has its own slot and history) */
-      const size_t j0 = f->nb * me / got, j1 = f->nb * (me + 1) / got;
-      const size_t bad = boundary_pairs(s, f, &bc, j0, j1, &nt_pp);
-      if (bad != SIZE_MAX) {
-        if (bad < bad_pair) bad_pair = bad;
-#pragma omp atomic write
-        bad_bound = 1;
-      }
-    }
-#pragma omp barrier
-    int stop;
-#pragma omp atomic read
-    stop = bad_bound;
-    for (size_t t = me; t < T && !stop; t += got) {
+    for (size_t t = me; t < T; t += got) { /* ascending: wait_lower */
       const size_t lo = f->rlo[t], hi = f->rlo[t + 1];
 #ifdef _OPENMP
       const double t0 = omp_get_wtime();
 #endif
-      size_t bad = pairs_range(s, f, &bc, t, lo, hi, &nt_pp);
+      size_t bad = boundary_pairs(s, f, &bc, f->bout[t], f->bout[t + 1], &nt_pp);
+      atomic_store_explicit(f->ready + t, epoch, memory_order_release);
+      if (bad < bad_pair) bad_pair = bad;
+      bad = pairs_range(s, f, &bc, t, lo, hi, &nt_pp);
       if (bad < bad_pair) bad_pair = bad;
       if (bad_pair == SIZE_MAX)
         kick_range(s, f, &K, lo, hi, &nt_pw, &bad_part, &max2, &nonfinite, &escaped);
