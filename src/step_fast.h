@@ -2,16 +2,18 @@
  *
  * When a run needs nothing beyond the linear law with tangential history, walls, global
  * and local damping and gravity (no energy ledger, no adaptive damping, no per-
- * evaluation tallies), the leapfrog's force evaluation, kick and drift run here as two
- * threaded passes whose results do not depend on the thread count, bit for bit. The
- * particles are cut into one contiguous range per thread:
- *   1. the boundary pairs (ends in two ranges) are computed into per-pair slots (force
- *      on A, torques on A and B) and their history committed; barrier;
- *   2. each thread, for its own range: subtracts the incoming boundary slots, computes
- *      its interior pairs in batches of four (pair_batch.h) and adds the outgoing
- *      slots between them, so every particle receives its pair forces in ascending
- *      pair order (the order the serial scatter of forces.c adds them in); then adds
- *      its wall contacts, and kicks and drifts its particles.
+ * evaluation tallies), the leapfrog's force evaluation, kick and drift run here as one
+ * threaded pass whose results do not depend on the thread count, bit for bit. The
+ * particles are cut into one contiguous range per thread; each thread, for its range:
+ *   1. computes the boundary pairs whose a is in it (b in a higher range) into
+ *      per-pair slots (force on A, torques on A and B), commits their history and
+ *      raises its flag;
+ *   2. screens its interior pairs, waits for the lower ranges' flags, subtracts the
+ *      incoming boundary slots, computes its interior pairs in batches of eight
+ *      (pair_batch.h) and adds the outgoing slots between them, so every particle
+ *      receives its pair forces in ascending pair order (the order the serial scatter
+ *      of forces.c adds them in); then adds its wall contacts, and kicks and drifts
+ *      its particles.
  * Every sum therefore has one fixed order. Anything else takes forces.c's general path
  * (esf_step_fast_eligible says which). */
 #ifndef ESF_STEP_FAST_H
