@@ -23,14 +23,13 @@
  *      (zeroed when the contact ends), committing their history, and raises the
  *      range's flag (ready[t] = this call's epoch): range t no longer reads the higher
  *      ranges' particles;
- *   2. then: screens its pair block for overlapping interior spheres into a list
- *      without branches; waits for the lower ranges' flags (by then long raised: the
- *      screening takes longer than their step 1; this one-way handoff replaces a
- *      barrier of all threads); sets its four-wide accumulators to f = m g, t = 0
- *      (each just ahead of its first use, in ascending particle order, so that the
- *      add into a pair's b finds the line in cache); subtracts the incoming boundary
- *      slots (pairs whose b is its particle) in ascending k; computes the listed pairs
- *      in batches of eight, in ascending k, adding their forces to both particles and,
+ *   2. then: screens its interior pairs for overlapping spheres into a list; waits for
+ * the lower ranges' flags (by then long raised: the screening takes longer than their
+ * step 1; this one-way handoff replaces a barrier of all threads); sets its four-wide
+ * accumulators to f = m g, t = 0 (each just ahead of its first use, in ascending particle
+ * order, so that the add into a pair's b finds the line in cache); subtracts the incoming
+ * boundary slots (pairs whose b is its particle) in ascending k; computes the listed
+ * pairs in batches of eight, in ascending k, adding their forces to both particles and,
  *      between them in k order, the A side of its outgoing boundary slots; then,
  *      particle by particle: wall contacts (the pass of wall_fast.h), the 2D
  *      projection (the accumulators then hold F_n, M_n: they stay there, s->ft_lazy,
@@ -44,7 +43,10 @@
  * scatter in forces.c, whatever T: the results are the same bit for bit on any thread
  * count (and T = 1 is a plain serial scatter without slots). Failures (overlap beyond
  * the limit) are reported for the lowest pair or particle index, also independent of
- * threads (every range computes all its pairs, failing or not). Units: SI.
+ * threads (every range computes all its pairs, failing or not); the failing pair's
+ * particles keep x_n, so the message reports the overlap the step saw: a range with a
+ * failing pair does not move, nor does any range above a failing boundary pair
+ * (bfail, seen with the lower flags). Units: SI.
  */
 #include "step_fast.h"
 
@@ -94,6 +96,7 @@ struct esf_step_fast {
   long busy_steps;
   _Atomic long *ready; /* nth: range t's boundary pairs are done for step call epoch */
   long epoch;          /* calls of esf_step_fast_run */
+  _Atomic int bfail;   /* a boundary pair failed in this call (raised before its flag) */
   double t_left;       /* when the last step's threads finished (omp_get_wtime), or 0 */
   double t_step;       /* how long its parallel part took, s */
   int recut;
@@ -624,6 +627,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
   double max2 = 0.0;
   int nonfinite = 0, escaped = 0;
   const long epoch = ++f->epoch;
+  atomic_store_explicit(&f->bfail, 0, memory_order_relaxed);
 
 #ifdef _OPENMP
   const double t_start = omp_get_wtime(), gap = t_start - f->t_left;
@@ -645,11 +649,12 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
       const double t0 = omp_get_wtime();
 #endif
       size_t bad = boundary_pairs(s, f, &bc, f->bout[t], f->bout[t + 1], &nt_pp);
+      if (bad != SIZE_MAX) atomic_store_explicit(&f->bfail, 1, memory_order_relaxed);
       atomic_store_explicit(f->ready + t, epoch, memory_order_release);
       if (bad < bad_pair) bad_pair = bad;
-      bad = pairs_range(s, f, &bc, t, lo, hi, &nt_pp);
+      bad = pairs_range(s, f, &bc, t, lo, hi, &nt_pp); /* has seen the lower flags */
       if (bad < bad_pair) bad_pair = bad;
-      if (bad_pair == SIZE_MAX)
+      if (bad_pair == SIZE_MAX && !atomic_load_explicit(&f->bfail, memory_order_relaxed))
         kick_range(s, f, &K, lo, hi, &nt_pw, &bad_part, &max2, &nonfinite, &escaped);
 #ifdef _OPENMP
       f->busy[t] += omp_get_wtime() - t0; /* range t is this thread's alone */

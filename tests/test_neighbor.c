@@ -61,14 +61,19 @@ static void jiggle(esf_particles *p, esf_rng *g, double skin, double frac) {
   }
 }
 
-static void check_case(int count, double rmin, double rmax, double skin, int seed) {
+/* The test scene with these particles and skin; 0 when it opened. */
+static int open_case(simtest *T, int count, double rmin, double rmax, int seed,
+                     double skin) {
   char yaml[2048];
   snprintf(yaml, sizeof yaml, scene_fmt, count, rmin, rmax, seed, skin);
+  const int rc = simtest_open(T, yaml, NULL, 0);
+  CHECK(rc == 0, "scene did not open: %s", T->err.msg);
+  return rc;
+}
+
+static void check_case(int count, double rmin, double rmax, double skin, int seed) {
   simtest T;
-  if (simtest_open(&T, yaml, NULL, 0)) {
-    CHECK(0, "scene did not open: %s", T.err.msg);
-    return;
-  }
+  if (open_case(&T, count, rmin, rmax, seed, skin)) return;
   esf_sim *s = &T.s;
   esf_particles *p = &s->p;
   esf_rng g;
@@ -128,13 +133,8 @@ static void check_case(int count, double rmin, double rmax, double skin, int see
  * s' = s sqrt(C / (m_s I)) within a factor 2 of s and within the range; a fixed skin
  * (no range) untouched. And a particle outside the domain asks for a rebuild. */
 static void check_skin(void) {
-  char yaml[2048];
-  snprintf(yaml, sizeof yaml, scene_fmt, 1500, 0.0010, 0.0010, 1, 0.0004);
   simtest T;
-  if (simtest_open(&T, yaml, NULL, 0)) {
-    CHECK(0, "scene did not open: %s", T.err.msg);
-    return;
-  }
+  if (open_case(&T, 1500, 0.0010, 0.0010, 1, 0.0004)) return;
   esf_sim *s = &T.s;
   esf_neighbor *nb = &s->nb;
   const size_t n = s->p.n;

@@ -9,7 +9,10 @@
  * contact histories of the threaded runs are compared with memcmp. The general path
  * computes the same expressions in another arrangement, so it agrees only to rounding
  * amplified by the collisions (measured 1e-10 of a radius): the bound, 1e-9 of the mean
- * radius, is far below what any difference in the physics would produce. */
+ * radius, is far below what any difference in the physics would produce.
+ * Failures: two clouds meeting head on with the overlap limited (1-5% of a radius)
+ * stop at the same step with the same message (pair, overlap to three digits: one
+ * drift of either particle would change it) on 1, 2, 3 threads and the general path. */
 #include <stdlib.h>
 
 #include "simtest.h"
@@ -72,6 +75,76 @@ static int run(int threads, int fused, const char *tframe, snapshot *out) {
   return rc;
 }
 
+/* Two clouds of spheres meeting head on, no walls in reach: the first overlaps beyond
+ * the limit are between particles. */
+static const char *const clash =
+    "name: clash\n"
+    "materials:\n"
+    "  glass: {density: 2500, kn: 2.0e4, restitution: 0.4, friction: 0.4}\n"
+    "  steel: {density: 7800, kn: 4.0e4, restitution: 0.7, friction: 0.2}\n"
+    "particles:\n"
+    "  - generate: random\n"
+    "    region: {min: [0.001, 0.001, 0.001], max: [0.019, 0.039, 0.039]}\n"
+    "    count: 250\n"
+    "    radius: {uniform: [0.0008, 0.0024]}\n"
+    "    material: {mix: {glass: 0.6, steel: 0.4}}\n"
+    "    seed: 5\n"
+    "    velocity: [1.5, 0, 0.1]\n"
+    "  - generate: random\n"
+    "    region: {min: [0.021, 0.001, 0.001], max: [0.039, 0.039, 0.039]}\n"
+    "    count: 250\n"
+    "    radius: {uniform: [0.0008, 0.0024]}\n"
+    "    material: {mix: {glass: 0.6, steel: 0.4}}\n"
+    "    seed: 6\n"
+    "    velocity: [-1.5, 0, -0.1]\n"
+    "walls:\n"
+    "  - {box: {min: [-0.5, -0.5, -0.5], max: [0.5, 0.5, 0.5]}, material: steel}\n"
+    "gravity: [0, 0, 0]\n"
+    "integrator: {method: leapfrog, dt: auto, frac: 0.3}\n"
+    "run: {steps: 1500}\n"
+    "output: {energy_every: 0}\n";
+
+/* The run with overlaps limited to `limit` of the smaller radius: the step that
+ * failed (-1: none) and the message. */
+static long run_fail(int threads, int fused, const char *limit, char *msg, size_t cap) {
+  char s_fu[64], s_lim[64];
+  snprintf(s_fu, sizeof s_fu, "integrator.fused=%s", fused ? "true" : "false");
+  snprintf(s_lim, sizeof s_lim, "contact.max_overlap=%s", limit);
+  const char *sets[] = {s_fu, s_lim};
+  simtest T;
+  msg[0] = '\0';
+  if (simtest_open(&T, clash, sets, 2)) return -1;
+  T.s.cfg.threads = threads;
+  int rc = 0;
+  for (int k = 0; k < 1500 && !rc; k++) rc = simtest_step(&T);
+  const long step = rc ? T.s.step : -1;
+  if (rc) snprintf(msg, cap, "%s", T.err.msg);
+  simtest_close(&T);
+  return step;
+}
+
+/* A pair overlapping beyond the limit stops the run at the same step with the same
+ * message (the lowest failing pair, its overlap at x_n) on 1, 2 and 3 threads and on
+ * the general path, for several limits (the first failure falls on other pairs). */
+static void check_failure(void) {
+  const char *limits[] = {"0.01", "0.03", "0.05"};
+  for (int q = 0; q < 3; q++) {
+    char m1[2048], m2[2048], m3[2048], mg[2048];
+    const long s1 = run_fail(1, 1, limits[q], m1, sizeof m1),
+               s2 = run_fail(2, 1, limits[q], m2, sizeof m2),
+               s3 = run_fail(3, 1, limits[q], m3, sizeof m3),
+               sg = run_fail(1, 0, limits[q], mg, sizeof mg);
+    printf("limit %s: step %ld: %s\n", limits[q], s1, m1);
+    CHECK(s1 > 0, "limit %s: the run fails (step %ld)", limits[q], s1);
+    CHECK(s2 == s1 && strcmp(m2, m1) == 0, "limit %s, 2 threads: step %ld '%s'",
+          limits[q], s2, m2);
+    CHECK(s3 == s1 && strcmp(m3, m1) == 0, "limit %s, 3 threads: step %ld '%s'",
+          limits[q], s3, m3);
+    CHECK(sg == s1 && strcmp(mg, m1) == 0, "limit %s, general path: step %ld '%s'",
+          limits[q], sg, mg);
+  }
+}
+
 static void release(snapshot *s) {
   free(s->y);
   free(s->h);
@@ -119,5 +192,6 @@ int main(void) {
     release(&three);
     release(&gen);
   }
+  check_failure();
   return check_finish("threads");
 }
