@@ -173,9 +173,8 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, i
   if (c->beta > 0) {
     cn = c->beta * kn;
     ct = c->beta * kt;
-  } else { /* c = factor sqrt(m*), m* = ma mb / (ma + mb) */
-    const vd ma = gat(c->mass, ia), mb = gat(c->mass, ib),
-             sm = vsqrt(ma * mb / (ma + mb));
+  } else { /* c = factor sqrt(m*), sqrt(m*) per pair (computed at the list's build) */
+    const vd sm = gat(c->sm, kk);
     cn = cnf * sm;
     ct = ctf * sm;
   }

@@ -19,7 +19,8 @@
 #define ESF_BATCH_OUT 12 /* force on A, torque on A, torque on B: 3 + a zero each */
 
 /* What the batch reads and commits: the particles, the candidate pairs' ends and
- * history, the masses the dashpots' coefficients come from, and the step's constants. */
+ * history, the reduced masses the dashpots' coefficients come from, and the step's
+ * constants. */
 typedef struct esf_pair_batch_ctx {
   const double *x, *v, *w;    /* 3n: m, m/s, rad/s */
   const double *radius;       /* n, m */
@@ -29,7 +30,7 @@ typedef struct esf_pair_batch_ctx {
   const uint32_t *a, *b;      /* per candidate pair k: its particles, a < b */
   esf_contact_hist *h;        /* per pair: tangential history, committed */
   uint8_t *touch;             /* per pair: 1 once committed touching */
-  const double *mass;         /* n, kg: the dashpots' reduced mass */
+  const double *sm;           /* per pair: sqrt(m*), m* = ma mb / (ma + mb), kg^1/2 */
   double beta;                /* > 0: Rayleigh dashpots c = beta k (001 3.47); else c =
                                  factor sqrt(m*) (004 2.28) */
   double dt;                  /* s */

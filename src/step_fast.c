@@ -15,8 +15,8 @@
  *   0. after a list rebuild (or a new T, or when the ranges' measured times came out
  *      unequal: balance_check): the ranges (cut by estimated work, scaled by the
  *      measured time per unit of work of the old ranges when re-cut), their
- *      pair blocks, the wall candidates of each particle, the boundary pairs, and
- *      whether all particles have one material (its pair parameters are then
+ *      pair blocks, the wall candidates of each particle, the boundary pairs, each
+ *      pair's sqrt(m*) for the dashpots, and whether all particles have one material (its pair parameters are then
  *      broadcast to the batches' lanes instead of gathered);
  *   1. each thread, for its own range t: computes the touching boundary pairs whose a
  *      is in the range, in batches (force on A, torques on A and B), into their slots
@@ -80,6 +80,7 @@ struct esf_step_fast {
   size_t cap_n;     /* particle capacity */
   double *acc;      /* ACC per particle: force (3, N), 0, torque (3, N m), 0 */
   uint32_t *list;   /* per pair: the overlapping interior pairs of each block */
+  double *sm;       /* per pair: sqrt(m*), kg^1/2, the dashpots' (NULL: beta > 0) */
   size_t *astart;   /* n+1: pairs k in [astart[i], astart[i+1]) have a == i */
   size_t *wstart;   /* n+1: wall candidates of particle i */
   size_t nb, cap_b; /* boundary pairs */
@@ -113,6 +114,7 @@ void esf_step_fast_free(esf_step_fast **f) {
   if (!f || !*f) return;
   esf_step_fast *q = *f;
   free(q->list);
+  free(q->sm);
   free(q->astart);
   free(q->wstart);
   free(q->acc);
@@ -239,7 +241,8 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   const esf_contacts *c = &s->nb.pp, *cw = &s->nb.pw;
   const size_t n = p->n, m = c->n, T = (size_t)nth;
   if (m > f->cap_k) {
-    if (!grow((void **)&f->list, m, sizeof(uint32_t)))
+    if (!grow((void **)&f->list, m, sizeof(uint32_t)) ||
+        !grow((void **)&f->sm, m, sizeof(double)))
       return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact candidates", m);
     f->cap_k = m;
   }
@@ -274,6 +277,14 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   if (!wt) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particle ranges", n);
   cut_ranges(f, c, wt, n, T);
   free(wt);
+  /* the dashpots' sqrt(m*), m* = ma mb / (ma + mb), once per build rather than per
+     step (the operations pair_batch.c's lanes did, so the same bits) */
+  const long mm = (long)m;
+#pragma omp parallel for num_threads(nth) schedule(static)
+  for (long k = 0; k < mm; k++) {
+    const double ma = p->mass[c->a[k]], mb = p->mass[c->b[k]];
+    f->sm[k] = sqrt(ma * mb / (ma + mb));
+  }
   f->m0 = n ? p->material[0] : -1;
   for (size_t i = 1; i < n && f->m0 >= 0; i++)
     if (p->material[i] != f->m0) f->m0 = -1;
@@ -600,7 +611,7 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
                                  cp->b,
                                  cp->h,
                                  cp->touch,
-                                 p->mass,
+                                 f->sm,
                                  s->beta,
                                  dt,
                                  s->cfg.max_overlap,
