@@ -16,8 +16,9 @@
  *      unequal: balance_check): the ranges (cut by estimated work, scaled by the
  *      measured time per unit of work of the old ranges when re-cut), their
  *      pair blocks, the wall candidates of each particle, the boundary pairs, each
- *      pair's sqrt(m*) for the dashpots, and whether all particles have one material (its pair parameters are then
- *      broadcast to the batches' lanes instead of gathered);
+ *      pair's sqrt(m*) for the dashpots, and whether all particles have one material
+ *      (its pair parameters are then broadcast to the batches' lanes instead of
+ *      gathered);
  *   1. each thread, for its own range t: computes the touching boundary pairs whose a
  *      is in the range, in batches (force on A, torques on A and B), into their slots
  *      (zeroed when the contact ends), committing their history, and raises the
