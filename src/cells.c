@@ -106,6 +106,18 @@ int esf_pairbuf_push(esf_pairbuf *b, uint32_t i, uint32_t j, esf_error *err) {
   return ESF_OK;
 }
 
+int esf_pairbuf_append(esf_pairbuf *out, const esf_pairbuf *b, esf_error *err) {
+  if (b->n == 0) return ESF_OK; /* its arrays may not exist */
+  while (out->cap < out->n + b->n) {
+    const int rc = esf_pairbuf_grow(out, err);
+    if (rc) return rc;
+  }
+  memcpy(out->i + out->n, b->i, b->n * sizeof *b->i);
+  memcpy(out->j + out->n, b->j, b->n * sizeof *b->j);
+  out->n += b->n;
+  return ESF_OK;
+}
+
 void esf_pairbuf_release(esf_pairbuf *b) {
   if (!b) return;
   free(b->i);
@@ -382,15 +394,8 @@ static int sweep_threaded(esf_cells *c, const esf_grid *g, const double *x,
       if (err) *err = terr[t];
       return trc[t];
     }
-    const esf_pairbuf *b = &c->tbuf[t];
-    if (b->n == 0) continue; /* its arrays may not exist */
-    while (out->cap < out->n + b->n) {
-      const int rc = esf_pairbuf_grow(out, err);
-      if (rc) return rc;
-    }
-    memcpy(out->i + out->n, b->i, b->n * sizeof *b->i);
-    memcpy(out->j + out->n, b->j, b->n * sizeof *b->j);
-    out->n += b->n;
+    const int rc = esf_pairbuf_append(out, &c->tbuf[t], err);
+    if (rc) return rc;
   }
   return ESF_OK;
 }

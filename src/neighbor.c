@@ -72,6 +72,9 @@ void esf_neighbor_release(esf_neighbor *nb) {
   free(nb->ws_ok);
   esf_cells_free(&nb->cells);
   esf_pairbuf_release(&nb->buf);
+  for (size_t t = 0; t < nb->nwbuf; t++) esf_pairbuf_release(&nb->wbuf[t]);
+  free(nb->wbuf);
+  free(nb->wscratch);
   esf_wall_index_free(&nb->widx);
   free(nb->wall_hits);
   free(nb->wall_un);
@@ -237,6 +240,79 @@ static int wall_scratch_reserve(esf_neighbor *nb, esf_error *err) {
   return ESF_OK;
 }
 
+/* The wall candidates of particles [i0, i1) into b, in particle order; q: the wall
+ * index queries' scratch. */
+static int wall_candidates_range(const esf_neighbor *nb, const esf_particles *p,
+                                 const esf_walls *w, size_t i0, size_t i1, uint32_t *q,
+                                 esf_pairbuf *b) {
+  for (size_t i = i0; i < i1; i++) {
+    const uint32_t *cand = NULL;
+    size_t ncand = 0;
+    const double *x = p->x + 3 * i, reach = p->radius[i] + nb->skin;
+    esf_wall_index_query(nb->widx, w, x, reach, q, &cand, &ncand);
+    for (size_t c = 0; c < ncand; c++) {
+      const size_t e = cand[c];
+      const esf_wall_elem *el = &w->e[e];
+      if (el->kind == ESF_WALL_POLYGON) { /* cheap bounding-sphere reject */
+        double d[3];
+        v3_sub(d, x, el->p);
+        double lim = el->bound_r + reach;
+        if (v3_norm2(d) > lim * lim) continue;
+      }
+      esf_wall_hit hit;
+      esf_wall_nearest(el, x, &hit);
+      if (hit.dist >= reach) continue;
+      const int rc = esf_pairbuf_push(b, (uint32_t)i, (uint32_t)e, NULL);
+      if (rc) return rc;
+    }
+  }
+  return ESF_OK;
+}
+
+/* The particle-wall candidates into nb->buf, in particle order: each of nb->threads
+ * threads takes one contiguous range of particles into its own buffer, with its own
+ * query scratch, and the buffers are joined in range order, so the list is the serial
+ * pass's whatever the thread count. */
+static int wall_candidates(esf_neighbor *nb, const esf_particles *p, const esf_walls *w,
+                           esf_error *err) {
+  int rc = esf_wall_index_sync(&nb->widx, w, err);
+  if (rc) return rc;
+  size_t T = nb->threads > 1 && p->n >= 1024 ? (size_t)nb->threads : 1;
+  if (T > ESF_CELLS_MAX_THREADS) T = ESF_CELLS_MAX_THREADS;
+  const size_t ns = esf_wall_index_scratch(nb->widx);
+  if (T > nb->nwbuf) {
+    esf_pairbuf *b = realloc(nb->wbuf, T * sizeof *b);
+    if (!b) return esf_fail(err, ESF_ENOMEM, "out of memory for wall candidates");
+    memset(b + nb->nwbuf, 0, (T - nb->nwbuf) * sizeof *b);
+    nb->wbuf = b;
+    nb->nwbuf = T;
+    nb->wscratch_n = 0; /* the scratch is per buffer */
+  }
+  if (ns > nb->wscratch_n) {
+    uint32_t *q = realloc(nb->wscratch, nb->nwbuf * ns * sizeof *q);
+    if (!q) return esf_fail(err, ESF_ENOMEM, "out of memory for wall candidates");
+    nb->wscratch = q;
+    nb->wscratch_n = ns;
+  }
+  int trc[ESF_CELLS_MAX_THREADS] = {0};
+  const long n = (long)p->n, nt = (long)T;
+#pragma omp parallel for num_threads((int)T) schedule(static, 1)
+  for (long t = 0; t < nt; t++) {
+    esf_pairbuf *b = &nb->wbuf[t];
+    b->n = 0;
+    trc[t] =
+        wall_candidates_range(nb, p, w, (size_t)(n * t / nt), (size_t)(n * (t + 1) / nt),
+                              nb->wscratch + (size_t)t * nb->wscratch_n, b);
+  }
+  nb->buf.n = 0;
+  for (size_t t = 0; t < T; t++) {
+    rc = trc[t] ? esf_fail(err, trc[t], "out of memory for wall candidates")
+                : esf_pairbuf_append(&nb->buf, &nb->wbuf[t], err);
+    if (rc) return rc;
+  }
+  return ESF_OK;
+}
+
 int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls *w,
                        esf_error *err) {
   esf_cells_threads(nb->cells, nb->threads);
@@ -247,33 +323,8 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
                     err);
   if (rc) return rc;
 
-  /* particle-wall candidates, in particle order */
-  rc = esf_wall_index_sync(&nb->widx, w, err);
+  rc = wall_candidates(nb, p, w, err);
   if (rc) return rc;
-  nb->buf.n = 0;
-  for (size_t i = 0; i < p->n; i++) {
-    const uint32_t *cand = NULL;
-    size_t ncand = 0;
-    esf_wall_index_query(nb->widx, w, p->x + 3 * i, p->radius[i] + nb->skin, &cand,
-                         &ncand);
-    for (size_t c = 0; c < ncand; c++) {
-      size_t e = cand[c];
-      const esf_wall_elem *el = &w->e[e];
-      const double *x = p->x + 3 * i;
-      double reach = p->radius[i] + nb->skin;
-      if (el->kind == ESF_WALL_POLYGON) { /* cheap bounding-sphere reject */
-        double d[3];
-        v3_sub(d, x, el->p);
-        double lim = el->bound_r + reach;
-        if (v3_norm2(d) > lim * lim) continue;
-      }
-      esf_wall_hit hit;
-      esf_wall_nearest(el, x, &hit);
-      if (hit.dist >= reach) continue;
-      rc = esf_pairbuf_push(&nb->buf, (uint32_t)i, (uint32_t)e, err);
-      if (rc) return rc;
-    }
-  }
   rc = rebuild_list(nb, &nb->pw, &nb->pw_spare, p->n, nb->buf.i, nb->buf.j, nb->buf.n,
                     err);
   if (rc) return rc;

@@ -48,6 +48,9 @@ typedef struct esf_neighbor {
   int carry;       /* keep vc0 (ODE methods set it before the first build) */
   esf_cells *cells;
   esf_pairbuf buf;
+  esf_pairbuf *wbuf;  /* the wall candidates' per-thread buffers, nwbuf of them */
+  uint32_t *wscratch; /* and their wall index queries' scratch, nwbuf x wscratch_n */
+  size_t nwbuf, wscratch_n;
   esf_wall_hit *wall_hits; /* scratch for the wall loop, pw.cap entries */
   double *wall_un;
   unsigned char *wall_keep;

@@ -38,7 +38,6 @@ struct esf_wall_index {
   int32_t *cell0; /* 3 per element: first cell of its box */
   uint32_t *loose;
   size_t nloose;
-  uint32_t *out; /* query scratch, n entries */
 };
 
 static const esf_wall_elem *reference(const esf_walls *w) { return w->e0 ? w->e0 : w->e; }
@@ -121,7 +120,6 @@ void esf_wall_index_free(esf_wall_index **idx) {
   free(ix->box);
   free(ix->cell0);
   free(ix->loose);
-  free(ix->out);
   free(ix);
   *idx = NULL;
 }
@@ -135,14 +133,12 @@ static int build(esf_wall_index *ix, const esf_walls *w, esf_error *err) {
   ix->box = malloc(6 * sz * sizeof *ix->box);
   ix->cell0 = malloc(3 * sz * sizeof *ix->cell0);
   ix->loose = malloc(sz * sizeof *ix->loose);
-  ix->out = malloc(sz * sizeof *ix->out);
   ix->grid_of = malloc((w->ngroups ? w->ngroups : 1) * sizeof *ix->grid_of);
   ix->g = calloc(w->ngroups ? w->ngroups : 1, sizeof *ix->g);
   uint32_t *el = malloc(sz * sizeof *el);
   size_t *count = calloc(w->ngroups ? w->ngroups : 1, sizeof *count);
   int rc = ESF_OK;
-  if (!ix->box || !ix->cell0 || !ix->loose || !ix->out || !ix->grid_of || !ix->g || !el ||
-      !count)
+  if (!ix->box || !ix->cell0 || !ix->loose || !ix->grid_of || !ix->g || !el || !count)
     rc = esf_fail(err, ESF_ENOMEM, "out of memory for the wall index");
   for (size_t k = 0; k < n && !rc; k++) {
     double *b = ix->box + 6 * k;
@@ -202,15 +198,17 @@ static void to_reference(const esf_wall_group *g, const double x[3], double out[
     out[q] = m->pivot[q] + r[q] * c + kxr[q] * s + m->axis[q] * kr;
 }
 
-void esf_wall_index_query(esf_wall_index *ix, const esf_walls *w, const double x[3],
-                          double r, const uint32_t **out, size_t *n) {
+size_t esf_wall_index_scratch(const esf_wall_index *ix) { return ix->n ? ix->n : 1; }
+
+void esf_wall_index_query(const esf_wall_index *ix, const esf_walls *w, const double x[3],
+                          double r, uint32_t *scratch, const uint32_t **out, size_t *n) {
   if (ix->ngrids == 0) { /* only loose elements: no copy */
     *out = ix->loose;
     *n = ix->nloose;
     return;
   }
   size_t m = ix->nloose;
-  memcpy(ix->out, ix->loose, m * sizeof *ix->out);
+  memcpy(scratch, ix->loose, m * sizeof *scratch);
   for (int k = 0; k < ix->ngrids; k++) {
     const grid *gr = &ix->g[k];
     double y[3];
@@ -238,10 +236,10 @@ void esf_wall_index_query(esf_wall_index *ix, const esf_walls *w, const double x
                 j != (e0[1] > c0[1] ? e0[1] : c0[1]) ||
                 l != (e0[2] > c0[2] ? e0[2] : c0[2]))
               continue; /* reported from another cell */
-            ix->out[m++] = e;
+            scratch[m++] = e;
           }
         }
   }
-  *out = ix->out;
+  *out = scratch;
   *n = m;
 }

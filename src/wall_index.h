@@ -25,10 +25,16 @@ typedef struct esf_wall_index esf_wall_index;
 /* (Re)builds *idx when it is NULL or w's elements changed in number or storage. */
 int esf_wall_index_sync(esf_wall_index **idx, const esf_walls *w, esf_error *err);
 
+/* Entries of the scratch a query needs (the elements indexed, at least 1). */
+size_t esf_wall_index_scratch(const esf_wall_index *idx);
+
 /* Elements possibly within r of point x (w placed at its current time); *out points
- * into idx's storage (read only), valid until the next query or sync. */
-void esf_wall_index_query(esf_wall_index *idx, const esf_walls *w, const double x[3],
-                          double r, const uint32_t **out, size_t *n);
+ * into idx's storage or into the caller's scratch (esf_wall_index_scratch entries),
+ * read only, valid until the next query with that scratch or the next sync. Queries
+ * with separate scratch may run in parallel. */
+void esf_wall_index_query(const esf_wall_index *idx, const esf_walls *w,
+                          const double x[3], double r, uint32_t *scratch,
+                          const uint32_t **out, size_t *n);
 
 /* Number of indexed groups (for tests and logs). */
 int esf_wall_index_grids(const esf_wall_index *idx);

@@ -6,8 +6,11 @@
  * a particle touching a wall element. Checked against brute force (all pairs, all
  * elements) after random displacements of every particle up to just under s/2, for
  * size ratios 1:1, 1:3 and 1:5 and several skins, in a box with walls; and a single
- * particle moved just over s/2 makes the check ask for a rebuild. Also the adaptive
- * skin's rule and bounds, and the rebuild asked for by a particle leaving the domain. */
+ * particle moved just over s/2 makes the check ask for a rebuild. The walls are a box
+ * and a faceted cylinder (indexed: its elements are found through the wall index's
+ * grid); each build is repeated on 2 and 3 threads and must give the same lists, pair
+ * for pair. Also the adaptive skin's rule and bounds, and the rebuild asked for by a
+ * particle leaving the domain. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -27,6 +30,8 @@ static const char *const scene_fmt =
     "walls:\n"
     "  - {box: {min: [0, 0, 0], max: [0.03, 0.03, 0.03]},"
     " material: m}\n"
+    "  - {cylinder: {base: [0.015, 0.015, 0.002], radius: 0.008, height: 0.026,"
+    " segments: 40, caps: [top]}, material: m}\n"
     "search: {skin: %g}\n"
     "integrator: {dt: 1.0e-6}\n"
     "run: {steps: 1}\n"
@@ -71,6 +76,37 @@ static int open_case(simtest *T, int count, double rmin, double rmax, int seed,
   return rc;
 }
 
+/* Builds the lists on 2 and 3 threads too: the same pairs in the same order as on
+ * nb->threads (1); returns the builds that differed. */
+static int threads_differ(esf_sim *s) {
+  esf_neighbor *nb = &s->nb;
+  const esf_contacts *l[2] = {&nb->pp, &nb->pw};
+  size_t n[2];
+  uint32_t *ab[2][2];
+  for (int q = 0; q < 2; q++) {
+    n[q] = l[q]->n;
+    for (int e = 0; e < 2; e++) {
+      ab[q][e] = malloc((n[q] ? n[q] : 1) * sizeof(uint32_t));
+      memcpy(ab[q][e], e ? l[q]->b : l[q]->a, n[q] * sizeof(uint32_t));
+    }
+  }
+  const int t0 = nb->threads;
+  int differ = 0;
+  esf_error err;
+  for (int T = 2; T <= 3; T++) {
+    nb->threads = T;
+    CHECK_OK(esf_neighbor_build(nb, &s->p, &s->walls, &err), err);
+    for (int q = 0; q < 2; q++) /* the lists were swapped in: look them up again */
+      if (l[q]->n != n[q] || memcmp(ab[q][0], l[q]->a, n[q] * sizeof(uint32_t)) ||
+          memcmp(ab[q][1], l[q]->b, n[q] * sizeof(uint32_t)))
+        differ++;
+  }
+  nb->threads = t0;
+  for (int q = 0; q < 2; q++)
+    for (int e = 0; e < 2; e++) free(ab[q][e]);
+  return differ;
+}
+
 static void check_case(int count, double rmin, double rmax, double skin, int seed) {
   simtest T;
   if (open_case(&T, count, rmin, rmax, seed, skin)) return;
@@ -80,11 +116,12 @@ static void check_case(int count, double rmin, double rmax, double skin, int see
   esf_rng_seed(&g, (uint64_t)seed * 7919u + 1);
   esf_error err;
   long missed_pp = 0, missed_pw = 0, touching_pp = 0, touching_pw = 0;
-  int bad_check = 0;
+  int bad_check = 0, differ = 0;
   for (int round = 0; round < 6; round++) {
     int rc = esf_neighbor_build(&s->nb, p, &s->walls, &err);
     CHECK_OK(rc, err);
     if (rc) break;
+    differ += threads_differ(s);
     /* half the rounds compress the packing first so that many pairs touch */
     jiggle(p, &g, skin, 0.999);
     int rebuild = 0;
@@ -117,6 +154,7 @@ static void check_case(int count, double rmin, double rmax, double skin, int see
   CHECK(missed_pp == 0, "%ld particle pairs touching but not candidates", missed_pp);
   CHECK(missed_pw == 0, "%ld wall contacts touching but not candidates", missed_pw);
   CHECK(bad_check == 0, "moves under skin/2 asked for %d rebuilds", bad_check);
+  CHECK(differ == 0, "%d builds on 2 or 3 threads gave other lists than on 1", differ);
 
   /* one particle moved just over skin/2 must trigger a rebuild */
   int rc = esf_neighbor_build(&s->nb, p, &s->walls, &err);

@@ -119,7 +119,10 @@ static void compare(esf_wall_index *ix, const esf_walls *w, const unsigned char 
                     long *missed, long *dup, long *always_missed) {
   const uint32_t *c;
   size_t n;
-  esf_wall_index_query(ix, w, x, r, &c, &n);
+  static uint32_t scratch[4096];
+  CHECK(esf_wall_index_scratch(ix) <= 4096, "scratch of %zu entries",
+        esf_wall_index_scratch(ix));
+  esf_wall_index_query(ix, w, x, r, scratch, &c, &n);
   static unsigned char seen[4096];
   memset(seen, 0, w->n);
   for (size_t k = 0; k < n; k++) {
