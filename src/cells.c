@@ -385,9 +385,11 @@ static int sweep_threaded(esf_cells *c, const esf_grid *g, const double *x,
 #pragma omp parallel for num_threads(T) schedule(static, 1)
   for (int t = 0; t < T; t++) {
     const int64_t nz = g->nc[2], z0 = nz * t / T, z1 = nz * (t + 1) / T;
-    c->tbuf[t].n = 0;
-    trc[t] = esf_grid_self_pairs_layers(g, c->list, x, radius, skin, z0, z1, &c->tbuf[t],
-                                        &terr[t]);
+    esf_pairbuf b = c->tbuf[t]; /* a copy: the buffers' counts share cache lines, and a */
+    b.n = 0;                    /* push into the array would bounce them between cores */
+    trc[t] =
+        esf_grid_self_pairs_layers(g, c->list, x, radius, skin, z0, z1, &b, &terr[t]);
+    c->tbuf[t] = b;
   }
   for (int t = 0; t < T; t++) {
     if (trc[t]) {

@@ -298,11 +298,12 @@ static int wall_candidates(esf_neighbor *nb, const esf_particles *p, const esf_w
   const long n = (long)p->n, nt = (long)T;
 #pragma omp parallel for num_threads((int)T) schedule(static, 1)
   for (long t = 0; t < nt; t++) {
-    esf_pairbuf *b = &nb->wbuf[t];
-    b->n = 0;
+    esf_pairbuf b = nb->wbuf[t]; /* a copy: the buffers share cache lines (cells.c) */
+    b.n = 0;
     trc[t] =
         wall_candidates_range(nb, p, w, (size_t)(n * t / nt), (size_t)(n * (t + 1) / nt),
-                              nb->wscratch + (size_t)t * nb->wscratch_n, b);
+                              nb->wscratch + (size_t)t * nb->wscratch_n, &b);
+    nb->wbuf[t] = b;
   }
   nb->buf.n = 0;
   for (size_t t = 0; t < T; t++) {
