@@ -277,6 +277,7 @@ static int wall_candidates(esf_neighbor *nb, const esf_particles *p, const esf_w
                            esf_error *err) {
   int rc = esf_wall_index_sync(&nb->widx, w, err);
   if (rc) return rc;
+  /* below a thousand particles the pass is too short to share */
   size_t T = nb->threads > 1 && p->n >= 1024 ? (size_t)nb->threads : 1;
   if (T > ESF_CELLS_MAX_THREADS) T = ESF_CELLS_MAX_THREADS;
   const size_t ns = esf_wall_index_scratch(nb->widx);

@@ -81,7 +81,7 @@ struct esf_step_fast {
   size_t cap_n;     /* particle capacity */
   double *acc;      /* ACC per particle: force (3, N), 0, torque (3, N m), 0 */
   uint32_t *list;   /* per pair: the overlapping interior pairs of each block */
-  double *sm;       /* per pair: sqrt(m*), kg^1/2, the dashpots' (NULL: beta > 0) */
+  double *sm;       /* per pair: sqrt(m*), kg^1/2 (dashpots c = factor sqrt(m*)) */
   size_t *astart;   /* n+1: pairs k in [astart[i], astart[i+1]) have a == i */
   size_t *wstart;   /* n+1: wall candidates of particle i */
   size_t nb, cap_b; /* boundary pairs */

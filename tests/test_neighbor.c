@@ -96,7 +96,7 @@ static int threads_differ(esf_sim *s) {
   for (int T = 2; T <= 3; T++) {
     nb->threads = T;
     CHECK_OK(esf_neighbor_build(nb, &s->p, &s->walls, &err), err);
-    for (int q = 0; q < 2; q++) /* the lists were swapped in: look them up again */
+    for (int q = 0; q < 2; q++) /* l[q]: nb's lists, the new build's contents */
       if (l[q]->n != n[q] || memcmp(ab[q][0], l[q]->a, n[q] * sizeof(uint32_t)) ||
           memcmp(ab[q][1], l[q]->b, n[q] * sizeof(uint32_t)))
         differ++;
