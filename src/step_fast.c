@@ -25,21 +25,21 @@
  *      range's flag (ready[t] = this call's epoch): range t no longer reads the higher
  *      ranges' particles;
  *   2. then: screens its interior pairs for overlapping spheres into a list; waits for
- * the lower ranges' flags (by then long raised: the screening takes longer than their
- * step 1; this one-way handoff replaces a barrier of all threads); sets its four-wide
- * accumulators to f = m g, t = 0 (each just ahead of its first use, in ascending particle
- * order, so that the add into a pair's b finds the line in cache); subtracts the incoming
- * boundary slots (pairs whose b is its particle) in ascending k; computes the listed
- * pairs in batches of eight, in ascending k, adding their forces to both particles and,
- *      between them in k order, the A side of its outgoing boundary slots; then,
- *      particle by particle: wall contacts (the pass of wall_fast.h), the 2D
- *      projection (the accumulators then hold F_n, M_n: they stay there, s->ft_lazy,
- *      for esf_sim_forces_sync), local damping, kick with global damping
- *      (1 -+ alpha dt/2), drift x += v dt, the squared displacement since the last
- *      build and whether it left the domain. Once the lower flags are up no thread
- *      reads range t's particles (an interior pair has both ends in one range; the
- *      boundary pairs were done before the flags), so it drifts its range as soon as it
- *      is done.
+ *      the lower ranges' flags (by then long raised: the screening takes longer than
+ *      their step 1; this one-way handoff replaces a barrier of all threads); sets its
+ *      four-wide accumulators to f = m g, t = 0 (each just ahead of its first use, in
+ *      ascending particle order, so that the add into a pair's b finds the line in
+ *      cache); subtracts the incoming boundary slots (pairs whose b is its particle) in
+ *      ascending k; computes the listed pairs in batches of eight, in ascending k,
+ *      adding their forces to both particles and, between them in k order, the A side
+ *      of its outgoing boundary slots; then, particle by particle: wall contacts (the
+ *      pass of wall_fast.h), the 2D projection (the accumulators then hold F_n, M_n:
+ *      they stay there, s->ft_lazy, for esf_sim_forces_sync), local damping, kick with
+ *      global damping (1 -+ alpha dt/2), drift x += v dt, the squared displacement
+ *      since the last build and whether it left the domain. Once the lower flags are up
+ *      no thread reads range t's particles (an interior pair has both ends in one
+ *      range; the boundary pairs were done before the flags), so it drifts its range as
+ *      soon as it is done.
  * Every particle receives its pair forces in ascending k, the order of the serial
  * scatter in forces.c, whatever T: the results are the same bit for bit on any thread
  * count (and T = 1 is a plain serial scatter without slots). Failures (overlap beyond
@@ -236,10 +236,37 @@ static void balance_check(esf_step_fast *f, size_t T) {
   }
 }
 
+/* Step 0's part that depends on the lists only (not redone for a re-cut): each
+ * particle's pair block and wall candidates, each pair's sqrt(m*), the one material. */
+static void index_pairs(esf_sim *s, esf_step_fast *f, int nth) {
+  const esf_particles *p = &s->p;
+  const esf_contacts *c = &s->nb.pp, *cw = &s->nb.pw;
+  const size_t n = p->n, m = c->n;
+  memset(f->astart, 0, (n + 1) * sizeof(size_t));
+  memset(f->wstart, 0, (n + 1) * sizeof(size_t));
+  for (size_t k = 0; k < m; k++) f->astart[c->a[k] + 1]++;
+  for (size_t k = 0; k < cw->n; k++) f->wstart[cw->a[k] + 1]++;
+  for (size_t i = 0; i < n; i++) {
+    f->astart[i + 1] += f->astart[i];
+    f->wstart[i + 1] += f->wstart[i];
+  }
+  /* the dashpots' sqrt(m*), m* = ma mb / (ma + mb), once per build rather than per
+     step (the operations pair_batch.c's lanes did, so the same bits) */
+  const long mm = (long)m;
+#pragma omp parallel for num_threads(nth) schedule(static)
+  for (long k = 0; k < mm; k++) {
+    const double ma = p->mass[c->a[k]], mb = p->mass[c->b[k]];
+    f->sm[k] = sqrt(ma * mb / (ma + mb));
+  }
+  f->m0 = n ? p->material[0] : -1;
+  for (size_t i = 1; i < n && f->m0 >= 0; i++)
+    if (p->material[i] != f->m0) f->m0 = -1;
+}
+
 /* Step 0: indices for the current lists and T ranges. */
 static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   const esf_particles *p = &s->p;
-  const esf_contacts *c = &s->nb.pp, *cw = &s->nb.pw;
+  const esf_contacts *c = &s->nb.pp;
   const size_t n = p->n, m = c->n, T = (size_t)nth;
   if (m > f->cap_k) {
     if (!grow((void **)&f->list, m, sizeof(uint32_t)) ||
@@ -255,7 +282,9 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
       return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particle ranges", n);
     f->cap_n = n + 1;
   }
-  if (f->nth != nth || f->np != n || f->built != s->nb.builds) f->recut = 0;
+  /* new lists (else the same lists re-cut, or cut for another T) */
+  const int fresh = f->np != n || f->built != s->nb.builds;
+  if (f->nth != nth || fresh) f->recut = 0;
   if (!grow((void **)&f->bout, T + 1, sizeof(size_t)) ||
       !grow((void **)&f->binstart, T + 1, sizeof(size_t)) ||
       !grow((void **)&f->rlo, T + 1, sizeof(size_t)) ||
@@ -266,29 +295,11 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
     return esf_fail(err, ESF_ENOMEM, "out of memory");
   for (size_t t = 0; t < T; t++) atomic_init(f->ready + t, 0);
   f->epoch = 0;
-  memset(f->astart, 0, (n + 1) * sizeof(size_t));
-  memset(f->wstart, 0, (n + 1) * sizeof(size_t));
-  for (size_t k = 0; k < m; k++) f->astart[c->a[k] + 1]++;
-  for (size_t k = 0; k < cw->n; k++) f->wstart[cw->a[k] + 1]++;
-  for (size_t i = 0; i < n; i++) {
-    f->astart[i + 1] += f->astart[i];
-    f->wstart[i + 1] += f->wstart[i];
-  }
+  if (fresh) index_pairs(s, f, nth);
   size_t *wt = calloc(n ? 2 * n : 1, sizeof *wt); /* cut_ranges' weights and work */
   if (!wt) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particle ranges", n);
   cut_ranges(f, c, wt, n, T);
   free(wt);
-  /* the dashpots' sqrt(m*), m* = ma mb / (ma + mb), once per build rather than per
-     step (the operations pair_batch.c's lanes did, so the same bits) */
-  const long mm = (long)m;
-#pragma omp parallel for num_threads(nth) schedule(static)
-  for (long k = 0; k < mm; k++) {
-    const double ma = p->mass[c->a[k]], mb = p->mass[c->b[k]];
-    f->sm[k] = sqrt(ma * mb / (ma + mb));
-  }
-  f->m0 = n ? p->material[0] : -1;
-  for (size_t i = 1; i < n && f->m0 >= 0; i++)
-    if (p->material[i] != f->m0) f->m0 = -1;
   /* boundary pairs: a in range t, b in a higher range (b > a) */
   size_t nb = 0;
   memset(f->bout, 0, (T + 1) * sizeof(size_t));
