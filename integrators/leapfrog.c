@@ -145,14 +145,11 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     if (rc) return rc;
   }
   size_t touching = 0;
-  if (esf_step_fast_eligible(s)) { /* steps 2-4 and 7 fused and threaded */
-    rc = esf_step_fast_run(s, lf->fast, &touching, err);
-    if (rc) return rc;
-    s->contacts_sum += (double)touching;
-    lf->started = 1;
-    s->step++;
-    s->t = (double)s->step * s->dt;
-    return ESF_OK;
+  if (esf_step_fast_eligible(s)) { /* steps 2-4 and 7 fused and threaded, s->burst of */
+    long taken = 0;                /* them at most in one go */
+    rc = esf_step_fast_run(s, lf->fast, s->burst, &taken, err);
+    if (taken > 0) lf->started = 1;
+    return rc;
   }
   rc = esf_forces_eval(s, p->x, p->v, p->w, s->dt, ESF_FORCES_COMMIT, &touching, err);
   if (rc) return rc;

@@ -83,10 +83,12 @@ void esf_neighbor_release(esf_neighbor *nb) {
   memset(nb, 0, sizeof *nb);
 }
 
+double esf_neighbor_limit2(const esf_neighbor *nb) { return 0.25 * nb->skin * nb->skin; }
+
 int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wall_moved,
                        int *rebuild, esf_error *err) {
   *rebuild = nb->xref == NULL || nb->nref != p->n;
-  double lim2 = 0.25 * nb->skin * nb->skin, max2 = 0.0;
+  double lim2 = esf_neighbor_limit2(nb), max2 = 0.0;
   if (!*rebuild && nb->disp_valid) { /* measured during the drift, all finite */
     max2 = nb->max_disp2;
     if (max2 > lim2 || nb->escaped) *rebuild = 1;

@@ -91,6 +91,10 @@ void esf_neighbor_release(esf_neighbor *nb);
 int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wall_moved,
                        int *rebuild, esf_error *err);
 
+/* The squared displacement past which esf_neighbor_check asks for a rebuild:
+ * (skin/2)^2, m^2. */
+double esf_neighbor_limit2(const esf_neighbor *nb);
+
 /* Lets esf_neighbor_skin_tune move the skin within [lo, hi], m. */
 void esf_neighbor_skin_range(esf_neighbor *nb, double lo, double hi);
 

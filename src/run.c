@@ -146,6 +146,29 @@ static void progress(const esf_sim *s, double t_end, double t0, double ps) {
   fflush(stdout);
 }
 
+/* The fixed-step schedule: how many steps, and every how many an energy row, a frame,
+ * a checkpoint and (progress) a look at the clock are due. */
+typedef struct sched {
+  long nsteps, every_e, every_f, every_c;
+  int progress;
+} sched;
+
+#define BURST_MAX 32 /* steps in one call at most: bounds the wait for a stop signal */
+
+/* Steps a scheme may take in one call from step index n without passing one after
+ * which the loop below has something to do (the same tests, step by step). */
+static long steps_to_event(const sched *c, long n) {
+  long j = n;
+  for (; j < n + BURST_MAX - 1; j++) {
+    const int last = j + 1 >= c->nsteps;
+    if (last || (c->every_e && j % c->every_e == 0) ||
+        (c->every_f && (j + 1) % c->every_f == 0) ||
+        (c->every_c && (j + 1) % c->every_c == 0) || (c->progress && (j & 63) == 0))
+      break;
+  }
+  return j - n + 1;
+}
+
 int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err) {
   memset(st, 0, sizeof *st);
   const esf_integrator_type *it = esf_integrator_find(s->cfg.method);
@@ -231,15 +254,20 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     if (tc > 0 && adaptive) /* the schedule continues (checkpoint_every may change) */
       next_c = isfinite(cr.next_c) ? cr.next_c : s->t + tc;
   }
+  const sched sc = {nsteps, every_e, every_f, every_c,
+                    o->progress && !o->quiet && !adaptive};
   for (long n = n0; adaptive ? s->t < t_end * (1 - 1e-12) : n < nsteps; n++) {
     long step_before = s->step;
+    s->burst = adaptive ? 1 : steps_to_event(&sc, n);
     rc = it->step(s, ist, t_end, err);
+    s->burst = 1;
     if (rc) break;
     if (s->step == step_before) { /* no step taken (an ODE method redoing one) */
       n--;
       continue;
     }
-    psum += (double)s->p.n;
+    n += s->step - step_before - 1; /* a scheme may take several (s->burst) */
+    psum += (double)s->p.n * (double)(s->step - step_before); /* no removal between */
     int row, frame;
     if (adaptive) {
       double tol = 1e-9 * t_end;

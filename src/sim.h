@@ -99,6 +99,8 @@ typedef struct esf_sim {
   double t, dt;            /* s */
   double led_time;         /* the time the ledger's stored energies refer to, s */
   long step;
+  long burst; /* steps the next call of a fixed-step scheme may take at once (the
+                 driver's budget to its next output; <= 1: one) */
   esf_dt_estimate dte;
   esf_rng rng;
   /* counters */

@@ -7,39 +7,51 @@
  * return), written out for the pair loop without the ledger's by-products, eight pairs
  * at a time in vector lanes (pair_batch.c).
  *
- * Order of operations in one call (state on entry: x_n, v_{n-1/2}, w_{n-1/2}, lists
+ * Order of operations in one step (state on entry: x_n, v_{n-1/2}, w_{n-1/2}, lists
  * valid for x_n, history at t_{n-1}). The particles are split into T contiguous
  * ranges, one per thread; as the pair list is sorted by (a, b) with a < b, the pairs
  * whose a lies in range t form one block of k. A pair whose b lies in a higher range
- * is a boundary pair.
- *   0. after a list rebuild (or a new T, or when the ranges' measured times came out
- *      unequal: balance_check): the ranges (cut by estimated work, scaled by the
- *      measured time per unit of work of the old ranges when re-cut), their
- *      pair blocks, the wall candidates of each particle, the boundary pairs, each
- *      pair's sqrt(m*) for the dashpots, and whether all particles have one material
- *      (its pair parameters are then broadcast to the batches' lanes instead of
- *      gathered);
- *   1. each thread, for its own range t: computes the touching boundary pairs whose a
- *      is in the range, in batches (force on A, torques on A and B), into their slots
- *      (zeroed when the contact ends), committing their history, and raises the
- *      range's flag (ready[t] = this call's epoch): range t no longer reads the higher
- *      ranges' particles;
- *   2. then: screens its interior pairs for overlapping spheres into a list; waits for
- *      the lower ranges' flags (by then long raised: the screening takes longer than
- *      their step 1; this one-way handoff replaces a barrier of all threads); sets its
- *      four-wide accumulators to f = m g, t = 0 (each just ahead of its first use, in
- *      ascending particle order, so that the add into a pair's b finds the line in
- *      cache); subtracts the incoming boundary slots (pairs whose b is its particle) in
- *      ascending k; computes the listed pairs in batches of eight, in ascending k,
- *      adding their forces to both particles and, between them in k order, the A side
- *      of its outgoing boundary slots; then, particle by particle: wall contacts (the
- *      pass of wall_fast.h), the 2D projection (the accumulators then hold F_n, M_n:
- *      they stay there, s->ft_lazy, for esf_sim_forces_sync), local damping, kick with
- *      global damping (1 -+ alpha dt/2), drift x += v dt, the squared displacement
- *      since the last build and whether it left the domain. Once the lower flags are up
- *      no thread reads range t's particles (an interior pair has both ends in one
- *      range; the boundary pairs were done before the flags), so it drifts its range as
- *      soon as it is done.
+ * is a boundary pair. Steps are numbered by an epoch (f->epoch counts them).
+ *   0. at a call's start, after a list rebuild (or a new T, or when the ranges'
+ *      measured times came out unequal: balance_check): the ranges (cut by estimated
+ *      work, scaled by the measured time per unit of work of the old ranges when
+ *      re-cut), their pair blocks, the wall candidates of each particle, the boundary
+ *      pairs, each pair's sqrt(m*) for the dashpots, and whether all particles have
+ *      one material (its pair parameters are then broadcast to the batches' lanes
+ *      instead of gathered);
+ *   1. each thread, for its own range t (ranges above 0 screen first, step 2's
+ *      screening: it reads only the range's own particles and writes nothing shared):
+ *      from a call's second step on, waits for its word: range 0 waits until every
+ *      range has finished the step before (done flags), gathers their results and
+ *      decides, as the driver would between calls, whether this step is taken
+ *      (burst_decide: not after a failure, a non-finite position or a particle out of
+ *      the domain, nor when the lists need a rebuild or the ranges a re-cut); the
+ *      others wait for that word and for the higher ranges' done flags (their
+ *      particles have drifted). Then it computes the touching boundary pairs whose a is
+ *      in the range, in batches (force on A, torques on A and B), into their slots
+ *      (zeroed when the contact ends), committing their history, and raises its ready
+ *      flag: range t no longer reads the higher ranges' particles;
+ *   2. then: screens its interior pairs for overlapping spheres into a list (range 0;
+ *      the others did it in step 1) and the contacts that ended into another; waits for
+ *      the lower ranges' ready flags (by then long raised: the screening takes longer
+ *      than their step 1; this one-way handoff replaces a barrier of all threads);
+ *      clears the ended contacts' flags; sets its four-wide accumulators to f = m g,
+ *      t = 0 (each just ahead of its first use, in ascending particle order, so that
+ *      the add into a pair's b finds the line in cache); subtracts the incoming
+ *      boundary slots (pairs whose b is its particle) in ascending k; computes the
+ *      listed pairs in batches of eight, in ascending k, adding their forces to both
+ *      particles and, between them in k order, the A side of its outgoing boundary
+ *      slots; then, particle by particle: wall contacts (the pass of wall_fast.h), the
+ *      2D projection (the accumulators then hold F_n, M_n: they stay there,
+ *      s->ft_lazy, for esf_sim_forces_sync), local damping, kick with global damping
+ *      (1 -+ alpha dt/2), drift x += v dt, the squared displacement since the last
+ *      build and whether it left the domain; last, its results and its done flag.
+ *      Once the lower ready flags are up no thread reads range t's particles (an
+ *      interior pair has both ends in one range; the boundary pairs were done before
+ *      the flags), so it drifts its range as soon as it is done.
+ * A call takes up to nmax steps this way in one parallel region: no barrier of all
+ * threads between steps, and a range that finished early screens its next step while
+ * the others catch up. After the region the master gathers the last step's results.
  * Every particle receives its pair forces in ascending k, the order of the serial
  * scatter in forces.c, whatever T: the results are the same bit for bit on any thread
  * count (and T = 1 is a plain serial scatter without slots). Failures (overlap beyond
@@ -54,6 +66,7 @@
 #include <math.h>
 #include <sched.h>
 #include <stdatomic.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -73,6 +86,17 @@
 #define SLOT ESF_BATCH_OUT /* force on A, torque on A, torque on B (4 each) */
 #define PF   32            /* history prefetch distance, pairs */
 
+/* One range's flags and the results of its latest step, a cache line of its own:
+ * written by its thread, read by the others once the flag they wait for is up. */
+typedef struct range_rec {
+  _Alignas(ESF_LINE) _Atomic long ready; /* boundary pairs done for this step (epoch) */
+  _Atomic long done;                     /* the whole step done, results below written */
+  size_t nt_pp, nt_pw;                   /* touching pairs (a in range), wall contacts */
+  size_t bad_pair, bad_part;             /* lowest failing pair, particle, or SIZE_MAX */
+  double max2;                           /* largest squared displacement since the build */
+  int nonfinite, escaped;
+} range_rec;
+
 struct esf_step_fast {
   long built;       /* nb.builds the indices below belong to (-1: none) */
   size_t np;        /* particles the indices were made for */
@@ -80,7 +104,8 @@ struct esf_step_fast {
   size_t cap_k;     /* pair capacity */
   size_t cap_n;     /* particle capacity */
   double *acc;      /* ACC per particle: force (3, N), 0, torque (3, N m), 0 */
-  uint32_t *list;   /* per pair: the overlapping interior pairs of each block */
+  uint32_t *list;   /* per pair: the overlapping interior pairs of each block, from its
+                       start, and the contacts that ended, from its end (screen_block) */
   double *sm;       /* per pair: sqrt(m*), kg^1/2 (dashpots c = factor sqrt(m*)) */
   size_t *astart;   /* n+1: pairs k in [astart[i], astart[i+1]) have a == i */
   size_t *wstart;   /* n+1: wall candidates of particle i */
@@ -96,17 +121,25 @@ struct esf_step_fast {
    * work of each range, and, when a re-cut is due, seconds per unit of work */
   double *busy, *work, *rate;
   long busy_steps;
-  _Atomic long *ready; /* nth: range t's boundary pairs are done for step call epoch */
-  long epoch;          /* calls of esf_step_fast_run */
-  _Atomic int bfail;   /* a boundary pair failed in this call (raised before its flag) */
-  double t_left;       /* when the last step's threads finished (omp_get_wtime), or 0 */
-  double t_step;       /* how long its parallel part took, s */
+  range_rec *rr;  /* nth, line-aligned */
+  long epoch;     /* steps run by esf_step_fast_run */
+  double t_left;  /* when the last call's threads finished (omp_get_wtime), or 0 */
+  double t_step;  /* how long its parallel part took per step, s */
   int recut;
+  /* a burst's outcome, written by range 0 (burst_decide) */
+  long taken;     /* steps completed */
+  int decided;    /* the last one's results were gathered (the burst stopped early) */
+  size_t nt_sum;  /* touching contacts summed over the gathered steps */
+  /* range 0's word to the others, a line apart from the fields above: go = 2 e to take
+   * step e, 2 e + 1 to stop before it; bfail = e: a boundary pair failed in step e */
+  _Alignas(ESF_LINE) _Atomic long go;
+  _Atomic long bfail;
 };
 
 int esf_step_fast_create(esf_step_fast **out, esf_error *err) {
-  *out = calloc(1, sizeof **out);
+  *out = esf_lines_realloc(NULL, 0, sizeof **out); /* go: a line of its own */
   if (!*out) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  memset(*out, 0, sizeof **out);
   (*out)->built = -1;
   return ESF_OK;
 }
@@ -128,7 +161,7 @@ void esf_step_fast_free(esf_step_fast **f) {
   free(q->busy);
   free(q->work);
   free(q->rate);
-  free((void *)q->ready);
+  free(q->rr);
   free(q);
   *f = NULL;
 }
@@ -290,10 +323,19 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
       !grow((void **)&f->rlo, T + 1, sizeof(size_t)) ||
       !grow((void **)&f->busy, T, sizeof(double)) ||
       !grow((void **)&f->work, T, sizeof(double)) ||
-      !grow((void **)&f->rate, T, sizeof(double)) ||
-      !grow((void **)&f->ready, T, sizeof(_Atomic long)))
+      !grow((void **)&f->rate, T, sizeof(double)))
     return esf_fail(err, ESF_ENOMEM, "out of memory");
-  for (size_t t = 0; t < T; t++) atomic_init(f->ready + t, 0);
+  if (f->nth != nth || !f->rr) {
+    range_rec *rr = esf_lines_realloc(f->rr, 0, T * sizeof *rr);
+    if (!rr) return esf_fail(err, ESF_ENOMEM, "out of memory");
+    f->rr = rr;
+  }
+  for (size_t t = 0; t < T; t++) {
+    atomic_init(&f->rr[t].ready, 0);
+    atomic_init(&f->rr[t].done, 0);
+  }
+  atomic_init(&f->go, 0);
+  atomic_init(&f->bfail, 0);
   f->epoch = 0;
   if (fresh) index_pairs(s, f, nth);
   size_t *wt = calloc(n ? 2 * n : 1, sizeof *wt); /* cut_ranges' weights and work */
@@ -348,20 +390,24 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
 }
 
 /* Step 2's screening of the pairs of particles [lo, hi): the interior pairs (b < hi)
- * whose spheres overlap go to list[0 .. return value) in ascending k; interior pairs
- * that stopped touching lose the flag. Branch-free within the interior, so the contact
- * pass runs without the distance test. A particle's boundary pairs (left to step 1)
- * end its block, as its b ascend: the scan stops at the first, and never reads a
- * particle that another range is moving. */
+ * whose spheres overlap go to list[0 .. return value) in ascending k, and the interior
+ * contacts that ended (touching, no longer overlapping) to top[-1], top[-2], ...
+ * (*ne of them; top is the block's end: no pair goes to both, so the two never meet).
+ * The flags are not touched here: a range screens ahead of the word to take the step
+ * (run_range), and a step not taken must leave them as they were. Branch-free within
+ * the interior but for the rare ended contact, so the contact pass runs without the
+ * distance test. A particle's boundary pairs (left to step 1) end its block, as its b
+ * ascend: the scan stops at the first, and never reads a particle that another range
+ * is moving. */
 static size_t screen_block(esf_sim *s, const esf_step_fast *f, size_t lo, size_t hi,
-                           uint32_t *list) {
+                           uint32_t *list, uint32_t *top, size_t *ne) {
   const esf_particles *p = &s->p;
-  esf_contacts *c = &s->nb.pp;
+  const esf_contacts *c = &s->nb.pp;
   const double *x = p->x, *r = p->radius;
   const uint32_t *cb = c->b;
+  const uint8_t *touch = c->touch;
   const size_t *astart = f->astart;
-  uint8_t *touch = c->touch; /* a byte store may alias anything: bounds kept in locals */
-  size_t cnt = 0;
+  size_t cnt = 0, nend = 0;
   for (size_t a = lo; a < hi; a++) {
     const double xa = x[3 * a], ya = x[3 * a + 1], za = x[3 * a + 2], ra = r[a];
     for (size_t k = astart[a], k1 = astart[a + 1]; k < k1; k++) {
@@ -370,11 +416,12 @@ static size_t screen_block(esf_sim *s, const esf_step_fast *f, size_t lo, size_t
       const double dx = x[3 * b] - xa, dy = x[3 * b + 1] - ya, dz = x[3 * b + 2] - za,
                    R = ra + r[b];
       const int in = dx * dx + dy * dy + dz * dz < R * R;
-      list[cnt] = (uint32_t)k;
+      list[cnt] = (uint32_t)k; /* below every ended one: cnt + nend <= pairs seen */
       cnt += (size_t)in;
-      touch[k] &= (uint8_t)in; /* a contact that ended */
+      if (touch[k] > in) top[-(ptrdiff_t)++nend] = (uint32_t)k;
     }
   }
+  *ne = nend;
   return cnt;
 }
 
@@ -519,21 +566,29 @@ static inline size_t acc_set(const esf_particles *p, const double *g, double *ac
   return from > to ? from : to;
 }
 
-/* Waits until the ranges below t have computed their boundary pairs in this call
- * (their slots are written, and they no longer read range t's particles). A range
- * sets its flag first thing, so the wait is short, and only ever for lower ranges:
- * threads taking their ranges in ascending order cannot deadlock. */
-static void wait_lower(esf_step_fast *f, size_t t, long epoch) {
-  for (size_t u = 0; u < t; u++)
-    for (unsigned spin = 0;
-         atomic_load_explicit(f->ready + u, memory_order_acquire) != epoch; spin++)
-      if (spin >= 64) sched_yield(); /* more threads than cores */
+/* Spins until *flag reaches epoch e (flags only grow); returns the seconds waited, 0
+ * when the flag was already up. */
+static double wait_flag(_Atomic long *flag, long e) {
+  if (atomic_load_explicit(flag, memory_order_acquire) >= e) return 0.0;
+#ifdef _OPENMP
+  const double t0 = omp_get_wtime();
+#endif
+  for (unsigned spin = 0; atomic_load_explicit(flag, memory_order_acquire) < e; spin++)
+    if (spin >= 64) sched_yield(); /* more threads than cores */
+#ifdef _OPENMP
+  return omp_get_wtime() - t0;
+#else
+  return 0.0;
+#endif
 }
 
-/* Step 2's pair pass for range t: forces of all pairs touching its particles, in
- * ascending k per particle. Returns the lowest failing pair index or SIZE_MAX. */
+/* Step 2's pair pass for range t, its overlapping interior pairs in list[0 .. cnt):
+ * forces of all pairs touching its particles, in ascending k per particle. Needs the
+ * lower ranges' boundary pairs of this step done (the incoming slots). Returns the
+ * lowest failing pair index or SIZE_MAX. */
 static size_t pairs_range(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx *bc,
-                          size_t t, size_t lo, size_t hi, size_t *nt_pp) {
+                          size_t t, size_t lo, size_t hi, const uint32_t *list,
+                          size_t cnt) {
   esf_particles *p = &s->p;
   const esf_contacts *c = &s->nb.pp;
   const double *g = s->cfg.gravity;
@@ -542,11 +597,7 @@ static size_t pairs_range(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx
   /* The accumulators are set (f = m g, t = 0) just ahead of their first use, not in a
    * pass of their own: a pair's b lies a few thousand particles ahead of its a, and a
    * separate pass would leave its line to be fetched again from memory at the add. */
-  uint32_t *list = f->list + f->astart[lo];
-  const size_t cnt = screen_block(s, f, lo, hi, list);
-  *nt_pp += cnt;
-  wait_lower(f, t, f->epoch); /* the incoming slots */
-  size_t fr = lo;             /* acc[lo .. fr) are set */
+  size_t fr = lo; /* acc[lo .. fr) are set */
   size_t bmax = lo;
   for (size_t q = f->binstart[t]; q < f->binstart[t + 1]; q++) {
     const size_t b = c->b[f->bk[f->bin[q]]];
@@ -599,9 +650,109 @@ static size_t pairs_range(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx
   return bad;
 }
 
-int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error *err) {
+/* What every range's steps share in one call. */
+typedef struct burst {
+  const esf_pair_batch_ctx *bc;
+  const kick_ctx *K;
+  long e0;     /* the epoch of the call's first step */
+  long steps;  /* steps at most */
+  double lim2; /* the lists need a rebuild past this squared displacement, m^2 */
+} burst;
+
+/* Sums range results: *r gathers u's. Returns 1 when u's step failed. */
+static int gather(range_rec *r, const range_rec *u) {
+  r->nt_pp += u->nt_pp + u->nt_pw;
+  r->bad_pair = u->bad_pair < r->bad_pair ? u->bad_pair : r->bad_pair;
+  r->bad_part = u->bad_part < r->bad_part ? u->bad_part : r->bad_part;
+  r->max2 = u->max2 > r->max2 ? u->max2 : r->max2;
+  r->nonfinite |= u->nonfinite;
+  r->escaped |= u->escaped;
+  return u->bad_pair != SIZE_MAX || u->bad_part != SIZE_MAX;
+}
+
+/* Range 0, before step e of a burst (not its first): waits for every range to finish
+ * step e - 1, gathers their results and checks the balance, as the driver would
+ * between two calls, and tells the others whether to take step e: not when a contact
+ * failed, a position is not finite, a particle left the domain, the lists need a
+ * rebuild (esf_neighbor_check's test on the same numbers) or the ranges a re-cut.
+ * Returns 1 to stop. */
+static int burst_decide(esf_step_fast *f, const burst *B, long e, double *waited) {
+  const size_t T = (size_t)f->nth;
+  for (size_t u = 1; u < T; u++) *waited += wait_flag(&f->rr[u].done, e - 1);
+  range_rec r = {.bad_pair = SIZE_MAX, .bad_part = SIZE_MAX};
+  int fail = 0;
+  for (size_t u = 0; u < T; u++) fail |= gather(&r, f->rr + u);
+  if (!fail) f->nt_sum += r.nt_pp;
+  balance_check(f, T);
+  const int stop = fail || r.nonfinite || r.escaped || r.max2 > B->lim2 || f->recut;
+  atomic_store_explicit(&f->go, 2 * e + stop, memory_order_release);
+  return stop;
+}
+
+/* Range t's steps of one call (the order of operations in the prologue). From the
+ * burst's second step on, a range waits, before its boundary pairs, for range 0's word
+ * and for the higher ranges to have drifted (their particles are read); range 0 gives
+ * the word once all have finished the step before. The screening, which reads only
+ * the range's own particles and writes nothing shared, goes ahead of the wait in
+ * ranges above 0, so a range that finished early has work while the others catch up. */
+static void run_range(esf_sim *s, esf_step_fast *f, const burst *B, size_t t) {
+  uint8_t *touch = s->nb.pp.touch;
+  range_rec *me = f->rr + t;
+  const size_t T = (size_t)f->nth, lo = f->rlo[t], hi = f->rlo[t + 1];
+  uint32_t *list = f->list + f->astart[lo], *top = f->list + f->astart[hi];
+  long i = 0;
+  for (; i < B->steps; i++) {
+    const long e = B->e0 + i;
+#ifdef _OPENMP
+    const double t0 = omp_get_wtime();
+#endif
+    double waited = 0.0;
+    size_t cnt = 0, ne = 0, nt_pp = 0, nt_pw = 0;
+    if (t > 0) cnt = screen_block(s, f, lo, hi, list, top, &ne);
+    if (i > 0 && t == 0 && burst_decide(f, B, e, &waited)) break;
+    if (i > 0 && t > 0) {
+      waited += wait_flag(&f->go, 2 * e);
+      if (atomic_load_explicit(&f->go, memory_order_relaxed) & 1) break;
+      for (size_t u = t + 1; u < T; u++) waited += wait_flag(&f->rr[u].done, e - 1);
+    }
+    size_t bad_pair = boundary_pairs(s, f, B->bc, f->bout[t], f->bout[t + 1], &nt_pp);
+    if (bad_pair != SIZE_MAX) atomic_store_explicit(&f->bfail, e, memory_order_relaxed);
+    atomic_store_explicit(&me->ready, e, memory_order_release);
+    if (t == 0) cnt = screen_block(s, f, lo, hi, list, top, &ne);
+    for (size_t u = 0; u < t; u++) /* their slots written, our particles no longer read */
+      waited += wait_flag(&f->rr[u].ready, e);
+    for (size_t q = 1; q <= ne; q++) touch[top[-(ptrdiff_t)q]] = 0; /* ended contacts */
+    nt_pp += cnt;
+    const size_t bad = pairs_range(s, f, B->bc, t, lo, hi, list, cnt);
+    if (bad < bad_pair) bad_pair = bad;
+    size_t bad_part = SIZE_MAX;
+    double max2 = 0.0;
+    int nonfinite = 0, escaped = 0;
+    if (bad_pair == SIZE_MAX && atomic_load_explicit(&f->bfail, memory_order_relaxed) != e)
+      kick_range(s, f, B->K, lo, hi, &nt_pw, &bad_part, &max2, &nonfinite, &escaped);
+    me->nt_pp = nt_pp;
+    me->nt_pw = nt_pw;
+    me->bad_pair = bad_pair;
+    me->bad_part = bad_part;
+    me->max2 = max2;
+    me->nonfinite = nonfinite;
+    me->escaped = escaped;
+#ifdef _OPENMP
+    f->busy[t] += omp_get_wtime() - t0 - waited; /* range t is this thread's alone */
+#endif
+    atomic_store_explicit(&me->done, e, memory_order_release);
+  }
+  if (t == 0) {
+    f->taken = i;
+    f->decided = i < B->steps;
+  }
+}
+
+int esf_step_fast_run(esf_sim *s, esf_step_fast *f, long nmax, long *taken,
+                      esf_error *err) {
   esf_particles *p = &s->p;
   int rc;
+  *taken = 0;
   const int nth = s->cfg.threads > 0 ? s->cfg.threads : 1;
   if (f->built != s->nb.builds || f->np != p->n || f->nth != nth || f->recut) {
     esf_sim_forces_sync(s); /* acc may move */
@@ -645,74 +796,77 @@ int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error 
                       s->nb.xref,
                       s->nb.dom_lo,
                       s->nb.dom_hi};
-  size_t nt_pp = 0, nt_pw = 0;
-  size_t bad_pair = SIZE_MAX, bad_part = SIZE_MAX;
-  double max2 = 0.0;
-  int nonfinite = 0, escaped = 0;
-  const long epoch = ++f->epoch;
-  atomic_store_explicit(&f->bfail, 0, memory_order_relaxed);
+  /* more than one step only when the lists' check between steps needs nothing but
+     the displacements (esf_neighbor_check) and nothing else happens between them */
+  const int many = s->nb.xref && s->nb.nref == p->n && !s->walls.moving && !s->events;
+  const burst B = {&bc, &K, f->epoch + 1, many && nmax > 1 ? nmax : 1,
+                   esf_neighbor_limit2(&s->nb)};
+  f->nt_sum = 0;
+  f->taken = 0;
+  f->decided = 0;
 
 #ifdef _OPENMP
   const double t_start = omp_get_wtime(), gap = t_start - f->t_left;
   if (f->t_left > 0 && nth > 1 && gap < 0.5 * f->t_step) /* not a frame write */
     f->busy[0] += gap;
 #endif
-#pragma omp parallel num_threads(nth) reduction(+ : nt_pp, nt_pw) \
-    reduction(min : bad_pair, bad_part) reduction(max : max2)                        \
-    reduction(| : nonfinite, escaped)
+#pragma omp parallel num_threads(nth)
   {
 #ifdef _OPENMP
     const size_t me = (size_t)omp_get_thread_num(), got = (size_t)omp_get_num_threads();
 #else
     const size_t me = 0, got = 1;
 #endif
-    for (size_t t = me; t < T; t += got) { /* ascending: wait_lower */
-      const size_t lo = f->rlo[t], hi = f->rlo[t + 1];
-#ifdef _OPENMP
-      const double t0 = omp_get_wtime();
-#endif
-      size_t bad = boundary_pairs(s, f, &bc, f->bout[t], f->bout[t + 1], &nt_pp);
-      if (bad != SIZE_MAX) atomic_store_explicit(&f->bfail, 1, memory_order_relaxed);
-      atomic_store_explicit(f->ready + t, epoch, memory_order_release);
-      if (bad < bad_pair) bad_pair = bad;
-      bad = pairs_range(s, f, &bc, t, lo, hi, &nt_pp); /* has seen the lower flags */
-      if (bad < bad_pair) bad_pair = bad;
-      if (bad_pair == SIZE_MAX && !atomic_load_explicit(&f->bfail, memory_order_relaxed))
-        kick_range(s, f, &K, lo, hi, &nt_pw, &bad_part, &max2, &nonfinite, &escaped);
-#ifdef _OPENMP
-      f->busy[t] += omp_get_wtime() - t0; /* range t is this thread's alone */
-#endif
+    if (got == T) {
+      run_range(s, f, &B, me);
+    } else { /* fewer threads than ranges: one step, the ranges in ascending order */
+      burst B1 = B;
+      B1.steps = 1;
+      for (size_t t = me; t < T; t += got) run_range(s, f, &B1, t);
     }
   }
+  const long n = f->taken;
+  f->epoch += n;
+  /* the last step's results (a failure stops the burst with the failing step) */
+  range_rec r = {.bad_pair = SIZE_MAX, .bad_part = SIZE_MAX};
+  int fail = 0;
+  for (size_t u = 0; u < T; u++) fail |= gather(&r, f->rr + u);
+  if (!f->decided) {
+    if (!fail) f->nt_sum += r.nt_pp;
+    balance_check(f, T);
+  }
+  const long ok = fail ? n - 1 : n; /* steps completed without failure */
+  s->step += ok;
+  s->t = (double)s->step * s->dt;
+  s->rhs_evals += ok;
+  s->contacts_sum += (double)f->nt_sum;
+  *taken = ok;
   /* the accumulators hold F_n, M_n; on failure they are partly overwritten, and p.f,
    * p.t keep what the last sync left */
-  s->ft_lazy = bad_pair == SIZE_MAX && bad_part == SIZE_MAX ? f->acc : NULL;
-  if (bad_pair != SIZE_MAX) {
+  s->ft_lazy = fail ? NULL : f->acc;
+  if (r.bad_pair != SIZE_MAX) {
     const esf_contacts *c = &s->nb.pp;
-    uint32_t a = c->a[bad_pair], b = c->b[bad_pair];
+    uint32_t a = c->a[r.bad_pair], b = c->b[r.bad_pair];
     double d[3];
     v3_sub(d, p->x + 3 * (size_t)b, p->x + 3 * (size_t)a);
     double un = p->radius[a] + p->radius[b] - v3_norm(d);
     return esf_forces_overlap_failure(s, (long long)p->id[a], (long long)p->id[b], 0, un,
                                       fmin(p->radius[a], p->radius[b]), err);
   }
-  if (bad_part != SIZE_MAX) { /* the same evaluation again, serially, for the message */
+  if (r.bad_part != SIZE_MAX) { /* the same evaluation again, serially, for the message */
     size_t nt = 0;
     double fi[3] = {0, 0, 0}, ti[3] = {0, 0, 0};
-    rc = esf_forces_wall_particle(s, f->wstart[bad_part], f->wstart[bad_part + 1], p->x,
-                                  p->v, p->w, dt, ESF_FORCES_TRIAL, NULL, NULL, &nt, fi,
-                                  ti, err);
+    const size_t i = r.bad_part;
+    rc = esf_forces_wall_particle(s, f->wstart[i], f->wstart[i + 1], p->x, p->v, p->w, dt,
+                                  ESF_FORCES_TRIAL, NULL, NULL, &nt, fi, ti, err);
     return rc ? rc : esf_fail(err, ESF_EINTERNAL, "wall contact failure not reproduced");
   }
-  s->nb.max_disp2 = max2;
-  s->nb.escaped = escaped;
-  s->nb.disp_valid = K.xref && !nonfinite;
-  s->rhs_evals++;
-  balance_check(f, T);
+  s->nb.max_disp2 = r.max2;
+  s->nb.escaped = r.escaped;
+  s->nb.disp_valid = K.xref && !r.nonfinite;
 #ifdef _OPENMP
   f->t_left = omp_get_wtime();
-  f->t_step = f->t_left - t_start;
+  f->t_step = (f->t_left - t_start) / (double)(n > 0 ? n : 1);
 #endif
-  *touching = nt_pp + nt_pw;
   return ESF_OK;
 }

@@ -30,13 +30,19 @@ void esf_step_fast_free(esf_step_fast **f);
  * ledger or adaptive damping may be switched by the driver). */
 int esf_step_fast_eligible(const esf_sim *s);
 
-/* One leapfrog step from x_n, v_{n-1/2}, w_{n-1/2} (candidate lists valid): forces at
- * x_n committing the history, kick with global and local damping, drift. On exit x,
- * v, w advanced, F_n and M_n left in the step's accumulators with s->ft_lazy pointing
- * at them (esf_sim_forces_sync copies them to p.f and p.t; not copied every step, as
- * only frames and checkpoints read them), *touching the contacts carrying force,
- * and nb.max_disp2 the largest squared displacement since the last build. s->step
- * and s->t are left to the caller. */
-int esf_step_fast_run(esf_sim *s, esf_step_fast *f, size_t *touching, esf_error *err);
+/* Up to nmax leapfrog steps from x_n, v_{n-1/2}, w_{n-1/2} (candidate lists valid),
+ * each: forces at x_n committing the history, kick with global and local damping,
+ * drift. Between two steps of one call the ranges check what the driver would (the
+ * lists' displacement limit, particles leaving the domain, non-finite positions, the
+ * balance of the ranges) and stop early when a rebuild or re-cut is due; more than one
+ * step is taken only with static walls and no scene events, whose checks between steps
+ * need more. On exit *taken steps were completed: s->step, s->t, s->contacts_sum and
+ * s->rhs_evals advanced by them; x, v, w advanced, F_n and M_n of the last left in the
+ * step's accumulators with s->ft_lazy pointing at them (esf_sim_forces_sync copies them
+ * to p.f and p.t; not copied every step, as only frames and checkpoints read them), and
+ * nb.max_disp2 the largest squared displacement since the last build. A failure
+ * (overlap past the limit) is reported for the step it happened in, s->step naming it. */
+int esf_step_fast_run(esf_sim *s, esf_step_fast *f, long nmax, long *taken,
+                      esf_error *err);
 
 #endif

@@ -17,7 +17,7 @@
 
 #include "simtest.h"
 
-static const char *const scene =
+static const char *const scene_fmt = /* %s: the floor's motion, or nothing */
     "name: threads\n"
     "materials:\n"
     "  glass: {density: 2500, kn: 2.0e4, restitution: 0.4, tangential_restitution: 0.6,"
@@ -34,14 +34,15 @@ static const char *const scene =
     "walls:\n"
     "  - {box: {min: [0, 0, 0], max: [0.04, 0.04, 0.06]}, open: [top], material: steel}\n"
     "  - {polygon: [[0, 0, 0.001], [0.04, 0, 0.001], [0.04, 0.04, 0.001],"
-    " [0, 0.04, 0.001]], material: glass,\n"
-    "     motion: {oscillate: {direction: [0, 0, 1], frequency: 50, amplitude: "
-    "0.0005}}}\n"
+    " [0, 0.04, 0.001]], material: glass%s}\n"
     "damping: {global: {translation: 2.0, rotation: 1.0},"
     " local: {coefficient: 0.05, form: component}}\n"
     "integrator: {method: leapfrog, dt: auto, frac: 0.3}\n"
     "run: {steps: 1500}\n"
     "output: {energy_every: 0}\n";
+
+static const char *const oscillate =
+    ",\n     motion: {oscillate: {direction: [0, 0, 1], frequency: 50, amplitude: 0.0005}}";
 
 typedef struct snapshot {
   size_t n, m;
@@ -49,18 +50,27 @@ typedef struct snapshot {
   esf_contact_hist *h;
   long builds;
   double contacts_mean; /* touching contacts per step, averaged over the run */
+  long calls;           /* calls of the scheme's step */
 } snapshot;
 
-static int run(int threads, int fused, const char *tframe, snapshot *out) {
-  char s_fu[64], s_tf[64];
+/* 1500 steps with the floor oscillating or still, `burst` steps at most per call of
+ * the scheme (s->burst, as the driver sets it: more than one only with static walls). */
+static int run(int threads, int fused, const char *tframe, int moving, long burst,
+               snapshot *out) {
+  char s_fu[64], s_tf[64], scene[2048];
   snprintf(s_fu, sizeof s_fu, "integrator.fused=%s", fused ? "true" : "false");
   snprintf(s_tf, sizeof s_tf, "contact.tangential_frame=%s", tframe);
+  snprintf(scene, sizeof scene, scene_fmt, moving ? oscillate : "");
   const char *sets[] = {s_fu, s_tf};
   simtest T;
   int rc = simtest_open(&T, scene, sets, 2);
   if (rc) return rc;
   T.s.cfg.threads = threads;
-  for (int k = 0; k < 1500 && !rc; k++) rc = simtest_step(&T);
+  long calls = 0;
+  for (; T.s.step < 1500 && !rc; calls++) {
+    T.s.burst = 1500 - T.s.step < burst ? 1500 - T.s.step : burst;
+    rc = simtest_step(&T);
+  }
   if (!rc) {
     out->n = T.s.p.n;
     out->m = T.s.nb.pp.n;
@@ -70,9 +80,24 @@ static int run(int threads, int fused, const char *tframe, snapshot *out) {
     memcpy(out->h, T.s.nb.pp.h, out->m * sizeof *out->h);
     out->builds = T.s.nb.builds;
     out->contacts_mean = T.s.contacts_sum / (double)T.s.step;
+    out->calls = calls;
   }
   simtest_close(&T);
   return rc;
+}
+
+/* Same state, bit for bit (sizes, positions, velocities, spins, histories, contact
+ * count, list builds). */
+static void check_same(const snapshot *a, const snapshot *ref, const char *what) {
+  CHECK(a->n == ref->n && a->m == ref->m, "%s: same sizes", what);
+  if (a->n != ref->n || a->m != ref->m) return;
+  CHECK(memcmp(a->y, ref->y, 9 * ref->n * sizeof(double)) == 0, "%s: state differs",
+        what);
+  CHECK(memcmp(a->h, ref->h, ref->m * sizeof *ref->h) == 0,
+        "%s: contact history differs", what);
+  CHECK(a->contacts_mean == ref->contacts_mean && a->builds == ref->builds,
+        "%s: %.6f contacts per step, %ld builds (reference %.6f, %ld)", what,
+        a->contacts_mean, a->builds, ref->contacts_mean, ref->builds);
 }
 
 /* Two clouds of spheres meeting head on, no walls in reach: the first overlaps beyond
@@ -104,9 +129,10 @@ static const char *const clash =
     "run: {steps: 1500}\n"
     "output: {energy_every: 0}\n";
 
-/* The run with overlaps limited to `limit` of the smaller radius: the step that
- * failed (-1: none) and the message. */
-static long run_fail(int threads, int fused, const char *limit, char *msg, size_t cap) {
+/* The run with overlaps limited to `limit` of the smaller radius, `burst` steps at
+ * most per call: the step that failed (-1: none) and the message. */
+static long run_fail(int threads, int fused, const char *limit, long burst, char *msg,
+                     size_t cap) {
   char s_fu[64], s_lim[64];
   snprintf(s_fu, sizeof s_fu, "integrator.fused=%s", fused ? "true" : "false");
   snprintf(s_lim, sizeof s_lim, "contact.max_overlap=%s", limit);
@@ -116,7 +142,10 @@ static long run_fail(int threads, int fused, const char *limit, char *msg, size_
   if (simtest_open(&T, clash, sets, 2)) return -1;
   T.s.cfg.threads = threads;
   int rc = 0;
-  for (int k = 0; k < 1500 && !rc; k++) rc = simtest_step(&T);
+  while (T.s.step < 1500 && !rc) {
+    T.s.burst = burst;
+    rc = simtest_step(&T);
+  }
   const long step = rc ? T.s.step : -1;
   if (rc) snprintf(msg, cap, "%s", T.err.msg);
   simtest_close(&T);
@@ -124,24 +153,27 @@ static long run_fail(int threads, int fused, const char *limit, char *msg, size_
 }
 
 /* A pair overlapping beyond the limit stops the run at the same step with the same
- * message (the lowest failing pair, its overlap at x_n) on 1, 2 and 3 threads and on
- * the general path, for several limits (the first failure falls on other pairs). */
+ * message (the lowest failing pair, its overlap at x_n) on 1, 2 and 3 threads, one
+ * step or up to 32 per call, and on the general path, for several limits (the first
+ * failure falls on other pairs). */
 static void check_failure(void) {
   const char *limits[] = {"0.01", "0.03", "0.05"};
   for (int q = 0; q < 3; q++) {
-    char m1[2048], m2[2048], m3[2048], mg[2048];
-    const long s1 = run_fail(1, 1, limits[q], m1, sizeof m1),
-               s2 = run_fail(2, 1, limits[q], m2, sizeof m2),
-               s3 = run_fail(3, 1, limits[q], m3, sizeof m3),
-               sg = run_fail(1, 0, limits[q], mg, sizeof mg);
+    char m1[2048], mx[2048];
+    const long s1 = run_fail(1, 1, limits[q], 1, m1, sizeof m1);
     printf("limit %s: step %ld: %s\n", limits[q], s1, m1);
     CHECK(s1 > 0, "limit %s: the run fails (step %ld)", limits[q], s1);
-    CHECK(s2 == s1 && strcmp(m2, m1) == 0, "limit %s, 2 threads: step %ld '%s'",
-          limits[q], s2, m2);
-    CHECK(s3 == s1 && strcmp(m3, m1) == 0, "limit %s, 3 threads: step %ld '%s'",
-          limits[q], s3, m3);
-    CHECK(sg == s1 && strcmp(mg, m1) == 0, "limit %s, general path: step %ld '%s'",
-          limits[q], sg, mg);
+    const struct {
+      int threads, fused;
+      long burst;
+    } v[] = {{2, 1, 1}, {3, 1, 1}, {1, 1, 32}, {2, 1, 32}, {3, 1, 32}, {1, 0, 1}};
+    for (size_t j = 0; j < sizeof v / sizeof v[0]; j++) {
+      const long sx = run_fail(v[j].threads, v[j].fused, limits[q], v[j].burst, mx,
+                               sizeof mx);
+      CHECK(sx == s1 && strcmp(mx, m1) == 0,
+            "limit %s, %d threads, %s, %ld steps per call: step %ld '%s'", limits[q],
+            v[j].threads, v[j].fused ? "fused" : "general path", v[j].burst, sx, mx);
+    }
   }
 }
 
@@ -154,26 +186,18 @@ int main(void) {
   const char *frames[] = {"rotate", "project"};
   for (int f = 0; f < 2; f++) {
     snapshot one, two, three, gen;
-    CHECK(run(1, 1, frames[f], &one) == 0, "fused, 1 thread (%s)", frames[f]);
-    CHECK(run(2, 1, frames[f], &two) == 0, "fused, 2 threads (%s)", frames[f]);
-    CHECK(run(3, 1, frames[f], &three) == 0, "fused, 3 threads (%s)", frames[f]);
-    CHECK(run(1, 0, frames[f], &gen) == 0, "general path (%s)", frames[f]);
+    CHECK(run(1, 1, frames[f], 1, 1, &one) == 0, "fused, 1 thread (%s)", frames[f]);
+    CHECK(run(2, 1, frames[f], 1, 1, &two) == 0, "fused, 2 threads (%s)", frames[f]);
+    CHECK(run(3, 1, frames[f], 1, 1, &three) == 0, "fused, 3 threads (%s)", frames[f]);
+    CHECK(run(1, 0, frames[f], 1, 1, &gen) == 0, "general path (%s)", frames[f]);
     if (check_failures_) return check_finish("threads");
     printf("%s: %zu particles, %zu candidates, %.1f contacts per step, %ld list builds\n",
            frames[f], one.n, one.m, one.contacts_mean, one.builds);
     CHECK(one.contacts_mean > 0.05 * (double)one.n, "collisions all along (%.1f)",
           one.contacts_mean);
     CHECK(one.builds > 1, "lists rebuilt during the run (%ld)", one.builds);
-    const snapshot *other[] = {&two, &three};
-    for (int k = 0; k < 2; k++) {
-      CHECK(other[k]->n == one.n && other[k]->m == one.m, "same sizes (%d threads)",
-            k + 2);
-      if (other[k]->n != one.n || other[k]->m != one.m) continue;
-      CHECK(memcmp(other[k]->y, one.y, 9 * one.n * sizeof(double)) == 0,
-            "%d threads: state differs from 1 thread", k + 2);
-      CHECK(memcmp(other[k]->h, one.h, one.m * sizeof *one.h) == 0,
-            "%d threads: contact history differs from 1 thread", k + 2);
-    }
+    check_same(&two, &one, "2 threads");
+    check_same(&three, &one, "3 threads");
     /* fused against the general path */
     CHECK(gen.n == one.n, "general path: same particle count");
     double dx = 0, dv = 0, vmax = 0, rmean = 0.0016;
@@ -191,6 +215,23 @@ int main(void) {
     release(&two);
     release(&three);
     release(&gen);
+    /* the floor still: up to 32 steps per call (rebuilds and re-cuts inside the
+       bursts), against one step per call on one thread */
+    snapshot ref, b;
+    CHECK(run(1, 1, frames[f], 0, 1, &ref) == 0, "still floor, 1 thread (%s)", frames[f]);
+    if (check_failures_) return check_finish("threads");
+    CHECK(ref.builds > 1, "still floor: lists rebuilt during the run (%ld)", ref.builds);
+    for (int t = 1; t <= 3; t++) {
+      char what[64];
+      snprintf(what, sizeof what, "still floor, %d threads, 32 steps per call", t);
+      CHECK(run(t, 1, frames[f], 0, 32, &b) == 0, "%s (%s)", what, frames[f]);
+      if (check_failures_) break;
+      printf("%s: %ld calls for 1500 steps, %ld list builds\n", what, b.calls, b.builds);
+      CHECK(b.calls <= 1500 / 32 + 2 * b.builds + 1, "%s: %ld calls", what, b.calls);
+      check_same(&b, &ref, what);
+      release(&b);
+    }
+    release(&ref);
   }
   check_failure();
   return check_finish("threads");
