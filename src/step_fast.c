@@ -82,9 +82,10 @@
 #include "vec3.h"
 #include "wall_fast.h"
 
-#define ACC  ESF_FT_STRIDE /* the accumulators' stride: four-wide force and torque */
-#define SLOT ESF_BATCH_OUT /* force on A, torque on A, torque on B (4 each) */
-#define PF   32            /* history prefetch distance, pairs */
+#define ACC          ESF_FT_STRIDE /* the accumulators' stride: four-wide force and torque */
+#define SLOT         ESF_BATCH_OUT /* force on A, torque on A, torque on B (4 each) */
+#define PF           32            /* history prefetch distance, pairs */
+#define SCREEN_CHUNK 256 /* particles range 0 screens between looks at the others */
 
 /* One range's flags and the results of its latest step, a cache line of its own:
  * written by its thread, read by the others once the flag they wait for is up. */
@@ -93,7 +94,7 @@ typedef struct range_rec {
   _Atomic long done;                     /* the whole step done, results below written */
   size_t nt_pp, nt_pw;                   /* touching pairs (a in range), wall contacts */
   size_t bad_pair, bad_part;             /* lowest failing pair, particle, or SIZE_MAX */
-  double max2;                           /* largest squared displacement since the build */
+  double max2; /* largest squared displacement since the build */
   int nonfinite, escaped;
 } range_rec;
 
@@ -121,15 +122,15 @@ struct esf_step_fast {
    * work of each range, and, when a re-cut is due, seconds per unit of work */
   double *busy, *work, *rate;
   long busy_steps;
-  range_rec *rr;  /* nth, line-aligned */
-  long epoch;     /* steps run by esf_step_fast_run */
-  double t_left;  /* when the last call's threads finished (omp_get_wtime), or 0 */
-  double t_step;  /* how long its parallel part took per step, s */
+  range_rec *rr; /* nth, line-aligned */
+  long epoch;    /* steps run by esf_step_fast_run */
+  double t_left; /* when the last call's threads finished (omp_get_wtime), or 0 */
+  double t_step; /* how long its parallel part took per step, s */
   int recut;
   /* a burst's outcome, written by range 0 (burst_decide) */
-  long taken;     /* steps completed */
-  int decided;    /* the last one's results were gathered (the burst stopped early) */
-  size_t nt_sum;  /* touching contacts summed over the gathered steps */
+  long taken;    /* steps completed */
+  int decided;   /* the last one's results were gathered (the burst stopped early) */
+  size_t nt_sum; /* touching contacts summed over the gathered steps */
   /* range 0's word to the others, a line apart from the fields above: go = 2 e to take
    * step e, 2 e + 1 to stop before it; bfail = e: a boundary pair failed in step e */
   _Alignas(ESF_LINE) _Atomic long go;
@@ -389,40 +390,53 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   return ESF_OK;
 }
 
-/* Step 2's screening of the pairs of particles [lo, hi): the interior pairs (b < hi)
- * whose spheres overlap go to list[0 .. return value) in ascending k, and the interior
- * contacts that ended (touching, no longer overlapping) to top[-1], top[-2], ...
- * (*ne of them; top is the block's end: no pair goes to both, so the two never meet).
- * The flags are not touched here: a range screens ahead of the word to take the step
- * (run_range), and a step not taken must leave them as they were. Branch-free within
- * the interior but for the rare ended contact, so the contact pass runs without the
- * distance test. A particle's boundary pairs (left to step 1) end its block, as its b
- * ascend: the scan stops at the first, and never reads a particle that another range
- * is moving. */
-static size_t screen_block(esf_sim *s, const esf_step_fast *f, size_t lo, size_t hi,
-                           uint32_t *list, uint32_t *top, size_t *ne) {
+/* Step 2's screening of the pairs of particles [lo, hi) of a range ending at end: the
+ * interior pairs (b < end) whose spheres overlap go to list[0 .. return value) in
+ * ascending k; the interior contacts that ended (touching, no longer overlapping) lose
+ * their flag, or, with `ahead` (a constant in each instantiation: a range screening
+ * before the word to take the step, run_range, when a step not taken must leave the
+ * flags as they were), go to top[-1], top[-2], ... instead (*ne of them; top is the
+ * block's end: no pair goes to both lists, so the two never meet). Branch-free within
+ * the interior, but for the rare ended contact ahead, so the contact pass runs without
+ * the distance test. A particle's boundary pairs (left to step 1) end its block, as
+ * its b ascend: the scan stops at the first, and never reads a particle that another
+ * range is moving. */
+static inline size_t screen_impl(esf_sim *s, const esf_step_fast *f, size_t lo, size_t hi,
+                                 size_t end, uint32_t *list, uint32_t *top, size_t *ne,
+                                 const int ahead) {
   const esf_particles *p = &s->p;
   const esf_contacts *c = &s->nb.pp;
   const double *x = p->x, *r = p->radius;
   const uint32_t *cb = c->b;
-  const uint8_t *touch = c->touch;
+  uint8_t *touch = c->touch; /* a byte store may alias anything: bounds kept in locals */
   const size_t *astart = f->astart;
   size_t cnt = 0, nend = 0;
   for (size_t a = lo; a < hi; a++) {
     const double xa = x[3 * a], ya = x[3 * a + 1], za = x[3 * a + 2], ra = r[a];
     for (size_t k = astart[a], k1 = astart[a + 1]; k < k1; k++) {
       const size_t b = cb[k];
-      if (b >= hi) break;
+      if (b >= end) break;
       const double dx = x[3 * b] - xa, dy = x[3 * b + 1] - ya, dz = x[3 * b + 2] - za,
                    R = ra + r[b];
       const int in = dx * dx + dy * dy + dz * dz < R * R;
       list[cnt] = (uint32_t)k; /* below every ended one: cnt + nend <= pairs seen */
       cnt += (size_t)in;
-      if (touch[k] > in) top[-(ptrdiff_t)++nend] = (uint32_t)k;
+      if (ahead) {
+        if (touch[k] > in) top[-(ptrdiff_t)++nend] = (uint32_t)k;
+      } else {
+        touch[k] &= (uint8_t)in;
+      }
     }
   }
   *ne = nend;
   return cnt;
+}
+
+static size_t screen_block(esf_sim *s, const esf_step_fast *f, size_t lo, size_t hi,
+                           size_t end, uint32_t *list, uint32_t *top, size_t *ne,
+                           int ahead) {
+  return ahead ? screen_impl(s, f, lo, hi, end, list, top, ne, 1)
+               : screen_impl(s, f, lo, hi, end, list, top, ne, 0);
 }
 
 /* Step 1 for the boundary pairs bk[j0 .. j1): each one's slot, zero when not touching,
@@ -566,6 +580,19 @@ static inline size_t acc_set(const esf_particles *p, const double *g, double *ac
   return from > to ? from : to;
 }
 
+/* A spinning thread's hint to the core (x86 pause: fewer wasted issue slots, and no
+ * memory-order flush when the flag changes). */
+static inline void cpu_relax(void) {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+
+/* Spins before a waiting thread yields its core: a wait between two steps is a few
+ * microseconds, and a yield is a system call of about one (measured: yielding after 64
+ * spins put 4% of a two-thread run's samples in the kernel's scheduler). */
+#define SPIN 4096
+
 /* Spins until *flag reaches epoch e (flags only grow); returns the seconds waited, 0
  * when the flag was already up. */
 static double wait_flag(_Atomic long *flag, long e) {
@@ -574,7 +601,10 @@ static double wait_flag(_Atomic long *flag, long e) {
   const double t0 = omp_get_wtime();
 #endif
   for (unsigned spin = 0; atomic_load_explicit(flag, memory_order_acquire) < e; spin++)
-    if (spin >= 64) sched_yield(); /* more threads than cores */
+    if (spin < SPIN)
+      cpu_relax();
+    else
+      sched_yield(); /* more threads than cores */
 #ifdef _OPENMP
   return omp_get_wtime() - t0;
 #else
@@ -659,6 +689,13 @@ typedef struct burst {
   double lim2; /* the lists need a rebuild past this squared displacement, m^2 */
 } burst;
 
+/* 1 when the ranges above 0 have all finished step e. */
+static int all_done(esf_step_fast *f, long e) {
+  for (int u = 1; u < f->nth; u++)
+    if (atomic_load_explicit(&f->rr[u].done, memory_order_acquire) < e) return 0;
+  return 1;
+}
+
 /* Sums range results: *r gathers u's. Returns 1 when u's step failed. */
 static int gather(range_rec *r, const range_rec *u) {
   r->nt_pp += u->nt_pp + u->nt_pw;
@@ -708,8 +745,18 @@ static void run_range(esf_sim *s, esf_step_fast *f, const burst *B, size_t t) {
 #endif
     double waited = 0.0;
     size_t cnt = 0, ne = 0, nt_pp = 0, nt_pw = 0;
-    if (t > 0) cnt = screen_block(s, f, lo, hi, list, top, &ne);
-    if (i > 0 && t == 0 && burst_decide(f, B, e, &waited)) break;
+    size_t a = lo; /* particles screened: [lo, a) */
+    if (t > 0) a = hi, cnt = screen_block(s, f, lo, hi, hi, list, top, &ne, 1);
+    if (i > 0 && t == 0) { /* screens while the others finish the step before */
+      while (a < hi && !all_done(f, e - 1)) {
+        const size_t a1 = hi - a > SCREEN_CHUNK ? a + SCREEN_CHUNK : hi;
+        size_t q;
+        cnt += screen_block(s, f, a, a1, hi, list + cnt, top - ne, &q, 1);
+        ne += q;
+        a = a1;
+      }
+      if (burst_decide(f, B, e, &waited)) break;
+    }
     if (i > 0 && t > 0) {
       waited += wait_flag(&f->go, 2 * e);
       if (atomic_load_explicit(&f->go, memory_order_relaxed) & 1) break;
@@ -718,7 +765,11 @@ static void run_range(esf_sim *s, esf_step_fast *f, const burst *B, size_t t) {
     size_t bad_pair = boundary_pairs(s, f, B->bc, f->bout[t], f->bout[t + 1], &nt_pp);
     if (bad_pair != SIZE_MAX) atomic_store_explicit(&f->bfail, e, memory_order_relaxed);
     atomic_store_explicit(&me->ready, e, memory_order_release);
-    if (t == 0) cnt = screen_block(s, f, lo, hi, list, top, &ne);
+    if (a < hi) { /* range 0: the rest */
+      size_t q;
+      cnt += screen_block(s, f, a, hi, hi, list + cnt, top - ne, &q, 0);
+      ne += q;
+    }
     for (size_t u = 0; u < t; u++) /* their slots written, our particles no longer read */
       waited += wait_flag(&f->rr[u].ready, e);
     for (size_t q = 1; q <= ne; q++) touch[top[-(ptrdiff_t)q]] = 0; /* ended contacts */
@@ -728,7 +779,8 @@ static void run_range(esf_sim *s, esf_step_fast *f, const burst *B, size_t t) {
     size_t bad_part = SIZE_MAX;
     double max2 = 0.0;
     int nonfinite = 0, escaped = 0;
-    if (bad_pair == SIZE_MAX && atomic_load_explicit(&f->bfail, memory_order_relaxed) != e)
+    if (bad_pair == SIZE_MAX &&
+        atomic_load_explicit(&f->bfail, memory_order_relaxed) != e)
       kick_range(s, f, B->K, lo, hi, &nt_pw, &bad_part, &max2, &nonfinite, &escaped);
     me->nt_pp = nt_pp;
     me->nt_pw = nt_pw;

@@ -41,8 +41,8 @@ static const char *const scene_fmt = /* %s: the floor's motion, or nothing */
     "run: {steps: 1500}\n"
     "output: {energy_every: 0}\n";
 
-static const char *const oscillate =
-    ",\n     motion: {oscillate: {direction: [0, 0, 1], frequency: 50, amplitude: 0.0005}}";
+static const char *const oscillate = ",\n     motion: {oscillate: {direction: [0, 0, 1], "
+                                     "frequency: 50, amplitude: 0.0005}}";
 
 typedef struct snapshot {
   size_t n, m;
@@ -93,8 +93,8 @@ static void check_same(const snapshot *a, const snapshot *ref, const char *what)
   if (a->n != ref->n || a->m != ref->m) return;
   CHECK(memcmp(a->y, ref->y, 9 * ref->n * sizeof(double)) == 0, "%s: state differs",
         what);
-  CHECK(memcmp(a->h, ref->h, ref->m * sizeof *ref->h) == 0,
-        "%s: contact history differs", what);
+  CHECK(memcmp(a->h, ref->h, ref->m * sizeof *ref->h) == 0, "%s: contact history differs",
+        what);
   CHECK(a->contacts_mean == ref->contacts_mean && a->builds == ref->builds,
         "%s: %.6f contacts per step, %ld builds (reference %.6f, %ld)", what,
         a->contacts_mean, a->builds, ref->contacts_mean, ref->builds);
@@ -168,8 +168,8 @@ static void check_failure(void) {
       long burst;
     } v[] = {{2, 1, 1}, {3, 1, 1}, {1, 1, 32}, {2, 1, 32}, {3, 1, 32}, {1, 0, 1}};
     for (size_t j = 0; j < sizeof v / sizeof v[0]; j++) {
-      const long sx = run_fail(v[j].threads, v[j].fused, limits[q], v[j].burst, mx,
-                               sizeof mx);
+      const long sx =
+          run_fail(v[j].threads, v[j].fused, limits[q], v[j].burst, mx, sizeof mx);
       CHECK(sx == s1 && strcmp(mx, m1) == 0,
             "limit %s, %d threads, %s, %ld steps per call: step %ld '%s'", limits[q],
             v[j].threads, v[j].fused ? "fused" : "general path", v[j].burst, sx, mx);
