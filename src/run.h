@@ -15,7 +15,8 @@ typedef struct esf_run_opts {
   /* checkpoints (checkpoint.h): every cfg.ckpt_every seconds and on *stop */
   const esf_ckpt_scene *scene; /* the scene they store; NULL: no checkpoints */
   const esf_ckpt *resume;      /* continue from it (the sim set up from its scene) */
-  volatile sig_atomic_t *stop; /* set (by a signal handler): finish the step, write a
+  volatile sig_atomic_t *stop; /* set (by a signal handler): finish the step (the fused
+                                  leapfrog's steps in hand, 32 at most), write a
                                   checkpoint and return with stats.interrupted */
 } esf_run_opts;
 
