@@ -50,10 +50,10 @@ static inline double max3abs(const double *a) {
   return m > z ? m : z;
 }
 
-/* Candidate e for centre x (max-norm xm), radius r: the overlap r - dist of
+/* Candidate e for centre x, radius r: the overlap r - dist of
  * esf_wall_nearest, and *hit when it is > 0. Returns 0 for a polygon out of reach. */
-static inline double wall_overlap(const esf_wall_elem *e, const double *x, double xm,
-                                  double r, esf_wall_hit *hit) {
+static inline double wall_overlap(const esf_wall_elem *e, const double *x, double r,
+                                  esf_wall_hit *hit) {
   const double h0 = esf_wall_height(e, x); /* signed height of x over the plane */
   if (e->kind == ESF_WALL_PLANE) {
     const double un = r - h0;
@@ -66,8 +66,11 @@ static inline double wall_overlap(const esf_wall_elem *e, const double *x, doubl
     }
     return un;
   }
-  const double slack = 4e-9 * e->bound_r + 1e-12 * (xm + max3abs(e->p) + e->bound_r + r);
-  if (!(fabs(h0) < r + slack)) return 0.0; /* out of reach (prologue) */
+  if (!(fabs(h0) < r)) { /* else within reach whatever the slack (>= 0) */
+    const double slack =
+        4e-9 * e->bound_r + 1e-12 * (max3abs(x) + max3abs(e->p) + e->bound_r + r);
+    if (!(fabs(h0) < r + slack)) return 0.0; /* out of reach (prologue) */
+  }
   double foot[3];
   if (esf_wall_polygon_foot(e, x, h0, foot)) { /* as esf_wall_nearest */
     const double dist = fabs(h0), un = r - dist;
@@ -104,7 +107,8 @@ static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
   in.dt = dt;
   in.vinc = NULL;
   const esf_materials *mt = &s->mats;
-  const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
+  const esf_pair_params *pp = /* one material: no load of the particle's */
+      mt->n == 1 ? mt->pair : &mt->pair[p->material[a] * mt->n + el->material];
   esf_contact_out out;
   esf_contact_linear_eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], !c->touch[k],
                           &c->h[k], &out);
@@ -123,7 +127,7 @@ int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *
   esf_contacts *c = &s->nb.pw;
   const esf_wall_elem *E = s->walls.e;
   const size_t m = k1 - k0, a = c->a[k0];
-  const double *x = p->x + 3 * a, r = p->radius[a], xm = max3abs(x);
+  const double *x = p->x + 3 * a, r = p->radius[a];
   esf_wall_hit hb[FAST_MAX];
   double ub[FAST_MAX];
   unsigned char kb[FAST_MAX];
@@ -137,7 +141,7 @@ int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *
   }
   size_t touching = 0, last = 0;
   for (size_t j = 0; j < m; j++) {
-    un[j] = wall_overlap(&E[c->b[k0 + j]], x, xm, r, &hits[j]);
+    un[j] = wall_overlap(&E[c->b[k0 + j]], x, r, &hits[j]);
     if (un[j] > 0) touching++, last = j;
   }
   if (touching == 0) {
