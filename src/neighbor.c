@@ -255,11 +255,12 @@ static int wall_candidates_range(const esf_neighbor *nb, const esf_particles *p,
     for (size_t c = 0; c < ncand; c++) {
       const size_t e = cand[c];
       const esf_wall_elem *el = &w->e[e];
-      if (el->kind == ESF_WALL_POLYGON) { /* cheap bounding-sphere reject */
+      if (el->kind == ESF_WALL_POLYGON) { /* cheap rejects: bounding sphere, plane */
         double d[3];
         v3_sub(d, x, el->p);
         double lim = el->bound_r + reach;
         if (v3_norm2(d) > lim * lim) continue;
+        if (esf_wall_out_of_reach(el, x, esf_wall_height(el, x), reach)) continue;
       }
       esf_wall_hit hit;
       esf_wall_nearest(el, x, &hit);

@@ -18,12 +18,9 @@
  *      it for a group with zero vel and omega, and the spin (wA.n + 0.n)/2;
  *      f += force, t += lA n x ft.
  * Shortcut (the only arithmetic forces.c does not do): a polygon whose plane is
- * farther than r + slack from the centre is not touched and costs one dot product.
- * Every point of a polygon lies within 2e-9 bound_r of its plane (wall_geom.c accepts
- * quadrilaterals planar within 1e-9 of their size, at most 2 bound_r), and the rounding
- * of the computed height and boundary distance is a few units of 1e-16 of the
- * coordinates' magnitude, so with slack = 4e-9 bound_r + 1e-12 (|x| + |p| + bound_r + r)
- * (max-norms) esf_wall_nearest's distance is >= r there and its overlap <= 0 too.
+ * farther than r, by a slack that covers rounding, from the centre is not touched and
+ * costs one dot product (esf_wall_out_of_reach, wall_geom.h: esf_wall_nearest's
+ * overlap is <= 0 there too).
  * Up to FAST_MAX candidates per particle the hits live on the stack; more use the
  * neighbour lists' wall scratch at k0 (as forces.c), so particles run in parallel.
  * Entry: candidate lists valid for s->p.x; walls static (s->walls.moving == 0), every
@@ -44,12 +41,6 @@
 
 static const double zero3[3] = {0.0, 0.0, 0.0}; /* a static wall's omega, rad/s */
 
-static inline double max3abs(const double *a) {
-  const double x = fabs(a[0]), y = fabs(a[1]), z = fabs(a[2]);
-  const double m = x > y ? x : y;
-  return m > z ? m : z;
-}
-
 /* Candidate e for centre x, radius r: the overlap r - dist of
  * esf_wall_nearest, and *hit when it is > 0. Returns 0 for a polygon out of reach. */
 static inline double wall_overlap(const esf_wall_elem *e, const double *x, double r,
@@ -66,11 +57,7 @@ static inline double wall_overlap(const esf_wall_elem *e, const double *x, doubl
     }
     return un;
   }
-  if (!(fabs(h0) < r)) { /* else within reach whatever the slack (>= 0) */
-    const double slack =
-        4e-9 * e->bound_r + 1e-12 * (max3abs(x) + max3abs(e->p) + e->bound_r + r);
-    if (!(fabs(h0) < r + slack)) return 0.0; /* out of reach (prologue) */
-  }
+  if (esf_wall_out_of_reach(e, x, h0, r)) return 0.0; /* (prologue) */
   double foot[3];
   if (esf_wall_polygon_foot(e, x, h0, foot)) { /* as esf_wall_nearest */
     const double dist = fabs(h0), un = r - dist;

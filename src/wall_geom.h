@@ -9,6 +9,7 @@
 #ifndef ESF_WALL_GEOM_H
 #define ESF_WALL_GEOM_H
 
+#include <math.h>
 #include <stdint.h>
 
 #include "esf_error.h"
@@ -56,6 +57,28 @@ static inline double esf_wall_height(const esf_wall_elem *e, const double x[3]) 
   double r[3];
   v3_sub(r, x, e->p);
   return v3_dot(r, e->n);
+}
+
+/* max(|a0|, |a1|, |a2|) */
+static inline double esf_max3abs(const double a[3]) {
+  const double x = fabs(a[0]), y = fabs(a[1]), z = fabs(a[2]);
+  const double m = x > y ? x : y;
+  return m > z ? m : z;
+}
+
+/* 1 when polygon e's plane lies at least `reach` from centre x, measured with a slack
+ * that covers rounding, so that esf_wall_nearest's distance is >= reach too: every
+ * point of a polygon lies within 2e-9 bound_r of its plane (esf_wall_polygon_init
+ * accepts quadrilaterals planar within 1e-9 of their size, at most 2 bound_r), and the
+ * computed height and boundary distance round by a few units of 1e-16 of the
+ * coordinates' magnitude; slack = 4e-9 bound_r + 1e-12 (|x| + |p| + bound_r + reach)
+ * (max-norms). h is esf_wall_height(e, x). One comparison when |h| < reach. */
+static inline int esf_wall_out_of_reach(const esf_wall_elem *e, const double x[3],
+                                        double h, double reach) {
+  if (fabs(h) < reach) return 0; /* within reach whatever the slack (>= 0) */
+  const double slack = 4e-9 * e->bound_r +
+                       1e-12 * (esf_max3abs(x) + esf_max3abs(e->p) + e->bound_r + reach);
+  return !(fabs(h) < reach + slack);
 }
 
 /* Inside test slack of a polygon's face test, as a fraction of bound_r. */
