@@ -41,11 +41,15 @@
  *      boundary slots (pairs whose b is its particle) in ascending k; computes the
  *      listed pairs in batches of eight, in ascending k, adding their forces to both
  *      particles and, between them in k order, the A side of its outgoing boundary
- *      slots; then, particle by particle: wall contacts (the pass of wall_fast.h), the
- *      2D projection (the accumulators then hold F_n, M_n: they stay there,
- *      s->ft_lazy, for esf_sim_forces_sync), local damping, kick with global damping
- *      (1 -+ alpha dt/2), drift x += v dt, the squared displacement since the last
- *      build and whether it left the domain; last, its results and its done flag.
+ *      slots; then the wall contacts of its particles that have wall candidates, in
+ *      ascending order (the pass of wall_fast.h: each reads and adds to its own
+ *      particle only, so doing them all before the kicks changes no operation); then,
+ *      particle by particle: the 2D projection (the accumulators then hold F_n, M_n:
+ *      they stay there, s->ft_lazy, for esf_sim_forces_sync), local damping, kick with
+ *      global damping (1 -+ alpha dt/2), drift x += v dt, the squared displacement
+ *      since the last build and whether it left the domain (without damping, in 3D, a
+ *      loop the compiler vectorises over particles); last, its results and its done
+ *      flag. A wall overlap failure leaves the range unkicked, as a pair failure does.
  *      Once the lower ready flags are up no thread reads range t's particles (an
  *      interior pair has both ends in one range; the boundary pairs were done before
  *      the flags), so it drifts its range as soon as it is done.
@@ -487,82 +491,150 @@ static size_t boundary_pairs(esf_sim *s, esf_step_fast *f, const esf_pair_batch_
   return bad;
 }
 
-/* Step 2's particle loop for range [lo, hi): walls, 2D, local damping, kick, drift. */
+/* What step 2's particle pass needs: walls, 2D, local damping, kick, drift. */
 typedef struct kick_ctx {
   double dt, cr0, cr1, ct0, ct1, lc;
   int dim2;
-  int plain;                  /* 1: no damping of either form, 3D (kick_impl) */
+  int plain;                  /* 1: no damping of either form, 3D (kick_plain) */
   esf_wall_pass_fn wall_pass; /* wall_fast.h, chosen once per step */
   const esf_local_damping *loc;
   const double *xref;
   const double *dom_lo, *dom_hi; /* the domain, or NULL */
 } kick_ctx;
 
-/* plain (a constant in each instantiation): no global or local damping, 3D; the
- * damped kick with unit factors gives the same bits, the plain one skips their work. */
-static inline void kick_impl(esf_sim *s, const esf_step_fast *f, const kick_ctx *K,
-                             size_t lo, size_t hi, size_t *nt_pw, size_t *bad_part,
-                             double *max2, int *nonfinite, int *escaped,
-                             const int plain) {
-  esf_particles *p = &s->p;
-  const double dt = K->dt;
+/* Step 2's wall contacts of range [lo, hi), particle by particle in ascending order
+ * (each adds to its own particle's accumulator only, at the state before any kick).
+ * Returns 1 when an overlap exceeds the limit (*bad_part: the first such particle). */
+static int walls_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, size_t lo,
+                       size_t hi, size_t *nt_pw, size_t *bad_part) {
+  const esf_contacts *pw = &s->nb.pw;
   const esf_wall_pass_fn wall_pass = K->wall_pass;
-  for (size_t i = lo; i < hi; i++) {
-    double *fi = f->acc + ACC * i, *ti = fi + 4;
-    if (f->wstart[i] < f->wstart[i + 1] &&
-        wall_pass(s, f->wstart[i], f->wstart[i + 1], dt, nt_pw, fi, ti)) {
+  int fail = 0;
+  for (size_t k = f->wstart[lo], k1; k < f->wstart[hi]; k = k1) {
+    const size_t i = pw->a[k];
+    k1 = f->wstart[i + 1];
+    double *fi = f->acc + ACC * i;
+    if (wall_pass(s, k, k1, K->dt, nt_pw, fi, fi + 4)) {
       if (i < *bad_part) *bad_part = i;
-      continue;
+      fail = 1;
     }
-    if (HAS_FEATURES && !plain && K->dim2) {
-      fi[1] = 0.0;
-      ti[0] = 0.0;
-      ti[2] = 0.0;
-    }
-    double *v = p->v + 3 * i, *w = p->w + 3 * i, *x = p->x + 3 * i;
-    double fk[3], tk[3]; /* fi, ti stay: F_n, M_n for p.f, p.t (s->ft_lazy) */
-    v3_copy(fk, fi);
-    v3_copy(tk, ti);
-    if (HAS_FEATURES && !plain && K->loc) {
-      double fd[3], md[3];
-      K->loc->force(K->lc, fk, v, fd);
-      K->loc->force(K->lc, tk, w, md);
-      v3_add(fk, fk, fd);
-      v3_add(tk, tk, md);
-    }
-    const double im = p->inv_mass[i] * dt, ii = p->inv_inertia[i] * dt;
+  }
+  return fail;
+}
+
+/* The kick and drift of range [lo, hi) with neither damping form, in 3D: a loop of
+ * its own, without calls or branches, that the compiler vectorises across particles
+ * (each lane the same operations as the scalar loop, so the same bits). The largest
+ * squared displacement since the lists' build goes to *max2 (a NaN sets *nonfinite). */
+static void kick_plain_loop(size_t lo, size_t hi, double dt, double *restrict x,
+                            double *restrict v, double *restrict w,
+                            const double *restrict acc, const double *restrict im_,
+                            const double *restrict ii_, const double *restrict xref,
+                            double *max2, int *nonfinite) {
+  /* the largest d2 through its bits: d2 >= +0 or NaN, and the bits of non-negative
+     doubles order as integers do (an integer maximum vectorises, a double one with
+     NaN semantics does not); a NaN counts as 0 here, as the scalar test skips it */
+  int64_t mb = 0;
+  int nan = 0;
+  for (size_t i = lo; i < hi; i++) {
+    const double *fi = acc + ACC * i, *ti = fi + 4;
+    const double im = im_[i] * dt, ii = ii_[i] * dt;
     double d2 = 0.0;
     for (int q = 0; q < 3; q++) {
-      if (HAS_FEATURES && !plain) {
-        v[q] = (K->cr0 * v[q] + fk[q] * im) * K->cr1;
-        w[q] = (K->ct0 * w[q] + tk[q] * ii) * K->ct1;
-      } else {
-        v[q] += fk[q] * im;
-        w[q] += tk[q] * ii;
-      }
-      x[q] += v[q] * dt;
-      if (K->xref) {
-        const double d = x[q] - K->xref[3 * i + q];
-        d2 += d * d;
-      }
+      v[3 * i + q] += fi[q] * im;
+      w[3 * i + q] += ti[q] * ii;
+      x[3 * i + q] += v[3 * i + q] * dt;
+      const double d = x[3 * i + q] - xref[3 * i + q];
+      d2 += d * d;
     }
-    if (!(d2 <= *max2)) {
-      if (d2 > *max2)
-        *max2 = d2;
-      else
-        *nonfinite = 1; /* NaN */
-    }
-    if (K->dom_lo) *escaped |= v3_outside(x, K->dom_lo, K->dom_hi); /* as sim.c's */
+    const int isnan_ = !(d2 == d2);
+    int64_t b;
+    memcpy(&b, &d2, sizeof b);
+    b = isnan_ ? 0 : b;
+    nan |= isnan_;
+    mb = b > mb ? b : mb;
+  }
+  double m2;
+  memcpy(&m2, &mb, sizeof m2);
+  if (m2 > *max2) *max2 = m2;
+  *nonfinite |= nan;
+}
+
+static void kick_plain(esf_particles *p, const esf_step_fast *f, const kick_ctx *K,
+                       size_t lo, size_t hi, double *max2, int *nonfinite, int *escaped) {
+  kick_plain_loop(lo, hi, K->dt, p->x, p->v, p->w, f->acc, p->inv_mass, p->inv_inertia,
+                  K->xref, max2, nonfinite);
+  if (K->dom_lo) {
+    const double *x = p->x;
+    int out = 0;
+    for (size_t i = lo; i < hi; i++) out |= v3_outside(x + 3 * i, K->dom_lo, K->dom_hi);
+    *escaped |= out;
   }
 }
 
+/* The kick and drift of particle i from its totals fi, ti (F_n, M_n; left as they
+ * are), with the damping forms and 2D: the displacement since the lists' build and
+ * the domain check. */
+static inline void kick_one(esf_particles *p, const kick_ctx *K, size_t i, double *fi,
+                            double *ti, double *max2, int *nonfinite, int *escaped) {
+  const double dt = K->dt;
+  if (HAS_FEATURES && K->dim2) {
+    fi[1] = 0.0;
+    ti[0] = 0.0;
+    ti[2] = 0.0;
+  }
+  double *v = p->v + 3 * i, *w = p->w + 3 * i, *x = p->x + 3 * i;
+  double fk[3], tk[3]; /* fi, ti stay: F_n, M_n for p.f, p.t (s->ft_lazy) */
+  v3_copy(fk, fi);
+  v3_copy(tk, ti);
+  if (HAS_FEATURES && K->loc) {
+    double fd[3], md[3];
+    K->loc->force(K->lc, fk, v, fd);
+    K->loc->force(K->lc, tk, w, md);
+    v3_add(fk, fk, fd);
+    v3_add(tk, tk, md);
+  }
+  const double im = p->inv_mass[i] * dt, ii = p->inv_inertia[i] * dt;
+  double d2 = 0.0;
+  for (int q = 0; q < 3; q++) {
+    if (HAS_FEATURES) {
+      v[q] = (K->cr0 * v[q] + fk[q] * im) * K->cr1;
+      w[q] = (K->ct0 * w[q] + tk[q] * ii) * K->ct1;
+    } else {
+      v[q] += fk[q] * im;
+      w[q] += tk[q] * ii;
+    }
+    x[q] += v[q] * dt;
+    if (K->xref) {
+      const double d = x[q] - K->xref[3 * i + q];
+      d2 += d * d;
+    }
+  }
+  if (!(d2 <= *max2)) {
+    if (d2 > *max2)
+      *max2 = d2;
+    else
+      *nonfinite = 1; /* NaN */
+  }
+  if (K->dom_lo) *escaped |= v3_outside(x, K->dom_lo, K->dom_hi); /* as sim.c's */
+}
+
+/* Step 2's particle pass for range [lo, hi): the wall contacts of every particle first,
+ * then the kicks (a particle's walls read only its own state, so the order of
+ * operations per particle is that of one loop doing both). A wall overlap failure
+ * leaves the range unkicked, as a pair failure does: the step is not taken. */
 static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, size_t lo,
                        size_t hi, size_t *nt_pw, size_t *bad_part, double *max2,
                        int *nonfinite, int *escaped) {
-  if (K->plain)
-    kick_impl(s, f, K, lo, hi, nt_pw, bad_part, max2, nonfinite, escaped, 1);
-  else
-    kick_impl(s, f, K, lo, hi, nt_pw, bad_part, max2, nonfinite, escaped, 0);
+  if (walls_range(s, f, K, lo, hi, nt_pw, bad_part)) return;
+  if (K->plain && K->xref) {
+    kick_plain(&s->p, f, K, lo, hi, max2, nonfinite, escaped);
+    return;
+  }
+  for (size_t i = lo; i < hi; i++) {
+    double *fi = f->acc + ACC * i;
+    kick_one(&s->p, K, i, fi, fi + 4, max2, nonfinite, escaped);
+  }
 }
 
 /* Step 2: adds the A side of outgoing boundary slot j (its pair's a is in range). */
