@@ -495,7 +495,7 @@ static size_t boundary_pairs(esf_sim *s, esf_step_fast *f, const esf_pair_batch_
 typedef struct kick_ctx {
   double dt, cr0, cr1, ct0, ct1, lc;
   int dim2;
-  int plain;                  /* 1: no damping of either form, 3D (kick_plain) */
+  int plain;                  /* 1: no damping of either form, 3D (kick_plain_loop) */
   esf_wall_pass_fn wall_pass; /* wall_fast.h, chosen once per step */
   const esf_local_damping *loc;
   const double *xref;
@@ -525,17 +525,20 @@ static int walls_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, si
 /* The kick and drift of range [lo, hi) with neither damping form, in 3D: a loop of
  * its own, without calls or branches, that the compiler vectorises across particles
  * (each lane the same operations as the scalar loop, so the same bits). The largest
- * squared displacement since the lists' build goes to *max2 (a NaN sets *nonfinite). */
+ * squared displacement since the lists' build goes to *max2 (a NaN sets *nonfinite),
+ * and a position outside [lo3, hi3] (the domain, or infinite bounds: never) sets
+ * *escaped. */
 static void kick_plain_loop(size_t lo, size_t hi, double dt, double *restrict x,
                             double *restrict v, double *restrict w,
                             const double *restrict acc, const double *restrict im_,
                             const double *restrict ii_, const double *restrict xref,
-                            double *max2, int *nonfinite) {
+                            const double *lo3, const double *hi3, double *max2,
+                            int *nonfinite, int *escaped) {
   /* the largest d2 through its bits: d2 >= +0 or NaN, and the bits of non-negative
      doubles order as integers do (an integer maximum vectorises, a double one with
      NaN semantics does not); a NaN counts as 0 here, as the scalar test skips it */
   int64_t mb = 0;
-  int nan = 0;
+  int nan = 0, out = 0;
   for (size_t i = lo; i < hi; i++) {
     const double *fi = acc + ACC * i, *ti = fi + 4;
     const double im = im_[i] * dt, ii = ii_[i] * dt;
@@ -553,23 +556,13 @@ static void kick_plain_loop(size_t lo, size_t hi, double dt, double *restrict x,
     b = isnan_ ? 0 : b;
     nan |= isnan_;
     mb = b > mb ? b : mb;
+    out |= v3_outside(x + 3 * i, lo3, hi3); /* as sim.c's */
   }
   double m2;
   memcpy(&m2, &mb, sizeof m2);
   if (m2 > *max2) *max2 = m2;
   *nonfinite |= nan;
-}
-
-static void kick_plain(esf_particles *p, const esf_step_fast *f, const kick_ctx *K,
-                       size_t lo, size_t hi, double *max2, int *nonfinite, int *escaped) {
-  kick_plain_loop(lo, hi, K->dt, p->x, p->v, p->w, f->acc, p->inv_mass, p->inv_inertia,
-                  K->xref, max2, nonfinite);
-  if (K->dom_lo) {
-    const double *x = p->x;
-    int out = 0;
-    for (size_t i = lo; i < hi; i++) out |= v3_outside(x + 3 * i, K->dom_lo, K->dom_hi);
-    *escaped |= out;
-  }
+  *escaped |= out;
 }
 
 /* The kick and drift of particle i from its totals fi, ti (F_n, M_n; left as they
@@ -628,7 +621,12 @@ static void kick_range(esf_sim *s, const esf_step_fast *f, const kick_ctx *K, si
                        int *nonfinite, int *escaped) {
   if (walls_range(s, f, K, lo, hi, nt_pw, bad_part)) return;
   if (K->plain && K->xref) {
-    kick_plain(&s->p, f, K, lo, hi, max2, nonfinite, escaped);
+    const double inf3[2][3] = {{-INFINITY, -INFINITY, -INFINITY},
+                               {INFINITY, INFINITY, INFINITY}};
+    esf_particles *p = &s->p;
+    kick_plain_loop(lo, hi, K->dt, p->x, p->v, p->w, f->acc, p->inv_mass, p->inv_inertia,
+                    K->xref, K->dom_lo ? K->dom_lo : inf3[0],
+                    K->dom_lo ? K->dom_hi : inf3[1], max2, nonfinite, escaped);
     return;
   }
   for (size_t i = lo; i < hi; i++) {

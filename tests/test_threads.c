@@ -15,7 +15,10 @@
  * general path at one step per call.
  * Failures: two clouds meeting head on with the overlap limited (1-5% of a radius)
  * stop at the same step with the same message (pair, overlap to three digits: one
- * drift of either particle would change it) on 1, 2, 3 threads and the general path. */
+ * drift of either particle would change it) on 1, 2, 3 threads and the general path.
+ * Leaving the domain: a sphere drifting out is removed at the general path's step by
+ * the fused step on 1 and 2 threads, one and 32 steps per call (without the drift's
+ * domain check it goes 200 steps late; without the burst's stop on it, 24). */
 #include <stdlib.h>
 
 #include "simtest.h"
@@ -197,6 +200,63 @@ static void release(snapshot *s) {
   free(s->h);
 }
 
+/* A sphere drifting slowly out of the domain (0.05 m/s, far less than half the skin
+ * before it crosses): only the drift's domain check can call for the rebuild that
+ * removes it. The fused step (plain kick, one and 32 steps per call, 1 and 2 threads)
+ * must remove it at the general path's step, the first after the centre crosses. */
+static const char *const leave =
+    "name: leave\n"
+    "domain: {min: [0, 0, 0], max: [0.02, 0.02, 0.02]}\n"
+    "gravity: [0, 0, 0]\n"
+    "materials:\n"
+    "  glass: {density: 2500, kn: 2.0e4, restitution: 0.4, friction: 0.4}\n"
+    "particles:\n"
+    "  - {material: glass, radius: 0.001, position: [0.01, 0.01, 0.01990],"
+    " velocity: [0, 0, 0.05]}\n"
+    "  - {material: glass, radius: 0.001, position: [0.005, 0.005, 0.005]}\n"
+    "  - {material: glass, radius: 0.001, position: [0.005, 0.0075, 0.005]}\n"
+    "integrator: {method: leapfrog, dt: 1.0e-5}\n"
+    "run: {steps: 1000}\n"
+    "output: {energy_every: 0}\n";
+
+/* The steps done when the sphere was removed (-1: never in 1000 steps). */
+static long leave_step(int threads, int fused, long burst) {
+  const char *sets[] = {fused ? "integrator.fused=true" : "integrator.fused=false"};
+  simtest T;
+  if (simtest_open(&T, leave, sets, 1)) return -2;
+  T.s.cfg.threads = threads;
+  CHECK(!fused || esf_step_fast_eligible(&T.s), "leave: the fused step must run it");
+  long at = -1;
+  int rc = 0;
+  while (T.s.step < 1000 && at < 0 && !rc) {
+    T.s.burst = burst;
+    const long before = T.s.step; /* the call's rebuild removes it, then steps on */
+    rc = simtest_step(&T);
+    if (T.s.removed > 0) at = before;
+  }
+  CHECK(rc == 0, "leave: run");
+  simtest_close(&T);
+  return at;
+}
+
+static void check_leave(void) {
+  /* the centre crosses z = 0.02 after (0.02 - 0.0199) / 0.05 = 2 ms, 200 steps */
+  const long gen = leave_step(1, 0, 1);
+  printf("leave: general path removes the sphere after step %ld\n", gen);
+  CHECK(gen >= 200 && gen <= 203, "leave: general path removed it after step %ld", gen);
+  const struct {
+    int threads;
+    long burst;
+  } v[] = {{1, 1}, {2, 1}, {1, 32}, {2, 32}};
+  for (size_t j = 0; j < sizeof v / sizeof v[0]; j++) {
+    const long at = leave_step(v[j].threads, 1, v[j].burst);
+    CHECK(at == gen,
+          "leave: fused, %d threads, %ld steps per call: removed after step %ld,"
+          " general path %ld",
+          v[j].threads, v[j].burst, at, gen);
+  }
+}
+
 int main(void) {
   const char *frames[] = {"rotate", "project"};
   for (int f = 0; f < 2; f++) {
@@ -255,5 +315,6 @@ int main(void) {
     release(&ref);
   }
   check_failure();
+  check_leave();
   return check_finish("threads");
 }
