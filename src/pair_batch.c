@@ -12,11 +12,14 @@
  * Order per batch: gather the lanes' positions, radii, velocities, spins, history and
  * pair parameters; compute everything lane-wise with the same instructions for every
  * lane (the Coulomb cap as a select, its square root only when some lane slides); then
- * write the outputs component major and commit the history of the lanes that are in
- * range and within the overlap limit. Lanes past nl repeat lane 0's pair and are
- * neither written back nor reported.
+ * transpose the outputs to one row per lane (written to out, or kept in registers),
+ * commit the history of the lanes that are in range and within the overlap limit and,
+ * for the accumulating entry point, add those lanes' rows to their particles in lane
+ * order. Lanes past nl repeat lane 0's pair and are neither written back nor reported.
  * Entry: the pairs overlap; their touch flag says whether the history is live.
- * Exit: out holds force on A, torque on A, torque on B (N, N m); history committed.
+ * Exit: out holds force on A, torque on A, torque on B (N, N m), or these were added,
+ * lane by lane, to the accumulators of A and B (B's force with the opposite sign);
+ * history committed.
  * Units: SI. */
 #include "pair_batch.h"
 
@@ -112,6 +115,35 @@ static inline void store_rows(const vd c[4], double out[ESF_BATCH][ESF_BATCH_OUT
   for (int l = 0; l < 4; l++) v4_st(out[4 + l] + off, r[l]);
 }
 
+/* Columns c as the eight lanes' rows r[l], in registers. */
+static inline void rows_of(const vd c[4], v4 r[ESF_BATCH]) {
+#if defined(__AVX512F__)
+  /* the load's network backwards (it is its own inverse): rows l and l + 4 side by
+     side in z[l] (1.5% faster here than two four-wide transposes) */
+  vd u[4], z[4];
+  u[0] = __builtin_shufflevector(c[0], c[2], 0, 1, 8, 9, 4, 5, 12, 13);
+  u[2] = __builtin_shufflevector(c[0], c[2], 2, 3, 10, 11, 6, 7, 14, 15);
+  u[1] = __builtin_shufflevector(c[1], c[3], 0, 1, 8, 9, 4, 5, 12, 13);
+  u[3] = __builtin_shufflevector(c[1], c[3], 2, 3, 10, 11, 6, 7, 14, 15);
+  z[0] = __builtin_shufflevector(u[0], u[1], 0, 8, 2, 10, 4, 12, 6, 14);
+  z[1] = __builtin_shufflevector(u[0], u[1], 1, 9, 3, 11, 5, 13, 7, 15);
+  z[2] = __builtin_shufflevector(u[2], u[3], 0, 8, 2, 10, 4, 12, 6, 14);
+  z[3] = __builtin_shufflevector(u[2], u[3], 1, 9, 3, 11, 5, 13, 7, 15);
+  for (int l = 0; l < 4; l++) {
+    r[l] = __builtin_shufflevector(z[l], z[l], 0, 1, 2, 3);
+    r[l + 4] = __builtin_shufflevector(z[l], z[l], 4, 5, 6, 7);
+  }
+#else
+  v4 lo[4], hi[4];
+  for (int j = 0; j < 4; j++) {
+    lo[j] = __builtin_shufflevector(c[j], c[j], 0, 1, 2, 3);
+    hi[j] = __builtin_shufflevector(c[j], c[j], 4, 5, 6, 7);
+  }
+  transpose(lo, r);
+  transpose(hi, r + 4);
+#endif
+}
+
 /* The four doubles at byte base + off[l] of each of the eight lanes, as columns (the
  * first nc of them). */
 static inline void load_cols_n(const void *base, const size_t *off, vd c[4], int nc) {
@@ -158,8 +190,10 @@ static inline vd dot(const vd a[3], const vd b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
-                               double out[ESF_BATCH][ESF_BATCH_OUT]) {
+/* The batch; its results to out (acc NULL) or added to acc. Inlined into the two entry
+ * points below, each a copy specialised for its output. */
+static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
+                             double out[ESF_BATCH][ESF_BATCH_OUT], double *acc) {
   size_t kk[ESF_BATCH], ia[ESF_BATCH], ib[ESF_BATCH], a3[ESF_BATCH], b3[ESF_BATCH];
   size_t hk[ESF_BATCH]; /* byte offsets of the histories */
   vm tch;
@@ -273,9 +307,16 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, i
   const vd f4[4] = {ft[0] - fn * n[0], ft[1] - fn * n[1], ft[2] - fn * n[2], zero};
   const vd ta[4] = {la * m[0], la * m[1], la * m[2], zero};
   const vd tb[4] = {lb * m[0], lb * m[1], lb * m[2], zero};
-  store_rows(f4, out, 0);
-  store_rows(ta, out, 4);
-  store_rows(tb, out, 8);
+  v4 rf[ESF_BATCH], rta[ESF_BATCH], rtb[ESF_BATCH];
+  if (acc) {
+    rows_of(f4, rf);
+    rows_of(ta, rta);
+    rows_of(tb, rtb);
+  } else {
+    store_rows(f4, out, 0);
+    store_rows(ta, out, 4);
+    store_rows(tb, out, 8);
+  }
   /* the history: xi and n[0] as one row, then n[1], n[2] (the fields after them in
      that row are not written) */
   const vd c0[4] = {xi[0], xi[1], xi[2], n[0]};
@@ -293,5 +334,24 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, i
     memcpy(h + HN1, n12, sizeof n12);
     c->touch[kk[l]] = 1;
   }
+  if (acc)
+    for (int l = 0; l < nl; l++) {
+      if (badmask >> l & 1u) continue;
+      double *aa = acc + ESF_BATCH_ACC * ia[l], *ab = acc + ESF_BATCH_ACC * ib[l];
+      v4_st(aa, v4_ld(aa) + rf[l]);
+      v4_st(ab, v4_ld(ab) - rf[l]);
+      v4_st(aa + 4, v4_ld(aa + 4) + rta[l]);
+      v4_st(ab + 4, v4_ld(ab + 4) + rtb[l]);
+    }
   return badmask;
+}
+
+unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
+                               double out[ESF_BATCH][ESF_BATCH_OUT]) {
+  return batch(c, k, nl, out, NULL);
+}
+
+unsigned esf_pair_batch_linear_add(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
+                                   double *acc) {
+  return batch(c, k, nl, NULL, acc);
 }

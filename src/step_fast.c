@@ -91,6 +91,8 @@
 #define PF           32            /* history prefetch distance, pairs */
 #define SCREEN_CHUNK 256 /* particles range 0 screens between looks at the others */
 
+_Static_assert(ACC == ESF_BATCH_ACC, "pair_batch.h adds into the accumulators' layout");
+
 /* One range's results of a step. */
 typedef struct step_out {
   size_t nt; /* touching contacts: pairs whose a is in it, wall contacts */
@@ -741,10 +743,18 @@ __attribute__((noinline)) static size_t pairs_range(esf_sim *s, esf_step_fast *f
       __builtin_prefetch(p->w + 3 * b, 0, 3);
       __builtin_prefetch(acc + ACC * b, 1, 3);
     }
-    const unsigned fail = esf_pair_batch_linear(bc, list + q0, nl, out);
     for (int l = 0; l < nl; l++) /* b > a: covers the a sides and outgoing slots too */
       if (c->b[list[q0 + l]] >= bmax) bmax = c->b[list[q0 + l]] + 1;
     fr = acc_set(p, g, acc, fr, bmax);
+    if (jo == jo1 || f->bk[jo] > list[q0 + nl - 1]) {
+      /* no outgoing slot falls among these pairs: the batch adds its results itself,
+         in the same order as the loop below */
+      const unsigned fail = esf_pair_batch_linear_add(bc, list + q0, nl, acc);
+      for (int l = 0; fail && l < nl; l++)
+        if ((fail >> l & 1u) && list[q0 + l] < bad) bad = list[q0 + l];
+      continue;
+    }
+    const unsigned fail = esf_pair_batch_linear(bc, list + q0, nl, out);
     for (int l = 0; l < nl; l++) {
       const size_t k = list[q0 + l];
       for (; jo < jo1 && f->bk[jo] < k; jo++) outgoing(f, c, jo);
