@@ -338,11 +338,7 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   if (acc)
     for (int l = 0; l < nl; l++) {
       if (badmask >> l & 1u) continue;
-      double *aa = acc + ESF_BATCH_ACC * ia[l], *ab = acc + ESF_BATCH_ACC * ib[l];
-      v4_st(aa, v4_ld(aa) + rf[l]);
-      v4_st(ab, v4_ld(ab) - rf[l]);
-      v4_st(aa + 4, v4_ld(aa + 4) + rta[l]);
-      v4_st(ab + 4, v4_ld(ab + 4) + rtb[l]);
+      esf_pair_batch_acc_add(acc, ia[l], ib[l], rf[l], rta[l], rtb[l]);
     }
   return badmask;
 }

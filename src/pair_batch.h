@@ -16,6 +16,7 @@
 
 #include "contact_law.h"
 #include "material.h"
+#include "vec4.h"
 
 #define ESF_BATCH     8
 #define ESF_BATCH_OUT 12 /* force on A, torque on A, torque on B: 3 + a zero each */
@@ -55,6 +56,18 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *ctx, const uint32_t *k,
  * acc + ESF_BATCH_ACC * i, the force (x, y, z, unused) then the torque (x, y, z,
  * unused). */
 #define ESF_BATCH_ACC 8
+
+/* Adds one pair's results to its particles' accumulators: f (force on A) to A's force,
+ * -f to B's, ta and tb to A's and B's torques; the one order both the batch and a
+ * caller's scatter of out use. */
+static inline void esf_pair_batch_acc_add(double *acc, size_t a, size_t b, esf_v4 f,
+                                          esf_v4 ta, esf_v4 tb) {
+  double *aa = acc + ESF_BATCH_ACC * a, *ab = acc + ESF_BATCH_ACC * b;
+  v4_st(aa, v4_ld(aa) + f);
+  v4_st(ab, v4_ld(ab) - f);
+  v4_st(aa + 4, v4_ld(aa + 4) + ta);
+  v4_st(ab + 4, v4_ld(ab + 4) + tb);
+}
 
 /* As esf_pair_batch_linear, but instead of writing out, adds each lane's results to
  * its particles' accumulators, lane by lane in lane order, as a caller's scatter of out

@@ -744,7 +744,7 @@ __attribute__((noinline)) static size_t pairs_range(esf_sim *s, esf_step_fast *f
     fr = acc_set(p, g, acc, fr, bmax);
     if (jo == jo1 || f->bk[jo] > list[q0 + nl - 1]) {
       /* no outgoing slot falls among these pairs: the batch adds its results itself,
-         in the same order as the loop below */
+         as the loop below does (esf_pair_batch_acc_add) */
       const unsigned fail = esf_pair_batch_linear_add(bc, list + q0, nl, acc);
       for (int l = 0; fail && l < nl; l++)
         if ((fail >> l & 1u) && list[q0 + l] < bad) bad = list[q0 + l];
@@ -758,11 +758,8 @@ __attribute__((noinline)) static size_t pairs_range(esf_sim *s, esf_step_fast *f
         if (k < bad) bad = k;
         continue;
       }
-      double *aa = acc + ACC * c->a[k], *ab = acc + ACC * c->b[k];
-      v4_acc(aa, out[l]);
-      v4_dec(ab, out[l]);
-      v4_acc(aa + 4, out[l] + 4);
-      v4_acc(ab + 4, out[l] + 8);
+      esf_pair_batch_acc_add(acc, c->a[k], c->b[k], v4_ld(out[l]), v4_ld(out[l] + 4),
+                             v4_ld(out[l] + 8));
     }
   }
   acc_set(p, g, acc, fr, hi);
