@@ -138,15 +138,23 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
     if (s->alpha_t < c->autod.alpha_min) s->alpha_t = c->autod.alpha_min;
   }
 
+  /* No skin given: 0.4 r_mean, which a bond's reach may raise and then fixes (bonds.c);
+     else the adaptive skin (esf_neighbor_skin_tune) moves it within 0.05-1 r_mean and
+     starts low, at 0.1 r_mean (ESF_SKIN_START of the reference): a skin too small
+     costs a few early rebuilds (each at most doubles it), one too large a long first
+     list with several times the idle candidates (a settled bed keeps 0.06-0.08 r_mean,
+     and its first lists at 0.4 r_mean lasted about 1 000 steps) */
   int skin_auto = !(c->skin > 0);
+  double sref = c->skin; /* m */
   if (skin_auto) {
     double rsum = 0;
     for (size_t i = 0; i < s->p.n; i++) rsum += s->p.radius[i];
-    c->skin = s->p.n ? 0.4 * rsum / (double)s->p.n : 1e-3;
+    c->skin = sref = s->p.n ? 0.4 * rsum / (double)s->p.n : 1e-3;
   }
   rc = esf_bonds_setup(s, skin_auto, err);
   if (rc) return rc;
   c->skin_auto = skin_auto && !s->bonds.on; /* a bond's reach fixes the skin */
+  if (c->skin_auto) c->skin = ESF_SKIN_START * sref;
   s->led.on = c->energy_every > 0;
   rc = esf_servo_setup(s, err);           /* servo walls (servo.c) */
   if (!rc) rc = esf_events_setup(s, err); /* scene events (events.c) */
@@ -158,7 +166,7 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
     s->nb.dom_lo = c->domain_min;
     s->nb.dom_hi = c->domain_max;
   }
-  if (c->skin_auto) esf_neighbor_skin_range(&s->nb, c->skin / 8.0, 2.5 * c->skin);
+  if (c->skin_auto) esf_neighbor_skin_range(&s->nb, sref / 8.0, 2.5 * sref);
   return ESF_OK;
 }
 
