@@ -138,18 +138,18 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
     if (s->alpha_t < c->autod.alpha_min) s->alpha_t = c->autod.alpha_min;
   }
 
-  /* No skin given: 0.4 r_mean, which a bond's reach may raise and then fixes (bonds.c);
-     else the adaptive skin (esf_neighbor_skin_tune) moves it within 0.05-1 r_mean and
-     starts low, at 0.1 r_mean (ESF_SKIN_START of the reference): a skin too small
-     costs a few early rebuilds (each at most doubles it), one too large a long first
-     list with several times the idle candidates (a settled bed keeps 0.06-0.08 r_mean,
-     and its first lists at 0.4 r_mean lasted about 1 000 steps) */
+  /* No skin given: the reference sref = 0.4 r_mean (neighbor.h). In a bonded scene the
+     bond's reach may raise it, and it stays fixed (bonds.c). Otherwise the skin adapts
+     (esf_neighbor_skin_tune) within 0.05-1 r_mean and starts low, at 0.1 r_mean: a
+     skin too small costs a few early rebuilds (each at most doubles it), one too large
+     a long first list with several times the idle candidates (a settled bed keeps
+     0.06-0.08 r_mean, and its first list at 0.4 r_mean lasted about 1 000 steps). */
   int skin_auto = !(c->skin > 0);
   double sref = c->skin; /* m */
   if (skin_auto) {
     double rsum = 0;
     for (size_t i = 0; i < s->p.n; i++) rsum += s->p.radius[i];
-    c->skin = sref = s->p.n ? 0.4 * rsum / (double)s->p.n : 1e-3;
+    c->skin = sref = s->p.n ? ESF_SKIN_DEFAULT * rsum / (double)s->p.n : 1e-3;
   }
   rc = esf_bonds_setup(s, skin_auto, err);
   if (rc) return rc;

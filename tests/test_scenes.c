@@ -90,8 +90,8 @@ static void vibrated_bed(const char *dir) {
    a fraction of a millimetre has not entered the well: with the well's own radius as
    the test, one run in fifteen (each with another rounding history: other skins, so
    other renumberings) counted as entered grain 226, whose centre went from 0.29 mm
-   outside the well at the drilling to 0.02 mm inside 46 ms later (radius 7.4 mm). */
-/* m: a quarter of the smallest diameter, 7 times that creep */
+   outside the well at the drilling to 0.02 mm inside 46 ms later (radius 7.4 mm).
+   WELL_MARGIN is a quarter of the smallest diameter, six times that creep (m). */
 #define WELL_MARGIN 0.002
 
 static size_t in_well(const esf_sim *s, const esf_region *w) {
