@@ -491,7 +491,8 @@ static inline void slot_put(double *slot, const double *row) {
 #endif
 }
 
-/* Orders slot_put's stores before the stores that follow (the ready flag). */
+/* Orders slot_put's stores before the stores that follow (boundary_pairs' caller's
+ * ready flag). */
 static inline void slot_fence(void) {
 #if defined(__SSE2__)
   _mm_sfence();
@@ -499,8 +500,10 @@ static inline void slot_fence(void) {
 }
 
 /* Step 1 for the boundary pairs bk[j0 .. j1): each one's slot, zero when not touching,
- * the touching ones computed in batches. Returns the lowest pair index whose overlap
- * exceeds the limit (its slot unwritten), or SIZE_MAX; adds the touching ones to *nt. */
+ * the touching ones computed in batches, the stores fenced (slot_fence) before the
+ * caller raises its ready flag; no fence for a range without such pairs. Returns the
+ * lowest pair index whose overlap exceeds the limit (its slot unwritten), or SIZE_MAX;
+ * adds the touching ones to *nt. */
 static size_t boundary_pairs(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx *bc,
                              size_t j0, size_t j1, size_t *nt) {
   const esf_particles *p = &s->p;
@@ -540,6 +543,7 @@ static size_t boundary_pairs(esf_sim *s, esf_step_fast *f, const esf_pair_batch_
     }
     m = 0;
   }
+  if (j1 > j0) slot_fence();
   return bad;
 }
 
@@ -908,7 +912,6 @@ static void run_range(esf_sim *s, esf_step_fast *f, const burst *B, size_t t) {
     step_out o = {0, SIZE_MAX, SIZE_MAX, 0.0, 0, 0};
     o.bad_pair = boundary_pairs(s, f, B->bc, f->bout[t], f->bout[t + 1], &nt_pp);
     if (o.bad_pair != SIZE_MAX) atomic_store_explicit(&f->bfail, e, memory_order_relaxed);
-    slot_fence();
     atomic_store_explicit(&me->ready, e, memory_order_release);
     if (a < hi) { /* range 0: the rest */
       size_t q;
