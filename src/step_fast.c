@@ -473,8 +473,8 @@ static size_t screen_block(esf_sim *s, const esf_step_fast *f, size_t lo, size_t
  * batch's) to its slot, one line, by non-temporal stores, which do not take the line
  * from the core of b's range, where the last step's read of it left a copy
  * (slot_fence before the ready flag makes them visible). With two threads at 10 000
- * spheres, in the runs where lines travel slowly between the cores (README, two
- * modes), ordinary stores made range 0's boundary pass take 0.30-0.35 s of 11 000
+ * spheres, in the runs where lines travel slowly between the cores (docs/performance.md,
+ * two modes), ordinary stores made range 0's boundary pass take 0.30-0.35 s of 11 000
  * steps, these 0.13-0.17; elsewhere both 0.11-0.12 s. */
 static inline void slot_put(double *slot, const double *row) {
 #if defined(__AVX__)
