@@ -68,7 +68,7 @@ int esf_dem_ode_start(esf_dem_ode *o, const double *y, esf_error *err) {
   esf_ledger *L = &s->led;
   if (!L->on) return ESF_OK;
   size_t n = o->n;
-  esf_force_tally ty;
+  esf_force_tally ty = {0};
   s->tally = &ty;
   attach_xi(o, y, NULL);
   esf_walls_set_time(&s->walls, s->t);
@@ -168,7 +168,7 @@ int esf_dem_ode_commit(esf_dem_ode *o, double t, const double *y, esf_error *err
   esf_sim *s = o->s;
   size_t n = o->n;
   memcpy(s->p.y, y, 9 * n * sizeof(double));
-  esf_force_tally ty;
+  esf_force_tally ty = {0};
   s->tally = &ty;
   size_t touching = 0;
   attach_xi(o, y, NULL);

@@ -63,7 +63,7 @@ static int reserve(verlet *vv, size_t n, esf_error *err) {
 /* forces and accelerations at the current state; powers into pw[6] */
 static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[6], esf_error *err) {
   esf_particles *p = &s->p;
-  esf_force_tally ty;
+  esf_force_tally ty = {0};
   s->tally = s->led.on ? &ty : NULL;
   size_t touching = 0;
   int rc = esf_forces_eval(s, p->x, p->v, p->w, dt, ESF_FORCES_COMMIT, &touching, err);
