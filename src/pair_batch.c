@@ -16,10 +16,13 @@
  * commit the history of the lanes that are in range and within the overlap limit and,
  * for the accumulating entry point, add those lanes' rows to their particles in lane
  * order. Lanes past nl repeat lane 0's pair and are neither written back nor reported.
- * Entry: the pairs overlap; their touch flag says whether the history is live.
- * Exit: out holds force on A, torque on A, torque on B (N, N m), or these were added,
- * lane by lane, to the accumulators of A and B (B's force with the opposite sign);
- * history committed.
+ * Entry: the pairs overlapped at their last screening or step; their touch flag says
+ * whether the history is live.
+ * Exit: a pair whose spheres no longer overlap (the screening's test, |d|^2 < (ra +
+ * rb)^2, computed in the same order) has its touch flag cleared and nothing else; for
+ * the others out holds force on A, torque on A, torque on B (N, N m), or these were
+ * added, lane by lane, to the accumulators of A and B (B's force with the opposite
+ * sign); history committed.
  * Units: SI. */
 #include "pair_batch.h"
 
@@ -194,7 +197,8 @@ static inline vd dot(const vd a[3], const vd b[3]) {
  * points below (GCC keeps it out of line; two copies, each inlined and specialised for
  * its output, ran 4.5% slower in-process). */
 static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
-                             double out[ESF_BATCH][ESF_BATCH_OUT], double *acc) {
+                             double out[ESF_BATCH][ESF_BATCH_OUT], double *acc,
+                             unsigned *apart) {
   size_t kk[ESF_BATCH], ia[ESF_BATCH], ib[ESF_BATCH], a3[ESF_BATCH], b3[ESF_BATCH];
   size_t hk[ESF_BATCH]; /* byte offsets of the histories */
   vm tch;
@@ -251,13 +255,16 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   const vd hx[3] = {h0[0], h0[1], h0[2]}, hn[3] = {h0[3], h1[0], h1[1]};
   for (int q = 0; q < 3; q++) d[q] = xb[q] - xa[q];
   const vd ra = gat(c->radius, ia), rb = gat(c->radius, ib);
-  const vd dist = vsqrt(dot(d, d));
+  /* the screening's test, the same operations in the same order (step_fast.c) */
+  const vd d2 = dot(d, d), rr = ra + rb;
+  const vm in = d2 < rr * rr;
+  const vd dist = vsqrt(d2);
   const vm pos = dist > 0;
   const vd inv = 1.0 / dist;
   n[0] = sel(pos, d[0] * inv, zero);
   n[1] = sel(pos, d[1] * inv, zero);
   n[2] = sel(pos, d[2] * inv, one);
-  const vd un = ra + rb - dist;
+  const vd un = rr - dist;
   const vm bad = un > c->max_overlap * sel(ra < rb, ra, rb);
   const vd la = ra - 0.5 * un, lb = rb - 0.5 * un;
   /* vc = (vB - vA) - (la wA + lb wB) x n */
@@ -323,8 +330,13 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   const vd c0[4] = {xi[0], xi[1], xi[2], n[0]};
   double rows[ESF_BATCH][ESF_BATCH_OUT];
   store_rows(c0, rows, 0);
-  unsigned badmask = 0;
+  unsigned badmask = 0, gone = 0;
   for (int l = 0; l < nl; l++) {
+    if (!in[l]) { /* apart: the contact ended */
+      gone |= 1u << l;
+      c->touch[kk[l]] = 0;
+      continue;
+    }
     if (bad[l]) {
       badmask |= 1u << l;
       continue;
@@ -337,18 +349,19 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   }
   if (acc)
     for (int l = 0; l < nl; l++) {
-      if (badmask >> l & 1u) continue;
+      if ((badmask | gone) >> l & 1u) continue;
       esf_pair_batch_acc_add(acc, ia[l], ib[l], rf[l], rta[l], rtb[l]);
     }
+  *apart = gone;
   return badmask;
 }
 
 unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
-                               double out[ESF_BATCH][ESF_BATCH_OUT]) {
-  return batch(c, k, nl, out, NULL);
+                               double out[ESF_BATCH][ESF_BATCH_OUT], unsigned *apart) {
+  return batch(c, k, nl, out, NULL, apart);
 }
 
 unsigned esf_pair_batch_linear_add(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
-                                   double *acc) {
-  return batch(c, k, nl, NULL, acc);
+                                   double *acc, unsigned *apart) {
+  return batch(c, k, nl, NULL, acc, apart);
 }

@@ -43,14 +43,16 @@ typedef struct esf_pair_batch_ctx {
   int cohesion;               /* 1: the Coulomb cap includes the pair's cohesion */
 } esf_pair_batch_ctx;
 
-/* The contacts of pairs k[0 .. nl) (1 <= nl <= ESF_BATCH; the pairs must overlap:
- * |x_b - x_a| < r_a + r_b). Writes out[lane][0 .. ESF_BATCH_OUT) and commits each
- * pair's history and touch flag. Returns a bit mask of the lanes whose overlap exceeds
- * the limit: nothing is committed for those. The particle arrays x, v, w are read four
- * doubles at a time, so one double past the last w must be readable (esf_particles'
- * y has it). */
+/* The contacts of pairs k[0 .. nl) (1 <= nl <= ESF_BATCH). A pair whose spheres do
+ * not overlap (the fused step's screening test: |x_b - x_a|^2 < (r_a + r_b)^2, the
+ * same operations) is apart: its touch flag is cleared, nothing else is written, and
+ * its lane's bit is set in *apart. For the others, writes out[lane][0 ..
+ * ESF_BATCH_OUT) and commits each pair's history and touch flag. Returns a bit mask of
+ * the lanes whose overlap exceeds the limit: nothing is committed for those. The
+ * particle arrays x, v, w are read four doubles at a time, so one double past the last
+ * w must be readable (esf_particles' y has it). */
 unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *ctx, const uint32_t *k, int nl,
-                               double out[ESF_BATCH][ESF_BATCH_OUT]);
+                               double out[ESF_BATCH][ESF_BATCH_OUT], unsigned *apart);
 
 /* The accumulators esf_pair_batch_linear_add adds into: per particle i, at
  * acc + ESF_BATCH_ACC * i, the force (x, y, z, unused) then the torque (x, y, z,
@@ -74,6 +76,6 @@ static inline void esf_pair_batch_acc_add(double *acc, size_t a, size_t b, esf_v
  * would: force on A to A's force, its opposite to B's, the torques to A's and B's
  * torques. Nothing is added for the lanes whose bit the returned mask sets. */
 unsigned esf_pair_batch_linear_add(const esf_pair_batch_ctx *ctx, const uint32_t *k,
-                                   int nl, double *acc);
+                                   int nl, double *acc, unsigned *apart);
 
 #endif

@@ -19,8 +19,10 @@
  *      pairs, each pair's sqrt(m*) for the dashpots, and whether all particles have
  *      one material (its pair parameters are then broadcast to the batches' lanes
  *      instead of gathered);
- *   1. each thread, for its own range t (ranges above 0 screen first, step 2's
- *      screening: it reads only the range's own particles and writes nothing shared):
+ *   1. each thread, for its own range t (at a call's first step it sorts its interior
+ *      pairs, both ends in the range, into contacts and idle candidates by their touch
+ *      flags, range_lists; ranges above 0 screen first, step 2's screening: it reads
+ *      only the range's own particles and writes nothing shared):
  *      from a call's second step on, waits for its word: range 0 waits until every
  *      range has finished the step before (done flags), gathers their results and
  *      decides, as the driver would between calls, whether this step is taken
@@ -32,36 +34,37 @@
  *      range, by non-temporal stores, fenced; force and torque on A kept apart for its
  *      own; zeroed when the contact ends), committing their history, and raises its
  *      ready flag: range t no longer reads the higher ranges' particles;
- *   2. then: screens its interior pairs for overlapping spheres into a list (range 0;
- *      the others did it in step 1) and the contacts that ended into another; waits for
- *      the lower ranges' ready flags (by then long raised: the screening takes longer
- *      than their step 1; this one-way handoff replaces a barrier of all threads);
- *      clears the ended contacts' flags; sets its four-wide accumulators to f = m g,
+ *   2. then: screens its idle candidates for overlapping spheres (range 0; the others
+ *      did it in step 1) into a list of new contacts; waits for the lower ranges' ready
+ *      flags (this one-way handoff replaces a barrier of all threads); merges the new
+ *      contacts into the contacts of the step before (ascending k); sets its
+ *      four-wide accumulators to f = m g,
  *      t = 0 (each just ahead of its first use, in ascending particle order, so that
  *      the add into a pair's b finds the line in cache); subtracts the incoming
  *      boundary slots (pairs whose b is its particle) in ascending k; computes the
- *      listed pairs in batches of eight, in ascending k, adding their forces to both
+ *      merged pairs in batches of eight, in ascending k, adding their forces to both
  *      particles and, between them in k order, the A side of its outgoing boundary
- *      slots; then the wall contacts of its particles that have wall candidates, in
- *      ascending order (the pass of wall_fast.h: each reads and adds to its own
- *      particle only, so doing them all before the kicks changes no operation); then,
- *      particle by particle: the 2D projection (the accumulators then hold F_n, M_n:
- *      they stay there, s->ft_lazy, for esf_sim_forces_sync), local damping, kick with
- *      global damping (1 -+ alpha dt/2), drift x += v dt, the squared displacement
- *      since the last build and whether it left the domain (without damping, in 3D, a
- *      loop the compiler vectorises over particles); last, its results and its done
- *      flag. A wall overlap failure leaves the range unkicked, as a pair failure does.
- *      Once the lower ready flags are up no thread reads range t's particles (an
- *      interior pair has both ends in one range; the boundary pairs were done before
- *      the flags), so it drifts its range as soon as it is done.
- * A call takes up to nmax steps this way in one parallel region: no barrier of all
- * threads between steps, and a range that finished early screens its next step while
- * the others catch up. After the region the master gathers the last step's results.
- * Every particle receives its pair forces in ascending k, the order of the serial
- * scatter in forces.c, whatever T: the results are the same bit for bit on any thread
- * count (and T = 1 is a plain serial scatter without slots). Failures (overlap beyond
- * the limit) are reported for the lowest pair or particle index, also independent of
- * threads (every range computes all its pairs, failing or not); the failing pair's
+ *      slots (a contact whose spheres no longer overlap, by the screening's own test,
+ *      adds nothing: the batch clears its flag, and it goes back to the idle
+ *      candidates, as the new contacts leave them); then the wall contacts of its
+ * particles that have wall candidates, in ascending order (the pass of wall_fast.h: each
+ * reads and adds to its own particle only, so doing them all before the kicks changes no
+ * operation); then, particle by particle: the 2D projection (the accumulators then hold
+ * F_n, M_n: they stay there, s->ft_lazy, for esf_sim_forces_sync), local damping, kick
+ * with global damping (1 -+ alpha dt/2), drift x += v dt, the squared displacement since
+ * the last build and whether it left the domain (without damping, in 3D, a loop the
+ * compiler vectorises over particles); last, its results and its done flag. A wall
+ * overlap failure leaves the range unkicked, as a pair failure does. Once the lower ready
+ * flags are up no thread reads range t's particles (an interior pair has both ends in one
+ * range; the boundary pairs were done before the flags), so it drifts its range as soon
+ * as it is done. A call takes up to nmax steps this way in one parallel region: no
+ * barrier of all threads between steps, and a range that finished early screens its next
+ * step while the others catch up. After the region the master gathers the last step's
+ * results. Every particle receives its pair forces in ascending k, the order of the
+ * serial scatter in forces.c, whatever T: the results are the same bit for bit on any
+ * thread count (and T = 1 is a plain serial scatter without slots). Failures (overlap
+ * beyond the limit) are reported for the lowest pair or particle index, also independent
+ * of threads (every range computes all its pairs, failing or not); the failing pair's
  * particles keep x_n, so the message reports the overlap the step saw: a range with a
  * failing pair does not move, nor does any range above a failing boundary pair
  * (bfail, seen with the lower flags). Units: SI.
@@ -97,7 +100,8 @@
 #define SLOT         8   /* per pair in slot: force on A, torque on B */
 #define SLOT_A       8   /* per pair in slot_a: force on A, torque on A */
 #define PF           32  /* history prefetch distance, pairs */
-#define SCREEN_CHUNK 256 /* particles range 0 screens between looks at the others */
+#define SCREEN_CHUNK 256 /* idle candidates range 0 screens between looks at the others  \
+                          */
 
 _Static_assert(ACC == ESF_BATCH_ACC, "pair_batch.h adds into the accumulators' layout");
 _Static_assert(
@@ -121,26 +125,28 @@ typedef struct range_rec {
 } range_rec;
 
 struct esf_step_fast {
-  long built;       /* nb.builds the indices below belong to (-1: none) */
-  size_t np;        /* particles the indices were made for */
-  int nth;          /* ranges (threads) the split was made for */
-  size_t cap_k;     /* pair capacity */
-  size_t cap_n;     /* particle capacity */
-  double *acc;      /* ACC per particle: force (3, N), 0, torque (3, N m), 0 */
-  uint32_t *list;   /* per pair: the overlapping interior pairs of each block, from its
-                       start, and the contacts that ended, from its end (screen_block) */
-  double *sm;       /* per pair: sqrt(m*), kg^1/2 (dashpots c = factor sqrt(m*)) */
-  size_t *astart;   /* n+1: pairs k in [astart[i], astart[i+1]) have a == i */
-  size_t *wstart;   /* n+1: wall candidates of particle i */
-  size_t nb, cap_b; /* boundary pairs */
-  uint32_t *bk;     /* their pair indices, ascending */
-  double *slot;     /* SLOT per boundary pair, zero when not touching; line-aligned */
-  double *slot_a;   /* SLOT_A per boundary pair, zero when not touching */
-  size_t *bout;     /* nth+1: bk[bout[t] .. bout[t+1]) have a in range t */
-  uint32_t *bin;    /* boundary ordinals by the range of b, ascending within */
-  size_t *binstart; /* nth+1 */
-  size_t *rlo;      /* nth+1: the particle ranges (cut_ranges) */
-  int32_t m0;       /* the material every particle has, or -1 (pair_batch.h's one) */
+  long built;        /* nb.builds the indices below belong to (-1: none) */
+  size_t np;         /* particles the indices were made for */
+  int nth;           /* ranges (threads) the split was made for */
+  size_t cap_k;      /* pair capacity */
+  size_t cap_n;      /* particle capacity */
+  double *acc;       /* ACC per particle: force (3, N), 0, torque (3, N m), 0 */
+  uint32_t *list[2]; /* per pair, two buffers (range_lists): in each block, the
+                        touching interior pairs, the batches' sequence, the new
+                        contacts and the ended ones */
+  uint32_t *idle;    /* per pair: each block's interior pairs not touching */
+  double *sm;        /* per pair: sqrt(m*), kg^1/2 (dashpots c = factor sqrt(m*)) */
+  size_t *astart;    /* n+1: pairs k in [astart[i], astart[i+1]) have a == i */
+  size_t *wstart;    /* n+1: wall candidates of particle i */
+  size_t nb, cap_b;  /* boundary pairs */
+  uint32_t *bk;      /* their pair indices, ascending */
+  double *slot;      /* SLOT per boundary pair, zero when not touching; line-aligned */
+  double *slot_a;    /* SLOT_A per boundary pair, zero when not touching */
+  size_t *bout;      /* nth+1: bk[bout[t] .. bout[t+1]) have a in range t */
+  uint32_t *bin;     /* boundary ordinals by the range of b, ascending within */
+  size_t *binstart;  /* nth+1 */
+  size_t *rlo;       /* nth+1: the particle ranges (cut_ranges) */
+  int32_t m0;        /* the material every particle has, or -1 (pair_batch.h's one) */
   /* balance (balance_check): step 2's seconds per range since the cut, the estimated
    * work of each range, and, when a re-cut is due, seconds per unit of work */
   double *busy, *work, *rate;
@@ -171,7 +177,9 @@ int esf_step_fast_create(esf_step_fast **out, esf_error *err) {
 void esf_step_fast_free(esf_step_fast **f) {
   if (!f || !*f) return;
   esf_step_fast *q = *f;
-  free(q->list);
+  free(q->list[0]);
+  free(q->list[1]);
+  free(q->idle);
   free(q->sm);
   free(q->astart);
   free(q->wstart);
@@ -327,7 +335,9 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   const esf_contacts *c = &s->nb.pp;
   const size_t n = p->n, m = c->n, T = (size_t)nth;
   if (m > f->cap_k) {
-    if (!grow((void **)&f->list, m, sizeof(uint32_t)) ||
+    if (!grow((void **)&f->list[0], m, sizeof(uint32_t)) ||
+        !grow((void **)&f->list[1], m, sizeof(uint32_t)) ||
+        !grow((void **)&f->idle, m, sizeof(uint32_t)) ||
         !grow((void **)&f->sm, m, sizeof(double)))
       return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact candidates", m);
     f->cap_k = m;
@@ -420,53 +430,102 @@ static int index_lists(esf_sim *s, esf_step_fast *f, int nth, esf_error *err) {
   return ESF_OK;
 }
 
-/* Step 2's screening of the pairs of particles [lo, hi) of a range ending at end: the
- * interior pairs (b < end) whose spheres overlap go to list[0 .. return value) in
- * ascending k; the interior contacts that ended (touching, no longer overlapping) lose
- * their flag, or, with `ahead` (a constant in each instantiation: a range screening
- * before the word to take the step, run_range, when a step not taken must leave the
- * flags as they were), go to top[-1], top[-2], ... instead (*ne of them; top is the
- * block's end: no pair goes to both lists, so the two never meet). Branch-free within
- * the interior, but for the rare ended contact ahead, so the contact pass runs without
- * the distance test. A particle's boundary pairs (left to step 1) end its block, as
- * its b ascend: the scan stops at the first, and never reads a particle that another
- * range is moving. */
-static inline size_t screen_impl(esf_sim *s, const esf_step_fast *f, size_t lo, size_t hi,
-                                 size_t end, uint32_t *list, uint32_t *top, size_t *ne,
-                                 const int ahead) {
-  const esf_particles *p = &s->p;
-  const esf_contacts *c = &s->nb.pp;
-  const double *x = p->x, *r = p->radius;
-  const uint32_t *cb = c->b;
-  uint8_t *touch = c->touch; /* a byte store may alias anything: bounds kept in locals */
-  const size_t *astart = f->astart;
-  size_t cnt = 0, nend = 0;
-  for (size_t a = lo; a < hi; a++) {
-    const double xa = x[3 * a], ya = x[3 * a + 1], za = x[3 * a + 2], ra = r[a];
-    for (size_t k = astart[a], k1 = astart[a + 1]; k < k1; k++) {
-      const size_t b = cb[k];
-      if (b >= end) break;
-      const double dx = x[3 * b] - xa, dy = x[3 * b + 1] - ya, dz = x[3 * b + 2] - za,
-                   R = ra + r[b];
-      const int in = dx * dx + dy * dy + dz * dz < R * R;
-      list[cnt] = (uint32_t)k; /* below every ended one: cnt + nend <= pairs seen */
-      cnt += (size_t)in;
-      if (ahead) {
-        if (touch[k] > in) top[-(ptrdiff_t)++nend] = (uint32_t)k;
-      } else {
-        touch[k] &= (uint8_t)in;
-      }
-    }
+/* A range's interior pairs (both particles in it) as two lists, each ascending in k:
+ * the contacts, which go to the batches without a test (the batch finds those that
+ * ended: pair_batch.h), and the idle candidates, which are screened for new contacts.
+ * Made from the touch flags at a call's first step (whatever ran between calls), then
+ * carried from step to step. Within the range's block of each buffer (blk pairs):
+ *   tl[0 .. nt)        the contacts of the step before;
+ *   tl[blk - nn .. blk) this step's new contacts, written downward (tl[blk - 1] is the
+ *                      first), by the screening, which writes nothing else (a step not
+ *                      taken leaves the lists as they were);
+ *   sq[0 .. nt + nn)   the batches' sequence, the two merged; the batches compact it
+ *                      in place to the contacts that remain (the next step's tl) and
+ *                      write the ended ones to tl[0 ..), free by then;
+ *   il[0 .. ni)        the idle candidates; after the batches, less the new contacts,
+ *                      plus the ended ones.
+ * No two of these overlap: nt + ni <= blk, and the ended ones are among tl's. */
+typedef struct range_lists {
+  uint32_t *tl, *sq, *il;
+  size_t blk, nt, ni;
+} range_lists;
+
+static void lists_from_flags(const esf_sim *s, size_t k0, size_t k1, size_t end,
+                             range_lists *L) {
+  const uint32_t *cb = s->nb.pp.b;
+  const uint8_t *touch = s->nb.pp.touch;
+  size_t nt = 0, ni = 0;
+  for (size_t k = k0; k < k1; k++) {
+    if (cb[k] >= end) continue; /* a boundary pair: step 1's */
+    const size_t on = touch[k] != 0;
+    L->tl[nt] = (uint32_t)k; /* both written, one kept: no branch on the flag */
+    L->il[ni] = (uint32_t)k;
+    nt += on;
+    ni += 1 - on;
   }
-  *ne = nend;
-  return cnt;
+  L->nt = nt;
+  L->ni = ni;
 }
 
-static size_t screen_block(esf_sim *s, const esf_step_fast *f, size_t lo, size_t hi,
-                           size_t end, uint32_t *list, uint32_t *top, size_t *ne,
-                           int ahead) {
-  return ahead ? screen_impl(s, f, lo, hi, end, list, top, ne, 1)
-               : screen_impl(s, f, lo, hi, end, list, top, ne, 0);
+/* Step 2's screening of the idle candidates il[j0 .. j1) for overlapping spheres,
+ * |x_b - x_a|^2 < (r_a + r_b)^2 (the batch applies the same test, in the same order, to
+ * the contacts): the new contacts go to top[-(nn + 1)], top[-(nn + 2)], ...; returns
+ * how many. Branch-free: every candidate is written, the count advances on a hit (the
+ * write stays in the free part of tl: see range_lists). Reads only the range's own
+ * particles. */
+static size_t screen_idle(const esf_sim *s, const uint32_t *il, size_t j0, size_t j1,
+                          uint32_t *top, size_t nn) {
+  const double *x = s->p.x, *r = s->p.radius;
+  const uint32_t *ca = s->nb.pp.a, *cb = s->nb.pp.b;
+  size_t cnt = nn;
+  for (size_t j = j0; j < j1; j++) {
+    const size_t k = il[j], a = ca[k], b = cb[k];
+    const double dx = x[3 * b] - x[3 * a], dy = x[3 * b + 1] - x[3 * a + 1],
+                 dz = x[3 * b + 2] - x[3 * a + 2], R = r[a] + r[b];
+    top[-(ptrdiff_t)(cnt + 1)] = (uint32_t)k;
+    cnt += dx * dx + dy * dy + dz * dz < R * R;
+  }
+  return cnt - nn;
+}
+
+/* The batches' sequence: the contacts tl[0 .. nt) and the nn new ones at top[-1],
+ * top[-2], ..., merged in ascending k into sq. Returns its length. */
+static size_t merge_new(uint32_t *sq, const uint32_t *tl, size_t nt, const uint32_t *top,
+                        size_t nn) {
+  size_t i = 0, p = 0;
+  for (size_t j = 1; j <= nn; j++) {
+    const uint32_t k = top[-(ptrdiff_t)j];
+    while (i < nt && tl[i] < k) sq[p++] = tl[i++];
+    sq[p++] = k;
+  }
+  memcpy(sq + p, tl + i, (nt - i) * sizeof *sq);
+  return p + nt - i;
+}
+
+/* The idle list after a step: il[0 .. ni) less the nn new contacts at top[-1], ...
+ * (a subsequence of it, in the same order), plus the ne ended contacts ended[0 .. ne)
+ * (ascending), merged in from the back. Returns the new length. */
+static size_t idle_update(uint32_t *il, size_t ni, const uint32_t *top, size_t nn,
+                          const uint32_t *ended, size_t ne) {
+  size_t w = ni;
+  if (nn) {
+    size_t j = 1;
+    w = 0;
+    for (size_t q = 0; q < ni; q++) {
+      if (j <= nn && il[q] == top[-(ptrdiff_t)j]) {
+        j++;
+        continue;
+      }
+      il[w++] = il[q];
+    }
+  }
+  size_t p = w + ne, i = w;
+  for (size_t q = ne; q > 0; q--) {
+    const uint32_t k = ended[q - 1];
+    while (i > 0 && il[i - 1] > k) il[--p] = il[--i];
+    il[--p] = k;
+  }
+  return w + ne;
 }
 
 /* A computed boundary pair's force on A and torque on B (row[0..3], row[8..11] of the
@@ -532,7 +591,8 @@ static size_t boundary_pairs(esf_sim *s, esf_step_fast *f, const esf_pair_batch_
       jb[m++] = j++;
       if (m < ESF_BATCH) continue;
     }
-    const unsigned fail = esf_pair_batch_linear(bc, kb, m, out);
+    unsigned apart; /* none: screened above by the same test */
+    const unsigned fail = esf_pair_batch_linear(bc, kb, m, out, &apart);
     for (int l = 0; l < m; l++) {
       if (fail >> l & 1u) {
         if (kb[l] < bad) bad = kb[l];
@@ -749,16 +809,33 @@ static double wait_flag(_Atomic long *flag, long e) {
 #endif
 }
 
-/* Step 2's pair pass for range t, its overlapping interior pairs in list[0 .. cnt):
- * forces of all pairs touching its particles, in ascending k per particle. Needs the
- * lower ranges' boundary pairs of this step done (the incoming slots). Returns the
- * lowest failing pair index or SIZE_MAX. Kept out of line: inlined into run_range
+/* After a batch of list[q0 .. q0 + nl): its pairs whose bit is set in apart go to
+ * ended[*ng ..], the others to list[w ..] (w <= q0: in place). Returns the new w. */
+static inline size_t compact(uint32_t *list, size_t q0, int nl, unsigned apart, size_t w,
+                             uint32_t *ended, size_t *ng) {
+  if (!apart && w == q0) return w + (size_t)nl; /* nothing ended yet: in place already */
+  for (int l = 0; l < nl; l++) {
+    const uint32_t k = list[q0 + l];
+    if (apart >> l & 1u)
+      ended[(*ng)++] = k;
+    else
+      list[w++] = k;
+  }
+  return w;
+}
+
+/* Step 2's pair pass for range t, its interior contacts and new contacts in
+ * list[0 .. cnt) (ascending): forces of all pairs touching its particles, in ascending
+ * k per particle. The contacts that ended (the batch finds them) leave list, which is
+ * compacted in place to *kept pairs, and go to ended[0 .. *ne). Needs the lower
+ * ranges' boundary pairs of this step done (the incoming slots). Returns the lowest
+ * failing pair index or SIZE_MAX. Kept out of line: inlined into run_range
  * (GCC 12 does when run_range is a little smaller) the one-thread step at 10k ran 2.5%
  * slower. */
-__attribute__((noinline)) static size_t pairs_range(esf_sim *s, esf_step_fast *f,
-                                                    const esf_pair_batch_ctx *bc,
-                                                    size_t t, size_t lo, size_t hi,
-                                                    const uint32_t *list, size_t cnt) {
+__attribute__((noinline)) static size_t
+pairs_range(esf_sim *s, esf_step_fast *f, const esf_pair_batch_ctx *bc, size_t t,
+            size_t lo, size_t hi, uint32_t *list, size_t cnt, uint32_t *ended, size_t *ne,
+            size_t *kept) {
   esf_particles *p = &s->p;
   const esf_contacts *c = &s->nb.pp;
   const double *g = s->cfg.gravity;
@@ -785,6 +862,7 @@ __attribute__((noinline)) static size_t pairs_range(esf_sim *s, esf_step_fast *f
   const size_t jo1 = f->bout[t + 1];
   double out[ESF_BATCH][ESF_BATCH_OUT];
   const char *hist = (const char *)c->h;
+  size_t w = 0, ng = 0; /* list[0 .. w) kept, ended[0 .. ng) */
   for (size_t q0 = 0; q0 < cnt; q0 += ESF_BATCH) {
     const int nl = cnt - q0 < ESF_BATCH ? (int)(cnt - q0) : ESF_BATCH;
     /* the histories of the pairs PF ahead (sparse in memory, so the hardware's
@@ -799,15 +877,19 @@ __attribute__((noinline)) static size_t pairs_range(esf_sim *s, esf_step_fast *f
     if (jo == jo1 || f->bk[jo] > list[q0 + nl - 1]) {
       /* no outgoing slot falls among these pairs: the batch adds its results itself,
          as the loop below does (esf_pair_batch_acc_add) */
-      const unsigned fail = esf_pair_batch_linear_add(bc, list + q0, nl, acc);
+      unsigned apart;
+      const unsigned fail = esf_pair_batch_linear_add(bc, list + q0, nl, acc, &apart);
       for (int l = 0; fail && l < nl; l++)
         if ((fail >> l & 1u) && list[q0 + l] < bad) bad = list[q0 + l];
+      w = compact(list, q0, nl, apart, w, ended, &ng);
       continue;
     }
-    const unsigned fail = esf_pair_batch_linear(bc, list + q0, nl, out);
+    unsigned apart;
+    const unsigned fail = esf_pair_batch_linear(bc, list + q0, nl, out, &apart);
     for (int l = 0; l < nl; l++) {
       const size_t k = list[q0 + l];
       for (; jo < jo1 && f->bk[jo] < k; jo++) outgoing(f, c, jo);
+      if (apart >> l & 1u) continue;
       if (fail >> l & 1u) {
         if (k < bad) bad = k;
         continue;
@@ -815,9 +897,12 @@ __attribute__((noinline)) static size_t pairs_range(esf_sim *s, esf_step_fast *f
       esf_pair_batch_acc_add(acc, c->a[k], c->b[k], v4_ld(out[l]), v4_ld(out[l] + 4),
                              v4_ld(out[l] + 8));
     }
+    w = compact(list, q0, nl, apart, w, ended, &ng);
   }
   acc_set(p, g, acc, fr, hi);
   for (; jo < jo1; jo++) outgoing(f, c, jo);
+  *kept = w;
+  *ne = ng;
   return bad;
 }
 
@@ -877,10 +962,11 @@ static int burst_decide(esf_step_fast *f, const burst *B, long e, double *waited
  * the range's own particles and writes nothing shared, goes ahead of the wait in
  * ranges above 0, so a range that finished early has work while the others catch up. */
 static void run_range(esf_sim *s, esf_step_fast *f, const burst *B, size_t t) {
-  uint8_t *touch = s->nb.pp.touch;
   range_rec *me = f->rr + t;
   const size_t T = (size_t)f->nth, lo = f->rlo[t], hi = f->rlo[t + 1];
-  uint32_t *list = f->list + f->astart[lo], *top = f->list + f->astart[hi];
+  const size_t k0 = f->astart[lo], k1 = f->astart[hi];
+  range_lists L = {f->list[0] + k0, f->list[1] + k0, f->idle + k0, k1 - k0, 0, 0};
+  lists_from_flags(s, k0, k1, hi, &L);
   long i = 0;
   for (; i < B->steps; i++) {
     const long e = B->e0 + i;
@@ -888,19 +974,18 @@ static void run_range(esf_sim *s, esf_step_fast *f, const burst *B, size_t t) {
     const double t0 = omp_get_wtime();
 #endif
     double waited = 0.0;
-    size_t cnt = 0, ne = 0, nt_pp = 0, nt_pw = 0;
-    size_t a = lo; /* particles screened: [lo, a) */
-    if (t > 0) {   /* ahead of the word from the burst's second step on */
-      cnt = screen_block(s, f, lo, hi, hi, list, top, &ne, i > 0);
-      a = hi;
+    size_t nn = 0, nt_pp = 0, nt_pw = 0;
+    uint32_t *top = L.tl + L.blk; /* the new contacts, downward */
+    size_t j = 0;                 /* idle candidates screened: il[0 .. j) */
+    if (t > 0) {                  /* ahead of the word from the burst's second step on */
+      nn = screen_idle(s, L.il, 0, L.ni, top, 0);
+      j = L.ni;
     }
     if (i > 0 && t == 0) { /* screens while the others finish the step before */
-      while (a < hi && !all_done(f, e - 1)) {
-        const size_t a1 = hi - a > SCREEN_CHUNK ? a + SCREEN_CHUNK : hi;
-        size_t q;
-        cnt += screen_block(s, f, a, a1, hi, list + cnt, top - ne, &q, 1);
-        ne += q;
-        a = a1;
+      while (j < L.ni && !all_done(f, e - 1)) {
+        const size_t j1 = L.ni - j > SCREEN_CHUNK ? j + SCREEN_CHUNK : L.ni;
+        nn += screen_idle(s, L.il, j, j1, top, nn);
+        j = j1;
       }
       if (burst_decide(f, B, e, &waited)) break;
     }
@@ -913,16 +998,18 @@ static void run_range(esf_sim *s, esf_step_fast *f, const burst *B, size_t t) {
     o.bad_pair = boundary_pairs(s, f, B->bc, f->bout[t], f->bout[t + 1], &nt_pp);
     if (o.bad_pair != SIZE_MAX) atomic_store_explicit(&f->bfail, e, memory_order_relaxed);
     atomic_store_explicit(&me->ready, e, memory_order_release);
-    if (a < hi) { /* range 0: the rest */
-      size_t q;
-      cnt += screen_block(s, f, a, hi, hi, list + cnt, top - ne, &q, 0);
-      ne += q;
-    }
+    if (j < L.ni) nn += screen_idle(s, L.il, j, L.ni, top, nn); /* range 0: the rest */
     for (size_t u = 0; u < t; u++) /* their slots written, our particles no longer read */
       waited += wait_flag(&f->rr[u].ready, e);
-    for (size_t q = 1; q <= ne; q++) touch[top[-(ptrdiff_t)q]] = 0; /* ended contacts */
-    nt_pp += cnt;
-    const size_t bad = pairs_range(s, f, B->bc, t, lo, hi, list, cnt);
+    const size_t cnt = merge_new(L.sq, L.tl, L.nt, top, nn);
+    size_t ne, kept;
+    const size_t bad = pairs_range(s, f, B->bc, t, lo, hi, L.sq, cnt, L.tl, &ne, &kept);
+    L.ni = idle_update(L.il, L.ni, top, nn, L.tl, ne); /* ended: in tl, free now */
+    uint32_t *const tl = L.tl;
+    L.tl = L.sq; /* the contacts that remain */
+    L.sq = tl;
+    L.nt = kept;
+    nt_pp += kept;
     if (bad < o.bad_pair) o.bad_pair = bad;
     if (o.bad_pair == SIZE_MAX &&
         atomic_load_explicit(&f->bfail, memory_order_relaxed) != e)
