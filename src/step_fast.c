@@ -97,11 +97,12 @@
 /* A boundary pair's results, twice: what b's range reads (force on A, torque on B),
  * one line per pair in `slot`, and what a's range reads (force and torque on A) in
  * `slot_a`, which stays in a's core. Four doubles each, the last zero. */
-#define SLOT         8   /* per pair in slot: force on A, torque on B */
-#define SLOT_A       8   /* per pair in slot_a: force on A, torque on A */
-#define PF           32  /* history prefetch distance, pairs */
-#define SCREEN_CHUNK 256 /* idle candidates range 0 screens between looks at the others  \
-                          */
+#define SLOT   8  /* per pair in slot: force on A, torque on B */
+#define SLOT_A 8  /* per pair in slot_a: force on A, torque on A */
+#define PF     32 /* history prefetch distance, pairs */
+#define SCREEN_CHUNK                                                                     \
+  256 /* idle candidates range 0 screens between looks at the others                     \
+       */
 
 _Static_assert(ACC == ESF_BATCH_ACC, "pair_batch.h adds into the accumulators' layout");
 _Static_assert(
@@ -498,7 +499,7 @@ static size_t merge_new(uint32_t *sq, const uint32_t *tl, size_t nt, const uint3
     while (i < nt && tl[i] < k) sq[p++] = tl[i++];
     sq[p++] = k;
   }
-  memcpy(sq + p, tl + i, (nt - i) * sizeof *sq);
+  if (i < nt) memcpy(sq + p, tl + i, (nt - i) * sizeof *sq); /* tl may be NULL if empty */
   return p + nt - i;
 }
 
