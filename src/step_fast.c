@@ -100,9 +100,8 @@
 #define SLOT   8  /* per pair in slot: force on A, torque on B */
 #define SLOT_A 8  /* per pair in slot_a: force on A, torque on A */
 #define PF     32 /* history prefetch distance, pairs */
-#define SCREEN_CHUNK                                                                     \
-  256 /* idle candidates range 0 screens between looks at the others                     \
-       */
+/* idle candidates range 0 screens between looks at the others */
+#define SCREEN_CHUNK 256
 
 _Static_assert(ACC == ESF_BATCH_ACC, "pair_batch.h adds into the accumulators' layout");
 _Static_assert(
@@ -474,17 +473,24 @@ static void lists_from_flags(const esf_sim *s, size_t k0, size_t k1, size_t end,
  * how many. Branch-free: every candidate is written, the count advances on a hit (the
  * write stays in the free part of tl: see range_lists). Reads only the range's own
  * particles. */
+/* Whether the spheres of pair (a, b) overlap: |x_b - x_a|^2 < (r_a + r_b)^2, the step's
+ * one test (pair_batch.c's lanes compute it for the contacts in the same order). */
+static inline int spheres_overlap(const double *x, const double *r, size_t a, size_t b) {
+  double d[3];
+  v3_sub(d, x + 3 * b, x + 3 * a);
+  const double R = r[a] + r[b];
+  return v3_norm2(d) < R * R;
+}
+
 static size_t screen_idle(const esf_sim *s, const uint32_t *il, size_t j0, size_t j1,
                           uint32_t *top, size_t nn) {
   const double *x = s->p.x, *r = s->p.radius;
   const uint32_t *ca = s->nb.pp.a, *cb = s->nb.pp.b;
   size_t cnt = nn;
   for (size_t j = j0; j < j1; j++) {
-    const size_t k = il[j], a = ca[k], b = cb[k];
-    const double dx = x[3 * b] - x[3 * a], dy = x[3 * b + 1] - x[3 * a + 1],
-                 dz = x[3 * b + 2] - x[3 * a + 2], R = r[a] + r[b];
+    const size_t k = il[j];
     top[-(ptrdiff_t)(cnt + 1)] = (uint32_t)k;
-    cnt += dx * dx + dy * dy + dz * dz < R * R;
+    cnt += (size_t)spheres_overlap(x, r, ca[k], cb[k]);
   }
   return cnt - nn;
 }
@@ -575,10 +581,7 @@ static size_t boundary_pairs(esf_sim *s, esf_step_fast *f, const esf_pair_batch_
   for (size_t j = j0; j < j1 || m > 0;) {
     if (j < j1) {
       const size_t k = f->bk[j], a = c->a[k], b = c->b[k];
-      double d[3];
-      v3_sub(d, p->x + 3 * b, p->x + 3 * a);
-      const double R = p->radius[a] + p->radius[b];
-      if (v3_norm2(d) >= R * R) {
+      if (!spheres_overlap(p->x, p->radius, a, b)) {
         if (c->touch[k]) {
           c->touch[k] = 0;
           memset(f->slot + SLOT * j, 0, SLOT * sizeof(double));
