@@ -467,12 +467,6 @@ static void lists_from_flags(const esf_sim *s, size_t k0, size_t k1, size_t end,
   L->ni = ni;
 }
 
-/* Step 2's screening of the idle candidates il[j0 .. j1) for overlapping spheres,
- * |x_b - x_a|^2 < (r_a + r_b)^2 (the batch applies the same test, in the same order, to
- * the contacts): the new contacts go to top[-(nn + 1)], top[-(nn + 2)], ...; returns
- * how many. Branch-free: every candidate is written, the count advances on a hit (the
- * write stays in the free part of tl: see range_lists). Reads only the range's own
- * particles. */
 /* Whether the spheres of pair (a, b) overlap: |x_b - x_a|^2 < (r_a + r_b)^2, the step's
  * one test (pair_batch.c's lanes compute it for the contacts in the same order). */
 static inline int spheres_overlap(const double *x, const double *r, size_t a, size_t b) {
@@ -482,6 +476,12 @@ static inline int spheres_overlap(const double *x, const double *r, size_t a, si
   return v3_norm2(d) < R * R;
 }
 
+/* Step 2's screening of the idle candidates il[j0 .. j1) for overlapping spheres,
+ * |x_b - x_a|^2 < (r_a + r_b)^2 (the batch applies the same test, in the same order, to
+ * the contacts): the new contacts go to top[-(nn + 1)], top[-(nn + 2)], ...; returns
+ * how many. Branch-free: every candidate is written, the count advances on a hit (the
+ * write stays in the free part of tl: see range_lists). Reads only the range's own
+ * particles. */
 static size_t screen_idle(const esf_sim *s, const uint32_t *il, size_t j0, size_t j1,
                           uint32_t *top, size_t nn) {
   const double *x = s->p.x, *r = s->p.radius;
