@@ -1,11 +1,14 @@
 /* neighbor.c — Verlet candidate lists over the linked cells, with history transfer.
  *
- * Build: (1) index the old lists' touching contacts by key (a, b) in a sorted array;
- * (2) find the particle pairs within skin by the cells (each once) and, for every
- * particle, the wall elements within skin (among those the wall index, wall_index.h,
- * reports near it); (3) for every new candidate, binary-search its key in the old
- * index and copy the history and the touching flag. Contacts no longer candidates lose
- * their history, as they can only be out of contact (their gap exceeds the skin).
+ * Build: (1) find the particle pairs within skin by the cells (each once) and, for
+ * every particle, the wall elements within skin (among those the wall index,
+ * wall_index.h, reports near it); then, for each list: (2) copy the old list's touching
+ * contacts (b, history, carried velocity) aside, grouped by particle a; (3) fill the
+ * list in its own storage from the new keys, ordered by (a, b), each new candidate
+ * taking the history and touching flag of the old contact with its key, found among the
+ * few of its a. Contacts no longer candidates lose their history, as they can only be
+ * out of contact (their gap exceeds the skin). Only the touching contacts are held
+ * twice, not the whole list (a rebuild's peak memory).
  * Entry: positions finite. Exit: lists sorted by (a, b); xref = current positions. */
 #include "neighbor.h"
 
@@ -65,8 +68,7 @@ int esf_neighbor_init(esf_neighbor *nb, double skin, int ledger, esf_error *err)
 void esf_neighbor_release(esf_neighbor *nb) {
   contacts_release(&nb->pp);
   contacts_release(&nb->pw);
-  contacts_release(&nb->pp_spare);
-  contacts_release(&nb->pw_spare);
+  contacts_release(&nb->kept);
   free(nb->ws_start);
   free(nb->ws_ostart);
   free(nb->ws_ok);
@@ -119,9 +121,9 @@ int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wa
 /* ---- the build's history transfer --------------------------------------------------
  * Both lists are kept by particle: the new keys are ordered by a counting sort on a and
  * an insertion sort of each particle's few b; the old list's touching contacts are
- * indexed the same way (ostart, ok), so each new candidate finds its old history by a
- * scan of the few old contacts of its a. No comparison sort, no hashing: O(n + m). The
- * per-particle passes run on nb->threads threads over particle ranges; each particle's
+ * copied aside grouped the same way (nb->kept, ostart), so each new candidate finds its
+ * old history by a scan of the few old contacts of its a. No comparison sort, no
+ * hashing: O(n + m). The per-particle passes run on nb->threads threads; each entry's
  * output has a fixed place, so the lists do not depend on the thread count. */
 
 /* Counting sort of entries k < m by their particle ka[k] (only those with keep[k], or
@@ -145,37 +147,77 @@ static void count_by_a(size_t n, const uint32_t *ka, const uint32_t *kb,
   }
 }
 
-/* Fills dst from the keys (a, b) of one list (m of them, a < n), copying the history of
- * the old list's touching contacts (every old a < n: the lists were renumbered). */
-static int fill_list(esf_neighbor *nb, esf_contacts *dst, const esf_contacts *old,
-                     size_t n, const uint32_t *ka, const uint32_t *kb, size_t m,
-                     esf_error *err) {
-  int rc = contacts_reserve(dst, m, nb->ledger, nb->carry, err);
+/* The build's scratch: n + 2 particle offsets, m contact entries. */
+static int scratch_reserve(esf_neighbor *nb, size_t n, size_t m, esf_error *err) {
+  if (n + 2 <= nb->ws_n && m <= nb->ws_m) return ESF_OK;
+  const size_t cn = n + 2 > nb->ws_n ? n + 2 : nb->ws_n;
+  const size_t cm = m > nb->ws_m ? m : nb->ws_m;
+  size_t *st = realloc(nb->ws_start, cn * sizeof *st);
+  if (st) nb->ws_start = st;
+  size_t *os = realloc(nb->ws_ostart, cn * sizeof *os);
+  if (os) nb->ws_ostart = os;
+  uint32_t *ok = realloc(nb->ws_ok, (cm ? cm : 1) * sizeof *ok);
+  if (ok) nb->ws_ok = ok;
+  if (!st || !os || !ok)
+    return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact candidates", m);
+  nb->ws_n = cn;
+  nb->ws_m = cm;
+  return ESF_OK;
+}
+
+/* Step (2): the touching contacts of list (every a < n: the lists were renumbered) into
+ * nb->kept, particle a's at ws_ostart[a] .. ws_ostart[a + 1], in list order; *carry:
+ * their carried velocities were copied too. */
+static int keep_touching(esf_neighbor *nb, const esf_contacts *list, size_t n, int *carry,
+                         esf_error *err) {
+  int rc = scratch_reserve(nb, n, list->n, err);
   if (rc) return rc;
-  if (n + 2 > nb->ws_n || old->n > nb->ws_m) { /* the build's scratch */
-    const size_t cn = n + 2 > nb->ws_n ? n + 2 : nb->ws_n;
-    const size_t cm = old->n > nb->ws_m ? old->n : nb->ws_m;
-    size_t *st = realloc(nb->ws_start, cn * sizeof *st);
-    if (st) nb->ws_start = st;
-    size_t *os = realloc(nb->ws_ostart, cn * sizeof *os);
-    if (os) nb->ws_ostart = os;
-    uint32_t *ok = realloc(nb->ws_ok, (cm ? cm : 1) * sizeof *ok);
-    if (ok) nb->ws_ok = ok;
-    if (!st || !os || !ok)
-      return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact candidates", m);
-    nb->ws_n = cn;
-    nb->ws_m = cm;
-  }
-  size_t *start = nb->ws_start, *ostart = nb->ws_ostart;
+  size_t *ostart = nb->ws_ostart;
   uint32_t *okk = nb->ws_ok;
-  count_by_a(n, ka, kb, NULL, m, start, dst->b, NULL); /* the new keys' b by a */
-  count_by_a(n, old->a, NULL, old->touch, old->n, ostart, NULL, okk); /* old touching */
-  const int carry = nb->carry && old->vc0 != NULL;
+  count_by_a(n, list->a, NULL, list->touch, list->n, ostart, NULL, okk);
+  const size_t nk = ostart[n];
+  esf_contacts *kc = &nb->kept;
+  *carry = nb->carry && list->vc0 != NULL;
+  kc->n = 0; /* nothing to keep from the last build */
+  if (kc->cap > 2 * nk + 1024 || (*carry && !kc->vc0)) /* much larger (a denser */
+    contacts_release(kc); /* state before), or without room for the velocities */
+  rc = contacts_reserve(kc, nk, 0, *carry, err);
+  if (rc) return rc;
+  const long nn = (long)nk;
+  const int cv = *carry;
+#pragma omp parallel for num_threads(nb->threads > 0 ? nb->threads : 1) schedule(static)
+  for (long jj = 0; jj < nn; jj++) {
+    const size_t j = (size_t)jj, f = okk[j];
+    kc->b[j] = list->b[f];
+    kc->h[j] = list->h[f];
+    if (cv) memcpy(kc->vc0 + 3 * j, list->vc0 + 3 * f, 3 * sizeof(double));
+  }
+  kc->n = nk;
+  return ESF_OK;
+}
+
+/* Step (3): list filled, in its own storage, from the keys (a, b) (m of them, a < n),
+ * with the history of the kept contacts (keep_touching). */
+static int fill_list(esf_neighbor *nb, esf_contacts *list, size_t n, const uint32_t *ka,
+                     const uint32_t *kb, size_t m, int carry, esf_error *err) {
+  list->n = 0;     /* nothing to keep: the storage is refilled */
+  list->xs = NULL; /* the ODE methods bind the state again before evaluating */
+  list->xsdot = NULL;
+  if (list->cap > 2 * m + 1024) /* the old list was much longer (a larger skin, a */
+    contacts_release(list);     /* denser state): drop its storage */
+  int rc = contacts_reserve(list, m, nb->ledger, nb->carry, err);
+  if (rc) return rc;
+  rc = scratch_reserve(nb, n, 0, err);
+  if (rc) return rc;
+  size_t *start = nb->ws_start;
+  const size_t *ostart = nb->ws_ostart;
+  const esf_contacts *kc = &nb->kept;
+  count_by_a(n, ka, kb, NULL, m, start, list->b, NULL); /* the new keys' b by a */
   const long nn = (long)n;
 #pragma omp parallel for num_threads(nb->threads > 0 ? nb->threads : 1) schedule(static)
   for (long ia = 0; ia < nn; ia++) {
     const size_t a = (size_t)ia, k0 = start[a], k1 = start[a + 1];
-    uint32_t *b = dst->b;
+    uint32_t *b = list->b;
     for (size_t k = k0 + 1; k < k1; k++) { /* insertion sort of a's few b */
       const uint32_t v = b[k];
       size_t j = k;
@@ -183,49 +225,36 @@ static int fill_list(esf_neighbor *nb, esf_contacts *dst, const esf_contacts *ol
       b[j] = v;
     }
     for (size_t k = k0; k < k1; k++) {
-      dst->a[k] = (uint32_t)a;
+      list->a[k] = (uint32_t)a;
       size_t f = SIZE_MAX;
       for (size_t j = ostart[a]; j < ostart[a + 1]; j++)
-        if (old->b[okk[j]] == b[k]) {
-          f = okk[j];
+        if (kc->b[j] == b[k]) {
+          f = j;
           break;
         }
       if (f != SIZE_MAX) {
-        dst->h[k] = old->h[f];
-        dst->touch[k] = 1;
-        if (carry) memcpy(dst->vc0 + 3 * k, old->vc0 + 3 * f, 3 * sizeof(double));
+        list->h[k] = kc->h[f];
+        list->touch[k] = 1;
+        if (carry) memcpy(list->vc0 + 3 * k, kc->vc0 + 3 * f, 3 * sizeof(double));
       } else {
-        memset(&dst->h[k], 0, sizeof dst->h[k]);
-        dst->touch[k] = 0;
-        if (dst->vc0) memset(dst->vc0 + 3 * k, 0, 3 * sizeof(double));
+        memset(&list->h[k], 0, sizeof list->h[k]);
+        list->touch[k] = 0;
+        if (list->vc0) memset(list->vc0 + 3 * k, 0, 3 * sizeof(double));
       }
     }
   }
-  dst->n = m;
+  list->n = m;
   return ESF_OK;
 }
 
-/* Swaps the contents of two contact lists. */
-static void contacts_swap(esf_contacts *x, esf_contacts *y) {
-  esf_contacts t = *x;
-  *x = *y;
-  *y = t;
-}
-
-/* Rebuilds *list from the keys, its old storage kept in *spare for the next build (no
- * fresh allocation, so no page faults, once the storage has grown). */
-static int rebuild_list(esf_neighbor *nb, esf_contacts *list, esf_contacts *spare,
-                        size_t n, const uint32_t *ka, const uint32_t *kb, size_t m,
+/* Rebuilds *list from the keys in its own storage, the old touching contacts' history
+ * carried over. */
+static int rebuild_list(esf_neighbor *nb, esf_contacts *list, size_t n,
+                        const uint32_t *ka, const uint32_t *kb, size_t m,
                         esf_error *err) {
-  spare->n = 0;
-  spare->xs = NULL; /* the ODE methods bind the state again before evaluating */
-  spare->xsdot = NULL;
-  int rc = fill_list(nb, spare, list, n, ka, kb, m, err);
-  if (rc) return rc;
-  contacts_swap(list, spare);
-  if (spare->cap > 2 * list->n + 1024) /* the old lists were much longer (a larger */
-    contacts_release(spare);           /* skin, a denser state): drop their storage */
-  return ESF_OK;
+  int carry;
+  int rc = keep_touching(nb, list, n, &carry, err);
+  return rc ? rc : fill_list(nb, list, n, ka, kb, m, carry, err);
 }
 
 /* The wall loop's scratch (forces.c), one entry per wall candidate. */
@@ -324,14 +353,12 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
   int rc = esf_cells_pairs(nb->cells, p->n, p->x, p->radius, nb->skin, &nb->buf, err);
   if (rc) return rc;
   /* the search stores each pair as (min, max) */
-  rc = rebuild_list(nb, &nb->pp, &nb->pp_spare, p->n, nb->buf.i, nb->buf.j, nb->buf.n,
-                    err);
+  rc = rebuild_list(nb, &nb->pp, p->n, nb->buf.i, nb->buf.j, nb->buf.n, err);
   if (rc) return rc;
 
   rc = wall_candidates(nb, p, w, err);
   if (rc) return rc;
-  rc = rebuild_list(nb, &nb->pw, &nb->pw_spare, p->n, nb->buf.i, nb->buf.j, nb->buf.n,
-                    err);
+  rc = rebuild_list(nb, &nb->pw, p->n, nb->buf.i, nb->buf.j, nb->buf.n, err);
   if (rc) return rc;
   rc = wall_scratch_reserve(nb, err);
   if (rc) return rc;

@@ -9,8 +9,8 @@
  * particle moved just over s/2 makes the check ask for a rebuild. The walls are a box
  * and a faceted cylinder (indexed: its elements are found through the wall index's
  * grid); each build is repeated on 2 and 3 threads and must give the same lists, pair
- * for pair. Also the adaptive skin's rule and bounds, and the rebuild asked for by a
- * particle leaving the domain. */
+ * for pair. Also the adaptive skin's rule and bounds, the rebuild asked for by a
+ * particle leaving the domain, and the history transfer of a build (check_transfer). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -224,8 +224,144 @@ static void check_skin(void) {
   simtest_close(&T);
 }
 
+/* A value for field q of the history of the contact with key (a, b) (a pseudo-random
+ * function of the key, so that a carried history is recognised wherever it lands). */
+static double keyed(uint32_t a, uint32_t b, int q) {
+  uint64_t z =
+      ((uint64_t)a << 32 | b) * 0x9E3779B97F4A7C15u + (uint64_t)q * 0xBF58476D1CE4E5B9u;
+  z ^= z >> 29;
+  z *= 0x94D049BB133111EBu;
+  z ^= z >> 32;
+  return (double)(z % 1000003u) + 0.125; /* never 0 */
+}
+
+/* Which contacts are marked touching: those whose key the hash picks (about 60%),
+ * none when off, and for particle pairs (p not NULL) only those closer than gmax
+ * surface to surface (so that a build with a smaller skin keeps them as candidates). */
+typedef struct mark_rule {
+  const esf_particles *p;
+  double gmax; /* m */
+  int off;
+} mark_rule;
+
+static int marked(const mark_rule *m, uint32_t a, uint32_t b) {
+  if (m->off || keyed(a, b, 99) >= 600000.0) return 0;
+  if (!m->p) return 1;
+  double d[3];
+  v3_sub(d, m->p->x + 3 * (size_t)b, m->p->x + 3 * (size_t)a);
+  return v3_norm(d) - m->p->radius[a] - m->p->radius[b] < m->gmax;
+}
+
+/* Marks the contacts of a list touching by the rule and gives every one a keyed
+ * history and carried velocity (the others' must not be carried); returns how many
+ * touch. */
+static size_t mark_list(esf_contacts *c, const mark_rule *m) {
+  size_t nt = 0;
+  for (size_t k = 0; k < c->n; k++) {
+    const uint32_t a = c->a[k], b = c->b[k];
+    c->touch[k] = (uint8_t)marked(m, a, b);
+    nt += c->touch[k];
+    esf_contact_hist *h = &c->h[k];
+    for (int q = 0; q < 3; q++) {
+      h->xi[q] = keyed(a, b, q);
+      h->n[q] = keyed(a, b, 3 + q);
+      c->vc0[3 * k + q] = keyed(a, b, 6 + q);
+    }
+    h->bond_s = keyed(a, b, 9);
+    h->bond = (int32_t)keyed(a, b, 10);
+  }
+  return nt;
+}
+
+/* After a build: every candidate whose key was in the old list (its keys in old) and
+ * marked has its keyed history, velocity and flag, every other one zeros; *carried
+ * counts the former. Returns the candidates that were wrong. */
+static long check_list(const esf_contacts *c, const esf_contacts *old, const mark_rule *m,
+                       size_t *carried) {
+  long bad = 0;
+  for (size_t k = 0; k < c->n; k++) {
+    const uint32_t a = c->a[k], b = c->b[k];
+    const int was = has_pair(old, a, b) && marked(m, a, b);
+    const esf_contact_hist *h = &c->h[k];
+    int ok = c->touch[k] == was;
+    for (int q = 0; q < 3; q++) {
+      ok &= h->xi[q] == (was ? keyed(a, b, q) : 0.0);
+      ok &= h->n[q] == (was ? keyed(a, b, 3 + q) : 0.0);
+      ok &= c->vc0[3 * k + q] == (was ? keyed(a, b, 6 + q) : 0.0);
+    }
+    ok &= h->bond_s == (was ? keyed(a, b, 9) : 0.0);
+    ok &= h->bond == (was ? (int32_t)keyed(a, b, 10) : 0);
+    bad += !ok;
+    *carried += (size_t)was;
+  }
+  return bad;
+}
+
+/* The history transfer of a build: the lists built, their contacts marked touching or
+ * not with keyed histories, then built again with a larger skin (more candidates, a
+ * larger storage), on 3 threads, and again with a much smaller one (a fraction of
+ * the candidates: the storage is let go and taken afresh), the pairs marked only
+ * where they stay candidates and no wall contact marked: each marked contact's
+ * history, carried velocity and flag reach the new candidate with its key, for
+ * particle pairs and wall contacts alike, and nothing of the others does. */
+static void check_transfer(void) {
+  simtest T;
+  if (open_case(&T, 1500, 0.0005, 0.0015, 5, 0.0002)) return;
+  esf_sim *s = &T.s;
+  esf_neighbor *nb = &s->nb;
+  esf_error err;
+  nb->carry = 1; /* as the ODE methods: the carried velocities too */
+  const double skins[3] = {0.0006, 0.0012, 0.00005};
+  const int threads[3] = {1, 3, 2};
+  CHECK_OK(esf_neighbor_build(nb, &s->p, &s->walls, &err), err);
+  for (int r = 0; r < 3; r++) {
+    esf_contacts *l[2] = {&nb->pp, &nb->pw};
+    const int shrink = skins[r] < nb->skin;
+    const mark_rule rule[2] = {{&s->p, shrink ? 0.5 * skins[r] : INFINITY, 0},
+                               {NULL, 0.0, shrink}};
+    size_t nmark[2], carried[2] = {0, 0}, cap0 = nb->pp.cap;
+    long bad[2];
+    esf_contacts old[2]; /* the old lists' keys (sorted by (a, b), for has_pair) */
+    for (int q = 0; q < 2; q++) {
+      nmark[q] = mark_list(l[q], &rule[q]);
+      memset(&old[q], 0, sizeof old[q]);
+      old[q].n = l[q]->n;
+      old[q].a = malloc((old[q].n ? old[q].n : 1) * sizeof(uint32_t));
+      old[q].b = malloc((old[q].n ? old[q].n : 1) * sizeof(uint32_t));
+      memcpy(old[q].a, l[q]->a, old[q].n * sizeof(uint32_t));
+      memcpy(old[q].b, l[q]->b, old[q].n * sizeof(uint32_t));
+    }
+    nb->skin = skins[r];
+    nb->threads = threads[r];
+    CHECK_OK(esf_neighbor_build(nb, &s->p, &s->walls, &err), err);
+    for (int q = 0; q < 2; q++) {
+      bad[q] = check_list(l[q], &old[q], &rule[q], &carried[q]);
+      free(old[q].a);
+      free(old[q].b);
+    }
+    printf("transfer, skin %g, %d threads: %zu pair candidates (room %zu -> %zu), %zu of "
+           "%zu touching carried; walls %zu of %zu; wrong %ld, %ld\n",
+           skins[r], threads[r], nb->pp.n, cap0, nb->pp.cap, carried[0], nmark[0],
+           carried[1], nmark[1], bad[0], bad[1]);
+    CHECK(nmark[0] >= (shrink ? 50u : 500u) && (shrink || nmark[1] >= 20),
+          "enough touching contacts (%zu, %zu)", nmark[0], nmark[1]);
+    CHECK(carried[0] == nmark[0] && carried[1] == nmark[1],
+          "touching contacts lost: pairs %zu of %zu, walls %zu of %zu", carried[0],
+          nmark[0], carried[1], nmark[1]);
+    CHECK(bad[0] == 0 && bad[1] == 0,
+          "%ld pair and %ld wall candidates with a wrong history, velocity or flag",
+          bad[0], bad[1]);
+    if (shrink)
+      CHECK(nb->pp.cap < cap0, "the long list's storage kept (%zu for %zu candidates)",
+            nb->pp.cap, nb->pp.n);
+  }
+  nb->threads = 1;
+  simtest_close(&T);
+}
+
 int main(void) {
   check_skin();
+  check_transfer();
   /* radii chosen so that the random fill is dense: many pairs come within the skin */
   check_case(1500, 0.0010, 0.0010, 0.0004, 1);
   check_case(1500, 0.0005, 0.0015, 0.0002, 2);
