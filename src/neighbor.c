@@ -68,7 +68,8 @@ int esf_neighbor_init(esf_neighbor *nb, double skin, int ledger, esf_error *err)
 void esf_neighbor_release(esf_neighbor *nb) {
   contacts_release(&nb->pp);
   contacts_release(&nb->pw);
-  contacts_release(&nb->kept);
+  contacts_release(&nb->pp_kept);
+  contacts_release(&nb->pw_kept);
   free(nb->ws_start);
   free(nb->ws_ostart);
   free(nb->ws_ok);
@@ -121,9 +122,9 @@ int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wa
 /* ---- the build's history transfer --------------------------------------------------
  * Both lists are kept by particle: the new keys are ordered by a counting sort on a and
  * an insertion sort of each particle's few b; the old list's touching contacts are
- * copied aside grouped the same way (nb->kept, ostart), so each new candidate finds its
- * old history by a scan of the few old contacts of its a. No comparison sort, no
- * hashing: O(n + m). The per-particle passes run on nb->threads threads; each entry's
+ * copied aside grouped the same way (pp_kept or pw_kept, ostart), so each new candidate
+ * finds its old history by a scan of the few old contacts of its a. No comparison sort,
+ * no hashing: O(n + m). The per-particle passes run on nb->threads threads; each entry's
  * output has a fixed place, so the lists do not depend on the thread count. */
 
 /* Counting sort of entries k < m by their particle ka[k] (only those with keep[k], or
@@ -166,17 +167,16 @@ static int scratch_reserve(esf_neighbor *nb, size_t n, size_t m, esf_error *err)
 }
 
 /* Step (2): the touching contacts of list (every a < n: the lists were renumbered) into
- * nb->kept, particle a's at ws_ostart[a] .. ws_ostart[a + 1], in list order; *carry:
- * their carried velocities were copied too. */
-static int keep_touching(esf_neighbor *nb, const esf_contacts *list, size_t n, int *carry,
-                         esf_error *err) {
+ * kc, particle a's at ws_ostart[a] .. ws_ostart[a + 1], in list order; *carry: their
+ * carried velocities were copied too. */
+static int keep_touching(esf_neighbor *nb, const esf_contacts *list, esf_contacts *kc,
+                         size_t n, int *carry, esf_error *err) {
   int rc = scratch_reserve(nb, n, list->n, err);
   if (rc) return rc;
   size_t *ostart = nb->ws_ostart;
   uint32_t *okk = nb->ws_ok;
   count_by_a(n, list->a, NULL, list->touch, list->n, ostart, NULL, okk);
   const size_t nk = ostart[n];
-  esf_contacts *kc = &nb->kept;
   *carry = nb->carry && list->vc0 != NULL;
   kc->n = 0; /* nothing to keep from the last build */
   if (kc->cap > 2 * nk + 1024 || (*carry && !kc->vc0)) /* much larger (a denser */
@@ -197,9 +197,10 @@ static int keep_touching(esf_neighbor *nb, const esf_contacts *list, size_t n, i
 }
 
 /* Step (3): list filled, in its own storage, from the keys (a, b) (m of them, a < n),
- * with the history of the kept contacts (keep_touching). */
-static int fill_list(esf_neighbor *nb, esf_contacts *list, size_t n, const uint32_t *ka,
-                     const uint32_t *kb, size_t m, int carry, esf_error *err) {
+ * with the history of the kept contacts kc (keep_touching). */
+static int fill_list(esf_neighbor *nb, esf_contacts *list, const esf_contacts *kc,
+                     size_t n, const uint32_t *ka, const uint32_t *kb, size_t m,
+                     int carry, esf_error *err) {
   list->n = 0;     /* nothing to keep: the storage is refilled */
   list->xs = NULL; /* the ODE methods bind the state again before evaluating */
   list->xsdot = NULL;
@@ -211,7 +212,6 @@ static int fill_list(esf_neighbor *nb, esf_contacts *list, size_t n, const uint3
   if (rc) return rc;
   size_t *start = nb->ws_start;
   const size_t *ostart = nb->ws_ostart;
-  const esf_contacts *kc = &nb->kept;
   count_by_a(n, ka, kb, NULL, m, start, list->b, NULL); /* the new keys' b by a */
   const long nn = (long)n;
 #pragma omp parallel for num_threads(nb->threads > 0 ? nb->threads : 1) schedule(static)
@@ -248,13 +248,15 @@ static int fill_list(esf_neighbor *nb, esf_contacts *list, size_t n, const uint3
 }
 
 /* Rebuilds *list from the keys in its own storage, the old touching contacts' history
- * carried over. */
-static int rebuild_list(esf_neighbor *nb, esf_contacts *list, size_t n,
+ * carried over through kc. Each list has its own kc: shared, the shorter list's build
+ * let the longer one's storage go (its shrink rule), and its pages were faulted in
+ * again at every build (three quarters of a 10 000 run's page faults). */
+static int rebuild_list(esf_neighbor *nb, esf_contacts *list, esf_contacts *kc, size_t n,
                         const uint32_t *ka, const uint32_t *kb, size_t m,
                         esf_error *err) {
   int carry;
-  int rc = keep_touching(nb, list, n, &carry, err);
-  return rc ? rc : fill_list(nb, list, n, ka, kb, m, carry, err);
+  int rc = keep_touching(nb, list, kc, n, &carry, err);
+  return rc ? rc : fill_list(nb, list, kc, n, ka, kb, m, carry, err);
 }
 
 /* The wall loop's scratch (forces.c), one entry per wall candidate. */
@@ -353,12 +355,14 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
   int rc = esf_cells_pairs(nb->cells, p->n, p->x, p->radius, nb->skin, &nb->buf, err);
   if (rc) return rc;
   /* the search stores each pair as (min, max) */
-  rc = rebuild_list(nb, &nb->pp, p->n, nb->buf.i, nb->buf.j, nb->buf.n, err);
+  rc =
+      rebuild_list(nb, &nb->pp, &nb->pp_kept, p->n, nb->buf.i, nb->buf.j, nb->buf.n, err);
   if (rc) return rc;
 
   rc = wall_candidates(nb, p, w, err);
   if (rc) return rc;
-  rc = rebuild_list(nb, &nb->pw, p->n, nb->buf.i, nb->buf.j, nb->buf.n, err);
+  rc =
+      rebuild_list(nb, &nb->pw, &nb->pw_kept, p->n, nb->buf.i, nb->buf.j, nb->buf.n, err);
   if (rc) return rc;
   rc = wall_scratch_reserve(nb, err);
   if (rc) return rc;
