@@ -81,10 +81,10 @@ typedef struct esf_neighbor {
    * and the step of the last build (set by the caller after a build), m, m, steps */
   double skin_lo, skin_hi;
   long built_step;
-  /* the build's storage, kept between builds: each list's old touching contacts copied
-   * aside, and the history transfer's scratch (ws_n particle offsets, ws_m contact
-   * entries) */
-  esf_contacts pp_kept, pw_kept;
+  /* the build's storage: the old list's touching contacts copied aside (during a
+   * build only), and the history transfer's scratch, kept between builds (ws_n
+   * particle offsets, ws_m contact entries) */
+  esf_contacts kept;
   size_t *ws_start, *ws_ostart, ws_n, ws_m;
   uint32_t *ws_ok;
 } esf_neighbor;
