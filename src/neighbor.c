@@ -142,7 +142,7 @@ static void count_by_a(size_t n, const uint32_t *ka, const uint32_t *kb,
     const size_t q = start[ka[k] + 1]++;
     if (bs)
       bs[q] = kb[k];
-    else
+    else if (pos)
       pos[q] = (uint32_t)k;
   }
 }
@@ -232,7 +232,8 @@ static int fill_list(esf_neighbor *nb, esf_contacts *list, const esf_contacts *k
       if (f != SIZE_MAX) {
         list->h[k] = kc->h[f];
         list->touch[k] = 1;
-        if (carry) memcpy(list->vc0 + 3 * k, kc->vc0 + 3 * f, 3 * sizeof(double));
+        if (carry && list->vc0)
+          memcpy(list->vc0 + 3 * k, kc->vc0 + 3 * f, 3 * sizeof(double));
       } else {
         memset(&list->h[k], 0, sizeof list->h[k]);
         list->touch[k] = 0;
