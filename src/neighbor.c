@@ -194,7 +194,8 @@ static int keep_touching(esf_neighbor *nb, const esf_contacts *list, esf_contact
 }
 
 /* Step (3): list filled, in its own storage, from the keys (a, b) (m of them, a < n),
- * with the history of the kept contacts kc (keep_touching). */
+ * with the history of the kept contacts kc (keep_touching, which sized the scratch for
+ * these n particles). */
 static int fill_list(esf_neighbor *nb, esf_contacts *list, const esf_contacts *kc,
                      size_t n, const uint32_t *ka, const uint32_t *kb, size_t m,
                      int carry, esf_error *err) {
@@ -204,8 +205,6 @@ static int fill_list(esf_neighbor *nb, esf_contacts *list, const esf_contacts *k
   if (list->cap > 2 * m + 1024) /* the old list was much longer (a larger skin, a */
     contacts_release(list);     /* denser state): drop its storage */
   int rc = contacts_reserve(list, m, nb->ledger, nb->carry, err);
-  if (rc) return rc;
-  rc = scratch_reserve(nb, n, 0, err);
   if (rc) return rc;
   size_t *start = nb->ws_start;
   const size_t *ostart = nb->ws_ostart;

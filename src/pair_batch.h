@@ -74,7 +74,8 @@ static inline void esf_pair_batch_acc_add(double *acc, size_t a, size_t b, esf_v
 /* As esf_pair_batch_linear, but instead of writing out, adds each lane's results to
  * its particles' accumulators, lane by lane in lane order, as a caller's scatter of out
  * would: force on A to A's force, its opposite to B's, the torques to A's and B's
- * torques. Nothing is added for the lanes whose bit the returned mask sets. */
+ * torques. Nothing is added for the lanes whose bit the returned mask sets, nor for
+ * the lanes apart. */
 unsigned esf_pair_batch_linear_add(const esf_pair_batch_ctx *ctx, const uint32_t *k,
                                    int nl, double *acc, unsigned *apart);
 
