@@ -10,8 +10,9 @@
  * materials linear: the fused linear step of step_fast.c requires it).
  * esf_bonds_form, on entry: the candidate list just built at the initial positions,
  * no force evaluated yet. For each candidate of an adhesive pair that meets the rule
- * of bonds.h it sets touch = 1, xi = 0, n = the current normal, bond = 1 and the
- * offset bond_s. On exit pending = 0 and formed counts the bonds.
+ * of bonds.h it sets touch = 1, xi = 0, n = the current normal, and the bond state
+ * (nb.pp.bond, which only scenes with bonds allocate: sim.c sets nb.bonds): on = 1 and
+ * the offset s. On exit pending = 0 and formed counts the bonds.
  * Rupture is counted where the force loop commits it (forces.c), with its energy. */
 #include "bonds.h"
 
@@ -79,7 +80,8 @@ int esf_bonds_form(esf_sim *s, esf_error *err) {
       continue;
     }
     esf_contact_hist *h = &c->h[k];
-    *h = (esf_contact_hist){{0, 0, 0}, {0, 0, 1}, off, 1, 0};
+    *h = (esf_contact_hist){{0, 0, 0}, {0, 0, 1}};
+    c->bond[k] = (esf_contact_bond){off, 1, 0}; /* the list has them (nb.bonds) */
     if (dist > 0) v3_scale(h->n, 1.0 / dist, d);
     c->touch[k] = 1;
     B->formed++;
@@ -95,6 +97,6 @@ int esf_bonds_form(esf_sim *s, esf_error *err) {
 long esf_bonds_alive(const esf_sim *s) {
   const esf_contacts *c = &s->nb.pp;
   long m = 0;
-  for (size_t k = 0; k < c->n; k++) m += c->touch[k] && c->h[k].bond;
+  for (size_t k = 0; k < c->n; k++) m += c->touch[k] && esf_contacts_bonded(c, k);
   return m;
 }

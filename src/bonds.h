@@ -11,8 +11,9 @@
  *     s = max(0, u_eq - u0) (u_eq the law's rest overlap), so the bond starts at its
  *     equilibrium instead of being pulled shut or torn at once.
  * Wall contacts never bond. A bond breaks when u < u_rupture and never heals; the pair's
- * later contacts follow the linear law. The bond state lives in each contact's history
- * (esf_contact_hist.bond, bond_s), so it survives list rebuilds as long as the pair
+ * later contacts follow the linear law. The bond state lives beside each particle
+ * contact's history (esf_contact_bond, in nb.pp.bond, which only scenes with bonds
+ * keep), and travels with it through list rebuilds as long as the pair
  * stays a candidate: a bond reaches a gap of at most s - u_rupture <= G + u_eq -
  * u_rupture before it breaks, and the skin must exceed that (esf_bonds_setup). */
 #ifndef ESF_BONDS_H

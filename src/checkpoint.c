@@ -8,9 +8,9 @@
  * the whole file and checks the signature, byte order, format version, every section's
  * bounds and checksum, the END marker, the presence of every section and the strings'
  * termination before anything is used. The records whose layout other branches extend
- * (esf_contact_hist, esf_ledger) are stored raw with their size and a layout string
- * (LAYOUT section); a checkpoint from a build with another layout is refused with both
- * layouts in the message. Units: SI throughout, as in the sim. */
+ * (esf_contact_hist, esf_contact_bond, esf_ledger) are stored raw with their size and a
+ * layout string (LAYOUT section); a checkpoint from a build with another layout is
+ * refused with both layouts in the message. Units: SI throughout, as in the sim. */
 #include "checkpoint.h"
 
 #include <errno.h>
@@ -26,13 +26,14 @@
 #include "sand_ckpt.h"
 #include "version.h"
 
-/* Update with every field added to esf_contact_hist (contact_law.h): a checkpoint
- * records it and a resume refuses another. */
-#define HIST_LAYOUT "xi f64[3], n f64[3], bond_s f64, bond i32, spare i32"
-_Static_assert(sizeof(esf_contact_hist) == 8 * sizeof(double),
+/* Update with every field added to esf_contact_hist or esf_contact_bond
+ * (contact_law.h): a checkpoint records it and a resume refuses another. */
+#define HIST_LAYOUT "xi f64[3], n f64[3]; bond: s f64, on i32, spare i32"
+_Static_assert(sizeof(esf_contact_hist) == 6 * sizeof(double) &&
+                   sizeof(esf_contact_bond) == 2 * sizeof(double),
                "esf_contact_hist changed: update HIST_LAYOUT in checkpoint.c");
 
-enum { CK_VERSION = 1, CK_BOM = 0x01020304 };
+enum { CK_VERSION = 2, CK_BOM = 0x01020304 }; /* 2: bond states apart (2026-11-25) */
 static const char ck_magic[8] = "ESFCKPT";
 
 static uint32_t crc32(const unsigned char *p, size_t n) {
@@ -79,9 +80,10 @@ static void put_sec(esf_blob *b, const char *tag, const void *p, size_t n) {
 static void put_contacts(esf_blob *b, const char *tag, const esf_contacts *c) {
   size_t s = sec_begin(b, tag);
   uint64_t n = c->n;
-  uint8_t has_vc0 = c->vc0 != NULL;
+  uint8_t has_vc0 = c->vc0 != NULL, has_bond = c->bond != NULL;
   esf_blob_put(b, &n, 8);
   esf_blob_put(b, &has_vc0, 1);
+  esf_blob_put(b, &has_bond, 1);
   esf_blob_put(b, c->a, n * sizeof *c->a);
   esf_blob_put(b, c->b, n * sizeof *c->b);
   esf_blob_put(b, c->h, n * sizeof *c->h);
@@ -91,6 +93,7 @@ static void put_contacts(esf_blob *b, const char *tag, const esf_contacts *c) {
   static const double zero[3] = {0, 0, 0};
   for (uint64_t k = 0; has_vc0 && k < n; k++)
     esf_blob_put(b, c->touch[k] ? c->vc0 + 3 * k : zero, 3 * sizeof *c->vc0);
+  if (has_bond) esf_blob_put(b, c->bond, n * sizeof *c->bond);
   sec_end(b, s);
 }
 

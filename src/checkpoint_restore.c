@@ -48,16 +48,20 @@ static int get_contacts(const esf_ckpt *c, const char *tag, esf_contacts *dst, s
                         size_t nb_other, esf_error *err) {
   esf_blob_in in = esf_ckpt_sec(c, tag);
   uint64_t m = 0;
-  uint8_t has_vc0 = 0;
+  uint8_t has_vc0 = 0, has_bond = 0;
   esf_blob_get(&in, &m, 8);
   esf_blob_get(&in, &has_vc0, 1);
-  if (in.short_read || m > in.n || (m > 0 && (has_vc0 != 0) != (dst->vc0 != NULL)))
+  esf_blob_get(&in, &has_bond, 1);
+  if (in.short_read || m > in.n ||
+      (m > 0 &&
+       ((has_vc0 != 0) != (dst->vc0 != NULL) || (has_bond != 0) != (dst->bond != NULL))))
     return mismatch(c, err, "a contact list's header");
   esf_blob_get(&in, dst->a, m * sizeof *dst->a);
   esf_blob_get(&in, dst->b, m * sizeof *dst->b);
   esf_blob_get(&in, dst->h, m * sizeof *dst->h);
   esf_blob_get(&in, dst->touch, m * sizeof *dst->touch);
   if (has_vc0 && dst->vc0) esf_blob_get(&in, dst->vc0, 3 * m * sizeof *dst->vc0);
+  if (has_bond && dst->bond) esf_blob_get(&in, dst->bond, m * sizeof *dst->bond);
   if (in.short_read || in.pos != in.n) return mismatch(c, err, "a contact list's size");
   for (uint64_t k = 0; k < m; k++)
     if (dst->a[k] >= np || dst->b[k] >= nb_other)

@@ -25,19 +25,20 @@
  *   = kn [u^2/2 - delta (u + expm1(-x)/alpha)], W(0) = 0; W(u_r) > 0 for eps > 1/e is
  *   the work needed to open a bond from rest to rupture.
  *
- * Bond rule (2.25). hist->bond is Phi: set for the contacts that exist at the start
- * (bonds.c), with an overlap offset bond_s (u = un + bond_s in the law; 0 unless the
- * scene's bond_gap bonds pairs at a gap). A bonded contact carries force at any u >=
- * u_rupture, gap or not (touching stays 1), with the normal dashpot unclipped. When u <
- * u_rupture the bond breaks: Phi = 0 for good; the evaluation then follows the linear
- * law (no tension, u < 0 so no force, history reset), out->broke = 1 and out->e_break =
- * W(u) + (1/2) kt |xi|^2, the energy the bond held, which the caller books as
- * dissipated. A contact without a bond (every later contact of the pair) is the
- * linear law: compression and friction only. A trial evaluation (hist_out NULL) that
- * finds u < u_rupture evaluates the broken law too, without committing.
- * Tangential: esf_contact_tangential with the total normal force (tension negative).
- * Units: SI. Forces are those on A. */
+ * Bond rule (2.25). bond->on is Phi (contact_law.h, esf_contact_bond): set for the
+ * contacts that exist at the start (bonds.c), with an overlap offset bond->s (u = un +
+ * s in the law; 0 unless the scene's bond_gap bonds pairs at a gap). A bonded contact
+ * carries force at any u >= u_rupture, gap or not (touching stays 1), with the normal
+ * dashpot unclipped. When u < u_rupture the bond breaks: Phi = 0 for good; the evaluation
+ * then follows the linear law (no tension, u < 0 so no force, history reset), out->broke
+ * = 1 and out->e_break = W(u) + (1/2) kt |xi|^2, the energy the bond held, which the
+ * caller books as dissipated, clearing bond->on when it commits. A contact without a bond
+ * (every later contact of the pair) is the linear law: compression and friction only. A
+ * trial evaluation (hist_out NULL) that finds u < u_rupture evaluates the broken law too,
+ * without committing. Tangential: esf_contact_tangential with the total normal force
+ * (tension negative). Units: SI. Forces are those on A. */
 #include "contact_law.h"
+#include "contact_linear.h"
 #include "contact_tangential.h"
 
 #include <math.h>
@@ -110,16 +111,17 @@ int esf_adhesion_derive(double F, double eps, double kn, esf_adhesion *a,
 
 static void adhesive_eval(const esf_pair_params *pp, double beta, int tframe,
                           const esf_contact_in *in, const esf_contact_hist *hist,
-                          int first, esf_contact_hist *hist_out, esf_contact_out *out) {
-  if (first || !hist->bond) { /* Phi = 0: compression and friction only */
-    esf_contact_linear.eval(pp, beta, tframe, in, hist, first, hist_out, out);
+                          const esf_contact_bond *bond, int first,
+                          esf_contact_hist *hist_out, esf_contact_out *out) {
+  if (first || !bond || !bond->on) { /* Phi = 0: compression and friction only */
+    esf_contact_linear_eval(pp, beta, tframe, in, hist, first, hist_out, out);
     return;
   }
   const esf_adhesion *A = &pp->adh;
-  double u = in->un + hist->bond_s;
+  double u = in->un + bond->s;
   if (u < A->u_rupture) { /* the bond opens past rupture: Phi = 0 for good */
     double e = esf_adhesion_energy(pp->kn, A, u) + 0.5 * pp->kt * v3_norm2(hist->xi);
-    esf_contact_linear.eval(pp, beta, tframe, in, hist, 1, hist_out, out);
+    esf_contact_linear_eval(pp, beta, tframe, in, hist, 1, hist_out, out);
     out->broke = 1;
     out->e_break = e;
     return;
@@ -132,17 +134,17 @@ static void adhesive_eval(const esf_pair_params *pp, double beta, int tframe,
   double fn = esf_adhesion_force(pp->kn, A, u) + fd; /* tension negative, unclipped */
   double xi[3];
   esf_contact_tangential(pp, ct, tframe, in, hist, 0, vn, fn, xi, out);
-  esf_contact_finish(in, fn, fd, xi, 1, hist->bond_s, hist_out, out);
+  esf_contact_finish(in, fn, fd, xi, hist_out, out);
   out->e_el_n = esf_adhesion_energy(pp->kn, A, u);
 }
 
-static double adhesive_energy_n(const esf_pair_params *pp, const esf_contact_hist *h,
+static double adhesive_energy_n(const esf_pair_params *pp, const esf_contact_bond *bond,
                                 double un, double *fel) {
-  if (!h->bond) {
+  if (!bond || !bond->on) {
     *fel = pp->kn * un;
     return 0.5 * pp->kn * un * un;
   }
-  double u = un + h->bond_s;
+  double u = un + bond->s;
   *fel = esf_adhesion_force(pp->kn, &pp->adh, u);
   return esf_adhesion_energy(pp->kn, &pp->adh, u);
 }

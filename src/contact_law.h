@@ -28,16 +28,22 @@ typedef struct esf_contact_in {
                          over dt (its tangential part is taken), m/s */
 } esf_contact_in;
 
-/* The history one contact carries between steps. */
+/* The history one contact carries between steps (48 bytes, no padding: checkpoints
+ * store it raw). */
 typedef struct esf_contact_hist {
   double xi[3]; /* tangential elastic displacement, m (force on A = kt xi) */
   double n[3];  /* the normal xi was last expressed in */
-  /* bond state (Phi of 004 2.25; bonds.h): set only at the start of the analysis,
-     cleared for good when the bond ruptures; zero for every other contact */
-  double bond_s; /* offset added to the overlap for the bonded law, m (bond_gap) */
-  int32_t bond;  /* 1: bonded (Phi = 1) */
-  int32_t spare; /* zero: no padding bytes in the record (checkpoints store it raw) */
 } esf_contact_hist;
+
+/* The bond state of one contact (Phi of 004 2.25; bonds.h): set only at the start of
+ * the analysis, cleared for good when the bond ruptures; zero for every other contact.
+ * Kept beside the history only by scenes with bonds (esf_contacts.bond), so that the
+ * others neither store nor stream it (16 bytes a candidate). */
+typedef struct esf_contact_bond {
+  double s;      /* offset added to the overlap for the bonded law, m (bond_gap) */
+  int32_t on;    /* 1: bonded (Phi = 1) */
+  int32_t spare; /* zero: no padding bytes in the record (checkpoints store it raw) */
+} esf_contact_bond;
 
 /* What the law returns. */
 typedef struct esf_contact_out {
@@ -71,13 +77,17 @@ typedef struct esf_contact_law {
   unsigned flags;
   /* Evaluates the law. hist is read; when hist_out is not NULL the updated history is
    * written there (it may alias hist). `first` marks a contact that was not touching
-   * at the last commit: its history starts from zero. */
+   * at the last commit: its history starts from zero. bond is the contact's bond
+   * state, or NULL (no bond); the law never writes it: a rupture sets out->broke, and
+   * the caller that commits clears bond->on. */
   void (*eval)(const esf_pair_params *pp, double beta, int tframe,
-               const esf_contact_in *in, const esf_contact_hist *hist, int first,
-               esf_contact_hist *hist_out, esf_contact_out *out);
+               const esf_contact_in *in, const esf_contact_hist *hist,
+               const esf_contact_bond *bond, int first, esf_contact_hist *hist_out,
+               esf_contact_out *out);
   /* Elastic energy of the normal spring at overlap un for a touching contact with
-   * history h, J; *fel receives the elastic normal force (> 0 repulsive), N. */
-  double (*energy_n)(const esf_pair_params *pp, const esf_contact_hist *h, double un,
+   * bond state bond (or NULL), J; *fel receives the elastic normal force (> 0
+   * repulsive), N. */
+  double (*energy_n)(const esf_pair_params *pp, const esf_contact_bond *bond, double un,
                      double *fel);
 } esf_contact_law;
 

@@ -20,7 +20,7 @@ static inline void esf_contact_linear_eval(const esf_pair_params *pp, double bet
   const double *n = in->n;
   if (in->un <= 0.0) {
     *out = (esf_contact_out){0};
-    if (hist_out) *hist_out = (esf_contact_hist){{0, 0, 0}, {n[0], n[1], n[2]}, 0, 0, 0};
+    if (hist_out) *hist_out = (esf_contact_hist){{0, 0, 0}, {n[0], n[1], n[2]}};
     return;
   }
   double sm = sqrt(in->mstar);
@@ -37,7 +37,7 @@ static inline void esf_contact_linear_eval(const esf_pair_params *pp, double bet
   }
   double xi[3];
   esf_contact_tangential(pp, ct, tframe, in, hist, first, vn, fn, xi, out);
-  esf_contact_finish(in, fn, fd, xi, 0, 0.0, hist_out, out);
+  esf_contact_finish(in, fn, fd, xi, hist_out, out);
   out->e_el_n = 0.5 * pp->kn * in->un * in->un;
 }
 

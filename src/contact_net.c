@@ -57,7 +57,8 @@ static double normal_force(const esf_sim *s, size_t k, const double d[3], double
   const esf_materials *mt = &s->mats;
   const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
   esf_contact_out out;
-  pp->law->eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], !c->touch[k], NULL, &out);
+  pp->law->eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], c->bond ? &c->bond[k] : NULL,
+                !c->touch[k], NULL, &out);
   return out.touching ? out.fn : 0.0;
 }
 
@@ -71,7 +72,8 @@ int esf_contact_net_build(const esf_sim *s, esf_contact_net *net, esf_error *err
     double d[3];
     v3_sub(d, p->x + 3 * b, p->x + 3 * a);
     double R = p->radius[a] + p->radius[b], d2 = v3_norm2(d);
-    if (d2 >= R * R && !(c->touch[k] && c->h[k].bond)) continue; /* bonds in tension */
+    if (d2 >= R * R && !(c->touch[k] && esf_contacts_bonded(c, k)))
+      continue; /* bonds in tension */
     int rc = reserve(net, net->n + 1, err);
     if (rc) return rc;
     double dist = sqrt(d2);

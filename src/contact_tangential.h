@@ -100,8 +100,8 @@ static inline void esf_contact_tangential(const esf_pair_params *pp, double ct,
 }
 
 static inline void esf_contact_finish(const esf_contact_in *in, double fn, double fd_n,
-                                      const double xi[3], int bond, double bond_s,
-                                      esf_contact_hist *hist_out, esf_contact_out *out) {
+                                      const double xi[3], esf_contact_hist *hist_out,
+                                      esf_contact_out *out) {
   const double *n = in->n;
   out->fn = fn;
   out->fd_n = fd_n;
@@ -115,8 +115,6 @@ static inline void esf_contact_finish(const esf_contact_in *in, double fn, doubl
   if (hist_out) {
     v3_copy(hist_out->xi, xi);
     v3_copy(hist_out->n, n);
-    hist_out->bond = bond;
-    hist_out->bond_s = bond_s;
   }
 }
 

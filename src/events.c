@@ -59,7 +59,8 @@ static double removed_elastic(const esf_sim *s, const unsigned char *keep) {
     double un = p->radius[a] + p->radius[b] - v3_norm(d);
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
     double fel; /* a separated pair stores no normal energy unless a bond holds it */
-    if (un > 0 || c->h[k].bond) e += pp->law->energy_n(pp, &c->h[k], un, &fel);
+    if (un > 0 || esf_contacts_bonded(c, k))
+      e += pp->law->energy_n(pp, c->bond ? &c->bond[k] : NULL, un, &fel);
     e += 0.5 * pp->kt * v3_norm2(c->h[k].xi);
   }
   c = &s->nb.pw;
@@ -72,7 +73,7 @@ static double removed_elastic(const esf_sim *s, const unsigned char *keep) {
     double un = p->radius[a] - hit.dist;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
     double fel; /* walls never bond */
-    if (un > 0) e += pp->law->energy_n(pp, &c->h[k], un, &fel);
+    if (un > 0) e += pp->law->energy_n(pp, NULL, un, &fel);
     e += 0.5 * pp->kt * v3_norm2(c->h[k].xi);
   }
   return e;

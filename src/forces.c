@@ -66,13 +66,15 @@ static inline void contact_velocity(const double *v, const double *w, uint32_t a
 static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *in,
                         esf_contacts *c, size_t k, int commit, double *led, double *slip,
                         esf_contact_out *out) {
+  const esf_contact_bond *bond = c->bond ? &c->bond[k] : NULL;
   if (c->xs) { /* history as ODE state: xi is y's, its rate goes to ydot */
-    esf_contact_hist h = c->h[k]; /* bond state */
+    esf_contact_hist h;
     v3_copy(h.xi, c->xs + 3 * k);
     v3_copy(h.n, c->touch[k] ? c->h[k].n : in->n);
     in->dt = 0.0; /* the law tilts xi into the current plane; no increment */
     in->vinc = NULL;
-    pp->law->eval(pp, s->beta, s->cfg.tframe, in, &h, 0, commit ? &c->h[k] : NULL, out);
+    pp->law->eval(pp, s->beta, s->cfg.tframe, in, &h, bond, 0, commit ? &c->h[k] : NULL,
+                  out);
     if (c->xsdot && out->touching) { /* xi' = vct + spin_n n x xi */
       double *r = c->xsdot + 3 * k, sp[3], fs[3];
       v3_copy(r, in->vc);
@@ -91,13 +93,14 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
       for (int q = 0; q < 3; q++) vm[q] = 0.5 * (c->vc0[3 * k + q] + in->vc[q]);
       in->vinc = vm;
     }
-    pp->law->eval(pp, s->beta, s->cfg.tframe, in, &c->h[k], !c->touch[k],
+    pp->law->eval(pp, s->beta, s->cfg.tframe, in, &c->h[k], bond, !c->touch[k],
                   commit ? &c->h[k] : NULL, out);
   }
   if (commit && c->vc0 && out->touching)
     memcpy(c->vc0 + 3 * k, in->vc, 3 * sizeof(double));
   if (commit) c->touch[k] = (uint8_t)out->touching;
-  if (commit && out->broke) { /* a bond ruptured (contact_adhesive.c) */
+  if (commit && out->broke) { /* a bond ruptured (contact_adhesive.c): Phi = 0 */
+    c->bond[k].on = 0;
     s->bonds.broken++;
     s->led.d_bonds += out->e_break;
   }
@@ -136,7 +139,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
     v3_sub(d, xb, xa);
     double R = p->radius[a] + p->radius[b];
     double d2 = v3_norm2(d);
-    if (d2 >= R * R && !(c->touch[k] && c->h[k].bond)) { /* bonds pull across gaps */
+    if (d2 >= R * R && !(c->touch[k] && esf_contacts_bonded(c, k))) { /* bonds pull */
       if (commit) c->touch[k] = 0;
       continue;
     }
@@ -325,12 +328,12 @@ int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *
  * (1/2) kt xi_n . xi_{n+1} are what the kicks exchange with the kinetic energy exactly
  * (the work k u_n vbar dt telescopes), so the balance residual measures only the
  * integrator's error at contact onsets and ends, sliding and frame rotation. */
-static void elastic_tally(const esf_pair_params *pp, const esf_contact_hist *h, double un,
-                          const double *xi, const double *n, const double *vch, double dt,
-                          double *en, double *et) {
+static void elastic_tally(const esf_pair_params *pp, const esf_contact_bond *bond,
+                          double un, const double *xi, const double *n, const double *vch,
+                          double dt, double *en, double *et) {
   double vn = v3_dot(vch, n), fel;
   /* W(u_n) + f(u_n) (u_{n+1} - u_n)/2: (1/2) k u_n u_{n+1} for a linear spring */
-  *en += pp->law->energy_n(pp, h, un, &fel) - 0.5 * fel * vn * dt;
+  *en += pp->law->energy_n(pp, bond, un, &fel) - 0.5 * fel * vn * dt;
   double vt[3];
   v3_copy(vt, vch);
   v3_axpy(vt, -vn, n);
@@ -355,7 +358,8 @@ void esf_forces_ledger_pass(esf_sim *s, const double *vbar, const double *wbar,
     dn += -L[1] * v3_dot(vc, n) * dt; /* fd_n x approach rate */
     dtg += v3_dot(L + 2, vc) * dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
-    elastic_tally(pp, &c->h[k], L[0], c->h[k].xi, n, vch, dt, &en, &et);
+    elastic_tally(pp, c->bond ? &c->bond[k] : NULL, L[0], c->h[k].xi, n, vch, dt, &en,
+                  &et);
   }
   c = &s->nb.pw;
   for (size_t k = 0; k < c->n; k++) {
@@ -376,7 +380,7 @@ void esf_forces_ledger_pass(esf_sim *s, const double *vbar, const double *wbar,
     dtg += v3_dot(L + 2, vc) * dt;
     ww += v3_dot(L + 5, vw) * dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
-    elastic_tally(pp, &c->h[k], L[0], c->h[k].xi, n, vch, dt, &en, &et);
+    elastic_tally(pp, NULL, L[0], c->h[k].xi, n, vch, dt, &en, &et); /* no bond */
   }
   s->led.d_normal += dn;
   s->led.d_tangential += dtg;

@@ -24,13 +24,16 @@ static void contacts_release(esf_contacts *c) {
   free(c->a);
   free(c->b);
   free(c->h);
+  free(c->bond);
   free(c->touch);
   free(c->led);
   free(c->vc0);
   memset(c, 0, sizeof *c);
 }
 
-static int contacts_reserve(esf_contacts *c, size_t n, int ledger, int carry,
+/* Room for n candidates in c, with the optional arrays: ledger scratch, carried
+ * velocities (carry), bond states (bonds). */
+static int contacts_reserve(esf_contacts *c, size_t n, int ledger, int carry, int bonds,
                             esf_error *err) {
   if (n <= c->cap) return ESF_OK;
   const size_t cap = n + n / 4 + 64; /* a quarter of room: the lists grow and shrink */
@@ -40,6 +43,11 @@ static int contacts_reserve(esf_contacts *c, size_t n, int ledger, int carry,
   if (b) c->b = b;
   esf_contact_hist *h = esf_lines_realloc(c->h, c->n * sizeof *h, cap * sizeof *h);
   if (h) c->h = h;
+  esf_contact_bond *bd = c->bond;
+  if (bonds) {
+    bd = realloc(c->bond, cap * sizeof *bd);
+    if (bd) c->bond = bd;
+  }
   uint8_t *t = realloc(c->touch, cap * sizeof *t);
   if (t) c->touch = t;
   double *l = c->led;
@@ -52,7 +60,7 @@ static int contacts_reserve(esf_contacts *c, size_t n, int ledger, int carry,
     v0 = realloc(c->vc0, cap * 3 * sizeof *v0);
     if (v0) c->vc0 = v0;
   }
-  if (!a || !b || !h || !t || (ledger && !l) || (carry && !v0))
+  if (!a || !b || !h || !t || (ledger && !l) || (carry && !v0) || (bonds && !bd))
     return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact candidates", cap);
   c->cap = cap;
   return ESF_OK;
@@ -167,7 +175,7 @@ static int scratch_reserve(esf_neighbor *nb, size_t n, size_t m, esf_error *err)
 
 /* Step (2): the touching contacts of list (every a < n: the lists were renumbered) into
  * kc, particle a's at ws_ostart[a] .. ws_ostart[a + 1], in list order; *carry: their
- * carried velocities were copied too. */
+ * carried velocities were copied too. Their bond states are, when the list has them. */
 static int keep_touching(esf_neighbor *nb, const esf_contacts *list, esf_contacts *kc,
                          size_t n, int *carry, esf_error *err) {
   int rc = scratch_reserve(nb, n, list->n, err);
@@ -178,7 +186,8 @@ static int keep_touching(esf_neighbor *nb, const esf_contacts *list, esf_contact
   const size_t nk = ostart[n];
   *carry = nb->carry && list->vc0 != NULL;
   kc->n = 0; /* empty: released after each build (rebuild_list) */
-  rc = contacts_reserve(kc, nk, 0, *carry, err);
+  const int cb = list->bond != NULL;
+  rc = contacts_reserve(kc, nk, 0, *carry, cb, err);
   if (rc) return rc;
   const long nn = (long)nk;
   const int cv = *carry;
@@ -188,6 +197,7 @@ static int keep_touching(esf_neighbor *nb, const esf_contacts *list, esf_contact
     kc->b[j] = list->b[f];
     kc->h[j] = list->h[f];
     if (cv) memcpy(kc->vc0 + 3 * j, list->vc0 + 3 * f, 3 * sizeof(double));
+    if (cb) kc->bond[j] = list->bond[f];
   }
   kc->n = nk;
   return ESF_OK;
@@ -195,17 +205,18 @@ static int keep_touching(esf_neighbor *nb, const esf_contacts *list, esf_contact
 
 /* Step (3): list filled, in its own storage, from the keys (a, b) (m of them, a < n),
  * with the history of the kept contacts kc (keep_touching, which sized the scratch for
- * these n particles). */
+ * these n particles); bonds: the list keeps bond states. */
 static int fill_list(esf_neighbor *nb, esf_contacts *list, const esf_contacts *kc,
                      size_t n, const uint32_t *ka, const uint32_t *kb, size_t m,
-                     int carry, esf_error *err) {
+                     int carry, int bonds, esf_error *err) {
   list->n = 0;     /* nothing to keep: the storage is refilled */
   list->xs = NULL; /* the ODE methods bind the state again before evaluating */
   list->xsdot = NULL;
   if (list->cap > 2 * m + 1024) /* the old list was much longer (a larger skin, a */
     contacts_release(list);     /* denser state): drop its storage */
-  int rc = contacts_reserve(list, m, nb->ledger, nb->carry, err);
+  int rc = contacts_reserve(list, m, nb->ledger, nb->carry, bonds, err);
   if (rc) return rc;
+  const int kb_bond = bonds && kc->bond; /* the old list had them too */
   size_t *start = nb->ws_start;
   const size_t *ostart = nb->ws_ostart;
   count_by_a(n, ka, kb, NULL, m, start, list->b, NULL); /* the new keys' b by a */
@@ -233,10 +244,12 @@ static int fill_list(esf_neighbor *nb, esf_contacts *list, const esf_contacts *k
         list->touch[k] = 1;
         if (carry && list->vc0)
           memcpy(list->vc0 + 3 * k, kc->vc0 + 3 * f, 3 * sizeof(double));
+        if (bonds) list->bond[k] = kb_bond ? kc->bond[f] : (esf_contact_bond){0};
       } else {
         memset(&list->h[k], 0, sizeof list->h[k]);
         list->touch[k] = 0;
         if (list->vc0) memset(list->vc0 + 3 * k, 0, 3 * sizeof(double));
+        if (bonds) list->bond[k] = (esf_contact_bond){0};
       }
     }
   }
@@ -250,11 +263,11 @@ static int fill_list(esf_neighbor *nb, esf_contacts *list, const esf_contacts *k
  * the peak of 300 steps at 10^6 spheres from 923 to 1 016 MB. (Its pages are faulted in
  * at each build, about 270 a build at 10 000: no difference in paired whole runs.) */
 static int rebuild_list(esf_neighbor *nb, esf_contacts *list, size_t n,
-                        const uint32_t *ka, const uint32_t *kb, size_t m,
+                        const uint32_t *ka, const uint32_t *kb, size_t m, int bonds,
                         esf_error *err) {
   int carry;
   int rc = keep_touching(nb, list, &nb->kept, n, &carry, err);
-  if (!rc) rc = fill_list(nb, list, &nb->kept, n, ka, kb, m, carry, err);
+  if (!rc) rc = fill_list(nb, list, &nb->kept, n, ka, kb, m, carry, bonds, err);
   contacts_release(&nb->kept);
   return rc;
 }
@@ -355,12 +368,12 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
   int rc = esf_cells_pairs(nb->cells, p->n, p->x, p->radius, nb->skin, &nb->buf, err);
   if (rc) return rc;
   /* the search stores each pair as (min, max) */
-  rc = rebuild_list(nb, &nb->pp, p->n, nb->buf.i, nb->buf.j, nb->buf.n, err);
+  rc = rebuild_list(nb, &nb->pp, p->n, nb->buf.i, nb->buf.j, nb->buf.n, nb->bonds, err);
   if (rc) return rc;
 
   rc = wall_candidates(nb, p, w, err);
   if (rc) return rc;
-  rc = rebuild_list(nb, &nb->pw, p->n, nb->buf.i, nb->buf.j, nb->buf.n, err);
+  rc = rebuild_list(nb, &nb->pw, p->n, nb->buf.i, nb->buf.j, nb->buf.n, 0, err);
   if (rc) return rc;
   rc = wall_scratch_reserve(nb, err);
   if (rc) return rc;
@@ -393,6 +406,7 @@ static void remap_list(esf_contacts *c, const size_t *remap, size_t n_old, int w
       c->h[m] = c->h[k];
       c->touch[m] = c->touch[k];
       if (c->vc0) memcpy(c->vc0 + 3 * m, c->vc0 + 3 * k, 3 * sizeof(double));
+      if (c->bond) c->bond[m] = c->bond[k]; /* its offset is the pair's: no sign */
     }
     if (!walls && c->a[m] > c->b[m]) {
       const uint32_t t = c->a[m];
@@ -447,8 +461,8 @@ size_t esf_neighbor_touching(const esf_neighbor *nb) {
 /* Checkpoint restore (checkpoint.c): room for npp and npw candidates, scratch
  * included. */
 int esf_neighbor_reserve(esf_neighbor *nb, size_t npp, size_t npw, esf_error *err) {
-  int rc = contacts_reserve(&nb->pp, npp, nb->ledger, nb->carry, err);
-  if (!rc) rc = contacts_reserve(&nb->pw, npw, nb->ledger, nb->carry, err);
+  int rc = contacts_reserve(&nb->pp, npp, nb->ledger, nb->carry, nb->bonds, err);
+  if (!rc) rc = contacts_reserve(&nb->pw, npw, nb->ledger, nb->carry, 0, err);
   if (rc) return rc;
   return wall_scratch_reserve(nb, err);
 }

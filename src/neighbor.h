@@ -36,16 +36,18 @@
 
 typedef struct esf_contacts {
   size_t n, cap;
-  uint32_t *a;         /* particle A */
-  uint32_t *b;         /* particle B, or the wall element index */
-  esf_contact_hist *h; /* history */
-  uint8_t *touch;      /* 1: touching at the last committed evaluation */
-  double *led;         /* ESF_LED_STRIDE per contact, or NULL */
-  double *vc0;         /* 3 per contact: relative contact velocity at the last commit
-                          (the ODE methods' history carry), or NULL */
-  const double *xs;    /* history as ODE state (dem_ode.h): 3 per contact, the live
-                          tangential displacement, m; NULL otherwise (not owned) */
-  double *xsdot;       /* its rate, m/s, written by evaluations when not NULL */
+  uint32_t *a;            /* particle A */
+  uint32_t *b;            /* particle B, or the wall element index */
+  esf_contact_hist *h;    /* history */
+  esf_contact_bond *bond; /* bond state, or NULL: the particle list of a scene with
+                             bonds only (esf_neighbor.bonds) */
+  uint8_t *touch;         /* 1: touching at the last committed evaluation */
+  double *led;            /* ESF_LED_STRIDE per contact, or NULL */
+  double *vc0;            /* 3 per contact: relative contact velocity at the last commit
+                             (the ODE methods' history carry), or NULL */
+  const double *xs;       /* history as ODE state (dem_ode.h): 3 per contact, the live
+                             tangential displacement, m; NULL otherwise (not owned) */
+  double *xsdot;          /* its rate, m/s, written by evaluations when not NULL */
 } esf_contacts;
 
 typedef struct esf_neighbor {
@@ -54,6 +56,7 @@ typedef struct esf_neighbor {
   esf_contacts pw; /* particle-wall candidates */
   int ledger;      /* allocate ledger scratch */
   int carry;       /* keep vc0 (ODE methods set it before the first build) */
+  int bonds;       /* keep pp.bond (bonds.c sets it before the first build) */
   esf_cells *cells;
   esf_pairbuf buf;
   esf_pairbuf *wbuf;  /* the wall candidates' per-thread buffers, nwbuf of them */
@@ -136,6 +139,11 @@ void esf_neighbor_remap(esf_neighbor *nb, const size_t *remap, size_t n_old);
  * loop's scratch); the lists' contents and counts are untouched. For checkpoint
  * restore, which then fills the lists. */
 int esf_neighbor_reserve(esf_neighbor *nb, size_t npp, size_t npw, esf_error *err);
+
+/* Whether candidate k of c is bonded (Phi = 1; it is then touching). */
+static inline int esf_contacts_bonded(const esf_contacts *c, size_t k) {
+  return c->bond && c->bond[k].on;
+}
 
 /* Number of contacts touching at the last committed evaluation. */
 size_t esf_neighbor_touching(const esf_neighbor *nb);

@@ -48,14 +48,15 @@ typedef esf_v4m v4m;
 
 _Static_assert(ESF_BATCH == 8, "the gathers below are written for eight lanes");
 
-/* The history is read as rows of four doubles: xi[0..2], n[0] from HXI and n[1], n[2]
- * (with the two fields after them) from HN1; written back: the first row whole, n[1]
- * and n[2] alone. */
+/* The 48-byte history is read as two rows of four doubles inside the record: xi[0..2],
+ * n[0] from HXI, and xi[2], n[0..2] from HX2 (its last two columns are n[1], n[2]);
+ * written back: the first row whole, n[1] and n[2] alone (from HN1). */
 #define HXI offsetof(esf_contact_hist, xi)
+#define HX2 (HXI + 2 * sizeof(double))
 #define HN1 (offsetof(esf_contact_hist, n) + sizeof(double))
 _Static_assert(offsetof(esf_contact_hist, n) == HXI + 3 * sizeof(double) &&
-                   HN1 + 4 * sizeof(double) <= sizeof(esf_contact_hist),
-               "xi, n contiguous, and 32 bytes readable from n[1]");
+                   HX2 + 4 * sizeof(double) == sizeof(esf_contact_hist),
+               "xi, n contiguous, the record's last 32 bytes from xi[2]");
 
 static inline vd sel(vm m, vd a, vd b) { return (vd)(((vm)a & m) | ((vm)b & ~m)); }
 
@@ -250,9 +251,9 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   load_cols_n(c->v, b3, vb, 3);
   load_cols_n(c->w, a3, wa, 3);
   load_cols_n(c->w, b3, wb, 3);
-  load_cols((const char *)c->h + HXI, hk, h0);      /* xi[0..2], n[0] */
-  load_cols_n((const char *)c->h + HN1, hk, h1, 2); /* n[1..2] */
-  const vd hx[3] = {h0[0], h0[1], h0[2]}, hn[3] = {h0[3], h1[0], h1[1]};
+  load_cols((const char *)c->h + HXI, hk, h0); /* xi[0..2], n[0] */
+  load_cols((const char *)c->h + HX2, hk, h1); /* xi[2], n[0..2] */
+  const vd hx[3] = {h0[0], h0[1], h0[2]}, hn[3] = {h0[3], h1[2], h1[3]};
   for (int q = 0; q < 3; q++) d[q] = xb[q] - xa[q];
   const vd ra = gat(c->radius, ia), rb = gat(c->radius, ib);
   /* the screening's test, the same operations in the same order (step_fast.c) */

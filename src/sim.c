@@ -162,6 +162,7 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
   if (rc) return rc;
   rc = esf_neighbor_init(&s->nb, c->skin, s->led.on, err);
   if (rc) return rc;
+  s->nb.bonds = s->bonds.on; /* the lists keep bond states (bonds.c) */
   if (c->has_domain) {
     s->nb.dom_lo = c->domain_min;
     s->nb.dom_hi = c->domain_max;

@@ -2,8 +2,9 @@
 checkpoint, `esfera run --resume` and N/2 more, compared bit for bit (every frame
 dataset, /energy, energy.csv), for the leapfrog with friction, global and local damping
 and a moving wall (general path with the ledger, and the fused step without it,
-checkpointed on two threads and resumed on one), for adaptive Dormand-Prince (ARKODE, rtol 1e-5), and for spheres
-leaving the domain (the count changes either side of the checkpoint); a run stopped
+checkpointed on two threads and resumed on one), for adaptive Dormand-Prince (ARKODE, rtol 1e-5), for spheres
+leaving the domain (the count changes either side of the checkpoint), and for bonded
+blocks (the bond states ride in the checkpoint: bonds break on both sides); a run stopped
 by SIGTERM resumes to the same output; esfera info on the checkpoint names the resume
 command. Usage: check_restart.py ESFERA"""
 import os
@@ -58,6 +59,24 @@ def main():
             n = [len(f["frames"][k]["id"]) for k in sorted(f["frames"])]
         check(n[0] == 120 and 60 < n[len(n) // 2] < 120 and n[-1] < 60,
               f"domain_exit: particle counts {n}")
+        # bonds: the quick block impact, checkpointed while its bonds are breaking
+        impact = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes",
+                              "block_impact-quick.yaml")
+        bonded = halves(exe, tmp, impact, "bonds", "0.009", "--set", "run.duration=0.018",
+                        "--set", "output.every=0.003")
+        broken = []  # (t, broken) per frame, from the log
+        with open(os.path.join(bonded, "log.txt")) as fh:
+            for ln in fh:
+                if " bonds intact, " in ln and ln.startswith("frame t = "):
+                    broken.append((float(ln.split()[3]), int(ln.split()[-2])))
+        t_ck = round(0.009 / 6.43e-6) * 6.43e-6  # the checkpoint's step (the scene's dt)
+        before = [b for t, b in broken if t <= t_ck]
+        after = [b for t, b in broken if t > t_ck]
+        check(len(broken) == 6 and before and before[-1] > 0 and after[-1] > after[0],
+              f"bonds: none broken before the checkpoint, or after the frame after it: "
+              f"{broken}")
+        print(f"bonds: {before[-1] if before else '?'} broken before the checkpoint, "
+              f"{after[0] if after else '?'} just after, {broken[-1][1]} at the end")
 
         # SIGTERM: finish the step, checkpoint, exit 128 + 15 with the resume command
         term = os.path.join(tmp, "term")

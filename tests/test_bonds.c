@@ -399,7 +399,7 @@ static void block_impact(const char *dir) {
   {
     const esf_contacts *c = &s->nb.pp;
     for (size_t k = 0; k < c->n; k++) {
-      if (!c->h[k].bond) continue;
+      if (!esf_contacts_bonded(c, k)) continue;
       uint32_t a = c->a[k], b = c->b[k];
       if (s->p.material[a] == m2 && s->p.material[b] == m2) {
         b2bonds++;

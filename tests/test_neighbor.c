@@ -155,6 +155,8 @@ static void check_case(int count, double rmin, double rmax, double skin, int see
   CHECK(missed_pw == 0, "%ld wall contacts touching but not candidates", missed_pw);
   CHECK(bad_check == 0, "moves under skin/2 asked for %d rebuilds", bad_check);
   CHECK(differ == 0, "%d builds on 2 or 3 threads gave other lists than on 1", differ);
+  CHECK(s->nb.pp.bond == NULL && s->nb.pw.bond == NULL,
+        "a scene without bonds keeps bond states");
 
   /* one particle moved just over skin/2 must trigger a rebuild */
   int rc = esf_neighbor_build(&s->nb, p, &s->walls, &err);
@@ -253,8 +255,8 @@ static int marked(const mark_rule *m, uint32_t a, uint32_t b) {
 }
 
 /* Marks the contacts of a list touching by the rule and gives every one a keyed
- * history and carried velocity (the others' must not be carried); returns how many
- * touch. */
+ * history, carried velocity and (where the list keeps them) bond state (the others'
+ * must not be carried); returns how many touch. */
 static size_t mark_list(esf_contacts *c, const mark_rule *m) {
   size_t nt = 0;
   for (size_t k = 0; k < c->n; k++) {
@@ -267,8 +269,8 @@ static size_t mark_list(esf_contacts *c, const mark_rule *m) {
       h->n[q] = keyed(a, b, 3 + q);
       c->vc0[3 * k + q] = keyed(a, b, 6 + q);
     }
-    h->bond_s = keyed(a, b, 9);
-    h->bond = (int32_t)keyed(a, b, 10);
+    if (c->bond)
+      c->bond[k] = (esf_contact_bond){keyed(a, b, 9), (int32_t)keyed(a, b, 10), 0};
   }
   return nt;
 }
@@ -289,8 +291,11 @@ static long check_list(const esf_contacts *c, const esf_contacts *old, const mar
       ok &= h->n[q] == (was ? keyed(a, b, 3 + q) : 0.0);
       ok &= c->vc0[3 * k + q] == (was ? keyed(a, b, 6 + q) : 0.0);
     }
-    ok &= h->bond_s == (was ? keyed(a, b, 9) : 0.0);
-    ok &= h->bond == (was ? (int32_t)keyed(a, b, 10) : 0);
+    if (c->bond) {
+      ok &= c->bond[k].s == (was ? keyed(a, b, 9) : 0.0);
+      ok &= c->bond[k].on == (was ? (int32_t)keyed(a, b, 10) : 0);
+      ok &= c->bond[k].spare == 0;
+    }
     bad += !ok;
     *carried += (size_t)was;
   }
@@ -302,8 +307,9 @@ static long check_list(const esf_contacts *c, const esf_contacts *old, const mar
  * larger storage), on 3 threads, and again with a much smaller one (a fraction of
  * the candidates: the storage is let go and taken afresh), the pairs marked only
  * where they stay candidates and no wall contact marked: each marked contact's
- * history, carried velocity and flag reach the new candidate with its key, for
- * particle pairs and wall contacts alike, and nothing of the others does. */
+ * history, carried velocity and flag (and bond state: the particle list of a scene
+ * with bonds keeps them, the wall list never) reach the new candidate with its key,
+ * for particle pairs and wall contacts alike, and nothing of the others does. */
 static void check_transfer(void) {
   simtest T;
   if (open_case(&T, 1500, 0.0005, 0.0015, 5, 0.0002)) return;
@@ -311,6 +317,7 @@ static void check_transfer(void) {
   esf_neighbor *nb = &s->nb;
   esf_error err;
   nb->carry = 1; /* as the ODE methods: the carried velocities too */
+  nb->bonds = 1; /* as a scene with bonds: the particle pairs' bond states too */
   const double skins[3] = {0.0006, 0.0012, 0.00005};
   const int threads[3] = {1, 3, 2};
   CHECK_OK(esf_neighbor_build(nb, &s->p, &s->walls, &err), err);
@@ -348,6 +355,8 @@ static void check_transfer(void) {
     CHECK(carried[0] == nmark[0] && carried[1] == nmark[1],
           "touching contacts lost: pairs %zu of %zu, walls %zu of %zu", carried[0],
           nmark[0], carried[1], nmark[1]);
+    CHECK(nb->pp.bond && !nb->pw.bond, "bond states kept where they should not be, or "
+                                       "not where they should");
     CHECK(bad[0] == 0 && bad[1] == 0,
           "%ld pair and %ld wall candidates with a wrong history, velocity or flag",
           bad[0], bad[1]);
