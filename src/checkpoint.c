@@ -31,7 +31,7 @@
 #define HIST_LAYOUT "xi f64[3], n f64[3]; bond: s f64, on i32, spare i32"
 _Static_assert(sizeof(esf_contact_hist) == 6 * sizeof(double) &&
                    sizeof(esf_contact_bond) == 2 * sizeof(double),
-               "esf_contact_hist changed: update HIST_LAYOUT in checkpoint.c");
+               "esf_contact_hist or esf_contact_bond changed: update HIST_LAYOUT");
 
 enum { CK_VERSION = 2, CK_BOM = 0x01020304 }; /* 2: bond states apart (2026-11-25) */
 static const char ck_magic[8] = "ESFCKPT";
