@@ -100,7 +100,7 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
     memcpy(c->vc0 + 3 * k, in->vc, 3 * sizeof(double));
   if (commit) c->touch[k] = (uint8_t)out->touching;
   if (commit && out->broke) { /* a bond ruptured (contact_adhesive.c): Phi = 0 */
-    c->bond[k].on = 0;
+    c->bond[k] = (esf_contact_bond){0}; /* for good: as a contact that never bonded */
     s->bonds.broken++;
     s->led.d_bonds += out->e_break;
   }

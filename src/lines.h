@@ -1,6 +1,7 @@
-/* lines.h — arrays aligned to the 64-byte cache line, for records of 64 bytes (contact
- * history, the fused step's accumulators) that must each sit in one line: a record
- * straddling two lines costs two fetches from memory instead of one. */
+/* lines.h — arrays aligned to the 64-byte cache line, for records of 64 bytes (the fused
+ * step's accumulators) that must each sit in one line, and of 48 bytes (contact
+ * history: four records to three lines) that should straddle as few as they can: a
+ * record straddling two lines costs two fetches from memory instead of one. */
 #ifndef ESF_LINES_H
 #define ESF_LINES_H
 

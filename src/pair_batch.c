@@ -326,8 +326,7 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
     store_rows(ta, out, 4);
     store_rows(tb, out, 8);
   }
-  /* the history: xi and n[0] as one row, then n[1], n[2] (the fields after them in
-     that row are not written) */
+  /* the history: xi and n[0] as one row, then n[1], n[2], the record's last 16 bytes */
   const vd c0[4] = {xi[0], xi[1], xi[2], n[0]};
   double rows[ESF_BATCH][ESF_BATCH_OUT];
   store_rows(c0, rows, 0);
