@@ -32,11 +32,11 @@
  * dashpot unclipped. When u < u_rupture the bond breaks: Phi = 0 for good; the evaluation
  * then follows the linear law (no tension, u < 0 so no force, history reset), out->broke
  * = 1 and out->e_break = W(u) + (1/2) kt |xi|^2, the energy the bond held, which the
- * caller books as dissipated, clearing bond->on when it commits. A contact without a bond
- * (every later contact of the pair) is the linear law: compression and friction only. A
- * trial evaluation (hist_out NULL) that finds u < u_rupture evaluates the broken law too,
- * without committing. Tangential: esf_contact_tangential with the total normal force
- * (tension negative). Units: SI. Forces are those on A. */
+ * caller books as dissipated, clearing the bond state when it commits. A contact without
+ * a bond (every later contact of the pair) is the linear law: compression and friction
+ * only. A trial evaluation (hist_out NULL) that finds u < u_rupture evaluates the broken
+ * law too, without committing. Tangential: esf_contact_tangential with the total normal
+ * force (tension negative). Units: SI. Forces are those on A. */
 #include "contact_law.h"
 #include "contact_linear.h"
 #include "contact_tangential.h"

@@ -79,7 +79,7 @@ typedef struct esf_contact_law {
    * written there (it may alias hist). `first` marks a contact that was not touching
    * at the last commit: its history starts from zero. bond is the contact's bond
    * state, or NULL (no bond); the law never writes it: a rupture sets out->broke, and
-   * the caller that commits clears bond->on. */
+   * the caller that commits clears the bond state. */
   void (*eval)(const esf_pair_params *pp, double beta, int tframe,
                const esf_contact_in *in, const esf_contact_hist *hist,
                const esf_contact_bond *bond, int first, esf_contact_hist *hist_out,
