@@ -57,7 +57,7 @@ static double normal_force(const esf_sim *s, size_t k, const double d[3], double
   const esf_materials *mt = &s->mats;
   const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
   esf_contact_out out;
-  pp->law->eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], c->bond ? &c->bond[k] : NULL,
+  pp->law->eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], esf_contacts_bond(c, k),
                 !c->touch[k], NULL, &out);
   return out.touching ? out.fn : 0.0;
 }

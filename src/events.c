@@ -60,7 +60,7 @@ static double removed_elastic(const esf_sim *s, const unsigned char *keep) {
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
     double fel; /* a separated pair stores no normal energy unless a bond holds it */
     if (un > 0 || esf_contacts_bonded(c, k))
-      e += pp->law->energy_n(pp, c->bond ? &c->bond[k] : NULL, un, &fel);
+      e += pp->law->energy_n(pp, esf_contacts_bond(c, k), un, &fel);
     e += 0.5 * pp->kt * v3_norm2(c->h[k].xi);
   }
   c = &s->nb.pw;

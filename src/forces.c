@@ -66,7 +66,7 @@ static inline void contact_velocity(const double *v, const double *w, uint32_t a
 static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *in,
                         esf_contacts *c, size_t k, int commit, double *led, double *slip,
                         esf_contact_out *out) {
-  const esf_contact_bond *bond = c->bond ? &c->bond[k] : NULL;
+  const esf_contact_bond *bond = esf_contacts_bond(c, k);
   if (c->xs) { /* history as ODE state: xi is y's, its rate goes to ydot */
     esf_contact_hist h;
     v3_copy(h.xi, c->xs + 3 * k);
@@ -358,8 +358,7 @@ void esf_forces_ledger_pass(esf_sim *s, const double *vbar, const double *wbar,
     dn += -L[1] * v3_dot(vc, n) * dt; /* fd_n x approach rate */
     dtg += v3_dot(L + 2, vc) * dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
-    elastic_tally(pp, c->bond ? &c->bond[k] : NULL, L[0], c->h[k].xi, n, vch, dt, &en,
-                  &et);
+    elastic_tally(pp, esf_contacts_bond(c, k), L[0], c->h[k].xi, n, vch, dt, &en, &et);
   }
   c = &s->nb.pw;
   for (size_t k = 0; k < c->n; k++) {

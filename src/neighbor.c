@@ -216,7 +216,6 @@ static int fill_list(esf_neighbor *nb, esf_contacts *list, const esf_contacts *k
     contacts_release(list);     /* denser state): drop its storage */
   int rc = contacts_reserve(list, m, nb->ledger, nb->carry, bonds, err);
   if (rc) return rc;
-  const int kb_bond = bonds && kc->bond; /* the old list had them too */
   size_t *start = nb->ws_start;
   const size_t *ostart = nb->ws_ostart;
   count_by_a(n, ka, kb, NULL, m, start, list->b, NULL); /* the new keys' b by a */
@@ -244,7 +243,8 @@ static int fill_list(esf_neighbor *nb, esf_contacts *list, const esf_contacts *k
         list->touch[k] = 1;
         if (carry && list->vc0)
           memcpy(list->vc0 + 3 * k, kc->vc0 + 3 * f, 3 * sizeof(double));
-        if (bonds) list->bond[k] = kb_bond ? kc->bond[f] : (esf_contact_bond){0};
+        const esf_contact_bond *kb = esf_contacts_bond(kc, f);
+        if (bonds) list->bond[k] = kb ? *kb : (esf_contact_bond){0};
       } else {
         memset(&list->h[k], 0, sizeof list->h[k]);
         list->touch[k] = 0;

@@ -56,7 +56,7 @@ typedef struct esf_neighbor {
   esf_contacts pw; /* particle-wall candidates */
   int ledger;      /* allocate ledger scratch */
   int carry;       /* keep vc0 (ODE methods set it before the first build) */
-  int bonds;       /* keep pp.bond (bonds.c sets it before the first build) */
+  int bonds;       /* keep pp.bond (sim.c sets it before the first build) */
   esf_cells *cells;
   esf_pairbuf buf;
   esf_pairbuf *wbuf;  /* the wall candidates' per-thread buffers, nwbuf of them */
@@ -140,9 +140,15 @@ void esf_neighbor_remap(esf_neighbor *nb, const size_t *remap, size_t n_old);
  * restore, which then fills the lists. */
 int esf_neighbor_reserve(esf_neighbor *nb, size_t npp, size_t npw, esf_error *err);
 
+/* Candidate k's bond state, or NULL when c keeps none (the laws' `bond` argument). */
+static inline const esf_contact_bond *esf_contacts_bond(const esf_contacts *c, size_t k) {
+  return c->bond ? &c->bond[k] : NULL;
+}
+
 /* Whether candidate k of c is bonded (Phi = 1; it is then touching). */
 static inline int esf_contacts_bonded(const esf_contacts *c, size_t k) {
-  return c->bond && c->bond[k].on;
+  const esf_contact_bond *b = esf_contacts_bond(c, k);
+  return b && b->on;
 }
 
 /* Number of contacts touching at the last committed evaluation. */
