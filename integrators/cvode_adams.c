@@ -13,9 +13,9 @@
 #include <string.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
-#include "dem_ode.h"
-#include "integ_common.h"
-#include "integrator.h"
+#include "integrators/dem_ode.h"
+#include "model/refresh.h"
+#include "integrators/integrator.h"
 
 typedef struct cvadams {
   SUNContext ctx;

@@ -1,13 +1,13 @@
 /* dem_ode.c — the DEM right-hand side for ODE methods (see dem_ode.h for the layout and
  * the contact-history treatment). Units: SI; Q entries in J, their rates in W. */
-#include "dem_ode.h"
+#include "integrators/dem_ode.h"
 
 #include <math.h>
 #include <string.h>
 
-#include "forces.h"
-#include "integ_common.h"
-#include "vec3.h"
+#include "model/forces.h"
+#include "model/refresh.h"
+#include "util/vec3.h"
 
 void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s) {
   memset(o, 0, sizeof *o);

@@ -32,7 +32,7 @@
 #ifndef ESF_DEM_ODE_H
 #define ESF_DEM_ODE_H
 
-#include "sim.h"
+#include "core/sim.h"
 
 enum {
   ESF_ODE_QN,

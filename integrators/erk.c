@@ -22,10 +22,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "contact_events.h"
-#include "dem_ode.h"
-#include "integ_common.h"
-#include "integrator.h"
+#include "model/roots.h"
+#include "integrators/dem_ode.h"
+#include "model/refresh.h"
+#include "integrators/integrator.h"
 
 typedef struct erk {
   SUNContext ctx;

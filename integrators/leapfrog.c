@@ -25,12 +25,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "dem_ode.h"
-#include "forces.h"
-#include "step_fast.h"
-#include "integ_common.h"
-#include "integrator.h"
-#include "vec3.h"
+#include "integrators/dem_ode.h"
+#include "model/forces.h"
+#include "fused/fused.h"
+#include "model/refresh.h"
+#include "integrators/integrator.h"
+#include "util/vec3.h"
 
 typedef struct leapfrog {
   int started;

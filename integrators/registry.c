@@ -1,7 +1,7 @@
 /* registry.c — the table of time integrators, looked up by integrator.method. */
 #include <string.h>
 
-#include "integrator.h"
+#include "integrators/integrator.h"
 
 const esf_integrator_type *const esf_integrators[] = {
     &esf_integrator_leapfrog, &esf_integrator_verlet, &esf_integrator_erk,

@@ -18,10 +18,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "forces.h"
-#include "dem_ode.h"
-#include "integ_common.h"
-#include "integrator.h"
+#include "model/forces.h"
+#include "integrators/dem_ode.h"
+#include "model/refresh.h"
+#include "integrators/integrator.h"
 
 typedef struct verlet {
   size_t cap;

@@ -20,8 +20,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "cells.h"
-#include "rng.h"
+#include "search/cells.h"
+#include "util/rng.h"
 
 static double now(void) {
   struct timespec t;

@@ -9,10 +9,10 @@
 #include <string.h>
 
 #include "check.h"
-#include "forces.h"
-#include "integrator.h"
-#include "scene.h"
-#include "vec3.h"
+#include "model/forces.h"
+#include "integrators/integrator.h"
+#include "scene/scene.h"
+#include "util/vec3.h"
 
 /* The linear spring-dashpot impact with the no-tension cut (test_collision.c derives
  * it): damping ratio zeta, frequency w = sqrt(k/m*), per unit approach speed. */

@@ -30,8 +30,8 @@
  *    mean x of its original front layer ends past the slab's back face. */
 #include <stdlib.h>
 
-#include "bonds.h"
-#include "integ_common.h"
+#include "core/bonds.h"
+#include "model/refresh.h"
 #include "simtest.h"
 
 static const double KN = 6.4e4, FF = 0.96;

@@ -12,7 +12,7 @@
  *    below are stated against the measured figures printed by the test. */
 #include "simtest.h"
 
-#include "rng.h"
+#include "util/rng.h"
 
 static const char *cloud =
     "name: cloud\n"

@@ -8,7 +8,7 @@
  * spring reports fn = 0 (the no-tension cut). */
 #include <stdlib.h>
 
-#include "contact_net.h"
+#include "output/contact_net.h"
 #include "simtest.h"
 
 static const char *scene =

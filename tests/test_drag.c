@@ -19,7 +19,7 @@
  *    in the terminal runs (1e-4 for velocity Verlet, whose trapezoidal quadrature of
  *    the powers is second order) and below 2% of |work_fluid| + work_walls in a confined
  * packing drilled and then drawn into the well by the radial field (0.44-0.6 s). */
-#include "drag.h"
+#include "loads/drag.h"
 #include "servo_box.h"
 #include "simtest.h"
 

@@ -22,9 +22,9 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "frames.h"
-#include "wall_mesh.h"
-#include "xdmf.h"
+#include "output/frames.h"
+#include "bodies/wall_mesh.h"
+#include "formats/xdmf.h"
 
 static char tmpdir[256];
 

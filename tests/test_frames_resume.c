@@ -15,7 +15,7 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "frames.h"
+#include "output/frames.h"
 
 static char tmpdir[256];
 static const char *const cols[2] = {"time", "e"};

@@ -11,7 +11,7 @@
  * the top mode's own damping ratio (sphere on a wall: the contact's times
  * sqrt(1 + m l^2/I); the chain: sqrt(2) gamma sin((N - 1) pi / (2N))).
  * Relative tolerance 1e-9 (a dense symmetric eigensolve of at most 48 dofs). */
-#include "modes.h"
+#include "app/modes.h"
 #include "simtest.h"
 
 static double modes_of(const char *yaml, simtest *T, esf_modes *m) {

@@ -14,7 +14,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "rng.h"
+#include "util/rng.h"
 #include "simtest.h"
 
 static const char *const scene_fmt =

@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <unistd.h>
 
-#include "checkpoint.h"
-#include "events.h"
+#include "ckpt/checkpoint.h"
+#include "loads/events.h"
 #include "servo_box.h"
 #include "simtest.h"
 

@@ -16,8 +16,8 @@
  * The scene path comes from the command line. */
 #include <stdlib.h>
 
-#include "drag.h"
-#include "events.h"
+#include "loads/drag.h"
+#include "loads/events.h"
 #include "simtest.h"
 
 /* flight time of the inelastic bouncing ball, in periods, for Gamma */

@@ -15,8 +15,8 @@
  *    of centres inside the cylinder at the step it applies, at the step nearest t_d; the
  *    energy balance residual changes across the event by less than 1% of the energy
  *    the deleted particles carried (kinetic, gravity and their contacts' elastic). */
-#include "events.h"
-#include "servo.h"
+#include "loads/events.h"
+#include "loads/servo.h"
 #include "servo_box.h"
 #include "simtest.h"
 

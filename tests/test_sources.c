@@ -14,7 +14,7 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "particle_source.h"
+#include "scene/particle_source.h"
 
 static char tmpdir[256];
 static char written[64][64]; /* names written into tmpdir, removed at the end */

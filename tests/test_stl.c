@@ -16,9 +16,9 @@
 
 #include "check.h"
 #include "simtest.h"
-#include "stl.h"
-#include "vec3.h"
-#include "wall_geom.h"
+#include "formats/stl.h"
+#include "util/vec3.h"
+#include "bodies/wall_geom.h"
 
 static char dir[64];
 

@@ -22,7 +22,7 @@
 #include <stdlib.h>
 
 #include "simtest.h"
-#include "step_fast.h"
+#include "fused/fused.h"
 
 /* A minimal build (meson -Dfeatures=minimal) compiles damping out of the fused step:
  * there the scene goes without it, so that the fused step still runs it. */

@@ -25,7 +25,7 @@
 #include <stdlib.h>
 
 #include "simtest.h"
-#include "wall_fast.h"
+#include "fused/wall_fast.h"
 
 static const char *const box_scene =
     "name: wallfast-box\n"

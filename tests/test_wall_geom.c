@@ -6,8 +6,8 @@
 #include <string.h>
 
 #include "check.h"
-#include "vec3.h"
-#include "wall_geom.h"
+#include "util/vec3.h"
+#include "bodies/wall_geom.h"
 
 #define TOL     1e-12
 #define SQRT1_2 0.70710678118654752440

@@ -15,10 +15,10 @@
 #include <string.h>
 
 #include "check.h"
-#include "vec3.h"
-#include "wall_gen.h"
-#include "wall_index.h"
-#include "wall_mesh.h"
+#include "util/vec3.h"
+#include "bodies/wall_gen.h"
+#include "bodies/wall_index.h"
+#include "bodies/wall_mesh.h"
 
 static void test_cylinder(void) {
   esf_walls w = {0};

@@ -2,7 +2,7 @@
  * dotted path), unknown-key suggestions, overrides, file loading. */
 #define _POSIX_C_SOURCE 200809L
 #include "check.h"
-#include "yaml_tree.h"
+#include "formats/yaml_tree.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -1,0 +1,344 @@
+/* main.c — the esfera command line (INTERFACE.md):
+ *   esfera run SCENE.yaml [--out DIR] [--set KEY=VALUE]... [--threads N] [--quiet]
+ *              [--checkpoint-every T]
+ *   esfera run --resume DIR [--checkpoint-every T] [--quiet]
+ *   esfera info FILE.h5
+ *   esfera modes SCENE.yaml [--set KEY=VALUE]...   (highest contact frequency)
+ *   esfera generate SCENE.yaml --out PACKING.csv [--set KEY=VALUE]... (generate_copies.h)
+ *   esfera --help | --version
+ * Exit status: 0 success, 1 the simulation failed, 2 bad input; a run stopped by
+ * SIGINT or SIGTERM writes a checkpoint and exits with 128 + the signal's number.
+ * Signals: the handlers only set `stop_signal`, which the run polls once per step
+ * (esf_run_opts.stop); SIGXFSZ is ignored so that a file-size limit reaches the writers
+ * as EFBIG, a clear error, instead of killing the process. */
+#include <limits.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "util/atomic_file.h"
+#include "ckpt/checkpoint.h"
+#include "app/generate_copies.h"
+#include "app/info.h"
+#include "integrators/integrator.h"
+#include "app/modes.h"
+#include "app/run.h"
+#include "scene/scene.h"
+#include "util/version.h"
+
+static void usage(FILE *f) {
+  fprintf(f,
+          "usage: esfera run SCENE.yaml [--out DIR] [--set KEY=VALUE]... [--threads N] "
+          "[--quiet]\n"
+          "                  [--checkpoint-every T]\n"
+          "       esfera run --resume DIR [--checkpoint-every T] [--quiet]\n"
+          "       esfera info FILE.h5|DIR/checkpoint.esf\n"
+          "       esfera modes SCENE.yaml [--set KEY=VALUE]...\n"
+          "       esfera generate SCENE.yaml --out PACKING.csv [--set KEY=VALUE]...\n"
+          "       esfera --help | --version\n\n"
+          "  run       integrate a scene; writes log.txt, energy.csv and frames.h5 into\n"
+          "            DIR (default: output.dir of the scene, else out/<scene name>)\n"
+          "  generate  settle the scene's particles in generate.box, copy them\n"
+          "            generate.copies times, settle again, write a packing CSV\n"
+          "  --set     override a scene key by its dotted path, e.g.\n"
+          "            --set integrator.frac=0.2 --set gravity=[0,0,-9.81]\n"
+          "  --threads worker threads of the leapfrog's fused step (results do not "
+          "depend on it)\n"
+          "  --quiet   no progress display\n"
+          "  --checkpoint-every T  write DIR/checkpoint.esf every T seconds of\n"
+          "            simulated time (= --set output.checkpoint_every=T); SIGINT or\n"
+          "            SIGTERM also writes one, then stops\n"
+          "  --resume DIR  continue the run whose checkpoint is in DIR\n\n"
+          "integrators (integrator.method):\n");
+  for (int k = 0; esf_integrators[k]; k++)
+    fprintf(f, "  %-12s %s\n",
+            strcmp(esf_integrators[k]->name, "erk") == 0 ? "erk:<TABLE>"
+                                                         : esf_integrators[k]->name,
+            esf_integrators[k]->summary);
+}
+
+static int fail(int code, const char *msg) {
+  fprintf(stderr, "esfera: %s\n", msg);
+  return esf_error_exit_status(code);
+}
+
+/* The options `run` and `modes` share. */
+typedef struct cli_args {
+  const char *scene, *out, *resume;
+  const char **sets;
+  int nsets, quiet;
+  int threads;       /* --threads, 0 when not given */
+  char ckpt_set[96]; /* --checkpoint-every as an override */
+} cli_args;
+
+/* Parses the arguments after the command; 0 ok, else the exit status (message given).
+ * a->sets is allocated (free it). */
+static int parse_args(int argc, char **argv, cli_args *a) {
+  memset(a, 0, sizeof *a);
+  a->sets = calloc((size_t)argc + 1, sizeof *a->sets);
+  if (!a->sets) return fail(ESF_ENOMEM, "out of memory");
+  for (int k = 0; k < argc; k++) {
+    const char *o = argv[k];
+    if (strcmp(o, "--out") == 0 && k + 1 < argc)
+      a->out = argv[++k];
+    else if (strcmp(o, "--set") == 0 && k + 1 < argc)
+      a->sets[a->nsets++] = argv[++k];
+    else if (strncmp(o, "--set=", 6) == 0)
+      a->sets[a->nsets++] = o + 6;
+    else if (strcmp(o, "--threads") == 0 && k + 1 < argc) {
+      char *end = NULL;
+      long t = strtol(argv[++k], &end, 10);
+      if (!end || *end || t < 1 || t > 1024)
+        return fail(ESF_EINPUT, "--threads takes a whole number from 1 to 1024");
+      a->threads = (int)t;
+    } else if (strcmp(o, "--quiet") == 0)
+      a->quiet = 1;
+    else if (strcmp(o, "--resume") == 0 && k + 1 < argc)
+      a->resume = argv[++k];
+    else if (strcmp(o, "--checkpoint-every") == 0 && k + 1 < argc) {
+      snprintf(a->ckpt_set, sizeof a->ckpt_set, "output.checkpoint_every=%s", argv[++k]);
+      a->sets[a->nsets++] = a->ckpt_set;
+    } else if (o[0] == '-') {
+      fprintf(stderr, "esfera: unknown or incomplete option '%s'\n", o);
+      usage(stderr);
+      return 2;
+    } else if (!a->scene)
+      a->scene = o;
+    else {
+      fprintf(stderr, "esfera: more than one scene given ('%s' and '%s')\n", a->scene, o);
+      return 2;
+    }
+  }
+  if (a->resume && (a->scene || a->out || a->nsets > (a->ckpt_set[0] ? 1 : 0)))
+    return fail(ESF_EINPUT, "--resume DIR continues a run as its checkpoint stored it: "
+                            "give no scene, --out or --set with it (only "
+                            "--checkpoint-every and --quiet)");
+  if (!a->scene && !a->resume) {
+    usage(stderr);
+    return 2;
+  }
+  return 0;
+}
+
+/* Loads the scene with its overrides and checks the method name. */
+static int load_scene(const cli_args *a, const esf_ckpt *ck, esf_sim *s, esf_error *err) {
+  memset(s, 0, sizeof *s);
+  int rc = ck ? esf_ckpt_load_scene(ck, a->sets, a->nsets, s, err)
+              : esf_scene_load(a->scene, a->sets, a->nsets, s, err);
+  if (!rc && !esf_integrator_find(s->cfg.method)) {
+    char list[512] = "";
+    for (int k = 0; esf_integrators[k]; k++) {
+      size_t l = strlen(list);
+      const char *nm = esf_integrators[k]->name;
+      snprintf(list + l, sizeof list - l, "%s%s", k ? ", " : "",
+               strcmp(nm, "erk") == 0 ? "erk:<ARKODE table>, rk4" : nm);
+    }
+    rc = esf_fail(err, ESF_EINPUT,
+                  "%s: integrator.method: unknown method '%s' "
+                  "(available: %s)",
+                  s->cfg.source, s->cfg.method, list);
+  }
+  return rc;
+}
+
+/* Parses the arguments, loads the scene and sets the sim up; 0 ok, else the exit
+ * status (the message printed; the sim released). */
+static int prepare(int argc, char **argv, cli_args *a, esf_ckpt **ck, esf_sim *s) {
+  int status = parse_args(argc, argv, a);
+  if (status) {
+    free(a->sets);
+    return status;
+  }
+  esf_error err;
+  esf_error_clear(&err);
+  int rc = a->resume && ck ? esf_ckpt_load(a->resume, ck, &err) : ESF_OK;
+  if (rc) {
+    free(a->sets);
+    return fail(rc, err.msg);
+  }
+  rc = load_scene(a, ck ? *ck : NULL, s, &err);
+  if (!rc && a->threads) s->cfg.threads = a->threads;
+  if (!rc) rc = esf_sim_setup(s, &err);
+  if (rc) {
+    free(a->sets);
+    esf_sim_release(s);
+    return fail(rc, err.msg);
+  }
+  return 0;
+}
+
+/* esfera modes SCENE: the assembled contact system's highest frequency at the scene's
+ * initial state against the seeds' critical-step rules (modes.h). */
+static int cmd_modes(int argc, char **argv) {
+  cli_args a;
+  esf_sim s;
+  int status = prepare(argc, argv, &a, NULL, &s);
+  if (status) return status;
+  free(a.sets);
+  esf_error err;
+  esf_error_clear(&err);
+  esf_modes m;
+  int rc = esf_modes_compute(&s, &m, &err);
+  if (rc) {
+    esf_sim_release(&s);
+    return fail(rc, err.msg);
+  }
+  printf("modes: particles=%zu dofs=%zu contacts=%zu omega_max=%.10g xi_max=%.6g "
+         "dt_2_over_omega=%.10g dt_damped=%.10g cundall=%.10g hart=%.10g damped=%.10g "
+         "argmax_particle=%zu xi_mode=%.6g dt_mode=%.10g\n",
+         s.p.n, m.dofs, m.contacts, m.omega_max, m.xi_max, m.dt_undamped, m.dt_damped,
+         s.dte.crit[ESF_DT_CUNDALL], s.dte.crit[ESF_DT_HART], s.dte.crit[ESF_DT_DAMPED],
+         m.dofs ? m.argmax_dof / (m.dofs / s.p.n) : 0, m.xi_mode, m.dt_mode);
+  esf_sim_release(&s);
+  return 0;
+}
+
+static volatile sig_atomic_t stop_signal = 0;
+
+static void on_stop_signal(int sig) { stop_signal = sig; }
+
+static void install_signals(void) {
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+  signal(SIGXFSZ, SIG_IGN);
+}
+
+/* The directory a --resume argument names (itself, or a checkpoint file's). */
+static void resume_dir(const char *arg, char *dir, size_t size) {
+  snprintf(dir, size, "%s", arg);
+  size_t l = strlen(dir), k = strlen(ESF_CKPT_NAME);
+  if (l >= k && strcmp(dir + l - k, ESF_CKPT_NAME) == 0) {
+    dir[l - k] = '\0';
+    if (l > k) dir[l - k - 1] = '\0';
+    if (!dir[0]) snprintf(dir, size, ".");
+  }
+}
+
+/* esfera generate SCENE --out CSV: model generation by successive copies. */
+static int cmd_generate(int argc, char **argv) {
+  cli_args a;
+  int status = parse_args(argc, argv, &a);
+  if (!status && (a.resume || !a.out))
+    status = fail(ESF_EINPUT, "usage: esfera generate SCENE.yaml --out PACKING.csv "
+                              "[--set KEY=VALUE]...");
+  esf_error err;
+  esf_error_clear(&err);
+  int rc = status ? ESF_OK
+                  : esf_generate_copies(a.scene, a.sets, a.nsets, a.out, stdout, &err);
+  free(a.sets);
+  return status ? status : rc ? fail(rc, err.msg) : 0;
+}
+
+static int cmd_run(int argc, char **argv) {
+  cli_args a;
+  esf_sim s;
+  esf_ckpt *ck = NULL;
+  int status = prepare(argc, argv, &a, &ck, &s);
+  if (status) {
+    esf_ckpt_free(&ck);
+    return status;
+  }
+  if (s.cfg.duration <= 0 && s.cfg.steps <= 0) { /* a generate scene has no run */
+    free(a.sets);
+    esf_ckpt_free(&ck);
+    esf_sim_release(&s);
+    return fail(ESF_EINPUT, "the scene has no 'run' section (a generate scene: use "
+                            "esfera generate SCENE --out PACKING.csv)");
+  }
+  esf_error err;
+  esf_error_clear(&err);
+  /* what the checkpoints store: the scene's text and its overrides (a resumed run's
+     are the stored ones followed by this command's --checkpoint-every) */
+  esf_ckpt_scene sc = {0};
+  char *text = NULL, dir[1200], scene_abs[PATH_MAX];
+  const char **sets = NULL;
+  int rc = ESF_OK;
+  if (ck) {
+    esf_ckpt_scene stored;
+    esf_ckpt_scene_of(ck, &stored);
+    sc = stored;
+    sc.nsets = 0;
+    sets = calloc((size_t)(stored.nsets + a.nsets + 1), sizeof *sets);
+    if (!sets) rc = esf_fail(&err, ESF_ENOMEM, "out of memory");
+    for (int k = 0; sets && k < stored.nsets; k++) sets[sc.nsets++] = stored.sets[k];
+    for (int k = 0; sets && k < a.nsets; k++) sets[sc.nsets++] = a.sets[k];
+    sc.sets = sets;
+    resume_dir(a.resume, dir, sizeof dir);
+  } else {
+    rc = esf_read_file(a.scene, &text, &sc.len, &err);
+    /* absolute, so that a resume from elsewhere finds the scene's relative files */
+    sc.path = realpath(a.scene, scene_abs) ? scene_abs : a.scene;
+    sc.text = text;
+    sc.sets = a.sets;
+    sc.nsets = a.nsets;
+    snprintf(dir, sizeof dir, "%s", a.out ? a.out : s.cfg.out_dir);
+  }
+  install_signals();
+  esf_run_opts o = {dir, a.quiet, isatty(STDOUT_FILENO), &sc, ck, &stop_signal};
+  esf_run_stats st;
+  if (!rc) rc = esf_run(&s, &o, &st, &err);
+  free(text);
+  free(sets);
+  free(a.sets);
+  esf_ckpt_free(&ck);
+  if (rc) {
+    status = fail(rc, err.msg);
+    fprintf(stderr, "esfera: output so far is in %s\n", o.out_dir);
+    esf_sim_release(&s);
+    return status;
+  }
+  if (st.interrupted) {
+    fprintf(stderr,
+            "esfera: stopped by signal %d at step %ld, t = %.9g s; checkpoint written to "
+            "%s/%s\nesfera: resume with: esfera run --resume %s\n",
+            (int)stop_signal, s.step, s.t, dir, ESF_CKPT_NAME, dir);
+    esf_sim_release(&s);
+    return 128 + (int)stop_signal;
+  }
+  printf("summary: steps=%ld particles=%.0f contacts_mean=%.2f wall_s=%.4f "
+         "particle_steps_per_s=%.6g dt=%.6g rebuilds=%ld rhs_evals=%ld "
+         "energy_error=%.6g dissipated=%.6g removed=%ld method=%s rejected=%ld "
+         "acc_limited=%ld stab_limited=%ld h_last=%.6g events=%ld restarts=%ld "
+         "checkpoints=%ld bonds=%ld bonds_broken=%ld\n",
+         st.steps, st.particles_mean, st.contacts_mean, st.wall_s, st.rate, s.dt,
+         s.nb.builds, st.integ.rhs_evals, st.energy_error, st.dissipated, s.removed,
+         s.cfg.method, st.integ.rejected, st.integ.acc_limited, st.integ.stab_limited,
+         st.integ.h_last, st.integ.events, st.integ.restarts, st.checkpoints,
+         s.bonds.formed, s.bonds.broken);
+  esf_sim_release(&s);
+  return 0;
+}
+
+int main(int argc, char **argv) {
+  if (argc < 2) {
+    usage(stderr);
+    return 2;
+  }
+  if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+    usage(stdout);
+    return 0;
+  }
+  if (strcmp(argv[1], "--version") == 0) {
+    printf("esfera %s\n", ESF_VERSION);
+    return 0;
+  }
+  if (strcmp(argv[1], "run") == 0) return cmd_run(argc - 2, argv + 2);
+  if (strcmp(argv[1], "modes") == 0) return cmd_modes(argc - 2, argv + 2);
+  if (strcmp(argv[1], "generate") == 0) return cmd_generate(argc - 2, argv + 2);
+  if (strcmp(argv[1], "info") == 0) {
+    esf_error err;
+    esf_error_clear(&err);
+    int rc = argc == 3 ? esf_info_print(argv[2], stdout, &err)
+                       : esf_fail(&err, ESF_EINPUT, "usage: esfera info FILE.h5");
+    return rc ? fail(rc, err.msg) : 0;
+  }
+  fprintf(stderr, "esfera: unknown command '%s'\n", argv[1]);
+  usage(stderr);
+  return 2;
+}

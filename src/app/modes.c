@@ -1,0 +1,210 @@
+/* modes.c — assembled contact stiffness and its highest frequency (see modes.h).
+ *
+ * Per touching contact between A and B (or A and a fixed wall), with unit normal n from
+ * A toward B and lever arms lA, lB to the contact point (forces.c), the contact point
+ * moves by dc = dxB + lB [n]x dthB - dxA + lA [n]x dthA ([n]x the cross-product matrix;
+ * for a wall only A's terms), and the springs resist it with S = kn n n^T + kt (I - n
+ * n^T) (the linear law's normal and sticking tangential stiffness; geometric stiffness
+ * from the turning normal is neglected, as in every critical-step rule of the seeds).
+ * With G the 3 x 12 map q = [dxA, dthA, dxB, dthB] -> dc, the contact adds G^T S G to K.
+ * omega_max^2 is the largest eigenvalue of D K D, D = M^{-1/2} (mass for translations,
+ * moment of inertia for rotations); GSL's symmetric eigensolver (gsl_eigen_symm).
+ * In 2D only x, z and the rotation about y are degrees of freedom.
+ * Damped bounds dt = (2/omega_max)(sqrt(1 + xi^2) - xi), the central-difference limit
+ * of a damped mode: with xi the largest contact damping ratio (dt_damped), and with the
+ * top mode's own ratio xi_mode = phi^T (D C D) phi / (2 omega_max), C the dashpots
+ * assembled like K (dt_mode; a tangential mode on a wall is damped sqrt(3.5) times the
+ * contact's ratio, so dt_damped is unsafe there: studies/results/critical_dt).
+ * Units: SI. Entry: a set-up sim (the candidate lists are built here if needed); the
+ * state is not changed, the force accumulators and contact flags are. */
+#include "app/modes.h"
+
+#include <gsl/gsl_eigen.h>
+#include <gsl/gsl_matrix.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "model/forces.h"
+#include "model/refresh.h"
+#include "util/vec3.h"
+
+/* global dof index of particle i's local dof j (0-2 translation, 3-5 rotation), or -1 */
+static long dof_index(int dim, size_t i, int j) {
+  if (dim == 3) return (long)(6 * i + (size_t)j);
+  static const int map2[6] = {0, -1, 1, -1, 2, -1}; /* x, z, rotation about y */
+  return map2[j] < 0 ? -1 : (long)(3 * i + (size_t)map2[j]);
+}
+
+static void cross_matrix(double m[3][3], const double *n) {
+  m[0][0] = 0, m[0][1] = -n[2], m[0][2] = n[1];
+  m[1][0] = n[2], m[1][1] = 0, m[1][2] = -n[0];
+  m[2][0] = -n[1], m[2][1] = n[0], m[2][2] = 0;
+}
+
+/* Adds G^T S G for one contact: bodies[0] = A (sign -1 on dxA), bodies[1] = B or none. */
+static void add_contact(gsl_matrix *K, int dim, const double *n, double kn, double kt,
+                        size_t a, double la, long b, double lb);
+
+/* Adds one contact to the stiffness K and the damping C (the dashpots cn, ct in the
+ * same geometry): C's top-mode quadratic form gives that mode's damping ratio. */
+static void add_contact_kc(gsl_matrix *K, gsl_matrix *C, int dim, const double *n,
+                           const double kc[4], size_t a, double la, long b, double lb) {
+  add_contact(K, dim, n, kc[0], kc[1], a, la, b, lb);
+  add_contact(C, dim, n, kc[2], kc[3], a, la, b, lb);
+}
+
+static void add_contact(gsl_matrix *K, int dim, const double *n, double kn, double kt,
+                        size_t a, double la, long b, double lb) {
+  double S[3][3], N[3][3];
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++) S[r][c] = (kn - kt) * n[r] * n[c] + (r == c ? kt : 0.0);
+  cross_matrix(N, n);
+  /* G columns: 12 local dofs, G[:, k] = dc / dq_k */
+  double G[3][12] = {{0}};
+  for (int r = 0; r < 3; r++) {
+    G[r][r] = -1.0;
+    G[r][6 + r] = 1.0;
+    for (int c = 0; c < 3; c++) {
+      G[r][3 + c] = la * N[r][c];
+      G[r][9 + c] = lb * N[r][c];
+    }
+  }
+  int nloc = b >= 0 ? 12 : 6;
+  long idx[12];
+  for (int j = 0; j < 6; j++) {
+    idx[j] = dof_index(dim, a, j);
+    idx[6 + j] = b >= 0 ? dof_index(dim, (size_t)b, j) : -1;
+  }
+  double SG[3][12];
+  for (int r = 0; r < 3; r++)
+    for (int k = 0; k < nloc; k++)
+      SG[r][k] = S[r][0] * G[0][k] + S[r][1] * G[1][k] + S[r][2] * G[2][k];
+  for (int p = 0; p < nloc; p++) {
+    if (idx[p] < 0) continue;
+    for (int q = 0; q < nloc; q++) {
+      if (idx[q] < 0) continue;
+      double v = G[0][p] * SG[0][q] + G[1][p] * SG[1][q] + G[2][p] * SG[2][q];
+      *gsl_matrix_ptr(K, (size_t)idx[p], (size_t)idx[q]) += v;
+    }
+  }
+}
+
+static double damping_ratio(const esf_pair_params *pp, double beta, double mstar) {
+  if (beta > 0) return 0.5 * beta * sqrt(pp->kn / mstar); /* c = beta k */
+  return pp->gamma_n;
+}
+
+/* kn, kt, cn, ct of a contact with reduced mass mstar (contact_linear.c's dashpots) */
+static void springs(const esf_pair_params *pp, double beta, double mstar, double kc[4]) {
+  kc[0] = pp->kn;
+  kc[1] = pp->kt;
+  kc[2] = beta > 0 ? beta * pp->kn : pp->cn_factor * sqrt(mstar);
+  kc[3] = beta > 0 ? beta * pp->kt : pp->ct_factor * sqrt(mstar);
+}
+
+int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
+  const esf_particles *p = &s->p;
+  int dim = s->cfg.dim;
+  size_t per = dim == 3 ? 6 : 3, nd = per * p->n;
+  *out = (esf_modes){0};
+  out->dofs = nd;
+  if (nd > ESF_MODES_MAX_DOFS)
+    return esf_fail(err, ESF_EINPUT,
+                    "modes: %zu degrees of freedom; the dense eigenproblem is limited to "
+                    "%d (use at most %d particles)",
+                    nd, ESF_MODES_MAX_DOFS, ESF_MODES_MAX_DOFS / (int)per);
+  size_t touching = 0;
+  int rc = esf_integ_refresh(s, NULL, err);
+  if (!rc)
+    rc = esf_forces_eval(s, p->x, p->v, p->w, 0.0, ESF_FORCES_COMMIT, &touching, err);
+  if (rc) return rc;
+  gsl_matrix *K = gsl_matrix_calloc(nd ? nd : 1, nd ? nd : 1);
+  gsl_matrix *C = gsl_matrix_calloc(nd ? nd : 1, nd ? nd : 1);
+  if (!K || !C) {
+    gsl_matrix_free(K);
+    gsl_matrix_free(C);
+    return esf_fail(err, ESF_ENOMEM, "modes: out of memory for %zu dofs", nd);
+  }
+  double kc[4];
+  const esf_materials *mt = &s->mats;
+  const esf_contacts *c = &s->nb.pp;
+  for (size_t k = 0; k < c->n; k++) {
+    if (!c->touch[k]) continue;
+    uint32_t a = c->a[k], b = c->b[k];
+    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
+    double d[3];
+    v3_sub(d, p->x + 3 * b, p->x + 3 * a);
+    double dist = v3_norm(d), un = p->radius[a] + p->radius[b] - dist;
+    v3_scale(d, 1.0 / dist, d);
+    double ms = p->mass[a] * p->mass[b] / (p->mass[a] + p->mass[b]);
+    springs(pp, s->beta, ms, kc);
+    add_contact_kc(K, C, dim, d, kc, a, p->radius[a] - 0.5 * un, (long)b,
+                   p->radius[b] - 0.5 * un);
+    out->xi_max = fmax(out->xi_max, damping_ratio(pp, s->beta, ms));
+    out->contacts++;
+  }
+  c = &s->nb.pw;
+  for (size_t k = 0; k < c->n; k++) {
+    if (!c->touch[k]) continue;
+    uint32_t a = c->a[k];
+    const esf_wall_elem *el = &s->walls.e[c->b[k]];
+    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
+    esf_wall_hit hit;
+    esf_wall_nearest(el, p->x + 3 * a, &hit);
+    springs(pp, s->beta, p->mass[a], kc);
+    add_contact_kc(K, C, dim, hit.n, kc, a, hit.dist, -1, 0.0);
+    out->xi_max = fmax(out->xi_max, damping_ratio(pp, s->beta, p->mass[a]));
+    out->contacts++;
+  }
+  /* D K D with D = M^{-1/2} */
+  double *dscale = malloc((nd ? nd : 1) * sizeof *dscale);
+  gsl_vector *eval = gsl_vector_alloc(nd ? nd : 1);
+  gsl_eigen_symmv_workspace *ws = nd ? gsl_eigen_symmv_alloc(nd) : NULL;
+  gsl_matrix *evec = gsl_matrix_alloc(nd ? nd : 1, nd ? nd : 1);
+  if (!dscale || !eval || !evec || (nd && !ws)) {
+    rc = esf_fail(err, ESF_ENOMEM, "modes: out of memory for %zu dofs", nd);
+    goto done;
+  }
+  for (size_t i = 0; i < p->n; i++)
+    for (int j = 0; j < 6; j++) {
+      long g = dof_index(dim, i, j);
+      if (g >= 0) dscale[g] = j < 3 ? sqrt(p->inv_mass[i]) : sqrt(p->inv_inertia[i]);
+    }
+  for (size_t r = 0; r < nd; r++)
+    for (size_t q = 0; q < nd; q++) {
+      *gsl_matrix_ptr(K, r, q) *= dscale[r] * dscale[q];
+      *gsl_matrix_ptr(C, r, q) *= dscale[r] * dscale[q];
+    }
+  if (nd && out->contacts) {
+    gsl_eigen_symmv(K, eval, evec, ws);
+    size_t imax = gsl_vector_max_index(eval);
+    double lam = gsl_vector_get(eval, imax);
+    out->omega_max = lam > 0 ? sqrt(lam) : 0.0;
+    double best = -1, cq = 0;
+    for (size_t r = 0; r < nd; r++) {
+      double v = fabs(gsl_matrix_get(evec, r, imax));
+      if (v > best) best = v, out->argmax_dof = r;
+      double row = 0;
+      for (size_t q = 0; q < nd; q++)
+        row += gsl_matrix_get(C, r, q) * gsl_matrix_get(evec, q, imax);
+      cq += gsl_matrix_get(evec, r, imax) * row;
+    }
+    /* the top mode's own damping ratio phi^T (D C D) phi / (2 omega), phi unit */
+    if (out->omega_max > 0) out->xi_mode = cq / (2 * out->omega_max);
+  }
+  if (out->omega_max > 0) {
+    out->dt_undamped = 2.0 / out->omega_max;
+    double x = out->xi_max;
+    out->dt_damped = out->dt_undamped * (sqrt(1 + x * x) - x);
+    x = out->xi_mode;
+    out->dt_mode = out->dt_undamped * (sqrt(1 + x * x) - x);
+  }
+done:
+  if (ws) gsl_eigen_symmv_free(ws);
+  gsl_matrix_free(evec);
+  gsl_vector_free(eval);
+  free(dscale);
+  gsl_matrix_free(K);
+  gsl_matrix_free(C);
+  return rc;
+}

@@ -1,0 +1,383 @@
+/* run.c — the time loop of `esfera run`.
+ *
+ * Schedule: frames at t = 0, every cfg.out_every (rounded to whole steps) and at the
+ * end; energy rows every cfg.energy_every (whole steps). After each ledger row the
+ * balance is checked: energy appearing from nothing beyond a quarter of the run's energy
+ * budget (the stored energy at the start plus everything dissipated, the change of
+ * potential energy, the wall and fluid work) means the integration is unstable, and the
+ * run stops with the step, the dt and the critical dt. Wall time is measured around the
+ * loop alone (set-up excluded), as LAMMPS's "Loop time". */
+#include "app/run.h"
+#include "util/clock.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "output/contact_net.h"
+#include "output/frames.h"
+#include "ckpt/run_ckpt.h"
+#include "util/vec3.h"
+#include "util/version.h"
+
+int esf_mkdirs(const char *path, esf_error *err) {
+  char buf[1024];
+  if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf)
+    return esf_fail(err, ESF_EIO, "output path too long: %s", path);
+  for (char *c = buf + 1;; c++) {
+    if (*c == '/' || *c == '\0') {
+      char keep = *c;
+      *c = '\0';
+      if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+        return esf_fail(err, ESF_EIO, "cannot create directory '%s': %s", buf,
+                        strerror(errno));
+      *c = keep;
+      if (!keep) break;
+    }
+  }
+  struct stat sb;
+  if (stat(path, &sb) != 0 || !S_ISDIR(sb.st_mode))
+    return esf_fail(err, ESF_EIO, "'%s' is not a directory", path);
+  return ESF_OK;
+}
+
+static void log_setup(const esf_sim *s, const esf_integrator_type *it) {
+  const esf_config *c = &s->cfg;
+  esf_sim_log(s, "esfera %s", ESF_VERSION);
+  esf_sim_log(s, "scene: %s (%s), %dD, %zu particles, %d materials, %zu wall elements",
+              c->name, c->source, c->dim, s->p.n, s->mats.n, s->walls.n);
+  esf_sim_log(s, "integrator: %s (order %d): %s", it->name, it->order, it->summary);
+  esf_sim_log(s,
+              "critical dt (FRAC = 1): cundall %.6g s, hart %.6g s, damped %.6g s "
+              "(m_min %.6g kg, k_max %.6g N/m, damping ratio %.4g)",
+              s->dte.crit[0], s->dte.crit[1], s->dte.crit[2], s->dte.m_min, s->dte.k_max,
+              s->dte.xi);
+  esf_sim_log(s, "dt used: %.6g s = %.4g x the %s critical dt (%.6g s)%s", s->dt,
+              s->dt / s->dte.crit[c->dt_rule], esf_dt_rule_names[c->dt_rule],
+              s->dte.crit[c->dt_rule], c->dt_auto ? " (dt: auto)" : "");
+  if (s->dt > s->dte.crit[c->dt_rule])
+    esf_sim_log(s, "WARNING: dt exceeds the critical step (allow_unstable: true)");
+  esf_sim_log(s,
+              "damping: global alpha_r %.6g 1/s, alpha_t %.6g 1/s%s; local %s %.4g; "
+              "Rayleigh beta %.6g s",
+              s->alpha_r, s->alpha_t, c->autod.on ? " (adaptive)" : "",
+              s->local ? s->local->name : "off", c->local_coef, s->beta);
+  esf_sim_log(s, "contact law: %s, tangential frame: %s; skin %.6g m", s->law->name,
+              c->tframe == ESF_TFRAME_ROTATE ? "rotate (seed)" : "project", c->skin);
+  for (int a = 0; s->bonds.on && a < s->mats.n; a++)
+    for (int b = a; b < s->mats.n; b++) {
+      const esf_pair_params *pp = &s->mats.pair[a * s->mats.n + b];
+      const esf_adhesion *A = &pp->adh;
+      if (pp->law->flags & ESF_LAW_TENSION)
+        esf_sim_log(s,
+                    "adhesive law %s-%s: F %.6g N, epsilon %.6g, delta %.6g m, alpha "
+                    "%.6g 1/m, peak tension at u %.6g m, rupture at u %.6g m, rest u "
+                    "%.6g m, largest tangent stiffness %.6g N/m",
+                    s->mats.m[a].name, s->mats.m[b].name, A->F, A->eps, A->delta,
+                    A->alpha, A->u_peak, A->u_rupture, A->u_eq, A->k_max);
+    }
+  if (it->flags & ESF_INTEG_HALF_STEP_V)
+    esf_sim_log(s, "note: frame velocities are the half-step ones, v(t - dt/2); energy "
+                   "rows: kinetic at t + dt/2, elastic at t");
+}
+
+static int check_energy(const esf_sim *s, esf_error *err) {
+  const esf_ledger *L = &s->led;
+  double err_e = esf_ledger_total_error(L);
+  double budget = fabs(L->e0) + fabs(L->d_normal) + fabs(L->d_tangential) +
+                  fabs(L->d_friction) + fabs(L->d_global) + fabs(L->d_local) +
+                  fabs(L->w_walls) + fabs(L->e_removed) + fabs(L->pot_g) + fabs(L->el_n) +
+                  fabs(L->el_t) + fabs(L->d_bonds);
+  budget += fabs(L->w_fluid); /* the fluid force (drag.c) */
+  if (!(err_e > 0.25 * budget && err_e > 1e-30) && isfinite(err_e)) return ESF_OK;
+  /* name the particle with the most kinetic energy: where the blow-up is */
+  const esf_particles *p = &s->p;
+  size_t worst = 0;
+  double ek_max = -1;
+  for (size_t i = 0; i < p->n; i++) {
+    double ek =
+        p->mass[i] * v3_norm2(p->v + 3 * i) + p->inertia[i] * v3_norm2(p->w + 3 * i);
+    if (ek > ek_max) {
+      ek_max = ek;
+      worst = i;
+    }
+  }
+  return esf_fail(err, ESF_ENUMERIC,
+                  "step %ld (t = %.6g s): energy appeared from nothing: the balance "
+                  "residual is %.4g J against an energy budget of %.4g J (fastest: "
+                  "particle id %lld). The integration is unstable: dt = %.4g s, critical "
+                  "dt (%s) = %.4g s. Lower integrator.frac or dt",
+                  s->step, s->t, err_e, budget, p->n ? (long long)p->id[worst] : -1LL,
+                  s->dt, esf_dt_rule_names[s->cfg.dt_rule], s->dte.crit[s->cfg.dt_rule]);
+}
+
+/* A frame of the current state: particles, walls, and the contact network when the
+ * scene asks for it (output.contacts). */
+static int write_frame(esf_sim *s, esf_frames *fr, esf_contact_net *net, esf_error *err) {
+  esf_sim_forces_sync(s);
+  int rc = s->cfg.out_contacts ? esf_contact_net_build(s, net, err) : ESF_OK;
+  if (!rc)
+    rc = esf_frames_write(fr, s->t, &s->p, &s->walls, s->cfg.out_contacts ? net : NULL,
+                          err);
+  if (!rc && s->bonds.on && !s->bonds.pending) /* bond counts per frame (bonds.h) */
+    esf_sim_log(s, "frame t = %.6g s: %ld bonds intact, %ld broken", s->t,
+                esf_bonds_alive(s), s->bonds.broken);
+  return rc;
+}
+
+/* An energy row: energy.csv and the /energy table of frames.h5. */
+static int energy_row(const esf_sim *s, FILE *ef, esf_frames *fr, esf_error *err) {
+  double row[ESF_LEDGER_NCOLS];
+  esf_ledger_values(s->led_time, &s->led, s->alpha_r, row);
+  esf_ledger_row(ef, s->led_time, &s->led, s->alpha_r);
+  return esf_frames_append_energy(fr, ESF_LEDGER_NCOLS, esf_ledger_columns, row, err);
+}
+
+static void progress(const esf_sim *s, double t_end, double t0, double ps) {
+  double el = esf_now_s() - t0;
+  double frac = t_end > 0 ? s->t / t_end : 1.0;
+  double eta = frac > 0 ? el * (1.0 - frac) / frac : 0.0;
+  fprintf(stdout, "\r  t = %.4g s  %5.1f%%  %.3g particle-steps/s  ETA %.0f s   ", s->t,
+          100.0 * frac, el > 0 ? ps / el : 0.0, eta);
+  fflush(stdout);
+}
+
+/* The fixed-step schedule: how many steps, and every how many an energy row, a frame,
+ * a checkpoint and (progress) a look at the clock are due. */
+typedef struct sched {
+  long nsteps, every_e, every_f, every_c;
+  int progress;
+} sched;
+
+#define BURST_MAX 32 /* steps in one call at most: bounds the wait for a stop signal */
+
+/* Steps a scheme may take in one call from step index n without passing one after
+ * which the loop below has something to do (the same tests, step by step). */
+static long steps_to_event(const sched *c, long n) {
+  long j = n;
+  for (; j < n + BURST_MAX - 1; j++) {
+    const int last = j + 1 >= c->nsteps;
+    if (last || (c->every_e && j % c->every_e == 0) ||
+        (c->every_f && (j + 1) % c->every_f == 0) ||
+        (c->every_c && (j + 1) % c->every_c == 0) || (c->progress && (j & 63) == 0))
+      break;
+  }
+  return j - n + 1;
+}
+
+int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err) {
+  memset(st, 0, sizeof *st);
+  const esf_integrator_type *it = esf_integrator_find(s->cfg.method);
+  if (!it) return esf_fail(err, ESF_EINPUT, "unknown integrator '%s'", s->cfg.method);
+  int rc = esf_mkdirs(o->out_dir, err);
+  if (rc) return rc;
+  char path[1200];
+  snprintf(path, sizeof path, "%s/log.txt", o->out_dir);
+  FILE *logf = fopen(path, o->resume ? "a" : "w");
+  if (!logf)
+    return esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
+  s->log = logf;
+  FILE *ef = NULL;
+  esf_frames *fr = NULL;
+  esf_contact_net net = {0};
+  void *ist = NULL;
+  log_setup(s, it);
+  esf_ckpt_run cr = {0};
+  if (o->resume) { /* the state, then the outputs cut back to the checkpoint's */
+    rc = it->create(s, &ist, err);
+    if (!rc) rc = esf_ckpt_restore(o->resume, s, it, ist, &cr, err);
+    if (!rc) rc = esf_run_ckpt_reopen(o->out_dir, s, &cr, &ef, &fr, err);
+    if (rc) goto done;
+    esf_sim_log(s,
+                "resumed from checkpoint %ld at step %ld, t = %.9g s (%ld frames, %ld "
+                "energy rows kept)",
+                cr.count, s->step, s->t, cr.frames, cr.erows);
+  } else if (s->led.on) {
+    snprintf(path, sizeof path, "%s/energy.csv", o->out_dir);
+    ef = fopen(path, "w");
+    if (!ef) {
+      rc = esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
+      goto done;
+    }
+    esf_ledger_header(ef);
+  }
+  if (!o->resume) {
+    esf_run_ckpt_forget(o->out_dir); /* a new run: an old checkpoint no longer fits */
+    snprintf(path, sizeof path, "%s/frames.h5", o->out_dir);
+    rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, &fr, err);
+    if (!rc) rc = it->create(s, &ist, err);
+    if (!rc) rc = write_frame(s, fr, &net, err);
+  }
+  if (!rc && o->scene && s->cfg.ckpt_every > 0 && !it->save)
+    rc = esf_fail(err, ESF_EINPUT,
+                  "output.checkpoint_every: integrator %s cannot write checkpoints "
+                  "(leapfrog and erk: methods can)",
+                  s->cfg.method);
+  if (rc) goto done;
+
+  int adaptive = (it->flags & ESF_INTEG_ADAPTIVE) && s->cfg.rtol > 0;
+  long nsteps =
+      s->cfg.steps > 0 ? s->cfg.steps : (long)ceil(s->cfg.duration / s->dt - 1e-9);
+  double t_end = adaptive && s->cfg.duration > 0 ? s->cfg.duration : nsteps * s->dt;
+  long every_e = s->cfg.energy_every > 0
+                     ? (long)fmax(1.0, floor(s->cfg.energy_every / s->dt + 0.5))
+                     : 0;
+  long every_f =
+      s->cfg.out_every > 0 ? (long)fmax(1.0, floor(s->cfg.out_every / s->dt + 0.5)) : 0;
+  if (adaptive)
+    esf_sim_log(s,
+                "run: adaptive steps to t = %.6g s; frames every %.6g s, energy rows "
+                "every %.6g s",
+                t_end, s->cfg.out_every, s->cfg.energy_every);
+  else
+    esf_sim_log(s,
+                "run: %ld steps to t = %.6g s; frames every %ld steps, energy rows "
+                "every %ld steps",
+                nsteps, t_end, every_f, every_e);
+  double t0 = esf_now_s(), next_prog = t0 + 0.5, psum = cr.psum;
+  /* adaptive methods are not forced onto the output times (that would cap their
+     steps): rows and frames are written at the first step at or past each time */
+  double te = s->cfg.energy_every, tf = s->cfg.out_every;
+  double next_e = te > 0 ? te : INFINITY, next_f = tf > 0 ? tf : INFINITY;
+  /* checkpoints: like frames, every_c whole steps or at the first step past next_c */
+  double tc = o->scene ? s->cfg.ckpt_every : 0.0, next_c = tc > 0 ? tc : INFINITY;
+  long every_c = tc > 0 ? (long)fmax(1.0, floor(tc / s->dt + 0.5)) : 0;
+  long n0 = 0;
+  if (o->resume) {
+    n0 = cr.n;
+    next_e = cr.next_e;
+    next_f = cr.next_f;
+    if (tc > 0 && adaptive) /* the schedule continues (checkpoint_every may change) */
+      next_c = isfinite(cr.next_c) ? cr.next_c : s->t + tc;
+  }
+  const sched sc = {nsteps, every_e, every_f, every_c,
+                    o->progress && !o->quiet && !adaptive};
+  for (long n = n0; adaptive ? s->t < t_end * (1 - 1e-12) : n < nsteps; n++) {
+    long step_before = s->step;
+    s->burst = adaptive ? 1 : steps_to_event(&sc, n);
+    rc = it->step(s, ist, t_end, err);
+    s->burst = 1;
+    if (rc) break;
+    if (s->step == step_before) { /* no step taken (an ODE method redoing one) */
+      n--;
+      continue;
+    }
+    n += s->step - step_before - 1; /* a scheme may take several (s->burst) */
+    psum += (double)s->p.n * (double)(s->step - step_before); /* no removal between */
+    int row, frame;
+    if (adaptive) {
+      double tol = 1e-9 * t_end;
+      row = te > 0 && (s->t >= next_e - tol || s->t >= t_end * (1 - 1e-12));
+      frame = tf > 0 && s->t >= next_f - tol && s->t < t_end * (1 - 1e-12);
+      while (te > 0 && next_e <= s->t + tol) next_e += te;
+      while (tf > 0 && next_f <= s->t + tol) next_f += tf;
+    } else {
+      row = every_e && (n % every_e == 0 || n == nsteps - 1);
+      frame = every_f && (n + 1) % every_f == 0 && n + 1 < nsteps;
+    }
+    if (row) {
+      rc = energy_row(s, ef, fr, err);
+      if (!rc) rc = check_energy(s, err);
+      if (rc) break;
+    }
+    if (frame) {
+      rc = write_frame(s, fr, &net, err);
+      if (rc) break;
+    }
+    int last = adaptive ? s->t >= t_end * (1 - 1e-12) : n + 1 >= nsteps;
+    int ckpt = 0, stop = o->stop && *o->stop && !last && o->scene;
+    if (tc > 0 && adaptive) {
+      double tol = 1e-9 * t_end;
+      ckpt = s->t >= next_c - tol && !last;
+      while (next_c <= s->t + tol) next_c += tc;
+    } else if (tc > 0) {
+      ckpt = (n + 1) % every_c == 0 && !last;
+    }
+    if (ckpt || stop) {
+      cr.n = n + 1;
+      cr.next_e = next_e;
+      cr.next_f = next_f;
+      cr.next_c = next_c;
+      cr.psum = psum;
+      rc = esf_run_ckpt_save(o->out_dir, s, it, ist, o->scene, &cr, ef, fr, err);
+      if (rc) break;
+      st->checkpoints++;
+    }
+    if (stop) {
+      st->interrupted = 1;
+      break;
+    }
+    if (o->progress && !o->quiet && (n & 63) == 0) {
+      double tn = esf_now_s();
+      if (tn >= next_prog) {
+        progress(s, t_end, t0, psum);
+        next_prog = tn + 0.25;
+      }
+    }
+  }
+  double wall = esf_now_s() - t0;
+  if (o->progress && !o->quiet) fputs("\r\033[K", stdout);
+  st->steps = s->step;
+  st->wall_s = wall;
+  st->particles_mean = s->step ? psum / (double)s->step : (double)s->p.n;
+  st->contacts_mean = s->step ? s->contacts_sum / (double)s->step : 0.0;
+  st->rate = wall > 0 ? psum / wall : 0.0;
+  memset(&st->integ, 0, sizeof st->integ);
+  if (ist && it->stats)
+    it->stats(s, ist, &st->integ);
+  else {
+    st->integ.steps = st->integ.attempts = s->step;
+    st->integ.rhs_evals = s->rhs_evals;
+    st->integ.h_last = s->dt;
+  }
+  st->energy_error = s->led.on ? esf_ledger_total_error(&s->led) : 0.0;
+  st->dissipated = s->led.on ? esf_ledger_dissipated(&s->led) : 0.0;
+  if (!rc && !st->interrupted) rc = write_frame(s, fr, &net, err);
+  if (!rc && st->interrupted)
+    esf_sim_log(s, "interrupted at step %ld, t = %.9g s: checkpoint %ld written", s->step,
+                s->t, cr.count);
+  else if (!rc)
+    esf_sim_log(s,
+                "output: %ld frames, %ld energy rows in frames.h5; %.3f s writing them",
+                esf_frames_count(fr), esf_frames_energy_rows(fr), esf_frames_seconds(fr));
+  if (s->bonds.on)
+    esf_sim_log(s,
+                "bonds: %ld at the start, %ld broken, %ld intact; %.6g J released by "
+                "ruptures",
+                s->bonds.formed, s->bonds.broken, esf_bonds_alive(s), s->led.d_bonds);
+  if (rc)
+    esf_sim_log(s, "FAILED: %s", err->msg);
+  else
+    esf_sim_log(s,
+                "done: %ld steps, %.3f s of loop, %.4g particle-steps/s, %ld list "
+                "builds, %ld force evaluations, %ld particles removed; integrator: %ld "
+                "steps, %ld attempts, %ld rejected, %ld rhs evaluations, %ld limited "
+                "by accuracy, %ld by stability, last step %.4g s, %ld events located, "
+                "%ld restarts",
+                st->steps, wall, st->rate, s->nb.builds, s->rhs_evals, s->removed,
+                st->integ.steps, st->integ.attempts, st->integ.rejected,
+                st->integ.rhs_evals, st->integ.acc_limited, st->integ.stab_limited,
+                st->integ.h_last, st->integ.events, st->integ.restarts);
+done:
+  if (ist) it->destroy(&ist);
+  {
+    esf_error e2;
+    esf_error_clear(&e2);
+    int rc2 = esf_frames_close(&fr, &e2);
+    if (!rc && rc2) {
+      rc = rc2;
+      *err = e2;
+    }
+  }
+  esf_contact_net_release(&net);
+  if (ef && fclose(ef) != 0 && !rc)
+    rc = esf_fail(err, ESF_EIO, "cannot finish energy.csv: %s", strerror(errno));
+  s->log = NULL;
+  if (fclose(logf) != 0 && !rc)
+    rc = esf_fail(err, ESF_EIO, "cannot finish log.txt: %s", strerror(errno));
+  return rc;
+}

@@ -1,0 +1,44 @@
+/* run.h — the run driver: time loop, output schedule, failure checks, summary. */
+#ifndef ESF_RUN_H
+#define ESF_RUN_H
+
+#include <signal.h>
+
+#include "ckpt/checkpoint.h"
+#include "integrators/integrator.h"
+#include "core/sim.h"
+
+typedef struct esf_run_opts {
+  const char *out_dir; /* where energy.csv, log.txt, frames.h5 go */
+  int quiet;           /* no progress */
+  int progress;        /* show progress (stdout is a terminal) */
+  /* checkpoints (checkpoint.h): every cfg.ckpt_every seconds and on *stop */
+  const esf_ckpt_scene *scene; /* the scene they store; NULL: no checkpoints */
+  const esf_ckpt *resume;      /* continue from it (the sim set up from its scene) */
+  volatile sig_atomic_t *stop; /* set (by a signal handler): finish the step (the fused
+                                  leapfrog's steps in hand, 32 at most), write a
+                                  checkpoint and return with stats.interrupted */
+} esf_run_opts;
+
+typedef struct esf_run_stats {
+  long steps;
+  double wall_s;         /* wall time of the time-stepping loop, s */
+  double particles_mean; /* mean particle count */
+  double contacts_mean;  /* mean touching contacts */
+  double rate;           /* particle-steps per second */
+  double energy_error;   /* final total_error, J (0 without ledger) */
+  double dissipated;     /* final dissipated energy, J */
+  esf_integ_stats integ; /* the integrator's cost accounting */
+  int interrupted;       /* stopped on *stop after writing a checkpoint */
+  long checkpoints;      /* checkpoints written by this run */
+} esf_run_stats;
+
+/* Creates out_dir (and parents), writes log.txt, energy.csv and frames.h5 while
+ * integrating the set-up sim to its end. On a numerical failure the files written so
+ * far are closed intact and the error says what happened and what to change. */
+int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err);
+
+/* Creates a directory and its parents (like mkdir -p). */
+int esf_mkdirs(const char *path, esf_error *err);
+
+#endif

@@ -1,0 +1,122 @@
+/* particles.c — allocation and compaction of the structure-of-arrays particle store.
+ * Invariant on exit of every function: x, v, w point into the single block y of 9n
+ * doubles, in that order, so the block is one contiguous ODE state vector. */
+#include "bodies/particles.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+int esf_particle_defs_push(esf_particle_defs *defs, const esf_particle_def *def,
+                           esf_error *err) {
+  if (defs->n == defs->cap) {
+    size_t cap = defs->cap ? 2 * defs->cap : 64;
+    esf_particle_def *d = realloc(defs->d, cap * sizeof *d);
+    if (!d) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particles", cap);
+    defs->d = d;
+    defs->cap = cap;
+  }
+  defs->d[defs->n++] = *def;
+  return ESF_OK;
+}
+
+void esf_particle_defs_clear(esf_particle_defs *defs) {
+  free(defs->d);
+  defs->d = NULL;
+  defs->n = defs->cap = 0;
+}
+
+void esf_particles_release(esf_particles *p) {
+  free(p->y);
+  free(p->f);
+  free(p->t);
+  free(p->radius);
+  free(p->mass);
+  free(p->inv_mass);
+  free(p->inertia);
+  free(p->inv_inertia);
+  free(p->material);
+  free(p->id);
+  memset(p, 0, sizeof *p);
+}
+
+/* The arrays for n particles, zeroed or (zero = 0, for a gather that writes them all)
+ * not. */
+static int alloc_arrays(esf_particles *p, size_t n, int zero, esf_error *err) {
+  memset(p, 0, sizeof *p);
+  const size_t m = n ? n : 1; /* never hand out NULL arrays */
+#define ESF_PALLOC(k, size) (zero ? calloc((k), (size)) : malloc((k) * (size)))
+  p->n = n;
+  p->y = ESF_PALLOC(9 * m + 1, sizeof(double)); /* + 1: pair_batch.c's 4-wide loads */
+  p->f = ESF_PALLOC(3 * m, sizeof(double));
+  p->t = ESF_PALLOC(3 * m, sizeof(double));
+  p->radius = ESF_PALLOC(m, sizeof(double));
+  p->mass = ESF_PALLOC(m, sizeof(double));
+  p->inv_mass = ESF_PALLOC(m, sizeof(double));
+  p->inertia = ESF_PALLOC(m, sizeof(double));
+  p->inv_inertia = ESF_PALLOC(m, sizeof(double));
+  p->material = ESF_PALLOC(m, sizeof(int32_t));
+  p->id = ESF_PALLOC(m, sizeof(int64_t));
+#undef ESF_PALLOC
+  if (!p->y || !p->f || !p->t || !p->radius || !p->mass || !p->inv_mass || !p->inertia ||
+      !p->inv_inertia || !p->material || !p->id) {
+    esf_particles_release(p);
+    return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particles", n);
+  }
+  p->y[9 * m] = 0.0; /* the spare double */
+  p->x = p->y;
+  p->v = p->y + 3 * n;
+  p->w = p->y + 6 * n;
+  return ESF_OK;
+}
+
+int esf_particles_alloc(esf_particles *p, size_t n, esf_error *err) {
+  return alloc_arrays(p, n, 1, err);
+}
+
+/* p becomes the particles src[0 .. m) of p, in that order (threads > 1: the copy is
+ * shared among that many threads). */
+static int gather(esf_particles *p, const size_t *src, size_t m, int threads,
+                  esf_error *err) {
+  esf_particles q;
+  int rc = alloc_arrays(&q, m, m == 0, err); /* every entry is written below */
+  if (rc) return rc;
+  const long mm = (long)m;
+#pragma omp parallel for num_threads(threads > 1 ? threads : 1) schedule(static)
+  for (long kk = 0; kk < mm; kk++) {
+    const size_t k = (size_t)kk, i = src[k];
+    memcpy(q.x + 3 * k, p->x + 3 * i, 3 * sizeof(double));
+    memcpy(q.v + 3 * k, p->v + 3 * i, 3 * sizeof(double));
+    memcpy(q.w + 3 * k, p->w + 3 * i, 3 * sizeof(double));
+    memcpy(q.f + 3 * k, p->f + 3 * i, 3 * sizeof(double));
+    memcpy(q.t + 3 * k, p->t + 3 * i, 3 * sizeof(double));
+    q.radius[k] = p->radius[i];
+    q.mass[k] = p->mass[i];
+    q.inv_mass[k] = p->inv_mass[i];
+    q.inertia[k] = p->inertia[i];
+    q.inv_inertia[k] = p->inv_inertia[i];
+    q.material[k] = p->material[i];
+    q.id[k] = p->id[i];
+  }
+  esf_particles_release(p);
+  *p = q;
+  return ESF_OK;
+}
+
+int esf_particles_compact(esf_particles *p, const unsigned char *keep, size_t *remap,
+                          esf_error *err) {
+  size_t n = p->n, m = 0;
+  size_t *src = malloc((n ? n : 1) * sizeof *src);
+  if (!src) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particles", n);
+  for (size_t i = 0; i < n; i++) {
+    if (remap) remap[i] = keep[i] ? m : SIZE_MAX;
+    if (keep[i]) src[m++] = i;
+  }
+  int rc = gather(p, src, m, 1, err);
+  free(src);
+  return rc;
+}
+
+int esf_particles_permute(esf_particles *p, const size_t *src, int threads,
+                          esf_error *err) {
+  return gather(p, src, p->n, threads, err);
+}

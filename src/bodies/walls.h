@@ -1,0 +1,98 @@
+/* walls.h — the scene's walls: elements (planes, polygons; wall_geom.h) grouped into
+ * walls (a plane, a polygon, a box, later meshes), each group with its rigid motion
+ * state. The velocity of the wall material at a point enters the contact's relative
+ * velocity, so moving walls need nothing else from the force loop. */
+#ifndef ESF_WALLS_H
+#define ESF_WALLS_H
+
+#include <stddef.h>
+
+#include "util/esf_error.h"
+#include "bodies/wall_geom.h"
+
+/* Prescribed rigid motions (wall_motion.c). */
+enum {
+  ESF_MOTION_NONE = 0,
+  ESF_MOTION_TRANSLATE,
+  ESF_MOTION_ROTATE,
+  ESF_MOTION_OSCILLATE,
+  ESF_MOTION_SERVO /* velocity set by stress feedback each step (servo.h) */
+};
+
+typedef struct esf_wall_motion {
+  int kind;
+  double vel[3];   /* translate: velocity, m/s */
+  double axis[3];  /* rotate: unit axis (right hand) */
+  double pivot[3]; /* rotate: a point of the axis at t = 0, m */
+  double rate;     /* rotate: angular speed, rad/s */
+  double dir[3];   /* oscillate: unit direction */
+  double freq;     /* oscillate: Hz */
+  double amp;      /* oscillate: m; displacement amp sin(2 pi freq t + phase) dir */
+  double phase;    /* oscillate: rad */
+  /* servo (servo.c): dir is the unit direction the wall moves to compress */
+  double stress; /* servo: target compressive stress, Pa */
+  double gain;   /* servo: m/(s Pa); 0: automatic, alpha A/(kn N_c dt) */
+  double alpha;  /* servo: fraction of the stress error removed per step (auto gain) */
+  double vmax;   /* servo: speed limit, m/s (0: set at set-up) */
+  double area;   /* servo: loaded area, m^2 (0: from the elements) */
+  double kn;     /* servo: largest wall-particle normal stiffness, N/m */
+  double sigma;  /* servo: measured stress at the last committed evaluation, Pa */
+} esf_wall_motion;
+
+typedef struct esf_wall_group {
+  char label[32];   /* "plane", "box", "polygon" + index, for messages */
+  int moving;       /* 0: static (vel, omega zero) */
+  double vel[3];    /* translational velocity, m/s */
+  double omega[3];  /* angular velocity about `center`, rad/s */
+  double center[3]; /* m */
+  esf_wall_motion motion;
+  double disp[3]; /* displacement at the current time, m */
+  double angle;   /* rotation angle at the current time, rad */
+  double reach;   /* largest distance of its vertices from the rotation axis, m */
+  double disp_mark[3], angle_mark; /* the same at the last candidate-list build */
+} esf_wall_group;
+
+typedef struct esf_walls {
+  size_t n, cap;
+  esf_wall_elem *e; /* the elements */
+  int ngroups;
+  esf_wall_group *g;
+  int moving;        /* some group moves */
+  esf_wall_elem *e0; /* the elements at t = 0 (moving walls only), else NULL */
+  double t;          /* time the elements are placed at, s */
+  double *gforce;    /* 4 per group: spring force the group exerts on particles (N, xyz;
+                        contact force less dashpots) and its touching contacts, summed at
+                        each committed evaluation;
+                        NULL unless a servo wall exists (servo.c) */
+} esf_walls;
+
+/* Adds a group; returns its index. */
+int esf_walls_add_group(esf_walls *w, const char *label, int *group, esf_error *err);
+/* Adds an element (copied; its group must exist). */
+int esf_walls_add_elem(esf_walls *w, const esf_wall_elem *e, esf_error *err);
+void esf_walls_release(esf_walls *w);
+
+/* After the scene is read: keeps the reference geometry when a group moves and places
+ * the walls at time t0. */
+int esf_walls_freeze(esf_walls *w, double t0, esf_error *err);
+
+/* Places every moving group at time t (elements, velocities); nothing when none moves
+ * or t is the current time. */
+void esf_walls_set_time(esf_walls *w, double t);
+
+/* Upper bound of how far any wall point moved since the last esf_walls_mark, m. */
+double esf_walls_moved(const esf_walls *w);
+
+/* Records the current placement as the reference of esf_walls_moved. */
+void esf_walls_mark(esf_walls *w);
+
+/* Velocity of wall group g's material at point q, m/s. */
+static inline void esf_wall_point_velocity(const esf_wall_group *g, const double q[3],
+                                           double v[3]) {
+  double r0 = q[0] - g->center[0], r1 = q[1] - g->center[1], r2 = q[2] - g->center[2];
+  v[0] = g->vel[0] + g->omega[1] * r2 - g->omega[2] * r1;
+  v[1] = g->vel[1] + g->omega[2] * r0 - g->omega[0] * r2;
+  v[2] = g->vel[2] + g->omega[0] * r1 - g->omega[1] * r0;
+}
+
+#endif

@@ -1,0 +1,234 @@
+/* checkpoint_restore.c — a loaded checkpoint back into a sim, and `esfera info` on
+ * one (checkpoint.h).
+ *
+ * Restoring, on a sim set up from the stored scene (its overrides, then the resuming
+ * command's) with the integrator created: the method, dt (bitwise), materials and pair
+ * table, wall count and groups must equal the saved ones (else ESF_EINPUT: the
+ * checkpoint does not fit). Then the particle arrays are replaced (n may differ from the
+ * scene's: particles leave the domain); the scalars, rng and ledger set; moving walls
+ * placed at the saved time (their placement is a function of time; servo walls' from
+ * their saved displacement, with the events applied and the fluid's state, section
+ * SAND, sand_ckpt.c) with the rebuild marks restored; the candidate lists built once
+ * (which sizes every derived scratch array) and overwritten with the saved lists, xref
+ * and build count; last the integrator's own state (integrator.h restore). Every count
+ * read from the file is checked against its section's size and every index against what
+ * it indexes, so a file that passed its checksums but does not fit fails cleanly. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ckpt/checkpoint_format.h"
+#include "ckpt/loads_ckpt.h"
+#include "scene/scene.h"
+
+int esf_ckpt_load_scene(const esf_ckpt *c, const char *const *extra, int nextra,
+                        esf_sim *s, esf_error *err) {
+  esf_ckpt_scene sc;
+  esf_ckpt_scene_of(c, &sc);
+  esf_ydoc *doc = NULL;
+  int rc = esf_ydoc_parse_as(sc.text, sc.len, sc.path, &doc, err);
+  for (int k = 0; k < sc.nsets && !rc; k++) rc = esf_ydoc_override(doc, sc.sets[k], err);
+  for (int k = 0; k < nextra && !rc; k++) rc = esf_ydoc_override(doc, extra[k], err);
+  esf_config_default(&s->cfg);
+  snprintf(s->cfg.source, sizeof s->cfg.source, "%s", sc.path);
+  if (!rc) rc = esf_scene_read(doc, s, err);
+  esf_ydoc_free(&doc);
+  if (rc) esf_error_prefix(err, "the scene stored in %s: ", c->path);
+  return rc;
+}
+
+static int mismatch(const esf_ckpt *c, esf_error *err, const char *what) {
+  return esf_fail(err, ESF_EINPUT,
+                  "%s does not fit its own scene: %s (written by another esfera "
+                  "version?); cannot resume",
+                  c->path, what);
+}
+
+static int get_contacts(const esf_ckpt *c, const char *tag, esf_contacts *dst, size_t np,
+                        size_t nb_other, esf_error *err) {
+  esf_blob_in in = esf_ckpt_sec(c, tag);
+  uint64_t m = 0;
+  uint8_t has_vc0 = 0, has_bond = 0;
+  esf_blob_get(&in, &m, 8);
+  esf_blob_get(&in, &has_vc0, 1);
+  esf_blob_get(&in, &has_bond, 1);
+  if (in.short_read || m > in.n ||
+      (m > 0 &&
+       ((has_vc0 != 0) != (dst->vc0 != NULL) || (has_bond != 0) != (dst->bond != NULL))))
+    return mismatch(c, err, "a contact list's header");
+  esf_blob_get(&in, dst->a, m * sizeof *dst->a);
+  esf_blob_get(&in, dst->b, m * sizeof *dst->b);
+  esf_blob_get(&in, dst->h, m * sizeof *dst->h);
+  esf_blob_get(&in, dst->touch, m * sizeof *dst->touch);
+  if (has_vc0 && dst->vc0) esf_blob_get(&in, dst->vc0, 3 * m * sizeof *dst->vc0);
+  if (has_bond && dst->bond) esf_blob_get(&in, dst->bond, m * sizeof *dst->bond);
+  if (in.short_read || in.pos != in.n) return mismatch(c, err, "a contact list's size");
+  for (uint64_t k = 0; k < m; k++)
+    if (dst->a[k] >= np || dst->b[k] >= nb_other)
+      return mismatch(c, err, "a contact names a particle or wall that does not exist");
+  dst->n = (size_t)m;
+  return ESF_OK;
+}
+
+int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *it,
+                     void *ist, esf_ckpt_run *run, esf_error *err) {
+  esf_blob_in in = esf_ckpt_sec(c, "METHOD");
+  if (strcmp((const char *)in.d, s->cfg.method) != 0)
+    return mismatch(c, err, "integrator.method differs");
+  if (!it->restore) return mismatch(c, err, "the integrator cannot restore");
+  ck_sim cs;
+  in = esf_ckpt_sec(c, "SIM");
+  if (esf_blob_get(&in, &cs, sizeof cs) || in.pos != in.n)
+    return mismatch(c, err, "the SIM section's size");
+  if (memcmp(&cs.dt, &s->dt, sizeof cs.dt) != 0) {
+    char m[160];
+    snprintf(m, sizeof m, "dt %.17g s saved, %.17g s from the scene", cs.dt, s->dt);
+    return mismatch(c, err, m);
+  }
+  in = esf_ckpt_sec(c, "MATS");
+  int32_t nm = 0;
+  esf_blob_get(&in, &nm, 4);
+  size_t mb = (size_t)s->mats.n * sizeof *s->mats.m;
+  size_t pb = (size_t)s->mats.n * (size_t)s->mats.n * sizeof *s->mats.pair;
+  const void *mm = nm == s->mats.n ? esf_blob_take(&in, mb) : NULL;
+  const void *pm = mm ? esf_blob_take(&in, pb) : NULL;
+  int same = pm && in.pos == in.n && !memcmp(mm, s->mats.m, mb);
+  for (size_t k = 0; same && k < pb / sizeof *s->mats.pair; k++) {
+    esf_pair_params pp = s->mats.pair[k]; /* stored without the law pointer (derived */
+    pp.law = NULL;                        /* from the materials, which are compared) */
+    same = !memcmp((const char *)pm + k * sizeof pp, &pp, sizeof pp);
+  }
+  if (!same) return mismatch(c, err, "the materials or their pair table differ");
+  in = esf_ckpt_sec(c, "WALLS");
+  int32_t ng = 0;
+  uint64_t ne = 0;
+  esf_blob_get(&in, &ng, 4);
+  esf_blob_get(&in, &ne, 8);
+  if (ng != s->walls.ngroups || ne != s->walls.n)
+    return mismatch(c, err, "the walls differ");
+  for (int g = 0; g < ng; g++) {
+    esf_blob_get(&in, s->walls.g[g].disp_mark, 3 * sizeof(double));
+    esf_blob_get(&in, &s->walls.g[g].angle_mark, sizeof(double));
+  }
+  if (in.short_read || in.pos != in.n)
+    return mismatch(c, err, "the WALLS section's size");
+
+  /* particles: every array, any n */
+  in = esf_ckpt_sec(c, "PART");
+  uint64_t n = 0;
+  esf_blob_get(&in, &n, 8);
+  size_t need = (size_t)n * (9 + 3 + 3 + 5) * sizeof(double) +
+                (size_t)n * (sizeof(int32_t) + sizeof(int64_t));
+  if (in.short_read || n > in.n || in.n - in.pos != need)
+    return mismatch(c, err, "the particle section's size");
+  esf_particles *p = &s->p;
+  esf_particles_release(p);
+  int rc = esf_particles_alloc(p, (size_t)n, err);
+  if (rc) return rc;
+  esf_blob_get(&in, p->y, 9 * n * sizeof(double));
+  s->ft_lazy = NULL;
+  esf_blob_get(&in, p->f, 3 * n * sizeof(double));
+  esf_blob_get(&in, p->t, 3 * n * sizeof(double));
+  double *cols[] = {p->radius, p->mass, p->inv_mass, p->inertia, p->inv_inertia};
+  for (int k = 0; k < 5; k++) esf_blob_get(&in, cols[k], n * sizeof(double));
+  esf_blob_get(&in, p->material, n * sizeof *p->material);
+  esf_blob_get(&in, p->id, n * sizeof *p->id);
+  for (size_t i = 0; i < p->n; i++)
+    if (p->material[i] < 0 || p->material[i] >= s->mats.n)
+      return mismatch(c, err, "a particle's material index");
+
+  /* scalars, rng, ledger, walls at the saved time */
+  s->t = cs.t;
+  s->led_time = cs.led_time;
+  s->alpha_r = cs.alpha_r;
+  s->alpha_t = cs.alpha_t;
+  s->contacts_sum = cs.contacts_sum;
+  s->step = cs.step;
+  s->removed = cs.removed;
+  s->rhs_evals = cs.rhs_evals;
+  memcpy(s->rng.s, cs.rng, sizeof cs.rng);
+  s->bonds.formed = cs.bonds_formed; /* formed at the first build, long before */
+  s->bonds.broken = cs.bonds_broken;
+  s->bonds.pending = 0;
+  in = esf_ckpt_sec(c, "LEDGER");
+  if (esf_blob_get(&in, &s->led, sizeof s->led) || in.pos != in.n)
+    return mismatch(c, err, "the LEDGER section's size");
+  in = esf_ckpt_sec(c, "SAND"); /* servo walls, events, fluid (sand_ckpt.c) */
+  if (esf_sand_ckpt_restore(s, &in))
+    return mismatch(c, err, "the servo walls, events or fluid force (SAND section)");
+  s->walls.t = NAN; /* so that set_time places moving walls at the saved time */
+  esf_walls_set_time(&s->walls, cs.walls_t);
+  s->walls.t = cs.walls_t;
+
+  /* candidate lists: one build sizes the derived scratch, then the saved lists */
+  s->nb.threads = s->cfg.threads;
+  rc = esf_neighbor_build(&s->nb, p, &s->walls, err);
+  uint64_t npp = 0, npw = 0;
+  memcpy(&npp, esf_ckpt_sec(c, "CONTPP").d, 8);
+  memcpy(&npw, esf_ckpt_sec(c, "CONTPW").d, 8);
+  if (!rc && (npp > esf_ckpt_sec(c, "CONTPP").n || npw > esf_ckpt_sec(c, "CONTPW").n))
+    return mismatch(c, err, "a contact list's size");
+  if (!rc) rc = esf_neighbor_reserve(&s->nb, (size_t)npp, (size_t)npw, err);
+  if (!rc) rc = get_contacts(c, "CONTPP", &s->nb.pp, p->n, p->n, err);
+  if (!rc) rc = get_contacts(c, "CONTPW", &s->nb.pw, p->n, s->walls.n, err);
+  if (rc) return rc;
+  in = esf_ckpt_sec(c, "NBREF");
+  uint64_t nref = 0;
+  esf_blob_get(&in, &nref, 8);
+  if (in.short_read || (nref != 0 && nref != n) ||
+      in.n - in.pos != 3 * nref * sizeof(double))
+    return mismatch(c, err, "the list reference positions");
+  free(s->nb.xref);
+  s->nb.xref = NULL;
+  s->nb.nref = 0;
+  if (nref) {
+    s->nb.xref = malloc(3 * nref * sizeof(double));
+    if (!s->nb.xref) return esf_fail(err, ESF_ENOMEM, "out of memory");
+    esf_blob_get(&in, s->nb.xref, 3 * nref * sizeof(double));
+    s->nb.nref = (size_t)nref;
+  }
+  s->nb.builds = cs.builds;
+  in = esf_ckpt_sec(c, "NBSKIN"); /* absent from older checkpoints: the skin stays */
+  if (!in.short_read) {
+    double sk[2];
+    if (esf_blob_get(&in, sk, sizeof sk) || in.pos != in.n || !(sk[0] > 0))
+      return mismatch(c, err, "the NBSKIN section");
+    s->nb.skin = sk[0];
+    s->nb.built_step = (long)sk[1];
+  } else
+    s->nb.built_step = (long)cs.step;
+
+  in = esf_ckpt_sec(c, "RUN");
+  if (esf_blob_get(&in, run, sizeof *run) || in.pos != in.n)
+    return mismatch(c, err, "the RUN section's size");
+  in = esf_ckpt_sec(c, "INTEG");
+  rc = it->restore(s, ist, &in, err);
+  if (rc) esf_error_prefix(err, "%s: ", c->path);
+  return rc;
+}
+
+int esf_ckpt_describe(const char *path, FILE *out, esf_error *err) {
+  esf_ckpt *c = NULL;
+  int rc = esf_ckpt_load(path, &c, err);
+  if (rc) return rc;
+  esf_blob_in m = esf_ckpt_sec(c, "META");
+  fprintf(out, "kind: checkpoint\nfile: %s\nbytes: %zu\n", c->path, c->len);
+  fwrite(m.d, 1, m.n, out);
+  esf_ckpt_run run;
+  esf_blob_in r = esf_ckpt_sec(c, "RUN");
+  esf_blob_get(&r, &run, sizeof run);
+  uint64_t n = 0;
+  memcpy(&n, esf_ckpt_sec(c, "PART").d, 8);
+  if (n) fprintf(out, "bytes_per_particle: %.1f\n", (double)c->len / (double)n);
+  for (int k = 0; k < c->nsets; k++) fprintf(out, "override: %s\n", c->sets[k]);
+  char dir[1200];
+  snprintf(dir, sizeof dir, "%s", c->path);
+  char *slash = strrchr(dir, '/');
+  if (slash)
+    *slash = '\0';
+  else
+    snprintf(dir, sizeof dir, ".");
+  fprintf(out, "resume: esfera run --resume %s\n", dir);
+  esf_ckpt_free(&c);
+  return ESF_OK;
+}

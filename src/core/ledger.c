@@ -1,0 +1,80 @@
+/* ledger.c — energy balance bookkeeping and the energy row (energy.csv, and the /energy
+ * table of frames.h5): esf_ledger_columns names the columns, esf_ledger_values gives
+ * them, esf_ledger_header and esf_ledger_row print them as CSV (time with 10
+ * significant digits, energies in J with 13, alpha in 1/s with 7). Columns added
+ * later (work_fluid) go at the end, so readers by position keep working. */
+#include "core/ledger.h"
+
+const char *const esf_ledger_columns[ESF_LEDGER_NCOLS] = {"time",
+                                                          "kinetic_translational",
+                                                          "kinetic_rotational",
+                                                          "potential_gravity",
+                                                          "elastic",
+                                                          "dissipated_contact",
+                                                          "dissipated_friction",
+                                                          "dissipated_damping",
+                                                          "work_walls",
+                                                          "total_error",
+                                                          "elastic_normal",
+                                                          "elastic_tangential",
+                                                          "dissipated_normal",
+                                                          "dissipated_tangential",
+                                                          "dissipated_global",
+                                                          "dissipated_local",
+                                                          "energy_removed",
+                                                          "alpha_global",
+                                                          "dissipated_bonds",
+                                                          "work_fluid"};
+
+double esf_ledger_stored(const esf_ledger *l) {
+  return l->kin_t + l->kin_r + l->pot_g + l->el_n + l->el_t;
+}
+
+double esf_ledger_dissipated(const esf_ledger *l) {
+  return l->d_normal + l->d_tangential + l->d_friction + l->d_global + l->d_local +
+         l->d_bonds;
+}
+
+double esf_ledger_total_error(const esf_ledger *l) {
+  return esf_ledger_stored(l) - l->e0 - l->w_walls - l->w_fluid +
+         esf_ledger_dissipated(l) + l->e_removed;
+}
+
+void esf_ledger_values(double t, const esf_ledger *l, double alpha,
+                       double row[ESF_LEDGER_NCOLS]) {
+  const double v[ESF_LEDGER_NCOLS] = {t,
+                                      l->kin_t,
+                                      l->kin_r,
+                                      l->pot_g,
+                                      l->el_n + l->el_t,
+                                      l->d_normal + l->d_tangential,
+                                      l->d_friction,
+                                      l->d_global + l->d_local,
+                                      l->w_walls,
+                                      esf_ledger_total_error(l),
+                                      l->el_n,
+                                      l->el_t,
+                                      l->d_normal,
+                                      l->d_tangential,
+                                      l->d_global,
+                                      l->d_local,
+                                      l->e_removed,
+                                      alpha,
+                                      l->d_bonds,
+                                      l->w_fluid};
+  for (int k = 0; k < ESF_LEDGER_NCOLS; k++) row[k] = v[k];
+}
+
+void esf_ledger_header(FILE *f) {
+  for (int k = 0; k < ESF_LEDGER_NCOLS; k++)
+    fprintf(f, "%s%c", esf_ledger_columns[k], k + 1 < ESF_LEDGER_NCOLS ? ',' : '\n');
+}
+
+void esf_ledger_row(FILE *f, double t, const esf_ledger *l, double alpha) {
+  double row[ESF_LEDGER_NCOLS];
+  esf_ledger_values(t, l, alpha, row);
+  fprintf(f, "%.9e", row[0]);
+  for (int k = 1; k < ESF_LEDGER_NCOLS; k++)
+    fprintf(f, k == ESF_LEDGER_ALPHA ? ",%.6e" : ",%.12e", row[k]);
+  fputc('\n', f);
+}

@@ -1,0 +1,144 @@
+/* sim.h — the simulation object: configuration, particles, materials, walls, contact
+ * lists, damping state, energy ledger and counters. One esf_sim is one run; it holds no
+ * global state, so several can coexist (tests do that). */
+#ifndef ESF_SIM_H
+#define ESF_SIM_H
+
+#include <stdio.h>
+
+#include "core/bonds.h"
+#include "contact/contact_law.h"
+#include "core/damping.h"
+#include "util/esf_error.h"
+#include "core/ledger.h"
+#include "contact/material.h"
+#include "search/neighbor.h"
+#include "bodies/particles.h"
+#include "util/rng.h"
+#include "bodies/walls.h"
+
+enum { ESF_DT_CUNDALL = 0, ESF_DT_HART = 1, ESF_DT_DAMPED = 2, ESF_DT_RULES = 3 };
+extern const char *const esf_dt_rule_names[]; /* "cundall", "hart", "damped", NULL */
+
+/* How ODE methods treat contact history (integrators/dem_ode.h). */
+enum { ESF_HIST_FROZEN = 0, ESF_HIST_STATE = 1 };
+extern const char *const esf_history_names[]; /* "frozen", "state", NULL */
+
+enum { ESF_LOCAL_OFF = 0, ESF_LOCAL_COMPONENT = 1, ESF_LOCAL_VECTOR = 2 };
+
+/* Everything a scene sets, with SI units. esf_config_default gives the defaults. */
+typedef struct esf_config {
+  char name[128];
+  char source[1024];     /* scene file path */
+  int dim;               /* 3, or 2 (disks in the x-z plane) */
+  double disk_thickness; /* 2D: disk mass = rho pi r^2 thickness, m */
+  double gravity[3];     /* m/s^2 */
+  int has_domain;
+  double domain_min[3], domain_max[3]; /* m; particles leaving it are removed */
+
+  char method[128]; /* integrator name */
+  double dt;        /* s; <= 0 with dt_auto */
+  int dt_auto;
+  int dt_rule;        /* ESF_DT_* */
+  double frac;        /* dt = frac x critical (auto) */
+  int allow_unstable; /* accept dt above the rule's critical value */
+
+  double rtol, atol; /* adaptive ODE methods: tolerances (rtol 0: fixed step) */
+  int history;       /* ODE methods: ESF_HIST_FROZEN or ESF_HIST_STATE */
+  long max_steps;    /* ODE methods: step limit per call */
+  int roots;         /* adaptive ERK: end steps at contact onset and separation */
+
+  double alpha_r, alpha_t;             /* global viscous damping, 1/s */
+  int local_form;                      /* ESF_LOCAL_* */
+  double local_coef;                   /* alpha_c of 001 */
+  int rayleigh;                        /* damping.rayleigh given */
+  double rayleigh_zeta, rayleigh_freq; /* zeta, f (Hz) */
+  esf_auto_damping autod;              /* adaptive global damping */
+
+  int tframe;                /* ESF_TFRAME_* */
+  double max_overlap;        /* failure when overlap > this x the smaller radius */
+  int allow_initial_overlap; /* explicit particles may start overlapping */
+  double skin;               /* m; <= 0: automatic (0.4 x mean radius, then adaptive) */
+  int skin_auto;             /* set up: the skin is retuned at rebuilds (neighbor.h) */
+  int reorder;               /* renumber particles along cells at rebuilds (reorder.h) */
+
+  double duration;     /* s (when steps == 0) */
+  long steps;          /* steps, or 0 */
+  double out_every;    /* s between frames; 0: final frame only */
+  double energy_every; /* s between energy rows; 0: no ledger */
+  int energy_off;      /* energy_every: 0 given explicitly */
+  int out_contacts;    /* output.contacts: the contact network in every frame */
+  double ckpt_every;   /* output.checkpoint_every: s between checkpoints; 0: none */
+  char out_dir[1024];
+  int threads; /* worker threads (step_fast.h; results independent of it), >= 1 */
+  int fused;   /* leapfrog: take the fused step when the scene allows (default 1) */
+} esf_config;
+
+void esf_config_default(esf_config *c);
+
+/* Critical-step estimates (timestep.c). */
+typedef struct esf_dt_estimate {
+  double m_min;              /* smallest particle mass, kg */
+  double k_max;              /* largest stiffness of any used material pair, N/m */
+  double xi;                 /* largest damping ratio (contact + global) */
+  double crit[ESF_DT_RULES]; /* each rule's critical step (FRAC = 1), s */
+} esf_dt_estimate;
+
+typedef struct esf_sim {
+  esf_config cfg;
+  esf_particles p;
+  esf_materials mats;
+  esf_walls walls;
+  esf_neighbor nb;
+  esf_ledger led;
+  esf_bonds bonds; /* the adhesive law's bonds (bonds.h) */
+  const esf_contact_law *law;
+  const esf_local_damping *local; /* NULL when off */
+  double beta;                    /* Rayleigh stiffness-proportional factor (0: off), s */
+  double alpha_r, alpha_t; /* current global damping (adaptive changes them), 1/s */
+  double t, dt;            /* s */
+  double led_time;         /* the time the ledger's stored energies refer to, s */
+  long step;
+  long burst; /* steps the next call of a fixed-step scheme may take at once (the
+                 driver's budget to its next output; <= 1: one) */
+  esf_dt_estimate dte;
+  esf_rng rng;
+  /* counters */
+  long removed;                  /* particles removed (left the domain, or deleted by
+                                    events) */
+  double contacts_sum;           /* sum over steps of touching contacts */
+  long rhs_evals;                /* force evaluations */
+  FILE *log;                     /* the run's log, or NULL */
+  struct esf_force_tally *tally; /* filled by force evaluations when not NULL */
+  struct esf_events *events;     /* scene events (events.c), or NULL */
+  struct esf_drag *drag;         /* fluid force (drag.c), or NULL: no cost */
+  int reorder_ok; /* the scheme keeps no per-particle state of its own between steps, so
+                     particles may be renumbered at rebuilds (set by its create) */
+  /* F_n and M_n of the last fused step (step_fast.c), ESF_FT_STRIDE doubles per particle
+   * (force 3, N; one spare; torque 3, N m; one spare), not yet copied to p.f and p.t;
+   * NULL when p.f and p.t are current. esf_sim_forces_sync copies them. */
+  const double *ft_lazy;
+} esf_sim;
+
+#define ESF_FT_STRIDE 8
+
+/* Makes p.f and p.t current (copies the fused step's forces when it left them in its
+ * accumulators). Called by whoever reads p.f, p.t: frames, checkpoints, compaction. */
+void esf_sim_forces_sync(esf_sim *s);
+
+/* Prepares a sim whose cfg, particles, materials and walls are filled in: mixes the
+ * pair table, sets masses and inertias, picks dt (auto or checked), allocates lists. */
+int esf_sim_setup(esf_sim *s, esf_error *err);
+void esf_sim_release(esf_sim *s);
+
+/* Writes a line to the run's log (if any), printf style. */
+void esf_sim_log(const esf_sim *s, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+
+/* Critical-step estimates for the sim's particles, materials and damping. */
+void esf_dt_estimate_compute(const esf_sim *s, esf_dt_estimate *e);
+
+/* Removes the particles outside the domain (if one is set) and logs them. */
+int esf_sim_remove_escaped(esf_sim *s, esf_error *err);
+
+#endif

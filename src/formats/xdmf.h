@@ -1,0 +1,39 @@
+/* xdmf.h — frames.xdmf, the XDMF 3 description of frames.h5 that ParaView (and VisIt)
+ * open directly. It names no data of its own: every DataItem points into the HDF5 file
+ * by a path relative to the XDMF file's directory.
+ *
+ * One Domain with up to three Temporal collections of Uniform grids, one grid per
+ * frame, each with its Time:
+ *   particles — Polyvertex topology on /frames/NNNNNN/position, node attributes radius,
+ *               velocity, angular_velocity, force, material, id;
+ *   walls     — Triangle topology /frames/NNNNNN/walls/triangles on .../walls/points,
+ *               cell attributes group and material (only frames with walls);
+ *   contacts  — Polyline topology of 2 nodes /frames/NNNNNN/contacts/pairs on the
+ *               particle positions, cell attribute normal_force (frames with contacts).
+ * The file is replaced atomically (written to NAME.tmp, fsync'ed, renamed over NAME),
+ * so a reader, or a run killed at any moment, sees a complete file. */
+#ifndef ESF_XDMF_H
+#define ESF_XDMF_H
+
+#include <stddef.h>
+
+#include "util/esf_error.h"
+
+/* What the XDMF needs to know of one frame. */
+typedef struct esf_xdmf_frame {
+  double time;      /* s */
+  long index;       /* the frame's number: group /frames/%06ld */
+  size_t particles; /* rows of the particle datasets */
+  int has_walls;    /* the frame has a walls group */
+  size_t wall_points, wall_triangles;
+  int has_contacts; /* the frame has a contacts group */
+  size_t contacts;
+} esf_xdmf_frame;
+
+/* Writes the XDMF for nframes frames of h5_name (the HDF5 file's name as the XDMF
+ * should reference it, normally its base name) to path, atomically. Errors: ESF_EIO
+ * naming the path. */
+int esf_xdmf_write(const char *path, const char *h5_name, const esf_xdmf_frame *frames,
+                   size_t nframes, esf_error *err);
+
+#endif

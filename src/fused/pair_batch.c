@@ -1,0 +1,367 @@
+/* pair_batch.c — the linear law of the fused step, ESF_BATCH pairs in vector lanes.
+ *
+ * Physics: contact_linear.c's law (PHYSICS.md §3.1–3.2), as the fused step needs it
+ * (no ledger by-products): normal spring and dashpot without tension (004 2.9–2.12),
+ * the incremental tangential spring xi carried into the new contact plane, rotated
+ * (000 3-17, 3-18: xi += (n_old x n) x xi, then the twist of the mean spin about n) or
+ * projected and rescaled to its old length, the tangential dashpot while sticking and
+ * the Mohr-Coulomb cap with radial return (004 2.13–2.16). The contact point divides
+ * the overlap equally: lever arms la = ra - un/2, lb = rb - un/2; the relative contact
+ * velocity is vc = (vB - vA) - (la wA + lb wB) x n (000 3-21).
+ *
+ * Order per batch: gather the lanes' positions, radii, velocities, spins, history and
+ * pair parameters; compute everything lane-wise with the same instructions for every
+ * lane (the Coulomb cap as a select, its square root only when some lane slides); then
+ * transpose the outputs to one row per lane (written to out, or kept in registers),
+ * commit the history of the lanes that are in range and within the overlap limit and,
+ * for the accumulating entry point, add those lanes' rows to their particles in lane
+ * order. Lanes past nl repeat lane 0's pair and are neither written back nor reported.
+ * Entry: the pairs overlapped at their last screening or step; their touch flag says
+ * whether the history is live.
+ * Exit: a pair whose spheres no longer overlap (the screening's test, |d|^2 < (ra +
+ * rb)^2, computed in the same order) has its touch flag cleared and nothing else; for
+ * the others out holds force on A, torque on A, torque on B (N, N m), or these were
+ * added, lane by lane, to the accumulators of A and B (B's force with the opposite
+ * sign); history committed.
+ * Units: SI. */
+#include "fused/pair_batch.h"
+
+#include "util/vec4.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
+
+/* The lanes: eight doubles (AVX-512 registers when the build targets them, two AVX or
+ * four SSE2 halves otherwise). Rows of four doubles (a lane's x, v, w, history) are
+ * loaded and stored as esf_v4 and transposed in two groups of four lanes; with AVX-512
+ * the loads put lanes l and l + 4 in one register and transpose with eight-wide
+ * shuffles (fewer of them: 3.6% faster on S1). */
+typedef double vd __attribute__((vector_size(ESF_BATCH * sizeof(double))));
+typedef long long vm __attribute__((vector_size(ESF_BATCH * sizeof(double))));
+typedef esf_v4 v4;
+typedef esf_v4m v4m;
+
+_Static_assert(ESF_BATCH == 8, "the gathers below are written for eight lanes");
+
+/* The 48-byte history is read as two rows of four doubles inside the record: xi[0..2],
+ * n[0] from HXI, and xi[2], n[0..2] from HX2 (its last two columns are n[1], n[2]);
+ * written back: the first row whole, n[1] and n[2] alone (from HN1). */
+#define HXI offsetof(esf_contact_hist, xi)
+#define HX2 (HXI + 2 * sizeof(double))
+#define HN1 (offsetof(esf_contact_hist, n) + sizeof(double))
+_Static_assert(offsetof(esf_contact_hist, n) == HXI + 3 * sizeof(double) &&
+                   HX2 + 4 * sizeof(double) == sizeof(esf_contact_hist),
+               "xi, n contiguous, the record's last 32 bytes from xi[2]");
+
+static inline vd sel(vm m, vd a, vd b) { return (vd)(((vm)a & m) | ((vm)b & ~m)); }
+
+static inline vd vsqrt(vd x) {
+#if defined(__AVX512F__)
+  return (vd)_mm512_sqrt_pd((__m512d)x);
+#elif defined(__AVX__)
+  const v4 lo = __builtin_shufflevector(x, x, 0, 1, 2, 3),
+           hi = __builtin_shufflevector(x, x, 4, 5, 6, 7);
+  const v4 rl = (v4)_mm256_sqrt_pd((__m256d)lo), rh = (v4)_mm256_sqrt_pd((__m256d)hi);
+  return __builtin_shufflevector(rl, rh, 0, 1, 2, 3, 4, 5, 6, 7);
+#else
+  vd r;
+  for (int l = 0; l < ESF_BATCH; l++) r[l] = sqrt(x[l]);
+  return r;
+#endif
+}
+
+static inline int any(vm m) {
+#if defined(__AVX512F__)
+  return _mm512_test_epi64_mask((__m512i)m, (__m512i)m) != 0;
+#else
+  const v4m o = __builtin_shufflevector(m, m, 0, 1, 2, 3) |
+                __builtin_shufflevector(m, m, 4, 5, 6, 7);
+  return (o[0] | o[1] | o[2] | o[3]) != 0;
+#endif
+}
+
+/* p[i[0]], ..., p[i[7]] */
+static inline vd gat(const double *p, const size_t *i) {
+  return (vd){p[i[0]], p[i[1]], p[i[2]], p[i[3]], p[i[4]], p[i[5]], p[i[6]], p[i[7]]};
+}
+
+static inline v4 ld(const char *p) { return v4_ld(p); }
+
+/* Rows r[l] (lane l's four values) to columns c[j] (value j of the four lanes), and
+ * back: the same operation. */
+static inline void transpose(const v4 r[4], v4 c[4]) {
+  const v4m lo = {0, 4, 2, 6}, hi = {1, 5, 3, 7}, first = {0, 1, 4, 5},
+            last = {2, 3, 6, 7};
+  const v4 t0 = __builtin_shuffle(r[0], r[1], lo), t1 = __builtin_shuffle(r[0], r[1], hi);
+  const v4 t2 = __builtin_shuffle(r[2], r[3], lo), t3 = __builtin_shuffle(r[2], r[3], hi);
+  c[0] = __builtin_shuffle(t0, t2, first);
+  c[1] = __builtin_shuffle(t1, t3, first);
+  c[2] = __builtin_shuffle(t0, t2, last);
+  c[3] = __builtin_shuffle(t1, t3, last);
+}
+
+/* Columns c as the eight lanes' rows r[l], by two four-wide transposes. */
+static inline void rows_by_transpose(const vd c[4], v4 r[ESF_BATCH]) {
+  v4 lo[4], hi[4];
+  for (int j = 0; j < 4; j++) {
+    lo[j] = __builtin_shufflevector(c[j], c[j], 0, 1, 2, 3);
+    hi[j] = __builtin_shufflevector(c[j], c[j], 4, 5, 6, 7);
+  }
+  transpose(lo, r);
+  transpose(hi, r + 4);
+}
+
+/* Columns c to the lanes' rows at out[l] + off (by the transposes also with AVX-512:
+ * the eight-wide network below, stored, was 1-2% slower). */
+static inline void store_rows(const vd c[4], double out[ESF_BATCH][ESF_BATCH_OUT],
+                              int off) {
+  v4 r[ESF_BATCH];
+  rows_by_transpose(c, r);
+  for (int l = 0; l < ESF_BATCH; l++) v4_st(out[l] + off, r[l]);
+}
+
+/* Columns c as the eight lanes' rows r[l], in registers. */
+static inline void rows_of(const vd c[4], v4 r[ESF_BATCH]) {
+#if defined(__AVX512F__)
+  /* the load's network backwards (it is its own inverse): rows l and l + 4 side by
+     side in z[l] (1.5% faster here than two four-wide transposes) */
+  vd u[4], z[4];
+  u[0] = __builtin_shufflevector(c[0], c[2], 0, 1, 8, 9, 4, 5, 12, 13);
+  u[2] = __builtin_shufflevector(c[0], c[2], 2, 3, 10, 11, 6, 7, 14, 15);
+  u[1] = __builtin_shufflevector(c[1], c[3], 0, 1, 8, 9, 4, 5, 12, 13);
+  u[3] = __builtin_shufflevector(c[1], c[3], 2, 3, 10, 11, 6, 7, 14, 15);
+  z[0] = __builtin_shufflevector(u[0], u[1], 0, 8, 2, 10, 4, 12, 6, 14);
+  z[1] = __builtin_shufflevector(u[0], u[1], 1, 9, 3, 11, 5, 13, 7, 15);
+  z[2] = __builtin_shufflevector(u[2], u[3], 0, 8, 2, 10, 4, 12, 6, 14);
+  z[3] = __builtin_shufflevector(u[2], u[3], 1, 9, 3, 11, 5, 13, 7, 15);
+  for (int l = 0; l < 4; l++) {
+    r[l] = __builtin_shufflevector(z[l], z[l], 0, 1, 2, 3);
+    r[l + 4] = __builtin_shufflevector(z[l], z[l], 4, 5, 6, 7);
+  }
+#else
+  rows_by_transpose(c, r);
+#endif
+}
+
+/* The four doubles at byte base + off[l] of each of the eight lanes, as columns (the
+ * first nc of them). */
+static inline void load_cols_n(const void *base, const size_t *off, vd c[4], int nc) {
+  const char *b = base;
+#if defined(__AVX512F__)
+  /* rows l and l + 4 side by side, then two rounds of eight-wide shuffles: 11 shuffles
+     for three columns where two four-wide transposes take 20 */
+  vd z[4], u[4];
+  for (int j = 0; j < 4; j++) {
+    const v4 lo = ld(b + off[j]), hi = ld(b + off[j + 4]);
+    z[j] = __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
+  }
+  u[0] = __builtin_shufflevector(z[0], z[1], 0, 8, 2, 10, 4, 12, 6, 14);
+  u[1] = __builtin_shufflevector(z[0], z[1], 1, 9, 3, 11, 5, 13, 7, 15);
+  u[2] = __builtin_shufflevector(z[2], z[3], 0, 8, 2, 10, 4, 12, 6, 14);
+  u[3] = __builtin_shufflevector(z[2], z[3], 1, 9, 3, 11, 5, 13, 7, 15);
+  c[0] = __builtin_shufflevector(u[0], u[2], 0, 1, 8, 9, 4, 5, 12, 13);
+  if (nc > 1) c[1] = __builtin_shufflevector(u[1], u[3], 0, 1, 8, 9, 4, 5, 12, 13);
+  if (nc > 2) c[2] = __builtin_shufflevector(u[0], u[2], 2, 3, 10, 11, 6, 7, 14, 15);
+  if (nc > 3) c[3] = __builtin_shufflevector(u[1], u[3], 2, 3, 10, 11, 6, 7, 14, 15);
+#else
+  (void)nc;
+  const v4 r0[4] = {ld(b + off[0]), ld(b + off[1]), ld(b + off[2]), ld(b + off[3])};
+  const v4 r1[4] = {ld(b + off[4]), ld(b + off[5]), ld(b + off[6]), ld(b + off[7])};
+  v4 lo[4], hi[4];
+  transpose(r0, lo);
+  transpose(r1, hi);
+  for (int j = 0; j < 4; j++)
+    c[j] = __builtin_shufflevector(lo[j], hi[j], 0, 1, 2, 3, 4, 5, 6, 7);
+#endif
+}
+
+static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
+  load_cols_n(base, off, c, 4);
+}
+
+static inline void cross(vd r[3], const vd a[3], const vd b[3]) {
+  r[0] = a[1] * b[2] - a[2] * b[1];
+  r[1] = a[2] * b[0] - a[0] * b[2];
+  r[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static inline vd dot(const vd a[3], const vd b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* The batch; its results to out (acc NULL) or added to acc. One copy behind both entry
+ * points below (GCC keeps it out of line; two copies, each inlined and specialised for
+ * its output, ran 4.5% slower in-process). */
+static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
+                             double out[ESF_BATCH][ESF_BATCH_OUT], double *acc,
+                             unsigned *apart) {
+  size_t kk[ESF_BATCH], ia[ESF_BATCH], ib[ESF_BATCH], a3[ESF_BATCH], b3[ESF_BATCH];
+  size_t hk[ESF_BATCH]; /* byte offsets of the histories */
+  vm tch;
+  for (int l = 0; l < ESF_BATCH; l++) {
+    kk[l] = k[l < nl ? l : 0];
+    ia[l] = c->a[kk[l]];
+    ib[l] = c->b[kk[l]];
+    a3[l] = 3 * sizeof(double) * ia[l]; /* byte offsets of the 3-vectors */
+    b3[l] = 3 * sizeof(double) * ib[l];
+    hk[l] = kk[l] * sizeof(esf_contact_hist);
+    tch[l] = -(long long)c->touch[kk[l]];
+  }
+  const vd zero = {0}, one = zero + 1.0;
+  vd kn, kt, mu, cnf, ctf, coh = zero;
+  if (c->one) { /* one material: the same parameters in every lane */
+    kn = zero + c->one->kn;
+    kt = zero + c->one->kt;
+    mu = zero + c->one->mu;
+    cnf = zero + c->one->cn_factor;
+    ctf = zero + c->one->ct_factor;
+    if (c->cohesion) coh += c->one->cohesion;
+  } else {
+    const esf_materials *mt = c->mt;
+    const esf_pair_params *pp[ESF_BATCH];
+    for (int l = 0; l < ESF_BATCH; l++)
+      pp[l] = &mt->pair[c->material[ia[l]] * mt->n + c->material[ib[l]]];
+    for (int l = 0; l < ESF_BATCH; l++) {
+      kn[l] = pp[l]->kn;
+      kt[l] = pp[l]->kt;
+      mu[l] = pp[l]->mu;
+      cnf[l] = pp[l]->cn_factor;
+      ctf[l] = pp[l]->ct_factor;
+      if (c->cohesion) coh[l] = pp[l]->cohesion;
+    }
+  }
+  vd cn, ct; /* the dashpots, N s/m */
+  if (c->beta > 0) {
+    cn = c->beta * kn;
+    ct = c->beta * kt;
+  } else { /* c = factor sqrt(m*), sqrt(m*) per pair (computed at the list's build) */
+    const vd sm = gat(c->sm, kk);
+    cn = cnf * sm;
+    ct = ctf * sm;
+  }
+  vd xa[4], xb[4], va[4], vb[4], wa[4], wb[4], h0[4], h1[4], d[3], n[3];
+  load_cols_n(c->x, a3, xa, 3);
+  load_cols_n(c->x, b3, xb, 3);
+  load_cols_n(c->v, a3, va, 3);
+  load_cols_n(c->v, b3, vb, 3);
+  load_cols_n(c->w, a3, wa, 3);
+  load_cols_n(c->w, b3, wb, 3);
+  load_cols((const char *)c->h + HXI, hk, h0); /* xi[0..2], n[0] */
+  load_cols((const char *)c->h + HX2, hk, h1); /* xi[2], n[0..2] */
+  const vd hx[3] = {h0[0], h0[1], h0[2]}, hn[3] = {h0[3], h1[2], h1[3]};
+  for (int q = 0; q < 3; q++) d[q] = xb[q] - xa[q];
+  const vd ra = gat(c->radius, ia), rb = gat(c->radius, ib);
+  /* the screening's test, the same operations in the same order (step_fast.c) */
+  const vd d2 = dot(d, d), rr = ra + rb;
+  const vm in = d2 < rr * rr;
+  const vd dist = vsqrt(d2);
+  const vm pos = dist > 0;
+  const vd inv = 1.0 / dist;
+  n[0] = sel(pos, d[0] * inv, zero);
+  n[1] = sel(pos, d[1] * inv, zero);
+  n[2] = sel(pos, d[2] * inv, one);
+  const vd un = rr - dist;
+  const vm bad = un > c->max_overlap * sel(ra < rb, ra, rb);
+  const vd la = ra - 0.5 * un, lb = rb - 0.5 * un;
+  /* vc = (vB - vA) - (la wA + lb wB) x n */
+  vd sw[3], vc[3];
+  for (int q = 0; q < 3; q++) sw[q] = la * wa[q] + lb * wb[q];
+  cross(vc, sw, n);
+  for (int q = 0; q < 3; q++) vc[q] = vb[q] - va[q] - vc[q];
+  const vd vn = dot(vc, n);
+  vd fn = kn * un - cn * vn;
+  fn = sel(fn < 0.0, zero, fn);
+
+  vd xi[3];
+  if (c->rotate) { /* 000 (3-17)-(3-18) */
+    vd t1[3], t2[3], sp[3];
+    cross(t1, hn, n);
+    cross(t2, t1, hx);
+    for (int q = 0; q < 3; q++) xi[q] = hx[q] + t2[q];
+    const vd ang = 0.5 * (dot(wa, n) + dot(wb, n)) * c->dt;
+    for (int q = 0; q < 3; q++) sp[q] = ang * n[q];
+    cross(t2, sp, xi);
+    for (int q = 0; q < 3; q++) xi[q] = xi[q] + t2[q];
+  } else {
+    const vd m0 = vsqrt(dot(hx, hx)), s = dot(hx, n);
+    for (int q = 0; q < 3; q++) xi[q] = hx[q] - s * n[q];
+    const vd m1 = vsqrt(dot(xi, xi));
+    const vd r = m0 / m1;
+    for (int q = 0; q < 3; q++) xi[q] = sel(m1 > 0, xi[q] * r, xi[q]);
+  }
+  vd vct[3], ft[3];
+  for (int q = 0; q < 3; q++) {
+    vct[q] = vc[q] - vn * n[q];
+    xi[q] = sel(tch, xi[q], zero) + c->dt * vct[q];
+    ft[q] = kt * xi[q] + ct * vct[q];
+  }
+  /* fn >= 0 here (no tension): the tension cut-off never applies */
+  const vd tau = c->cohesion ? coh + mu * fn : mu * fn;
+  const vd ftm2 = dot(ft, ft);
+  const vm slide = ftm2 > tau * tau;
+  if (any(slide)) { /* sliding: radial return, no dashpot (004 2.16) */
+    const vd sc = tau / vsqrt(ftm2), ikt = sel(kt > 0, 1.0 / kt, zero);
+    for (int q = 0; q < 3; q++) {
+      ft[q] = sel(slide, ft[q] * sc, ft[q]);
+      xi[q] = sel(slide, ikt * ft[q], xi[q]);
+    }
+  }
+  vd m[3];
+  cross(m, n, ft);
+  const vd f4[4] = {ft[0] - fn * n[0], ft[1] - fn * n[1], ft[2] - fn * n[2], zero};
+  const vd ta[4] = {la * m[0], la * m[1], la * m[2], zero};
+  const vd tb[4] = {lb * m[0], lb * m[1], lb * m[2], zero};
+  v4 rf[ESF_BATCH], rta[ESF_BATCH], rtb[ESF_BATCH];
+  if (acc) {
+    rows_of(f4, rf);
+    rows_of(ta, rta);
+    rows_of(tb, rtb);
+  } else {
+    store_rows(f4, out, 0);
+    store_rows(ta, out, 4);
+    store_rows(tb, out, 8);
+  }
+  /* the history: xi and n[0] as one row, then n[1], n[2], the record's last 16 bytes */
+  const vd c0[4] = {xi[0], xi[1], xi[2], n[0]};
+  double rows[ESF_BATCH][ESF_BATCH_OUT];
+  store_rows(c0, rows, 0);
+  unsigned badmask = 0, gone = 0;
+  for (int l = 0; l < nl; l++) {
+    if (!in[l]) { /* apart: the contact ended */
+      gone |= 1u << l;
+      c->touch[kk[l]] = 0;
+      continue;
+    }
+    if (bad[l]) {
+      badmask |= 1u << l;
+      continue;
+    }
+    char *h = (char *)c->h + hk[l];
+    memcpy(h + HXI, rows[l], 4 * sizeof(double));
+    const double n12[2] = {n[1][l], n[2][l]};
+    memcpy(h + HN1, n12, sizeof n12);
+    c->touch[kk[l]] = 1;
+  }
+  if (acc)
+    for (int l = 0; l < nl; l++) {
+      if ((badmask | gone) >> l & 1u) continue;
+      esf_pair_batch_acc_add(acc, ia[l], ib[l], rf[l], rta[l], rtb[l]);
+    }
+  *apart = gone;
+  return badmask;
+}
+
+unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
+                               double out[ESF_BATCH][ESF_BATCH_OUT], unsigned *apart) {
+  return batch(c, k, nl, out, NULL, apart);
+}
+
+unsigned esf_pair_batch_linear_add(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
+                                   double *acc, unsigned *apart) {
+  return batch(c, k, nl, NULL, acc, apart);
+}

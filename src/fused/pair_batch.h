@@ -1,0 +1,82 @@
+/* pair_batch.h — the linear contact law of the fused step for ESF_BATCH pairs at once.
+ *
+ * One function computes the contact of up to ESF_BATCH overlapping particle pairs in
+ * the lanes of vectors (GCC vector extensions: AVX-512 when the build targets it, AVX
+ * or SSE2 halves otherwise). Every lane goes through the same instructions, so a pair's
+ * result does not depend on the batch it lands in nor on its lane: the fused step
+ * stays bit for bit independent of the thread count however its ranges cut the
+ * batches. The results go either to an array of rows or, added in lane order, straight
+ * into the particles' accumulators (no round trip through memory: 8% less time for the
+ * law and its scatter). */
+#ifndef ESF_PAIR_BATCH_H
+#define ESF_PAIR_BATCH_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "contact/contact_law.h"
+#include "contact/material.h"
+#include "util/vec4.h"
+
+#define ESF_BATCH     8
+#define ESF_BATCH_OUT 12 /* force on A, torque on A, torque on B: 3 + a zero each */
+
+/* What the batch reads and commits: the particles, the candidate pairs' ends and
+ * history, the reduced masses the dashpots' coefficients come from, and the step's
+ * constants. */
+typedef struct esf_pair_batch_ctx {
+  const double *x, *v, *w;    /* 3n: m, m/s, rad/s */
+  const double *radius;       /* n, m */
+  const int32_t *material;    /* n */
+  const esf_materials *mt;    /* pair parameters (kn, kt, mu, cohesion) */
+  const esf_pair_params *one; /* non-NULL: one material, these parameters everywhere */
+  const uint32_t *a, *b;      /* per candidate pair k: its particles, a < b */
+  esf_contact_hist *h;        /* per pair: tangential history, committed */
+  uint8_t *touch;             /* per pair: 1 once committed touching */
+  const double *sm;           /* per pair: sqrt(m*), m* = ma mb / (ma + mb), kg^1/2 */
+  double beta;                /* > 0: Rayleigh dashpots c = beta k (001 3.47); else c =
+                                 factor sqrt(m*) (004 2.28) */
+  double dt;                  /* s */
+  double max_overlap;         /* the overlap limit, fraction of the smaller radius */
+  int rotate;                 /* 1: xi rotated into the new plane (000 3-17, 3-18);
+                                 0: projected and rescaled */
+  int cohesion;               /* 1: the Coulomb cap includes the pair's cohesion */
+} esf_pair_batch_ctx;
+
+/* The contacts of pairs k[0 .. nl) (1 <= nl <= ESF_BATCH). A pair whose spheres do
+ * not overlap (the fused step's screening test: |x_b - x_a|^2 < (r_a + r_b)^2, the
+ * same operations) is apart: its touch flag is cleared, nothing else is written, and
+ * its lane's bit is set in *apart. For the others, writes out[lane][0 ..
+ * ESF_BATCH_OUT) and commits each pair's history and touch flag. Returns a bit mask of
+ * the lanes whose overlap exceeds the limit: nothing is committed for those. The
+ * particle arrays x, v, w are read four doubles at a time, so one double past the last
+ * w must be readable (esf_particles' y has it). */
+unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *ctx, const uint32_t *k, int nl,
+                               double out[ESF_BATCH][ESF_BATCH_OUT], unsigned *apart);
+
+/* The accumulators esf_pair_batch_linear_add adds into: per particle i, at
+ * acc + ESF_BATCH_ACC * i, the force (x, y, z, unused) then the torque (x, y, z,
+ * unused). */
+#define ESF_BATCH_ACC 8
+
+/* Adds one pair's results to its particles' accumulators: f (force on A) to A's force,
+ * -f to B's, ta and tb to A's and B's torques; the one order both the batch and a
+ * caller's scatter of out use. */
+static inline void esf_pair_batch_acc_add(double *acc, size_t a, size_t b, esf_v4 f,
+                                          esf_v4 ta, esf_v4 tb) {
+  double *aa = acc + ESF_BATCH_ACC * a, *ab = acc + ESF_BATCH_ACC * b;
+  v4_st(aa, v4_ld(aa) + f);
+  v4_st(ab, v4_ld(ab) - f);
+  v4_st(aa + 4, v4_ld(aa + 4) + ta);
+  v4_st(ab + 4, v4_ld(ab + 4) + tb);
+}
+
+/* As esf_pair_batch_linear, but instead of writing out, adds each lane's results to
+ * its particles' accumulators, lane by lane in lane order, as a caller's scatter of out
+ * would: force on A to A's force, its opposite to B's, the torques to A's and B's
+ * torques. Nothing is added for the lanes whose bit the returned mask sets, nor for
+ * the lanes apart. */
+unsigned esf_pair_batch_linear_add(const esf_pair_batch_ctx *ctx, const uint32_t *k,
+                                   int nl, double *acc, unsigned *apart);
+
+#endif

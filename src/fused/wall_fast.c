@@ -1,0 +1,167 @@
+/* wall_fast.c — the particle-wall contacts of one particle for static walls and the
+ * linear law (wall_fast.h), the fused leapfrog step's wall pass (step_fast.c).
+ *
+ * Physics: exactly forces.c's wall contacts (PHYSICS.md §2–3; 004 §2.3.2, eqs.
+ * 2.4–2.5 for the nearest point; 000 3-15..3-26 and 004 2.16–2.29 for the law), with
+ * the same operations in the same order, so the results are the same bits:
+ *   1. per candidate element, the nearest point and the overlap un = r - dist
+ *      (esf_wall_nearest): the signed height over the element's plane, once
+ *      (esf_wall_height); a plane by it; a polygon by its face test given it
+ *      (esf_wall_polygon_foot; both wall_geom.h, shared with esf_wall_nearest); a centre
+ *      whose foot falls outside goes to esf_wall_nearest for the edge or vertex;
+ *   2. which hits carry force: with at most one overlapping candidate, that one; with
+ *      more, esf_forces_select_wall_hits itself (faces first, shared points once);
+ *   3. per kept hit, in candidate order: the overlap limit, then the law
+ *      (esf_contact_linear_eval, contact_linear.h, inline: no strategy-table call)
+ *      with the contact velocity vc = v_wall - [vA + wA x (lA n)], lA = dist, where a
+ *      static wall's point velocity is +0 exactly as esf_wall_point_velocity computes
+ *      it for a group with zero vel and omega, and the spin (wA.n + 0.n)/2;
+ *      f += force, t += lA n x ft.
+ * Shortcut (the only arithmetic forces.c does not do): a polygon whose plane is
+ * farther than r, by a slack that covers rounding, from the centre is not touched and
+ * costs one dot product (esf_wall_out_of_reach, wall_geom.h: esf_wall_nearest's
+ * overlap is <= 0 there too).
+ * Up to FAST_MAX candidates per particle the hits live on the stack; more use the
+ * neighbour lists' wall scratch at k0 (as forces.c), so particles run in parallel.
+ * Entry: candidate lists valid for s->p.x; walls static (s->walls.moving == 0), every
+ * material pair linear, no ledger, tally, servo walls or history as ODE state
+ * (esf_wall_pass_select checks). Exit: as esf_forces_wall_particle committing.
+ * Units: SI. */
+#include "fused/wall_fast.h"
+
+#include <math.h>
+#include <stdint.h>
+
+#include "contact/contact_linear.h"
+#include "model/forces.h"
+#include "util/vec3.h"
+#include "bodies/walls.h"
+
+#define FAST_MAX 8 /* candidates per particle whose hits go on the stack */
+
+static const double zero3[3] = {0.0, 0.0, 0.0}; /* a static wall's omega, rad/s */
+
+/* Candidate e for centre x, radius r: the overlap r - dist of
+ * esf_wall_nearest, and *hit when it is > 0. Returns 0 for a polygon out of reach. */
+static inline double wall_overlap(const esf_wall_elem *e, const double *x, double r,
+                                  esf_wall_hit *hit) {
+  const double h0 = esf_wall_height(e, x); /* signed height of x over the plane */
+  if (e->kind == ESF_WALL_PLANE) {
+    const double un = r - h0;
+    if (un > 0) {
+      v3_copy(hit->q, x);
+      v3_axpy(hit->q, -h0, e->n);
+      v3_scale(hit->n, -1, e->n);
+      hit->dist = h0;
+      hit->feature = ESF_FEATURE_FACE;
+    }
+    return un;
+  }
+  if (esf_wall_out_of_reach(e, x, h0, r)) return 0.0; /* (prologue) */
+  double foot[3];
+  if (esf_wall_polygon_foot(e, x, h0, foot)) { /* as esf_wall_nearest */
+    const double dist = fabs(h0), un = r - dist;
+    if (un > 0) {
+      v3_copy(hit->q, foot);
+      hit->dist = dist;
+      v3_scale(hit->n, h0 < 0 ? 1 : -1, e->n);
+      hit->feature = ESF_FEATURE_FACE;
+    }
+    return un;
+  }
+  esf_wall_nearest(e, x, hit); /* an edge or a vertex (rare) */
+  return r - hit->dist;
+}
+
+/* The contact of particle a with kept hit `hit` on element el, candidate k. */
+static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
+                                const esf_wall_hit *hit, double un, size_t a, size_t k,
+                                double dt, size_t *nt, double *f, double *t) {
+  const esf_particles *p = &s->p;
+  esf_contacts *c = &s->nb.pw;
+  const double *v = p->v + 3 * a, *w = p->w + 3 * a;
+  esf_contact_in in;
+  v3_copy(in.n, hit->n);
+  in.un = un;
+  const double la = hit->dist;
+  double ra[3], ta[3];
+  v3_scale(ra, la, in.n);
+  v3_cross(ta, w, ra);
+  for (int q = 0; q < 3; q++)
+    in.vc[q] = (0.0 + 0.0) - v[q] - ta[q]; /* v_wall + 0 - ... */
+  in.spin_n = 0.5 * (v3_dot(w, in.n) + v3_dot(zero3, in.n));
+  in.mstar = p->mass[a];
+  in.dt = dt;
+  in.vinc = NULL;
+  const esf_materials *mt = &s->mats;
+  const esf_pair_params *pp = /* one material: no load of the particle's */
+      mt->n == 1 ? mt->pair : &mt->pair[p->material[a] * mt->n + el->material];
+  esf_contact_out out;
+  esf_contact_linear_eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], !c->touch[k],
+                          &c->h[k], &out);
+  c->touch[k] = (uint8_t)out.touching;
+  if (!out.touching) return;
+  (*nt)++;
+  v3_add(f, f, out.f);
+  double m[3];
+  v3_cross(m, in.n, out.ft);
+  v3_axpy(t, la, m);
+}
+
+int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
+                           double *f, double *t) {
+  const esf_particles *p = &s->p;
+  esf_contacts *c = &s->nb.pw;
+  const esf_wall_elem *E = s->walls.e;
+  const size_t m = k1 - k0, a = c->a[k0];
+  const double *x = p->x + 3 * a, r = p->radius[a];
+  esf_wall_hit hb[FAST_MAX];
+  double ub[FAST_MAX];
+  unsigned char kb[FAST_MAX];
+  esf_wall_hit *hits = hb;
+  double *un = ub;
+  unsigned char *keep = kb;
+  if (m > FAST_MAX) { /* many candidates (meshes): the lists' scratch, as forces.c */
+    hits = s->nb.wall_hits + k0;
+    un = s->nb.wall_un + k0;
+    keep = s->nb.wall_keep + k0;
+  }
+  size_t touching = 0, last = 0;
+  for (size_t j = 0; j < m; j++) {
+    un[j] = wall_overlap(&E[c->b[k0 + j]], x, r, &hits[j]);
+    if (un[j] > 0) touching++, last = j;
+  }
+  if (touching == 0) {
+    for (size_t k = k0; k < k1; k++) c->touch[k] = 0;
+    return 0;
+  }
+  if (touching == 1)
+    for (size_t j = 0; j < m; j++) keep[j] = j == last;
+  else
+    esf_forces_select_wall_hits(&s->walls, c->b + k0, hits, un, m, r, keep);
+  const double lim = s->cfg.max_overlap * r;
+  for (size_t j = 0; j < m; j++) {
+    const size_t k = k0 + j;
+    if (!keep[j]) {
+      c->touch[k] = 0;
+      continue;
+    }
+    if (un[j] > lim) return 1; /* esf_forces_wall_particle words the failure */
+    wall_contact(s, &E[c->b[k]], &hits[j], un[j], a, k, dt, nt, f, t);
+  }
+  return 0;
+}
+
+int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
+                              double *f, double *t) {
+  const esf_particles *p = &s->p;
+  return esf_forces_wall_particle(s, k0, k1, p->x, p->v, p->w, dt, ESF_FORCES_COMMIT,
+                                  NULL, NULL, nt, f, t, NULL);
+}
+
+esf_wall_pass_fn esf_wall_pass_select(const esf_sim *s) {
+  /* all pairs: wall materials may pair by a law the particles' pairs do not use */
+  const int fast = s->mats.all_linear && !s->walls.moving && !s->led.on && !s->tally &&
+                   !s->walls.gforce && !s->nb.pw.xs && !s->nb.pw.vc0;
+  return fast ? esf_wall_fast_particle : esf_wall_general_particle;
+}

@@ -1,0 +1,31 @@
+/* wall_fast.h — the particle-wall contacts of one particle for the fused leapfrog step
+ * (step_fast.c): a pass specialised to static walls and the linear law (wall_fast.c),
+ * and the general one (forces.c) behind the same signature, chosen once per step. */
+#ifndef ESF_WALL_FAST_H
+#define ESF_WALL_FAST_H
+
+#include <stddef.h>
+
+#include "core/sim.h"
+
+/* The wall contacts of one particle, candidates [k0, k1) of s->nb.pw, at the state
+ * s->p.x, v, w over step dt, history committed: adds the forces and torques to f and t
+ * (3 each) and the contacts carrying force to *nt. Returns nonzero when an overlap
+ * exceeds cfg.max_overlap (esf_forces_wall_particle then gives the message). */
+typedef int (*esf_wall_pass_fn)(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
+                                double *f, double *t);
+
+/* The fast pass: the same bits as esf_forces_wall_particle(..., ESF_FORCES_COMMIT,
+ * NULL, NULL, ...) when every wall is static, every material pair has the linear law
+ * and neither ledger, tally, servo walls nor history as ODE state are on. */
+int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
+                           double *f, double *t);
+
+/* esf_forces_wall_particle committing, without ledger and error message. */
+int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
+                              double *f, double *t);
+
+/* The fast pass when s qualifies (above), else the general one. */
+esf_wall_pass_fn esf_wall_pass_select(const esf_sim *s);
+
+#endif

@@ -1,0 +1,141 @@
+/* events.c — scene events: deleting the particles in a region at a given time
+ * (drilling; seed 004 §4.4, PHYSICS.md §9).
+ *
+ * An event with time `at` is applied at the start of the first step whose time t has
+ * at <= t + dt/2 (the step nearest `at`), before the candidate lists are checked, from
+ * esf_integ_refresh. Every particle whose centre lies in the region (an infinite
+ * cylinder: distance from the axis <= radius; a box: min <= x <= max) is deleted with
+ * esf_particles_compact, and the candidate lists are renumbered with
+ * esf_neighbor_remap, as for particles leaving the domain (sim.c).
+ * Ledger: energy_removed gains what the deleted particles carried: kinetic
+ * (1/2 m v^2 + 1/2 I w^2, at the leapfrog's half-step velocity), gravitational
+ * (-m g.x) and the elastic energy of their touching contacts (the pair law's normal
+ * energy, bonds in tension included, + 1/2 kt |xi|^2 at the current positions), which
+ * disappears from the stored elastic energy with them. The count is logged and kept per
+ * event. Units: SI. */
+#include "loads/events.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "loads/servo.h"
+#include "util/vec3.h"
+
+int esf_region_contains(const esf_region *r, const double x[3]) {
+  if (r->kind == ESF_REGION_BOX) {
+    for (int k = 0; k < 3; k++)
+      if (x[k] < r->min[k] || x[k] > r->max[k]) return 0;
+    return 1;
+  }
+  double d[3];
+  v3_sub(d, x, r->center);
+  v3_axpy(d, -v3_dot(d, r->axis), r->axis);
+  return v3_norm2(d) <= r->radius * r->radius;
+}
+
+int esf_events_setup(esf_sim *s, esf_error *err) {
+  if (!s->events || s->events->n == 0) return ESF_OK;
+  if (strcmp(s->cfg.method, "leapfrog") != 0)
+    return esf_fail(err, ESF_EINPUT,
+                    "events (deleting particles) are supported by the leapfrog only: "
+                    "the ODE methods cannot change the particle count within a run; use "
+                    "integrator.method: leapfrog");
+  return ESF_OK;
+}
+
+/* elastic energy of the touching contacts that involve a deleted particle, J */
+static double removed_elastic(const esf_sim *s, const unsigned char *keep) {
+  const esf_particles *p = &s->p;
+  const esf_materials *mt = &s->mats;
+  double e = 0.0;
+  const esf_contacts *c = &s->nb.pp;
+  for (size_t k = 0; k < c->n; k++) {
+    uint32_t a = c->a[k], b = c->b[k];
+    if (!c->touch[k] || (keep[a] && keep[b])) continue;
+    double d[3];
+    v3_sub(d, p->x + 3 * b, p->x + 3 * a);
+    double un = p->radius[a] + p->radius[b] - v3_norm(d);
+    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
+    double fel; /* a separated pair stores no normal energy unless a bond holds it */
+    if (un > 0 || esf_contacts_bonded(c, k))
+      e += pp->law->energy_n(pp, esf_contacts_bond(c, k), un, &fel);
+    e += 0.5 * pp->kt * v3_norm2(c->h[k].xi);
+  }
+  c = &s->nb.pw;
+  for (size_t k = 0; k < c->n; k++) {
+    uint32_t a = c->a[k];
+    if (!c->touch[k] || keep[a]) continue;
+    const esf_wall_elem *el = &s->walls.e[c->b[k]];
+    esf_wall_hit hit;
+    esf_wall_nearest(el, p->x + 3 * a, &hit);
+    double un = p->radius[a] - hit.dist;
+    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
+    double fel; /* walls never bond */
+    if (un > 0) e += pp->law->energy_n(pp, NULL, un, &fel);
+    e += 0.5 * pp->kt * v3_norm2(c->h[k].xi);
+  }
+  return e;
+}
+
+static int apply_one(esf_sim *s, esf_event *ev, esf_error *err) {
+  esf_particles *p = &s->p;
+  size_t n_old = p->n, out = 0;
+  unsigned char *keep = malloc(n_old ? n_old : 1);
+  size_t *remap = malloc((n_old ? n_old : 1) * sizeof *remap);
+  if (!keep || !remap) {
+    free(keep);
+    free(remap);
+    return esf_fail(err, ESF_ENOMEM, "out of memory");
+  }
+  double e_gone = 0.0;
+  for (size_t i = 0; i < n_old; i++) {
+    const double *x = p->x + 3 * i;
+    keep[i] = !esf_region_contains(&ev->region, x);
+    if (keep[i]) continue;
+    out++;
+    const double *v = p->v + 3 * i, *w = p->w + 3 * i;
+    e_gone += 0.5 * p->mass[i] * v3_norm2(v) + 0.5 * p->inertia[i] * v3_norm2(w) -
+              p->mass[i] * v3_dot(s->cfg.gravity, x);
+  }
+  int rc = ESF_OK;
+  if (out) {
+    if (s->led.on) s->led.e_removed += e_gone + removed_elastic(s, keep);
+    esf_sim_forces_sync(s); /* compaction carries p.f, p.t along */
+    rc = esf_particles_compact(p, keep, remap, err);
+    if (!rc) esf_neighbor_remap(&s->nb, remap, n_old);
+  }
+  free(keep);
+  free(remap);
+  if (rc) return rc;
+  ev->done = 1;
+  ev->deleted = (long)out;
+  s->removed += (long)out;
+  ev->t_done = s->t;
+  esf_sim_log(s,
+              "t = %.6g s (step %ld): event at %.6g s deleted %zu particles inside the "
+              "%s; %zu remain",
+              s->t, s->step, ev->at, out,
+              ev->region.kind == ESF_REGION_BOX ? "box" : "cylinder", p->n);
+  if (s->walls.gforce) esf_servo_log_state(s);
+  return ESF_OK;
+}
+
+int esf_events_apply(esf_sim *s, esf_error *err) {
+  esf_events *E = s->events;
+  for (int k = 0; k < E->n; k++) {
+    esf_event *ev = &E->e[k];
+    if (ev->done || ev->at > s->t + 0.5 * s->dt) continue;
+    int rc = apply_one(s, ev, err);
+    if (rc) return rc;
+  }
+  return ESF_OK;
+}
+
+void esf_events_free(esf_events **ev) {
+  if (!*ev) return;
+  free((*ev)->e);
+  free(*ev);
+  *ev = NULL;
+}

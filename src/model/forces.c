@@ -1,0 +1,390 @@
+/* forces.c — evaluation of the DEM forces (PHYSICS.md §2–3).
+ *
+ * For every candidate pair (A, B) with overlap un = rA + rB - d > 0 (000 3-15):
+ *   n = (xB - xA)/d; contact point xc = xA + (rA - un/2) n (000 3-16); lever arms
+ *   lA = rA - un/2 and lB = rB - un/2 measured to xc, so that the tangential forces
+ *   are equal, opposite and act at one point (angular momentum is conserved exactly;
+ *   004 2.33–2.34 use the radii, which differ by un/2);
+ *   vc = [vB + wB x (-lB n)] - [vA + wA x (lA n)] (000 3-21);
+ *   the contact law gives the force on A; B gets the opposite (004 2.31);
+ *   torques M_A = lA n x Ft, M_B = lB n x Ft (same sense, 004 2.34).
+ * For a wall element: q its nearest point (wall_geom.h), un = rA - |q - xA|, n toward
+ * q, lever lA = |q - xA|, vc = v_wall(q) - [vA + wA x (lA n)], m* = mA. Hits of
+ * one particle on edges and vertices shared by wall elements count once
+ * (esf_forces_select_wall_hits, also used by the fast wall pass of wall_fast.c).
+ * Gravity: f += m g. In 2D only x, z forces and the y torque act.
+ * Entry: candidate lists valid for x; on exit f, t hold the totals. */
+#include "model/forces.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "loads/drag.h"
+#include "loads/servo.h"
+#include "util/vec3.h"
+
+int esf_forces_overlap_failure(const esf_sim *s, long long ida, long long idb, int wall,
+                               double un, double rmin, esf_error *err) {
+  const char *rule = esf_dt_rule_names[s->cfg.dt_rule];
+  if (wall)
+    return esf_fail(err, ESF_ENUMERIC,
+                    "step %ld (t = %.6g s): particle id %lld overlaps wall element %lld "
+                    "by %.3g m, %.0f%% of its radius (limit %.0f%%); dt = %.4g s, "
+                    "critical dt (%s) = %.4g s. The wall pushes faster than contacts "
+                    "can respond, or dt is too large: lower integrator.frac or dt, or "
+                    "raise kn",
+                    s->step, s->t, ida, idb, un, 100.0 * un / rmin,
+                    100.0 * s->cfg.max_overlap, s->dt, rule, s->dte.crit[s->cfg.dt_rule]);
+  return esf_fail(err, ESF_ENUMERIC,
+                  "step %ld (t = %.6g s): particles id %lld and id %lld overlap by %.3g "
+                  "m, %.0f%% of the smaller radius (limit %.0f%%); dt = %.4g s, "
+                  "critical dt (%s) = %.4g s. The step is too large for the stiffness "
+                  "(lower integrator.frac or dt) or the contacts are too soft for the "
+                  "loads (raise kn)",
+                  s->step, s->t, ida, idb, un, 100.0 * un / rmin,
+                  100.0 * s->cfg.max_overlap, s->dt, rule, s->dte.crit[s->cfg.dt_rule]);
+}
+
+/* Relative velocity of the contact point (B minus A) for velocities v, w. */
+static inline void contact_velocity(const double *v, const double *w, uint32_t a,
+                                    const double *vb, const double *wb_or_null, double la,
+                                    double lb, const double *n, double vc[3]) {
+  double ra[3], ta[3], tb[3] = {0, 0, 0};
+  v3_scale(ra, la, n);
+  v3_cross(ta, w + 3 * a, ra);
+  if (wb_or_null) {
+    double rb[3];
+    v3_scale(rb, -lb, n);
+    v3_cross(tb, wb_or_null, rb);
+  }
+  for (int q = 0; q < 3; q++) vc[q] = vb[q] + tb[q] - v[3 * a + q] - ta[q];
+}
+
+/* Evaluates the law for candidate k of list c, updates its touching flag and history
+ * (commit), records the ledger scratch (when led is not NULL) and adds the slip work
+ * to *slip. Returns 1 when the contact carries force. */
+static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *in,
+                        esf_contacts *c, size_t k, int commit, double *led, double *slip,
+                        esf_contact_out *out) {
+  const esf_contact_bond *bond = esf_contacts_bond(c, k);
+  if (c->xs) { /* history as ODE state: xi is y's, its rate goes to ydot */
+    esf_contact_hist h;
+    v3_copy(h.xi, c->xs + 3 * k);
+    v3_copy(h.n, c->touch[k] ? c->h[k].n : in->n);
+    in->dt = 0.0; /* the law tilts xi into the current plane; no increment */
+    in->vinc = NULL;
+    pp->law->eval(pp, s->beta, s->cfg.tframe, in, &h, bond, 0, commit ? &c->h[k] : NULL,
+                  out);
+    if (c->xsdot && out->touching) { /* xi' = vct + spin_n n x xi */
+      double *r = c->xsdot + 3 * k, sp[3], fs[3];
+      v3_copy(r, in->vc);
+      v3_axpy(r, -v3_dot(in->vc, in->n), in->n);
+      if (s->tally) { /* power into the tangential spring as applied (capped) */
+        v3_sub(fs, out->ft, out->fd_t);
+        s->tally->p_spring_t += v3_dot(fs, r);
+      }
+      v3_cross(sp, in->n, h.xi);
+      v3_axpy(r, in->spin_n, sp);
+    }
+  } else {
+    double vm[3];
+    in->vinc = NULL;
+    if (c->vc0 && c->touch[k]) { /* ODE methods: trapezoidal history increment */
+      for (int q = 0; q < 3; q++) vm[q] = 0.5 * (c->vc0[3 * k + q] + in->vc[q]);
+      in->vinc = vm;
+    }
+    pp->law->eval(pp, s->beta, s->cfg.tframe, in, &c->h[k], bond, !c->touch[k],
+                  commit ? &c->h[k] : NULL, out);
+  }
+  if (commit && c->vc0 && out->touching)
+    memcpy(c->vc0 + 3 * k, in->vc, 3 * sizeof(double));
+  if (commit) c->touch[k] = (uint8_t)out->touching;
+  if (commit && out->broke) { /* a bond ruptured (contact_adhesive.c): Phi = 0 */
+    c->bond[k] = (esf_contact_bond){0}; /* for good: as a contact that never bonded */
+    s->bonds.broken++;
+    s->led.d_bonds += out->e_break;
+  }
+  if (!out->touching) return 0;
+  esf_force_tally *ty = s->tally;
+  if (ty) {
+    ty->p_normal -= out->fd_n * v3_dot(in->vc, in->n);
+    ty->p_tangential += v3_dot(out->fd_t, in->vc);
+    ty->e_el_n += out->e_el_n;
+    ty->e_el_t += out->e_el_t;
+    ty->slip += out->slip_work;
+  }
+  if (led) {
+    double *L = led + ESF_LED_STRIDE * k;
+    L[0] = in->un;
+    L[1] = out->fd_n;
+    v3_copy(L + 2, out->fd_t);
+    v3_copy(L + 5, out->f);
+    *slip += out->slip_work;
+  }
+  return 1;
+}
+
+static int pair_forces(esf_sim *s, const double *x, const double *v, const double *w,
+                       double dt, int commit, size_t *touching, esf_error *err) {
+  esf_particles *p = &s->p;
+  esf_contacts *c = &s->nb.pp;
+  const esf_materials *mt = &s->mats;
+  double *led = commit && s->led.on ? c->led : NULL;
+  double slip = 0;
+  size_t nt = 0;
+  for (size_t k = 0; k < c->n; k++) {
+    uint32_t a = c->a[k], b = c->b[k];
+    const double *xa = x + 3 * a, *xb = x + 3 * b;
+    double d[3];
+    v3_sub(d, xb, xa);
+    double R = p->radius[a] + p->radius[b];
+    double d2 = v3_norm2(d);
+    if (d2 >= R * R && !(c->touch[k] && esf_contacts_bonded(c, k))) { /* bonds pull */
+      if (commit) c->touch[k] = 0;
+      continue;
+    }
+    double dist = sqrt(d2);
+    esf_contact_in in;
+    if (dist > 0)
+      v3_scale(in.n, 1.0 / dist, d);
+    else
+      v3_set(in.n, 0, 0, 1);
+    in.un = R - dist;
+    double rmin = fmin(p->radius[a], p->radius[b]);
+    if (in.un > s->cfg.max_overlap * rmin)
+      return esf_forces_overlap_failure(s, (long long)p->id[a], (long long)p->id[b], 0,
+                                        in.un, rmin, err);
+    double la = p->radius[a] - 0.5 * in.un, lb = p->radius[b] - 0.5 * in.un;
+    const double *wa = w + 3 * a, *wb = w + 3 * b;
+    contact_velocity(v, w, a, v + 3 * b, wb, la, lb, in.n, in.vc);
+    in.spin_n = 0.5 * (v3_dot(wa, in.n) + v3_dot(wb, in.n));
+    in.mstar = p->mass[a] * p->mass[b] / (p->mass[a] + p->mass[b]);
+    in.dt = dt;
+    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
+    esf_contact_out out;
+    if (!eval_contact(s, pp, &in, c, k, commit, led, &slip, &out)) continue;
+    nt++;
+    v3_add(p->f + 3 * a, p->f + 3 * a, out.f);
+    v3_sub(p->f + 3 * b, p->f + 3 * b, out.f);
+    double m[3];
+    v3_cross(m, in.n, out.ft);
+    v3_axpy(p->t + 3 * a, la, m);
+    v3_axpy(p->t + 3 * b, lb, m);
+  }
+  if (led) s->led.d_friction += slip;
+  *touching += nt;
+  return ESF_OK;
+}
+
+/* Which of one particle's wall hits carry force. Meshes and boxes share edges and
+ * vertices (and separate walls may meet), and the nearest point of a neighbouring
+ * element is then a point that also belongs to an element the particle touches on its
+ * face. Rule, over all the particle's wall elements:
+ * every face hit counts; an edge or vertex hit counts unless its point lies on an
+ * element with a face hit (it is part of that face's closed polygon, so the surface's
+ * nearest point is that face's) or coincides with a hit already kept (a shared edge or
+ * vertex reported by both its elements). Coincident face hits (a centre right above a
+ * shared edge) count once. keep[k] is set for the kept hits among hits[0..m). */
+void esf_forces_select_wall_hits(const esf_walls *walls, const uint32_t *elem,
+                                 const esf_wall_hit *hits, const double *un, size_t m,
+                                 double r, unsigned char *keep) {
+  double tol = 1e-9 * r;
+  for (size_t k = 0; k < m; k++)
+    keep[k] = un[k] > 0 && hits[k].feature == ESF_FEATURE_FACE;
+  for (int pass = 0; pass < 2; pass++) {
+    for (size_t k = 0; k < m; k++) {
+      if (!(un[k] > 0)) continue;
+      int face = hits[k].feature == ESF_FEATURE_FACE;
+      if (face != (pass == 0)) continue; /* faces first, then edges and vertices */
+      keep[k] = 1;
+      for (size_t j = 0; j < m && keep[k]; j++) {
+        if (j == k || !keep[j] || (pass == 0 && j > k)) continue;
+        const esf_wall_elem *f = &walls->e[elem[j]];
+        double d[3];
+        v3_sub(d, hits[j].q, hits[k].q);
+        if (v3_norm2(d) <= tol * tol)
+          keep[k] = 0; /* the same point */
+        else if (!face && hits[j].feature == ESF_FEATURE_FACE) {
+          esf_wall_hit on;
+          esf_wall_nearest(f, hits[k].q, &on);
+          if (fabs(on.dist) <= tol) keep[k] = 0; /* the point lies on a touched face */
+        }
+      }
+    }
+  }
+}
+
+int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
+                             const double *v, const double *w, double dt, int commit,
+                             double *led, double *slip, size_t *nt, double *f, double *t,
+                             esf_error *err) {
+  esf_particles *p = &s->p;
+  esf_contacts *c = &s->nb.pw;
+  const esf_materials *mt = &s->mats;
+  esf_wall_hit *hits = s->nb.wall_hits + k0;
+  double *un = s->nb.wall_un + k0;
+  unsigned char *keep = s->nb.wall_keep + k0;
+  uint32_t a = c->a[k0];
+  for (size_t k = k0; k < k1; k++) {
+    esf_wall_nearest(&s->walls.e[c->b[k]], x + 3 * a, &hits[k - k0]);
+    un[k - k0] = p->radius[a] - hits[k - k0].dist;
+  }
+  double r = p->radius[a];
+  if (k1 - k0 == 1)
+    keep[0] = un[0] > 0;
+  else
+    esf_forces_select_wall_hits(&s->walls, c->b + k0, hits, un, k1 - k0, r, keep);
+  for (size_t k = k0; k < k1; k++) {
+    const esf_wall_hit *hit = &hits[k - k0];
+    if (!keep[k - k0]) {
+      if (commit) c->touch[k] = 0;
+      continue;
+    }
+    const esf_wall_elem *el = &s->walls.e[c->b[k]];
+    if (un[k - k0] > s->cfg.max_overlap * r)
+      return esf_forces_overlap_failure(s, (long long)p->id[a], (long long)c->b[k], 1,
+                                        un[k - k0], r, err);
+    const esf_wall_group *g = &s->walls.g[el->group];
+    esf_contact_in in;
+    v3_copy(in.n, hit->n);
+    in.un = un[k - k0];
+    double la = hit->dist;
+    double vw[3];
+    esf_wall_point_velocity(g, hit->q, vw);
+    contact_velocity(v, w, a, vw, NULL, la, 0, in.n, in.vc);
+    in.spin_n = 0.5 * (v3_dot(w + 3 * a, in.n) + v3_dot(g->omega, in.n));
+    in.mstar = p->mass[a];
+    in.dt = dt;
+    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
+    esf_contact_out out;
+    if (!eval_contact(s, pp, &in, c, k, commit, led, slip, &out)) continue;
+    (*nt)++;
+    if (s->tally) s->tally->p_walls += v3_dot(out.f, vw);
+    if (commit && s->walls.gforce) /* servo walls (servo.c); general path only */
+      esf_servo_add(s->walls.gforce + 4 * el->group, &out, in.n);
+    v3_add(f, f, out.f);
+    double m[3];
+    v3_cross(m, in.n, out.ft);
+    v3_axpy(t, la, m);
+  }
+  return ESF_OK;
+}
+
+static int wall_forces(esf_sim *s, const double *x, const double *v, const double *w,
+                       double dt, int commit, size_t *touching, esf_error *err) {
+  esf_particles *p = &s->p;
+  esf_contacts *c = &s->nb.pw;
+  double *led = commit && s->led.on ? c->led : NULL;
+  double slip = 0;
+  size_t nt = 0;
+  for (size_t k0 = 0, k1; k0 < c->n; k0 = k1) {
+    uint32_t a = c->a[k0];
+    for (k1 = k0; k1 < c->n && c->a[k1] == a; k1++) continue;
+    int rc = esf_forces_wall_particle(s, k0, k1, x, v, w, dt, commit, led, &slip, &nt,
+                                      p->f + 3 * a, p->t + 3 * a, err);
+    if (rc) return rc;
+  }
+  if (led) s->led.d_friction += slip;
+  *touching += nt;
+  return ESF_OK;
+}
+
+int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *w,
+                    double dt, int mode, size_t *touching, esf_error *err) {
+  esf_particles *p = &s->p;
+  const double *g = s->cfg.gravity;
+  s->ft_lazy = NULL; /* p.f, p.t are written here */
+  for (size_t i = 0; i < p->n; i++) {
+    double m = p->mass[i];
+    p->f[3 * i] = m * g[0];
+    p->f[3 * i + 1] = m * g[1];
+    p->f[3 * i + 2] = m * g[2];
+  }
+  memset(p->t, 0, 3 * p->n * sizeof(double));
+  if (s->tally) memset(s->tally, 0, sizeof *s->tally);
+  size_t nt = 0;
+  int commit = mode == ESF_FORCES_COMMIT;
+  if (commit && s->walls.gforce) /* servo walls: per-group forces (servo.c) */
+    memset(s->walls.gforce, 0, 4 * (size_t)s->walls.ngroups * sizeof(double));
+  int rc = pair_forces(s, x, v, w, dt, commit, &nt, err);
+  if (!rc) rc = wall_forces(s, x, v, w, dt, commit, &nt, err);
+  if (!rc && s->drag) rc = esf_drag_apply(s, x, v, err); /* fluid drag (drag.c) */
+  if (rc) return rc;
+  if (commit && s->walls.gforce) esf_servo_update(s);
+  if (s->cfg.dim == 2) {
+    for (size_t i = 0; i < p->n; i++) {
+      p->f[3 * i + 1] = 0.0;
+      p->t[3 * i] = 0.0;
+      p->t[3 * i + 2] = 0.0;
+    }
+  }
+  s->rhs_evals++;
+  if (touching) *touching = nt;
+  return ESF_OK;
+}
+
+/* Elastic energy of one contact in the leapfrog's own measure: with u_{n+1} and
+ * xi_{n+1} extrapolated by the new half-step velocity, (1/2) k u_n u_{n+1} and
+ * (1/2) kt xi_n . xi_{n+1} are what the kicks exchange with the kinetic energy exactly
+ * (the work k u_n vbar dt telescopes), so the balance residual measures only the
+ * integrator's error at contact onsets and ends, sliding and frame rotation. */
+static void elastic_tally(const esf_pair_params *pp, const esf_contact_bond *bond,
+                          double un, const double *xi, const double *n, const double *vch,
+                          double dt, double *en, double *et) {
+  double vn = v3_dot(vch, n), fel;
+  /* W(u_n) + f(u_n) (u_{n+1} - u_n)/2: (1/2) k u_n u_{n+1} for a linear spring */
+  *en += pp->law->energy_n(pp, bond, un, &fel) - 0.5 * fel * vn * dt;
+  double vt[3];
+  v3_copy(vt, vch);
+  v3_axpy(vt, -vn, n);
+  *et += 0.5 * pp->kt * (v3_norm2(xi) + dt * v3_dot(xi, vt));
+}
+
+void esf_forces_ledger_pass(esf_sim *s, const double *vbar, const double *wbar,
+                            double dt) {
+  const esf_particles *p = &s->p;
+  const esf_materials *mt = &s->mats;
+  double dn = 0, dtg = 0, ww = 0, en = 0, et = 0;
+  const esf_contacts *c = &s->nb.pp;
+  for (size_t k = 0; k < c->n; k++) {
+    if (!c->touch[k]) continue;
+    uint32_t a = c->a[k], b = c->b[k];
+    const double *L = c->led + ESF_LED_STRIDE * k;
+    const double *n = c->h[k].n;
+    double la = p->radius[a] - 0.5 * L[0], lb = p->radius[b] - 0.5 * L[0];
+    double vc[3], vch[3];
+    contact_velocity(vbar, wbar, a, vbar + 3 * b, wbar + 3 * b, la, lb, n, vc);
+    contact_velocity(p->v, p->w, a, p->v + 3 * b, p->w + 3 * b, la, lb, n, vch);
+    dn += -L[1] * v3_dot(vc, n) * dt; /* fd_n x approach rate */
+    dtg += v3_dot(L + 2, vc) * dt;
+    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
+    elastic_tally(pp, esf_contacts_bond(c, k), L[0], c->h[k].xi, n, vch, dt, &en, &et);
+  }
+  c = &s->nb.pw;
+  for (size_t k = 0; k < c->n; k++) {
+    if (!c->touch[k]) continue;
+    uint32_t a = c->a[k];
+    const double *L = c->led + ESF_LED_STRIDE * k;
+    const double *n = c->h[k].n;
+    const esf_wall_elem *el = &s->walls.e[c->b[k]];
+    const esf_wall_group *g = &s->walls.g[el->group];
+    double la = p->radius[a] - L[0];
+    double q[3], vw[3], vc[3], vch[3];
+    v3_copy(q, p->x + 3 * a);
+    v3_axpy(q, la, n);
+    esf_wall_point_velocity(g, q, vw);
+    contact_velocity(vbar, wbar, a, vw, NULL, la, 0, n, vc);
+    contact_velocity(p->v, p->w, a, vw, NULL, la, 0, n, vch);
+    dn += -L[1] * v3_dot(vc, n) * dt;
+    dtg += v3_dot(L + 2, vc) * dt;
+    ww += v3_dot(L + 5, vw) * dt;
+    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
+    elastic_tally(pp, NULL, L[0], c->h[k].xi, n, vch, dt, &en, &et); /* no bond */
+  }
+  s->led.d_normal += dn;
+  s->led.d_tangential += dtg;
+  s->led.w_walls += ww;
+  if (s->drag) s->led.w_fluid += esf_drag_work(s, vbar, dt); /* drag.c */
+  s->led.el_n = en;
+  s->led.el_t = et;
+}

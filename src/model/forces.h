@@ -1,0 +1,70 @@
+/* forces.h — the DEM right-hand side: forces and torques on every particle for a given
+ * state, shared by every integrator (the leapfrog commits contact history each step; a
+ * Runge-Kutta stage evaluates with history frozen). */
+#ifndef ESF_FORCES_H
+#define ESF_FORCES_H
+
+#include "core/sim.h"
+
+/* Instantaneous energy rates and stored energies at an evaluation's state, for
+ * integrators that integrate the ledger as quadratures (set s->tally to collect). */
+typedef struct esf_force_tally {
+  double p_normal;     /* power dissipated by normal dashpots, W */
+  double p_tangential; /* power dissipated by tangential dashpots, W */
+  double p_walls;      /* power delivered by walls to the particles, W */
+  double e_el_n;       /* elastic energy (1/2) kn u^2, J */
+  double e_el_t;       /* elastic energy (1/2) kt |xi|^2, J */
+  double slip;         /* Coulomb slip work of this evaluation (committing), J */
+  double p_spring_t;   /* power into the tangential springs as applied (Coulomb cap
+                          included), W; history as ODE state only */
+  double p_fluid;      /* power delivered by the fluid force (drag.c), W */
+} esf_force_tally;
+
+enum {
+  ESF_FORCES_TRIAL = 0, /* history read, not written */
+  ESF_FORCES_COMMIT = 1 /* history, touching flags and ledger tallies written */
+};
+
+/* Evaluates gravity and all contact forces at state (x, v, w) — arrays of 3n — into
+ * s->p.f and s->p.t (overwritten). dt is the time over which the tangential increment
+ * integrates (the step). The candidate lists must be valid for x. Fails with
+ * ESF_ENUMERIC when an overlap exceeds cfg.max_overlap of the smaller radius, naming
+ * the step, particles, dt and the critical dt. Sets *touching to the touching count.
+ * When s->tally is not NULL it is overwritten with the evaluation's energy rates. */
+int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *w,
+                    double dt, int mode, size_t *touching, esf_error *err);
+
+/* The error for an overlap beyond cfg.max_overlap of the smaller radius rmin: names the
+ * step, the particles (ids; idb is the wall element when wall), the overlap, dt and the
+ * critical dt, and what to change. Returns ESF_ENUMERIC. */
+int esf_forces_overlap_failure(const esf_sim *s, long long ida, long long idb, int wall,
+                               double un, double rmin, esf_error *err);
+
+/* The wall contacts of one particle: candidates [k0, k1) of s->nb.pw, all of one
+ * particle (the list is sorted by particle). Adds their forces and torques to f and t
+ * (3 each), counts the contacts carrying force into *nt and, when led is not NULL, the
+ * ledger scratch and slip work into *slip. Touches only the candidates' own entries
+ * (history, flags, the wall scratch of nb), so distinct particles may run in parallel.
+ */
+int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
+                             const double *v, const double *w, double dt, int commit,
+                             double *led, double *slip, size_t *nt, double *f, double *t,
+                             esf_error *err);
+
+/* Which of one particle's wall hits carry force (forces.c's rule: faces first, edges
+ * and vertices unless on a touched face or already kept; shared points once): keep[k]
+ * for hits[0..m) on elements elem[0..m) with overlaps un (entries with un <= 0 are
+ * ignored and not read), particle radius r. For the fast wall pass (wall_fast.c). */
+void esf_forces_select_wall_hits(const esf_walls *walls, const uint32_t *elem,
+                                 const esf_wall_hit *hits, const double *un, size_t m,
+                                 double r, unsigned char *keep);
+
+/* After a leapfrog kick (before the drift): accumulates the dashpot dissipation and the
+ * work of walls over the step with the mid-step velocities vbar, wbar (the average of
+ * the half steps), using the dashpot forces the last COMMIT evaluation stored, and
+ * sets the elastic energies in the leapfrog's measure (forces.c). Requires the ledger;
+ * s->p.v, s->p.w hold the new half-step velocities. */
+void esf_forces_ledger_pass(esf_sim *s, const double *vbar, const double *wbar,
+                            double dt);
+
+#endif

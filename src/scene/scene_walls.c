@@ -1,0 +1,235 @@
+/* scene_walls.c — the `walls:` list of a scene (INTERFACE.md): an infinite plane, a
+ * polygon (triangle or quadrilateral) and the box helper (inward quadrilaterals less
+ * the open faces). Each entry becomes one wall group; its material must be defined.
+ * Prescribed motion (`motion:`): translate {velocity}, rotate {axis, center, rpm or
+ * omega}, oscillate {direction, frequency, amplitude or acceleration in g, phase (rad)};
+ * the whole wall (a box: all its faces) moves rigidly (wall_motion.c). Mesh walls (an
+ * STL file, a cylinder, a screw) are read in scene_meshes.c. */
+#include <stdio.h>
+#include <math.h>
+#include <string.h>
+
+#include "scene/scene.h"
+#include "scene/scene_loads.h"
+#include "util/vec3.h"
+
+static int wall_material(const esf_ynode *e, const esf_sim *s, int32_t *m,
+                         esf_error *err) {
+  const esf_ynode *mn = esf_ymap_get(e, "material");
+  if (!mn) return esf_ynode_fail(e, err, "missing key 'material'");
+  return esf_scene_material(mn, &s->mats, m, err);
+}
+
+int esf_scene_fail_at(const esf_ynode *n, esf_error *err) {
+  char msg[ESF_ERROR_MSG_MAX];
+  snprintf(msg, sizeof msg, "%s", err->msg);
+  return esf_ynode_fail(n, err, "%s", msg);
+}
+
+static int read_box(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
+                    esf_error *err) {
+  static const char *const bkeys[] = {"min", "max", NULL};
+  static const char *const faces[] = {"xmin",   "xmax", "ymin", "ymax",
+                                      "bottom", "top",  NULL};
+  const esf_ynode *b = esf_ymap_get(e, "box");
+  double lo[3], hi[3];
+  int rc = esf_ynode_require_map(b, err);
+  if (!rc) rc = esf_ymap_check_keys(b, bkeys, err);
+  if (!rc) rc = esf_yget_doubles(b, "min", 1, lo, 3, err);
+  if (!rc) rc = esf_yget_doubles(b, "max", 1, hi, 3, err);
+  unsigned mask = 0;
+  const esf_ynode *op = esf_ymap_get(e, "open");
+  if (!rc && op) {
+    rc = esf_ynode_require_seq(op, err);
+    for (size_t k = 0; k < (op ? op->n : 0) && !rc; k++) {
+      const char *f = NULL;
+      rc = esf_ynode_string(op->items[k], &f, err);
+      int hit = -1;
+      for (int q = 0; faces[q] && !rc; q++)
+        if (strcmp(faces[q], f) == 0) hit = q;
+      if (!rc && hit < 0)
+        return esf_ynode_fail(op->items[k], err,
+                              "unknown face '%s' (expected one of: xmin, xmax, ymin, "
+                              "ymax, bottom, top)",
+                              f);
+      if (!rc) mask |= 1u << hit;
+    }
+  }
+  if (s->cfg.dim == 2) mask |= 4u | 8u; /* a 2D box has no y faces */
+  if (rc) return rc;
+  esf_wall_elem el[6];
+  int count = 0;
+  rc = esf_wall_box(lo, hi, mask, mat, group, el, &count, err);
+  if (rc) return esf_scene_fail_at(b, err);
+  for (int k = 0; k < count && !rc; k++) rc = esf_walls_add_elem(&s->walls, &el[k], err);
+  return rc;
+}
+
+static int read_plane(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
+                      esf_error *err) {
+  static const char *const pkeys[] = {"point", "normal", NULL};
+  const esf_ynode *p = esf_ymap_get(e, "plane");
+  double pt[3], nr[3];
+  int rc = esf_ynode_require_map(p, err);
+  if (!rc) rc = esf_ymap_check_keys(p, pkeys, err);
+  if (!rc) rc = esf_yget_doubles(p, "point", 1, pt, 3, err);
+  if (!rc) rc = esf_yget_doubles(p, "normal", 1, nr, 3, err);
+  if (rc) return rc;
+  esf_wall_elem el;
+  rc = esf_wall_plane_init(&el, pt, nr, mat, group, err);
+  if (rc) return esf_scene_fail_at(p, err);
+  return esf_walls_add_elem(&s->walls, &el, err);
+}
+
+static int read_polygon(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
+                        esf_error *err) {
+  const esf_ynode *p = esf_ymap_get(e, "polygon");
+  int rc = esf_ynode_require_seq(p, err);
+  if (rc) return rc;
+  if (p->n < 3 || p->n > ESF_WALL_MAX_VERTS)
+    return esf_ynode_fail(p, err, "a polygon has 3 or 4 vertices, got %zu", p->n);
+  double v[ESF_WALL_MAX_VERTS][3];
+  for (size_t k = 0; k < p->n && !rc; k++)
+    rc = esf_ynode_doubles(p->items[k], v[k], 3, err);
+  if (rc) return rc;
+  esf_wall_elem el;
+  rc = esf_wall_polygon_init(&el, (int)p->n, (const double(*)[3])v, mat, group, err);
+  if (rc) return esf_scene_fail_at(p, err);
+  return esf_walls_add_elem(&s->walls, &el, err);
+}
+
+int esf_scene_unit_vector(const esf_ynode *m, const char *key, int required, double u[3],
+                          esf_error *err) {
+  int rc = esf_yget_doubles(m, key, required, u, 3, err);
+  if (rc) return rc;
+  double len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  if (!(len > 0) || !isfinite(len))
+    return esf_ynode_fail(esf_ymap_get(m, key), err, "must be a non-zero vector");
+  for (int q = 0; q < 3; q++) u[q] /= len;
+  return ESF_OK;
+}
+
+/* motion: {translate: {velocity}} | {rotate: {axis, center, rpm | omega}} |
+ * {oscillate: {direction, frequency, amplitude | acceleration (peak, in g), phase}} */
+static int read_motion(const esf_ynode *mo, esf_wall_motion *m, esf_error *err) {
+  static const char *const kinds[] = {"translate", "rotate", "oscillate",
+                                      "servo", /* scene_sand.c */
+                                      NULL};
+  static const char *const tkeys[] = {"velocity", NULL};
+  static const char *const rkeys[] = {"axis", "center", "rpm", "omega", NULL};
+  static const char *const okeys[] = {"direction",    "frequency", "amplitude",
+                                      "acceleration", "phase",     NULL};
+  int rc = esf_ynode_require_map(mo, err);
+  if (!rc) rc = esf_ymap_check_keys(mo, kinds, err);
+  if (rc) return rc;
+  if (mo->n != 1)
+    return esf_ynode_fail(
+        mo, err, "a motion is exactly one of translate, rotate, oscillate, servo");
+  if (esf_ymap_get(mo, "servo"))
+    return esf_scene_servo(esf_ymap_get(mo, "servo"), m, err);
+  memset(m, 0, sizeof *m);
+  const esf_ynode *t = esf_ymap_get(mo, "translate"), *r = esf_ymap_get(mo, "rotate"),
+                  *o = esf_ymap_get(mo, "oscillate");
+  if (t) {
+    m->kind = ESF_MOTION_TRANSLATE;
+    rc = esf_ynode_require_map(t, err);
+    if (!rc) rc = esf_ymap_check_keys(t, tkeys, err);
+    if (!rc) rc = esf_yget_doubles(t, "velocity", 1, m->vel, 3, err);
+  } else if (r) {
+    m->kind = ESF_MOTION_ROTATE;
+    rc = esf_ynode_require_map(r, err);
+    if (!rc) rc = esf_ymap_check_keys(r, rkeys, err);
+    if (!rc) rc = esf_scene_unit_vector(r, "axis", 1, m->axis, err);
+    if (!rc) rc = esf_yget_doubles(r, "center", 0, m->pivot, 3, err);
+    const esf_ynode *rpm = esf_ymap_get(r, "rpm"), *om = esf_ymap_get(r, "omega");
+    if (!rc && (rpm != NULL) == (om != NULL))
+      return esf_ynode_fail(r, err,
+                            "give the angular speed as exactly one of rpm, omega");
+    double v = 0;
+    if (!rc) rc = esf_yget_double(r, rpm ? "rpm" : "omega", 1, &v, err);
+    m->rate = rpm ? v * 2.0 * ESF_PI / 60.0 : v;
+  } else {
+    m->kind = ESF_MOTION_OSCILLATE;
+    rc = esf_ynode_require_map(o, err);
+    if (!rc) rc = esf_ymap_check_keys(o, okeys, err);
+    if (!rc) rc = esf_scene_unit_vector(o, "direction", 1, m->dir, err);
+    if (!rc) rc = esf_yget_double(o, "frequency", 1, &m->freq, err);
+    if (!rc && !(m->freq > 0))
+      return esf_ynode_fail(esf_ymap_get(o, "frequency"), err, "must be positive (Hz)");
+    const esf_ynode *am = esf_ymap_get(o, "amplitude"),
+                    *ac = esf_ymap_get(o, "acceleration");
+    if (!rc && (am != NULL) == (ac != NULL))
+      return esf_ynode_fail(o, err,
+                            "give exactly one of amplitude (m) or acceleration (peak, in "
+                            "units of g = 9.81 m/s^2)");
+    double v = 0;
+    if (!rc) rc = esf_yget_double(o, am ? "amplitude" : "acceleration", 1, &v, err);
+    double w = 2.0 * ESF_PI * m->freq;
+    m->amp = am ? v : v * 9.81 / (w * w);
+    if (!rc) rc = esf_yget_double(o, "phase", 0, &m->phase, err);
+  }
+  return rc;
+}
+
+/* the mesh wall kinds (scene_meshes.c) */
+static const char *const mesh_kinds[] = {"mesh", "cylinder", "screw", NULL};
+
+int esf_scene_walls(const esf_ynode *seq, const char *dir, esf_sim *s, esf_error *err) {
+  static const char *const keys[] = {"box",    "plane", "polygon",  "open",  "material",
+                                     "motion", "mesh",  "cylinder", "screw", NULL};
+  if (!seq || seq->kind == ESF_YN_NULL) return ESF_OK;
+  int rc = esf_ynode_require_seq(seq, err);
+  for (size_t k = 0; k < (seq ? seq->n : 0) && !rc; k++) {
+    const esf_ynode *e = seq->items[k];
+    rc = esf_ynode_require_map(e, err);
+    if (!rc) rc = esf_ymap_check_keys(e, keys, err);
+    if (rc) break;
+    int nkind = (esf_ymap_get(e, "box") != NULL) + (esf_ymap_get(e, "plane") != NULL) +
+                (esf_ymap_get(e, "polygon") != NULL);
+    const char *mesh = NULL;
+    for (int q = 0; mesh_kinds[q]; q++)
+      if (esf_ymap_get(e, mesh_kinds[q])) nkind++, mesh = mesh_kinds[q];
+    if (nkind != 1)
+      return esf_ynode_fail(e, err,
+                            "a wall is exactly one of box, plane, polygon, mesh, "
+                            "cylinder or screw");
+    if (esf_ymap_get(e, "open") && !esf_ymap_get(e, "box"))
+      return esf_ynode_fail(esf_ymap_get(e, "open"), err, "only a box has open faces");
+    int32_t mat = 0;
+    rc = wall_material(e, s, &mat, err);
+    if (rc) break;
+    char label[32];
+    const char *kind = esf_ymap_get(e, "box")     ? "box"
+                       : esf_ymap_get(e, "plane") ? "plane"
+                       : mesh                     ? mesh
+                                                  : "polygon";
+    snprintf(label, sizeof label, "%s %zu", kind, k);
+    int group = 0;
+    rc = esf_walls_add_group(&s->walls, label, &group, err);
+    if (rc) break;
+    if (mesh && mesh[0] == 'm')
+      rc = esf_scene_wall_stl(e, dir, s, group, mat, err);
+    else if (mesh && mesh[0] == 'c')
+      rc = esf_scene_wall_cylinder(e, s, group, mat, err);
+    else if (mesh)
+      rc = esf_scene_wall_screw(e, s, group, mat, err);
+    else if (kind[0] == 'b')
+      rc = read_box(e, s, group, mat, err);
+    else if (kind[1] == 'l')
+      rc = read_plane(e, s, group, mat, err);
+    else
+      rc = read_polygon(e, s, group, mat, err);
+    const esf_ynode *mo = esf_ymap_get(e, "motion");
+    if (!rc && mo) {
+      rc = read_motion(mo, &s->walls.g[group].motion, err);
+      if (!rc && kind[1] == 'l' && s->walls.g[group].motion.kind == ESF_MOTION_ROTATE)
+        return esf_ynode_fail(mo, err,
+                              "an infinite plane cannot rotate; use a polygon or a box");
+      if (!rc && kind[0] == 'b' && s->walls.g[group].motion.kind == ESF_MOTION_SERVO)
+        return esf_ynode_fail(mo, err,
+                              "a servo moves its whole wall, and a box's faces face each "
+                              "other; make the servo-controlled face a polygon");
+    }
+  }
+  return rc;
+}
