@@ -14,7 +14,7 @@
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
 #include "integrators/dem_ode.h"
-#include "model/refresh.h"
+#include "model/model.h"
 #include "integrators/integrator.h"
 
 typedef struct cvadams {
@@ -55,7 +55,7 @@ static int cv_create(esf_sim *s, void **state, esf_error *err) {
   if (SUNContext_Create(NULL, &c->ctx))
     return esf_fail(err, ESF_EINTERNAL, "cannot create a SUNDIALS context");
   esf_dem_ode_init(&c->ode, s);
-  int rc = esf_integ_refresh(s, NULL, err);
+  int rc = esf_sim_refresh(s, NULL, err);
   if (rc) return rc;
   sunindextype len = (sunindextype)esf_dem_ode_layout(&c->ode);
   c->y = N_VNew_Serial(len, c->ctx);
@@ -94,7 +94,7 @@ static int cv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   if (rc) return rc;
   s->step++;
   size_t n_before = s->p.n;
-  rc = esf_integ_refresh(s, NULL, err);
+  rc = esf_sim_refresh(s, NULL, err);
   if (!rc && s->p.n != n_before)
     rc = esf_fail(err, ESF_EINPUT,
                   "cvode-adams: particles left the domain; removal is "

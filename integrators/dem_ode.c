@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "model/forces.h"
-#include "model/refresh.h"
+#include "model/model.h"
 #include "util/vec3.h"
 
 void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s) {
@@ -76,7 +76,7 @@ int esf_dem_ode_start(esf_dem_ode *o, const double *y, esf_error *err) {
   detach_xi(o);
   s->tally = NULL;
   if (rc) return rc;
-  esf_integ_energies(s, y, y + 3 * n, y + 6 * n, &L->kin_t, &L->kin_r, &L->pot_g);
+  esf_sim_energies(s, y, y + 3 * n, y + 6 * n, &L->kin_t, &L->kin_r, &L->pot_g);
   L->el_n = ty.e_el_n;
   L->el_t = ty.e_el_t;
   o->el_t0 = ty.e_el_t;
@@ -142,7 +142,7 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   }
   memcpy(ydot, v, 3 * n * sizeof(double));
   double pd[2] = {0, 0};
-  esf_integ_accel(s, v, w, ydot + 3 * n, ydot + 6 * n, s->led.on ? pd : NULL, 1);
+  esf_sim_accel(s, v, w, ydot + 3 * n, ydot + 6 * n, s->led.on ? pd : NULL, 1);
   /* orientations are not tracked: spheres need only w */
   for (size_t j = 3 * n; j < 9 * n; j++)
     if (!isfinite(ydot[j])) {
@@ -186,7 +186,7 @@ int esf_dem_ode_commit(esf_dem_ode *o, double t, const double *y, esf_error *err
   esf_ledger *L = &s->led;
   if (L->on) {
     const double *q = y + 9 * n;
-    esf_integ_energies(s, s->p.x, s->p.v, s->p.w, &L->kin_t, &L->kin_r, &L->pot_g);
+    esf_sim_energies(s, s->p.x, s->p.v, s->p.w, &L->kin_t, &L->kin_r, &L->pot_g);
     L->el_n = ty.e_el_n;
     L->el_t = ty.e_el_t;
     L->d_normal = q[ESF_ODE_QN];

@@ -24,7 +24,7 @@
 
 #include "model/roots.h"
 #include "integrators/dem_ode.h"
-#include "model/refresh.h"
+#include "model/model.h"
 #include "integrators/integrator.h"
 
 typedef struct erk {
@@ -231,7 +231,7 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
                     "(set integrator.rtol: 0 and give dt or frac)",
                     c->method);
   esf_dem_ode_init(&e->ode, s);
-  int rc = esf_integ_refresh(s, NULL, err);
+  int rc = esf_sim_refresh(s, NULL, err);
   if (rc) return rc;
   e->y = N_VNew_Serial((sunindextype)esf_dem_ode_layout(&e->ode), e->ctx);
   if (!e->y) return esf_fail(err, ESF_ENOMEM, "out of memory");
@@ -358,7 +358,7 @@ static int erk_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   if (events_back) e->roots_off = 0;
   size_t n_before = s->p.n;
   int rebuilt = 0, restarted = 0;
-  rc = esf_integ_refresh(s, &rebuilt, err);
+  rc = esf_sim_refresh(s, &rebuilt, err);
   if (!rc && s->p.n != n_before)
     rc = esf_fail(err, ESF_EINPUT,
                   "%s: particles left the domain; removal is supported "

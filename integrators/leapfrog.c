@@ -28,7 +28,7 @@
 #include "integrators/dem_ode.h"
 #include "model/forces.h"
 #include "fused/fused.h"
-#include "model/refresh.h"
+#include "model/model.h"
 #include "integrators/integrator.h"
 #include "util/vec3.h"
 
@@ -138,7 +138,7 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   leapfrog *lf = state;
   esf_particles *p = &s->p;
   esf_walls_set_time(&s->walls, s->t); /* moving walls at x_n's time */
-  int rc = esf_integ_refresh(s, NULL, err);
+  int rc = esf_sim_refresh(s, NULL, err);
   if (rc) return rc;
   if (!lf->started) {
     rc = start(s, err);

@@ -20,7 +20,7 @@
 
 #include "model/forces.h"
 #include "integrators/dem_ode.h"
-#include "model/refresh.h"
+#include "model/model.h"
 #include "integrators/integrator.h"
 
 typedef struct verlet {
@@ -73,7 +73,7 @@ static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[6], esf_error *
   rc = reserve(vv, p->n, err);
   if (rc) return rc;
   double pd[2] = {0, 0};
-  esf_integ_accel(s, p->v, p->w, vv->a, vv->dw, s->led.on ? pd : NULL, 0);
+  esf_sim_accel(s, p->v, p->w, vv->a, vv->dw, s->led.on ? pd : NULL, 0);
   if (s->led.on) {
     pw[0] = ty.p_normal;
     pw[1] = ty.p_tangential;
@@ -97,7 +97,7 @@ static void ledger_update(esf_sim *s, verlet *vv, const double pw[6]) {
   L->w_walls += h * (vv->p_prev[4] + pw[4]);
   L->w_fluid += h * (vv->p_prev[5] + pw[5]);
   memcpy(vv->p_prev, pw, 6 * sizeof(double));
-  esf_integ_energies(s, s->p.x, s->p.v, s->p.w, &L->kin_t, &L->kin_r, &L->pot_g);
+  esf_sim_energies(s, s->p.x, s->p.v, s->p.w, &L->kin_t, &L->kin_r, &L->pot_g);
   s->led_time = s->t;
 }
 
@@ -109,12 +109,12 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   int rc;
   if (!vv->started) {
     esf_walls_set_time(&s->walls, s->t);
-    rc = esf_integ_refresh(s, NULL, err);
+    rc = esf_sim_refresh(s, NULL, err);
     if (!rc) rc = evaluate(s, vv, 0.0, pw, err);
     if (rc) return rc;
     if (s->led.on) {
       memcpy(vv->p_prev, pw, 6 * sizeof(double));
-      esf_integ_energies(s, p->x, p->v, p->w, &s->led.kin_t, &s->led.kin_r,
+      esf_sim_energies(s, p->x, p->v, p->w, &s->led.kin_t, &s->led.kin_r,
                          &s->led.pot_g);
       s->led.e0 = esf_ledger_stored(&s->led);
       s->led.started = 1;
@@ -130,7 +130,7 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   }
   size_t n_before = p->n;
   esf_walls_set_time(&s->walls, (double)(s->step + 1) * dt); /* x_{n+1}'s time */
-  rc = esf_integ_refresh(s, NULL, err);
+  rc = esf_sim_refresh(s, NULL, err);
   if (!rc && p->n != n_before)
     rc = esf_fail(err, ESF_EINPUT,
                   "the verlet integrator does not support particles "

@@ -10,6 +10,7 @@
 
 #include "check.h"
 #include "model/forces.h"
+#include "model/model.h"
 #include "integrators/integrator.h"
 #include "scene/scene.h"
 #include "util/vec3.h"

@@ -31,7 +31,7 @@
 #include <stdlib.h>
 
 #include "core/bonds.h"
-#include "model/refresh.h"
+#include "model/model.h"
 #include "simtest.h"
 
 static const double KN = 6.4e4, FF = 0.96;
@@ -184,7 +184,7 @@ static double quasi_static(simtest *T, double u) {
   s->p.x[3 * b] = 0.5 * (r - u);
   memset(s->p.v, 0, 3 * s->p.n * sizeof(double));
   memset(s->p.w, 0, 3 * s->p.n * sizeof(double));
-  int rc = esf_integ_refresh(s, NULL, &T->err);
+  int rc = esf_sim_refresh(s, NULL, &T->err);
   if (!rc)
     rc = esf_forces_eval(s, s->p.x, s->p.v, s->p.w, s->dt, ESF_FORCES_COMMIT, NULL,
                          &T->err);

@@ -32,7 +32,7 @@
 #include <time.h>
 
 #include "util/atomic_file.h"
-#include "model/refresh.h"
+#include "model/model.h"
 #include "integrators/integrator.h"
 #include "scene/scene.h"
 #include "util/vec3.h"
@@ -150,7 +150,7 @@ static int add_box(esf_sim *s, const double min[3], const double max[3], int32_t
 /* Kinetic (translational + rotational) and gravitational energy, J. */
 static void energies(const esf_sim *s, double *ek, double *ep) {
   double kt, kr;
-  esf_integ_energies(s, s->p.x, s->p.v, s->p.w, &kt, &kr, ep);
+  esf_sim_energies(s, s->p.x, s->p.v, s->p.w, &kt, &kr, ep);
   *ek = kt + kr;
 }
 

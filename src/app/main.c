@@ -24,6 +24,7 @@
 #include "app/info.h"
 #include "integrators/integrator.h"
 #include "app/modes.h"
+#include "model/model.h"
 #include "app/run.h"
 #include "scene/scene.h"
 #include "util/version.h"

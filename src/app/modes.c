@@ -25,7 +25,7 @@
 #include <stdlib.h>
 
 #include "model/forces.h"
-#include "model/refresh.h"
+#include "model/model.h"
 #include "util/vec3.h"
 
 /* global dof index of particle i's local dof j (0-2 translation, 3-5 rotation), or -1 */
@@ -114,7 +114,7 @@ int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
                     "%d (use at most %d particles)",
                     nd, ESF_MODES_MAX_DOFS, ESF_MODES_MAX_DOFS / (int)per);
   size_t touching = 0;
-  int rc = esf_integ_refresh(s, NULL, err);
+  int rc = esf_sim_refresh(s, NULL, err);
   if (!rc)
     rc = esf_forces_eval(s, p->x, p->v, p->w, 0.0, ESF_FORCES_COMMIT, &touching, err);
   if (rc) return rc;

@@ -25,7 +25,7 @@ struct esf_sim;
 
 typedef struct esf_bonds {
   int on;       /* some particle material pair in the scene is adhesive */
-  int pending;  /* bonds are formed at the first list build (esf_integ_refresh) */
+  int pending;  /* bonds are formed at the first list build (esf_sim_refresh) */
   long formed;  /* bonds at the start */
   long broken;  /* bonds ruptured so far */
   double reach; /* the largest gap a bond can open to before rupture, m */

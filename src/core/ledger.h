@@ -46,4 +46,18 @@ void esf_ledger_values(double t, const esf_ledger *l, double alpha,
 void esf_ledger_header(FILE *f);
 void esf_ledger_row(FILE *f, double t, const esf_ledger *l, double alpha);
 
+/* Instantaneous energy rates and stored energies at an evaluation's state, for
+ * integrators that integrate the ledger as quadratures (set s->tally to collect; model/forces.c fills it). */
+typedef struct esf_force_tally {
+  double p_normal;     /* power dissipated by normal dashpots, W */
+  double p_tangential; /* power dissipated by tangential dashpots, W */
+  double p_walls;      /* power delivered by walls to the particles, W */
+  double e_el_n;       /* elastic energy (1/2) kn u^2, J */
+  double e_el_t;       /* elastic energy (1/2) kt |xi|^2, J */
+  double slip;         /* Coulomb slip work of this evaluation (committing), J */
+  double p_spring_t;   /* power into the tangential springs as applied (Coulomb cap
+                          included), W; history as ODE state only */
+  double p_fluid;      /* power delivered by the fluid force (drag.c), W */
+} esf_force_tally;
+
 #endif

@@ -126,11 +126,6 @@ typedef struct esf_sim {
  * accumulators). Called by whoever reads p.f, p.t: frames, checkpoints, compaction. */
 void esf_sim_forces_sync(esf_sim *s);
 
-/* Prepares a sim whose cfg, particles, materials and walls are filled in: mixes the
- * pair table, sets masses and inertias, picks dt (auto or checked), allocates lists. */
-int esf_sim_setup(esf_sim *s, esf_error *err);
-void esf_sim_release(esf_sim *s);
-
 /* Writes a line to the run's log (if any), printf style. */
 void esf_sim_log(const esf_sim *s, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));

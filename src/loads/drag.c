@@ -29,7 +29,6 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "model/forces.h"
 #include "loads/servo.h"
 #include "util/vec3.h"
 

@@ -3,7 +3,7 @@
  *
  * An event with time `at` is applied at the start of the first step whose time t has
  * at <= t + dt/2 (the step nearest `at`), before the candidate lists are checked, from
- * esf_integ_refresh. Every particle whose centre lies in the region (an infinite
+ * esf_sim_refresh. Every particle whose centre lies in the region (an infinite
  * cylinder: distance from the axis <= radius; a box: min <= x <= max) is deleted with
  * esf_particles_compact, and the candidate lists are renumbered with
  * esf_neighbor_remap, as for particles leaving the domain (sim.c).

@@ -6,20 +6,6 @@
 
 #include "core/sim.h"
 
-/* Instantaneous energy rates and stored energies at an evaluation's state, for
- * integrators that integrate the ledger as quadratures (set s->tally to collect). */
-typedef struct esf_force_tally {
-  double p_normal;     /* power dissipated by normal dashpots, W */
-  double p_tangential; /* power dissipated by tangential dashpots, W */
-  double p_walls;      /* power delivered by walls to the particles, W */
-  double e_el_n;       /* elastic energy (1/2) kn u^2, J */
-  double e_el_t;       /* elastic energy (1/2) kt |xi|^2, J */
-  double slip;         /* Coulomb slip work of this evaluation (committing), J */
-  double p_spring_t;   /* power into the tangential springs as applied (Coulomb cap
-                          included), W; history as ODE state only */
-  double p_fluid;      /* power delivered by the fluid force (drag.c), W */
-} esf_force_tally;
-
 enum {
   ESF_FORCES_TRIAL = 0, /* history read, not written */
   ESF_FORCES_COMMIT = 1 /* history, touching flags and ledger tallies written */

@@ -4,6 +4,7 @@
  * documented in docs/scene.md; nothing misspelt is ever silently defaulted, because
  * every mapping is checked against its list of keys first. */
 #include "scene/scene.h"
+#include "scene/scene_parts.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -154,21 +155,6 @@ static int read_materials(const esf_ynode *root, esf_sim *s, esf_error *err) {
   for (int k = 0; mkeys[k] && !rc; k++)
     rc = esf_yget_choice(mx, mkeys[k], 0, esf_mix_names, slots[k], err);
   return rc;
-}
-
-int esf_scene_material(const esf_ynode *node, const esf_materials *m, int32_t *index,
-                       esf_error *err) {
-  const char *name = NULL;
-  int rc = esf_ynode_string(node, &name, err);
-  if (rc) return rc;
-  *index = esf_materials_find(m, name);
-  if (*index >= 0) return ESF_OK;
-  char list[512] = "";
-  for (int k = 0; k < m->n; k++) {
-    size_t l = strlen(list);
-    snprintf(list + l, sizeof list - l, "%s%s", k ? ", " : "", m->m[k].name);
-  }
-  return esf_ynode_fail(node, err, "unknown material '%s' (defined: %s)", name, list);
 }
 
 static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err) {

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "scene/scene.h"
+#include "scene/scene_parts.h"
 #include "formats/stl.h"
 #include "util/vec3.h"
 #include "bodies/wall_gen.h"

@@ -10,6 +10,7 @@
 #include "search/cells.h"
 #include "scene/particle_source.h"
 #include "scene/scene.h"
+#include "scene/scene_parts.h"
 
 typedef struct lookup_ctx {
   const esf_materials *m;

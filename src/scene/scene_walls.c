@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "scene/scene.h"
+#include "scene/scene_parts.h"
 #include "scene/scene_loads.h"
 #include "util/vec3.h"
 
@@ -18,12 +19,6 @@ static int wall_material(const esf_ynode *e, const esf_sim *s, int32_t *m,
   const esf_ynode *mn = esf_ymap_get(e, "material");
   if (!mn) return esf_ynode_fail(e, err, "missing key 'material'");
   return esf_scene_material(mn, &s->mats, m, err);
-}
-
-int esf_scene_fail_at(const esf_ynode *n, esf_error *err) {
-  char msg[ESF_ERROR_MSG_MAX];
-  snprintf(msg, sizeof msg, "%s", err->msg);
-  return esf_ynode_fail(n, err, "%s", msg);
 }
 
 static int read_box(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
@@ -96,17 +91,6 @@ static int read_polygon(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
   rc = esf_wall_polygon_init(&el, (int)p->n, (const double(*)[3])v, mat, group, err);
   if (rc) return esf_scene_fail_at(p, err);
   return esf_walls_add_elem(&s->walls, &el, err);
-}
-
-int esf_scene_unit_vector(const esf_ynode *m, const char *key, int required, double u[3],
-                          esf_error *err) {
-  int rc = esf_yget_doubles(m, key, required, u, 3, err);
-  if (rc) return rc;
-  double len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-  if (!(len > 0) || !isfinite(len))
-    return esf_ynode_fail(esf_ymap_get(m, key), err, "must be a non-zero vector");
-  for (int q = 0; q < 3; q++) u[q] /= len;
-  return ESF_OK;
 }
 
 /* motion: {translate: {velocity}} | {rotate: {axis, center, rpm | omega}} |

@@ -79,52 +79,6 @@ struct esf_cells {
   double factor;
 };
 
-/* ---- pair buffer ------------------------------------------------------------------ */
-
-int esf_pairbuf_grow(esf_pairbuf *b, esf_error *err) {
-  size_t cap = b->cap ? 2 * b->cap : 1024;
-  if (cap <= b->cap || cap > SIZE_MAX / sizeof(uint32_t))
-    return esf_fail(err, ESF_ENOMEM, "too many contact-candidate pairs (%zu)", b->cap);
-  uint32_t *i = realloc(b->i, cap * sizeof *i);
-  if (!i) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu candidate pairs", cap);
-  b->i = i;
-  uint32_t *j = realloc(b->j, cap * sizeof *j);
-  if (!j) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu candidate pairs", cap);
-  b->j = j;
-  b->cap = cap;
-  return ESF_OK;
-}
-
-int esf_pairbuf_push(esf_pairbuf *b, uint32_t i, uint32_t j, esf_error *err) {
-  if (b->n == b->cap) {
-    int rc = esf_pairbuf_grow(b, err);
-    if (rc) return rc;
-  }
-  b->i[b->n] = i;
-  b->j[b->n] = j;
-  b->n++;
-  return ESF_OK;
-}
-
-int esf_pairbuf_append(esf_pairbuf *out, const esf_pairbuf *b, esf_error *err) {
-  if (b->n == 0) return ESF_OK; /* its arrays may not exist */
-  while (out->cap < out->n + b->n) {
-    const int rc = esf_pairbuf_grow(out, err);
-    if (rc) return rc;
-  }
-  memcpy(out->i + out->n, b->i, b->n * sizeof *b->i);
-  memcpy(out->j + out->n, b->j, b->n * sizeof *b->j);
-  out->n += b->n;
-  return ESF_OK;
-}
-
-void esf_pairbuf_release(esf_pairbuf *b) {
-  if (!b) return;
-  free(b->i);
-  free(b->j);
-  memset(b, 0, sizeof *b);
-}
-
 /* ---- input scan ---------------------------------------------------------------------
  */
 
@@ -450,7 +404,7 @@ int esf_pairs_brute(size_t n, const double *x, const double *radius, double skin
   for (size_t i = 0; i < n; i++)
     for (size_t j = i + 1; j < n; j++)
       if (esf_pair_near(x + 3 * i, x + 3 * j, radius[i], radius[j], skin)) {
-        rc = esf_pair_push(out, (uint32_t)i, (uint32_t)j, err);
+        rc = esf_pairbuf_push_ordered(out, (uint32_t)i, (uint32_t)j, err);
         if (rc) {
           out->n = 0;
           return rc;

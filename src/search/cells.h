@@ -15,18 +15,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "search/pairbuf.h"
 #include "util/esf_error.h"
-
-/* A list of candidate pairs (i, j), i != j, each unordered pair once. */
-typedef struct esf_pairbuf {
-  size_t n, cap;
-  uint32_t *i, *j;
-} esf_pairbuf;
-
-int esf_pairbuf_push(esf_pairbuf *b, uint32_t i, uint32_t j, esf_error *err);
-/* Appends b's pairs to out, in b's order. */
-int esf_pairbuf_append(esf_pairbuf *out, const esf_pairbuf *b, esf_error *err);
-void esf_pairbuf_release(esf_pairbuf *b);
 
 typedef struct esf_cells esf_cells; /* reusable grid storage (HEAD, LIST, cell index) */
 

@@ -145,7 +145,7 @@ int esf_grid_self_pairs_layers(const esf_grid *g, const uint32_t *list, const do
           const double *xi = x + 3 * (size_t)i;
           const double ri = radius[i];
           for (uint32_t j = list[i]; j != ESF_CELL_EMPTY; j = list[j]) {
-            rc = esf_pair_push_if(
+            rc = esf_pairbuf_push_if(
                 out, i, j, esf_pair_near(xi, x + 3 * (size_t)j, ri, radius[j], skin),
                 err);
             if (rc) return rc;
@@ -161,7 +161,7 @@ int esf_grid_self_pairs_layers(const esf_grid *g, const uint32_t *list, const do
             const double *xi = x + 3 * (size_t)i;
             const double ri = radius[i];
             for (uint32_t j = other; j != ESF_CELL_EMPTY; j = list[j]) {
-              rc = esf_pair_push_if(
+              rc = esf_pairbuf_push_if(
                   out, i, j, esf_pair_near(xi, x + 3 * (size_t)j, ri, radius[j], skin),
                   err);
               if (rc) return rc;
@@ -213,7 +213,7 @@ int esf_grid_cross_pairs(const esf_grid *g, const uint32_t *list, double rgrid, 
         const size_t row = (size_t)((cz * ny + cy) * nx);
         for (int64_t cx = lo[0]; cx <= hi[0]; cx++)
           for (uint32_t j = head[row + (size_t)cx]; j != ESF_CELL_EMPTY; j = list[j]) {
-            const int rc = esf_pair_push_if(
+            const int rc = esf_pairbuf_push_if(
                 out, i, j, esf_pair_near(xi, x + 3 * (size_t)j, ri, radius[j], skin),
                 err);
             if (rc) return rc;

@@ -13,7 +13,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "search/cells.h"
+#include "search/pairbuf.h"
 #include "util/esf_error.h"
 
 #define ESF_CELL_EMPTY UINT32_MAX
@@ -59,36 +59,6 @@ int esf_grid_self_pairs_layers(const esf_grid *g, const uint32_t *list, const do
 int esf_grid_cross_pairs(const esf_grid *g, const uint32_t *list, double rgrid, size_t m,
                          const uint32_t *idx, const double *x, const double *radius,
                          double skin, esf_pairbuf *out, esf_error *err);
-
-/* Grows the pair buffer (doubling). */
-int esf_pairbuf_grow(esf_pairbuf *b, esf_error *err);
-
-/* Stores the pair as (min, max); the fast path is a bounds check and two stores. */
-static inline int esf_pair_push(esf_pairbuf *b, uint32_t i, uint32_t j, esf_error *err) {
-  if (b->n == b->cap) {
-    int rc = esf_pairbuf_grow(b, err);
-    if (rc) return rc;
-  }
-  b->i[b->n] = i < j ? i : j;
-  b->j[b->n] = i < j ? j : i;
-  b->n++;
-  return ESF_OK;
-}
-
-/* Stores the pair (min, max) when near is 1, without a branch on it (the test is as
- * often true as not in a packed bed, which no branch predictor guesses): the slot is
- * always written, the count advances by near. */
-static inline int esf_pair_push_if(esf_pairbuf *b, uint32_t i, uint32_t j, int near,
-                                   esf_error *err) {
-  if (b->n == b->cap) {
-    int rc = esf_pairbuf_grow(b, err);
-    if (rc) return rc;
-  }
-  b->i[b->n] = i < j ? i : j;
-  b->j[b->n] = i < j ? j : i;
-  b->n += (size_t)near;
-  return ESF_OK;
-}
 
 /* The pair criterion, the same expression for every search and the reference:
  * c = (r_i + r_j) + skin > 0 and d·d < c·c. */

@@ -70,7 +70,7 @@ typedef struct esf_neighbor {
   long builds; /* rebuild count */
   /* Set by a step that drifted the particles and measured their displacement on the
    * way (step_fast.c); the next esf_neighbor_check uses it instead of its own pass.
-   * Cleared after every check (esf_integ_refresh). */
+   * Cleared after every check (esf_sim_refresh). */
   int disp_valid;
   double max_disp2; /* largest squared displacement since the build, m^2 */
   int escaped;      /* with disp_valid: some particle left the domain */

@@ -1,0 +1,140 @@
+/* setup.c — setting up and tearing down a simulation (model.h).
+ *
+ * esf_sim_setup, on entry: cfg, particles (positions, velocities, radii, materials,
+ * ids), materials and walls filled in by the scene reader (or a test). On exit: masses
+ * and inertias set (spheres m = 4/3 pi r^3 rho, I = 2/5 m r^2, 000 3-4..3-5; disks
+ * m = pi r^2 rho thickness, I = 1/2 m r^2), the pair table mixed, Rayleigh factors set
+ * (001 3.59–3.60: omega = 2 pi f, alpha = 2 omega zeta, beta = 2 zeta / omega), the
+ * step chosen (auto: FRAC x the rule's critical step) or checked against the rule, and
+ * the candidate lists allocated (built on the first step). */
+#include "model/model.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "core/bonds.h"
+#include "loads/drag.h"
+#include "loads/events.h"
+#include "loads/servo.h"
+#include "util/vec3.h"
+
+static int set_masses(esf_sim *s, esf_error *err) {
+  esf_particles *p = &s->p;
+  for (size_t i = 0; i < p->n; i++) {
+    const esf_material *m = &s->mats.m[p->material[i]];
+    double r = p->radius[i];
+    if (!(m->density > 0))
+      return esf_fail(err, ESF_EINPUT,
+                      "material '%s' of particle id %lld needs a positive density",
+                      m->name, (long long)p->id[i]);
+    if (s->cfg.dim == 2) {
+      p->mass[i] = ESF_PI * r * r * s->cfg.disk_thickness * m->density;
+      p->inertia[i] = 0.5 * p->mass[i] * r * r;
+      if (p->x[3 * i + 1] != 0.0 || p->v[3 * i + 1] != 0.0 || p->w[3 * i] != 0.0 ||
+          p->w[3 * i + 2] != 0.0)
+        return esf_fail(
+            err, ESF_EINPUT,
+            "particle id %lld: a 2D scene moves disks in the x-z plane, so y, "
+            "vy, wx and wz must be 0",
+            (long long)p->id[i]);
+    } else {
+      p->mass[i] = 4.0 / 3.0 * ESF_PI * r * r * r * m->density;
+      p->inertia[i] = 0.4 * p->mass[i] * r * r;
+    }
+    p->inv_mass[i] = 1.0 / p->mass[i];
+    p->inv_inertia[i] = 1.0 / p->inertia[i];
+  }
+  return ESF_OK;
+}
+
+int esf_sim_setup(esf_sim *s, esf_error *err) {
+  esf_config *c = &s->cfg;
+  s->law = &esf_contact_linear;
+  s->local = c->local_form == ESF_LOCAL_COMPONENT ? &esf_local_component
+             : c->local_form == ESF_LOCAL_VECTOR  ? &esf_local_vector
+                                                  : NULL;
+  if (c->rayleigh) {
+    double omega = 2.0 * ESF_PI * c->rayleigh_freq;
+    c->alpha_r = c->alpha_t = 2.0 * omega * c->rayleigh_zeta;
+    s->beta = 2.0 * c->rayleigh_zeta / omega;
+    s->mats.rayleigh_beta = s->beta;
+  }
+  int rc = esf_materials_mix(&s->mats, err);
+  if (!rc) rc = set_masses(s, err);
+  if (!rc) rc = esf_walls_freeze(&s->walls, s->t, err); /* moving walls placed at t0 */
+  if (rc) return rc;
+
+  esf_dt_estimate_compute(s, &s->dte);
+  double crit = s->dte.crit[c->dt_rule];
+  if (c->dt_auto) {
+    if (!isfinite(crit))
+      return esf_fail(err, ESF_EINPUT,
+                      "integrator.dt is auto but the scene has no particles or no "
+                      "stiffness to take a critical step from; give dt in seconds");
+    s->dt = c->frac * crit;
+  } else {
+    s->dt = c->dt;
+    if (s->dt > crit && !c->allow_unstable)
+      return esf_fail(err, ESF_EINPUT,
+                      "integrator.dt = %.6g s is above the critical step of the '%s' "
+                      "rule, %.6g s (m_min = %.4g kg, k_max = %.4g N/m): the run would "
+                      "be unstable. Use dt: auto with frac <= 1 (seeds: 0.1), a smaller "
+                      "dt, or set integrator.allow_unstable: true for stability studies",
+                      s->dt, esf_dt_rule_names[c->dt_rule], crit, s->dte.m_min,
+                      s->dte.k_max);
+  }
+  if (!(s->dt > 0) || !isfinite(s->dt))
+    return esf_fail(err, ESF_EINPUT, "the time step must be positive, got %g", s->dt);
+
+  double omega = s->dte.k_max > 0 ? sqrt(s->dte.k_max / s->dte.m_min) : 1.0;
+  if (c->autod.alpha_min < 0) c->autod.alpha_min = 1e-4 * omega;
+  if (c->autod.alpha_max < 0) c->autod.alpha_max = 1.0 / s->dt;
+  s->alpha_r = c->alpha_r;
+  s->alpha_t = c->alpha_t;
+  if (c->autod.on) {
+    if (s->alpha_r < c->autod.alpha_min) s->alpha_r = c->autod.alpha_min;
+    if (s->alpha_t < c->autod.alpha_min) s->alpha_t = c->autod.alpha_min;
+  }
+
+  /* No skin given: the reference sref = 0.4 r_mean (neighbor.h). In a bonded scene the
+     bond's reach may raise it, and it stays fixed (bonds.c). Otherwise the skin adapts
+     (esf_neighbor_skin_tune) within 0.05-1 r_mean and starts low, at 0.1 r_mean: a
+     skin too small costs a few early rebuilds (each at most doubles it), one too large
+     a long first list with several times the idle candidates (a settled bed keeps
+     0.06-0.08 r_mean, and its first list at 0.4 r_mean lasted about 1 000 steps). */
+  int skin_auto = !(c->skin > 0);
+  double sref = c->skin; /* m */
+  if (skin_auto) {
+    double rsum = 0;
+    for (size_t i = 0; i < s->p.n; i++) rsum += s->p.radius[i];
+    c->skin = sref = s->p.n ? ESF_SKIN_DEFAULT * rsum / (double)s->p.n : 1e-3;
+  }
+  rc = esf_bonds_setup(s, skin_auto, err);
+  if (rc) return rc;
+  c->skin_auto = skin_auto && !s->bonds.on; /* a bond's reach fixes the skin */
+  if (c->skin_auto) c->skin = ESF_SKIN_START * sref;
+  s->led.on = c->energy_every > 0;
+  rc = esf_servo_setup(s, err);           /* servo walls (servo.c) */
+  if (!rc) rc = esf_events_setup(s, err); /* scene events (events.c) */
+  if (!rc) rc = esf_drag_setup(s, err);   /* fluid force (drag.c) */
+  if (rc) return rc;
+  rc = esf_neighbor_init(&s->nb, c->skin, s->led.on, err);
+  if (rc) return rc;
+  s->nb.bonds = s->bonds.on; /* the lists keep bond states (bonds.c) */
+  if (c->has_domain) {
+    s->nb.dom_lo = c->domain_min;
+    s->nb.dom_hi = c->domain_max;
+  }
+  if (c->skin_auto) esf_neighbor_skin_range(&s->nb, sref / 8.0, 2.5 * sref);
+  return ESF_OK;
+}
+
+void esf_sim_release(esf_sim *s) {
+  esf_particles_release(&s->p);
+  esf_materials_release(&s->mats);
+  esf_walls_release(&s->walls);
+  esf_neighbor_release(&s->nb);
+  esf_events_free(&s->events);
+  esf_drag_free(&s->drag);
+}
+
