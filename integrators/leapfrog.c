@@ -19,7 +19,7 @@
  *   6. adaptive damping (when on): alpha from the kinetic energies either side;
  *   7. drift: x_{n+1} = x_n + v_{n+1/2} dt; t += dt.
  * Scenes that need neither the ledger nor adaptive damping take steps 2-4 and 7 in
- * step_fast.c's fused, threaded passes (the same physics and order of operations).
+ * fused/fused.c's fused, threaded passes (the same physics and order of operations).
  * Start: the first call sets v_{-1/2} = v_0 - (dt/2) F(x_0, v_0)/m (likewise w), so the
  * scheme is second order from the initial conditions. */
 #include <stdlib.h>
@@ -34,7 +34,7 @@
 
 typedef struct leapfrog {
   int started;
-  esf_step_fast *fast; /* the fused threaded step (step_fast.h) */
+  esf_fused *fast; /* the fused threaded step (fused/fused.h) */
   size_t cap;
   double *vold; /* 6 cap: v | w at the previous half step (ledger) */
 } leapfrog;
@@ -46,14 +46,14 @@ static int lf_create(esf_sim *s, void **state, esf_error *err) {
   if (!lf) return esf_fail(err, ESF_ENOMEM, "out of memory");
   *state = lf;
   s->reorder_ok = 1; /* x, v, w and p.f, p.t are all the state between steps */
-  return esf_step_fast_create(&lf->fast, err);
+  return esf_fused_create(&lf->fast, err);
 }
 
 static void lf_destroy(void **state) {
   leapfrog *lf = *state;
   if (lf) {
     free(lf->vold);
-    esf_step_fast_free(&lf->fast);
+    esf_fused_free(&lf->fast);
   }
   free(lf);
   *state = NULL;
@@ -145,9 +145,9 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     if (rc) return rc;
   }
   size_t touching = 0;
-  if (esf_step_fast_eligible(s)) { /* steps 2-4 and 7 fused and threaded, s->burst of */
-    long taken = 0;                /* them at most in one go */
-    rc = esf_step_fast_run(s, lf->fast, s->burst, &taken, err);
+  if (esf_fused_eligible(s)) { /* steps 2-4 and 7 fused and threaded, s->burst of */
+    long taken = 0;            /* them at most in one go */
+    rc = esf_fused_run(s, lf->fast, s->burst, &taken, err);
     if (taken > 0) lf->started = 1;
     return rc;
   }

@@ -114,8 +114,7 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     if (rc) return rc;
     if (s->led.on) {
       memcpy(vv->p_prev, pw, 6 * sizeof(double));
-      esf_sim_energies(s, p->x, p->v, p->w, &s->led.kin_t, &s->led.kin_r,
-                         &s->led.pot_g);
+      esf_sim_energies(s, p->x, p->v, p->w, &s->led.kin_t, &s->led.kin_r, &s->led.pot_g);
       s->led.e0 = esf_ledger_stored(&s->led);
       s->led.started = 1;
     }

@@ -1,4 +1,4 @@
-/* test_threads.c — the fused leapfrog step (src/step_fast.c) gives the same state bit
+/* test_threads.c — the fused leapfrog step (src/fused/) gives the same state bit
  * for bit on 1, 2 and 3 threads, and the same physics as the general path (forces.c).
  *
  * The scene exercises every feature the fused step handles: polydisperse spheres (1:3)
@@ -66,7 +66,7 @@ typedef struct snapshot {
   long builds;
   double contacts_mean; /* touching contacts per step, averaged over the run */
   long calls;           /* calls of the scheme's step */
-  int fused;            /* the fused step ran it (esf_step_fast_eligible) */
+  int fused;            /* the fused step ran it (esf_fused_eligible) */
 } snapshot;
 
 /* 1500 steps with the floor oscillating or still, `burst` steps at most per call of
@@ -82,7 +82,7 @@ static int run(int threads, int fused, const char *tframe, int moving, long burs
   int rc = simtest_open(&T, scene, sets, 2);
   if (rc) return rc;
   T.s.cfg.threads = threads;
-  const int on = fused && esf_step_fast_eligible(&T.s);
+  const int on = fused && esf_fused_eligible(&T.s);
   long calls = 0;
   for (; T.s.step < 1500 && !rc; calls++) {
     T.s.burst = 1500 - T.s.step < burst ? 1500 - T.s.step : burst;
@@ -225,7 +225,7 @@ static long leave_step(int threads, int fused, long burst) {
   simtest T;
   if (simtest_open(&T, leave, sets, 1)) return -2;
   T.s.cfg.threads = threads;
-  CHECK(!fused || esf_step_fast_eligible(&T.s), "leave: the fused step must run it");
+  CHECK(!fused || esf_fused_eligible(&T.s), "leave: the fused step must run it");
   long at = -1;
   int rc = 0;
   while (T.s.step < 1000 && at < 0 && !rc) {

@@ -87,7 +87,7 @@ typedef struct esf_materials {
   esf_mixing mixing;
   double rayleigh_beta; /* > 0: contact dashpots c = beta k (001 3.47) replace the
                            restitution-derived ones */
-  /* summaries of the pair table, for the fused step's choices (step_fast.c) */
+  /* summaries of the pair table, for the fused step's choices (fused/fused.c) */
   int all_linear;       /* every pair uses the linear law (esf_materials_mix) */
   int any_cohesion;     /* some pair has cohesion != 0 (esf_materials_mix) */
   int particles_linear; /* every pair of two materials that particles use is linear

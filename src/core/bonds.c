@@ -7,7 +7,7 @@
  * an upper bound of the gap at which any bond ruptures (m). With bonds, s->law (the
  * scene's law family, for the log) becomes the adhesive law; pairs still use their
  * own pp->law. It also records mats.particles_linear (every pair of the particles'
- * materials linear: the fused linear step of step_fast.c requires it).
+ * materials linear: the fused linear step of fused/fused.c requires it).
  * esf_bonds_form, on entry: the candidate list just built at the initial positions,
  * no force evaluated yet. For each candidate of an adhesive pair that meets the rule
  * of bonds.h it sets touch = 1, xi = 0, n = the current normal, and the bond state
@@ -42,7 +42,7 @@ int esf_bonds_setup(esf_sim *s, int skin_auto, esf_error *err) {
     }
   free(used);
   B->pending = B->on;
-  /* the scene's law family: the fused linear step (step_fast.c) is then not taken */
+  /* the scene's law family: the fused linear step (fused/fused.c) is then not taken */
   if (B->on) s->law = &esf_contact_adhesive;
   if (!B->on || s->cfg.skin > B->reach) return ESF_OK;
   if (skin_auto) {

@@ -47,7 +47,8 @@ void esf_ledger_header(FILE *f);
 void esf_ledger_row(FILE *f, double t, const esf_ledger *l, double alpha);
 
 /* Instantaneous energy rates and stored energies at an evaluation's state, for
- * integrators that integrate the ledger as quadratures (set s->tally to collect; model/forces.c fills it). */
+ * integrators that integrate the ledger as quadratures (set s->tally to collect;
+ * model/forces.c fills it). */
 typedef struct esf_force_tally {
   double p_normal;     /* power dissipated by normal dashpots, W */
   double p_tangential; /* power dissipated by tangential dashpots, W */

@@ -1,6 +1,6 @@
 /* reorder.c — particles renumbered along a grid of cells at list rebuilds (reorder.h).
  *
- * Why: the fused step (step_fast.c) visits the pairs in ascending particle order and
+ * Why: the fused step (fused/fused.c) visits the pairs in ascending particle order and
  * adds each pair's force into its higher-numbered particle b. The particles between a
  * and b form a window whose data (positions, velocities, spins, accumulators, about
  * 150 bytes each) must stay in the core's L2 cache while the pass sweeps through it,

@@ -70,7 +70,7 @@ typedef struct esf_config {
   int out_contacts;    /* output.contacts: the contact network in every frame */
   double ckpt_every;   /* output.checkpoint_every: s between checkpoints; 0: none */
   char out_dir[1024];
-  int threads; /* worker threads (step_fast.h; results independent of it), >= 1 */
+  int threads; /* worker threads (fused/fused.h; results independent of it), >= 1 */
   int fused;   /* leapfrog: take the fused step when the scene allows (default 1) */
 } esf_config;
 
@@ -114,9 +114,9 @@ typedef struct esf_sim {
   struct esf_drag *drag;         /* fluid force (drag.c), or NULL: no cost */
   int reorder_ok; /* the scheme keeps no per-particle state of its own between steps, so
                      particles may be renumbered at rebuilds (set by its create) */
-  /* F_n and M_n of the last fused step (step_fast.c), ESF_FT_STRIDE doubles per particle
-   * (force 3, N; one spare; torque 3, N m; one spare), not yet copied to p.f and p.t;
-   * NULL when p.f and p.t are current. esf_sim_forces_sync copies them. */
+  /* F_n and M_n of the last fused step (fused/fused.c), ESF_FT_STRIDE doubles per
+   * particle (force 3, N; one spare; torque 3, N m; one spare), not yet copied to p.f and
+   * p.t; NULL when p.f and p.t are current. esf_sim_forces_sync copies them. */
   const double *ft_lazy;
 } esf_sim;
 

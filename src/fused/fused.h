@@ -1,34 +1,21 @@
-/* step_fast.h — the leapfrog step specialised and threaded for the common case.
- *
- * When a run needs nothing beyond the linear law with tangential history, walls, global
- * and local damping and gravity (no energy ledger, no adaptive damping, no per-
- * evaluation tallies), the leapfrog's force evaluation, kick and drift run here as one
- * threaded pass whose results do not depend on the thread count, bit for bit. The
- * particles are cut into one contiguous range per thread; each thread, for its range:
- *   1. computes the boundary pairs whose a is in it (b in a higher range) into
- *      per-pair slots (force on A, torques on A and B), commits their history and
- *      raises its flag;
- *   2. screens its interior pairs, waits for the lower ranges' flags, subtracts the
- *      incoming boundary slots, computes its interior pairs in batches of eight
- *      (pair_batch.h) and adds the outgoing slots between them, so every particle
- *      receives its pair forces in ascending pair order (the order the serial scatter
- *      of forces.c adds them in); then adds its wall contacts, and kicks and drifts
- *      its particles.
- * Every sum therefore has one fixed order. Anything else takes forces.c's general path
- * (esf_step_fast_eligible says which). */
-#ifndef ESF_STEP_FAST_H
-#define ESF_STEP_FAST_H
+/* fused.h — the leapfrog's fused step: force evaluation, kick and drift in one
+ * threaded pass whose results do not depend on the thread count, bit for bit, for the
+ * runs that need nothing beyond the linear law with tangential history, walls, global
+ * and local damping and gravity (esf_fused_eligible says which). How it works: fused.c;
+ * every other run takes model/forces.c's general path. */
+#ifndef ESF_FUSED_H
+#define ESF_FUSED_H
 
 #include "core/sim.h"
 
-typedef struct esf_step_fast esf_step_fast;
+typedef struct esf_fused esf_fused;
 
-int esf_step_fast_create(esf_step_fast **out, esf_error *err);
-void esf_step_fast_free(esf_step_fast **f);
+int esf_fused_create(esf_fused **out, esf_error *err);
+void esf_fused_free(esf_fused **f);
 
 /* 1 when the sim's current settings can use the fused step (checked every step: the
  * ledger or adaptive damping may be switched by the driver). */
-int esf_step_fast_eligible(const esf_sim *s);
+int esf_fused_eligible(const esf_sim *s);
 
 /* Up to nmax leapfrog steps from x_n, v_{n-1/2}, w_{n-1/2} (candidate lists valid),
  * each: forces at x_n committing the history, kick with global and local damping,
@@ -42,7 +29,6 @@ int esf_step_fast_eligible(const esf_sim *s);
  * to p.f and p.t; not copied every step, as only frames and checkpoints read them), and
  * nb.max_disp2 the largest squared displacement since the last build. A failure
  * (overlap past the limit) is reported for the step it happened in, s->step naming it. */
-int esf_step_fast_run(esf_sim *s, esf_step_fast *f, long nmax, long *taken,
-                      esf_error *err);
+int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *err);
 
 #endif

@@ -256,7 +256,7 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   const vd hx[3] = {h0[0], h0[1], h0[2]}, hn[3] = {h0[3], h1[2], h1[3]};
   for (int q = 0; q < 3; q++) d[q] = xb[q] - xa[q];
   const vd ra = gat(c->radius, ia), rb = gat(c->radius, ib);
-  /* the screening's test, the same operations in the same order (step_fast.c) */
+  /* the screening's test, the same operations in the same order (fused/fused.c) */
   const vd d2 = dot(d, d), rr = ra + rb;
   const vm in = d2 < rr * rr;
   const vd dist = vsqrt(d2);

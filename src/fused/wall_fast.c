@@ -1,5 +1,5 @@
 /* wall_fast.c — the particle-wall contacts of one particle for static walls and the
- * linear law (wall_fast.h), the fused leapfrog step's wall pass (step_fast.c).
+ * linear law (wall_fast.h), the fused leapfrog step's wall pass (fused/fused.c).
  *
  * Physics: exactly forces.c's wall contacts (PHYSICS.md §2–3; 004 §2.3.2, eqs.
  * 2.4–2.5 for the nearest point; 000 3-15..3-26 and 004 2.16–2.29 for the law), with

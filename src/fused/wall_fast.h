@@ -1,5 +1,5 @@
 /* wall_fast.h — the particle-wall contacts of one particle for the fused leapfrog step
- * (step_fast.c): a pass specialised to static walls and the linear law (wall_fast.c),
+ * (fused/fused.c): a pass specialised to static walls and the linear law (wall_fast.c),
  * and the general one (forces.c) behind the same signature, chosen once per step. */
 #ifndef ESF_WALL_FAST_H
 #define ESF_WALL_FAST_H

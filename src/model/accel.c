@@ -6,7 +6,7 @@
 #include "util/vec3.h"
 
 void esf_sim_accel(const esf_sim *s, const double *v, const double *w, double *acc,
-                     double *dw, double p_damp[2], int with_global) {
+                   double *dw, double p_damp[2], int with_global) {
   const esf_particles *p = &s->p;
   const esf_local_damping *loc = s->local;
   const double lc = s->cfg.local_coef;
@@ -37,8 +37,8 @@ void esf_sim_accel(const esf_sim *s, const double *v, const double *w, double *a
   }
 }
 
-void esf_sim_energies(const esf_sim *s, const double *x, const double *v,
-                        const double *w, double *kin_t, double *kin_r, double *pot) {
+void esf_sim_energies(const esf_sim *s, const double *x, const double *v, const double *w,
+                      double *kin_t, double *kin_r, double *pot) {
   const esf_particles *p = &s->p;
   double kt = 0, kr = 0, pe = 0;
   for (size_t i = 0; i < p->n; i++) {

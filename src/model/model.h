@@ -23,11 +23,11 @@ int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err);
  * values to acc and dw. When p_damp is not NULL it receives the powers dissipated by
  * global and local damping (W) at this state. */
 void esf_sim_accel(const esf_sim *s, const double *v, const double *w, double *acc,
-                     double *dw, double p_damp[2], int with_global);
+                   double *dw, double p_damp[2], int with_global);
 
 /* Stored energies of the state (x, v, w): kinetic (translational, rotational) and
  * gravitational potential. */
-void esf_sim_energies(const esf_sim *s, const double *x, const double *v,
-                        const double *w, double *kin_t, double *kin_r, double *pot);
+void esf_sim_energies(const esf_sim *s, const double *x, const double *v, const double *w,
+                      double *kin_t, double *kin_r, double *pot);
 
 #endif

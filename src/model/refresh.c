@@ -36,4 +36,3 @@ int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
   if (!rc && rebuilt) *rebuilt = 1;
   return rc;
 }
-

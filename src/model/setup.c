@@ -137,4 +137,3 @@ void esf_sim_release(esf_sim *s) {
   esf_events_free(&s->events);
   esf_drag_free(&s->drag);
 }
-

@@ -12,7 +12,6 @@ int esf_scene_fail_at(const esf_ynode *n, esf_error *err) {
   return esf_ynode_fail(n, err, "%s", msg);
 }
 
-
 int esf_scene_unit_vector(const esf_ynode *m, const char *key, int required, double u[3],
                           esf_error *err) {
   int rc = esf_yget_doubles(m, key, required, u, 3, err);
@@ -23,7 +22,6 @@ int esf_scene_unit_vector(const esf_ynode *m, const char *key, int required, dou
   for (int q = 0; q < 3; q++) u[q] /= len;
   return ESF_OK;
 }
-
 
 int esf_scene_material(const esf_ynode *node, const esf_materials *m, int32_t *index,
                        esf_error *err) {
@@ -39,4 +37,3 @@ int esf_scene_material(const esf_ynode *node, const esf_materials *m, int32_t *i
   }
   return esf_ynode_fail(node, err, "unknown material '%s' (defined: %s)", name, list);
 }
-

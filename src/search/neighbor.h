@@ -69,7 +69,7 @@ typedef struct esf_neighbor {
   size_t nref;
   long builds; /* rebuild count */
   /* Set by a step that drifted the particles and measured their displacement on the
-   * way (step_fast.c); the next esf_neighbor_check uses it instead of its own pass.
+   * way (fused/fused.c); the next esf_neighbor_check uses it instead of its own pass.
    * Cleared after every check (esf_sim_refresh). */
   int disp_valid;
   double max_disp2; /* largest squared displacement since the build, m^2 */

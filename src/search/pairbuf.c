@@ -47,4 +47,3 @@ void esf_pairbuf_release(esf_pairbuf *b) {
   free(b->j);
   memset(b, 0, sizeof *b);
 }
-

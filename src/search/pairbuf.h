@@ -24,7 +24,8 @@ void esf_pairbuf_release(esf_pairbuf *b);
 int esf_pairbuf_grow(esf_pairbuf *b, esf_error *err);
 
 /* Stores the pair as (min, max); the fast path is a bounds check and two stores. */
-static inline int esf_pairbuf_push_ordered(esf_pairbuf *b, uint32_t i, uint32_t j, esf_error *err) {
+static inline int esf_pairbuf_push_ordered(esf_pairbuf *b, uint32_t i, uint32_t j,
+                                           esf_error *err) {
   if (b->n == b->cap) {
     int rc = esf_pairbuf_grow(b, err);
     if (rc) return rc;
@@ -39,7 +40,7 @@ static inline int esf_pairbuf_push_ordered(esf_pairbuf *b, uint32_t i, uint32_t 
  * often true as not in a packed bed, which no branch predictor guesses): the slot is
  * always written, the count advances by near. */
 static inline int esf_pairbuf_push_if(esf_pairbuf *b, uint32_t i, uint32_t j, int near,
-                                   esf_error *err) {
+                                      esf_error *err) {
   if (b->n == b->cap) {
     int rc = esf_pairbuf_grow(b, err);
     if (rc) return rc;

@@ -1,0 +1,169 @@
+/* fused_impl.h — the fused step's own state and the functions its files share (not
+ * part of the library's interface: fused.h is). The order of one step and the
+ * invariant that makes it thread-independent are in fused.c's prologue. */
+#ifndef ESF_FUSED_IMPL_H
+#define ESF_FUSED_IMPL_H
+
+#include <stdatomic.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/sim.h"
+#include "fused/fused.h"
+#include "fused/pair_batch.h"
+#include "fused/wall_fast.h"
+#include "util/lines.h"
+#include "util/vec3.h"
+
+/* The features a scene may switch on, compiled in or (ESF_MINIMAL: meson -Dfeatures=
+ * minimal) out of the fused step; a build without them sends the scenes that use them
+ * to the general path. */
+#ifdef ESF_MINIMAL
+#define ESF_FUSED_FEATURES 0
+#else
+#define ESF_FUSED_FEATURES 1
+#endif
+
+#define ESF_FUSED_ACC ESF_FT_STRIDE /* accumulators: four-wide force, four-wide torque   \
+                                     */
+/* A boundary pair's results, twice: what b's range reads (force on A, torque on B), one
+ * line per pair in `slot`, and what a's range reads (force and torque on A) in
+ * `slot_a`, which stays in a's core. Four doubles each, the last zero. */
+#define ESF_FUSED_SLOT   8 /* per pair in slot: force on A, torque on B */
+#define ESF_FUSED_SLOT_A 8 /* per pair in slot_a: force on A, torque on A */
+
+/* One range's results of a step. */
+typedef struct esf_fused_out {
+  size_t nt;                 /* touching contacts: pairs whose a is in it, wall ones */
+  size_t bad_pair, bad_part; /* lowest failing pair, particle, or SIZE_MAX */
+  double max2;               /* largest squared displacement since the build, m^2 */
+  int nonfinite, escaped;
+} esf_fused_out;
+
+#define ESF_FUSED_OUT_NONE ((esf_fused_out){.bad_pair = SIZE_MAX, .bad_part = SIZE_MAX})
+
+/* One range's flags and the results of its latest step, a cache line of its own:
+ * written by its thread, read by the others once the flag they wait for is up
+ * (fused_sync.c). */
+typedef struct esf_fused_range {
+  _Alignas(ESF_LINE) _Atomic long ready; /* boundary pairs done for this step (epoch) */
+  _Atomic long done;                     /* the whole step done, out written */
+  esf_fused_out out;
+} esf_fused_range;
+
+struct esf_fused {
+  long built;        /* nb.builds the indices below belong to (-1: none) */
+  size_t np;         /* particles the indices were made for */
+  int nth;           /* ranges (threads) the split was made for */
+  size_t cap_k;      /* pair capacity */
+  size_t cap_n;      /* particle capacity */
+  double *acc;       /* ESF_FUSED_ACC per particle: force (3, N), 0, torque (3, N m), 0 */
+  uint32_t *list[2]; /* per pair, two buffers (esf_fused_lists): in each block, the
+                        touching interior pairs, the batches' sequence, the new contacts
+                        and the ended ones */
+  uint32_t *idle;    /* per pair: each block's interior pairs not touching */
+  double *sm;        /* per pair: sqrt(m*), kg^1/2 (dashpots c = factor sqrt(m*)) */
+  size_t *astart;    /* n+1: pairs k in [astart[i], astart[i+1]) have a == i */
+  size_t *wstart;    /* n+1: wall candidates of particle i */
+  size_t nb, cap_b;  /* boundary pairs */
+  uint32_t *bk;      /* their pair indices, ascending */
+  double *slot;      /* ESF_FUSED_SLOT per boundary pair, zero when not touching;
+                        line-aligned */
+  double *slot_a;    /* ESF_FUSED_SLOT_A per boundary pair, zero when not touching */
+  size_t *bout;      /* nth+1: bk[bout[t] .. bout[t+1]) have a in range t */
+  uint32_t *bin;     /* boundary ordinals by the range of b, ascending within */
+  size_t *binstart;  /* nth+1 */
+  size_t *rlo;       /* nth+1: the particle ranges (fused_ranges.c) */
+  int32_t m0;        /* the material every particle has, or -1 (pair_batch.h's one) */
+  /* balance (esf_fused_balance): the pair and kick pass's seconds per range since the
+   * cut, the estimated work of each range, and, when a re-cut is due, seconds per unit
+   * of work */
+  double *busy, *work, *rate;
+  long busy_steps;
+  esf_fused_range *rr; /* nth, line-aligned */
+  long epoch;          /* steps run by esf_fused_run */
+  double t_left;       /* when the last call's threads finished (omp_get_wtime), or 0 */
+  double t_step;       /* how long its parallel part took per step, s */
+  int recut;
+  /* a burst's outcome, written by range 0 (esf_fused_decide) */
+  long taken;    /* steps completed */
+  int decided;   /* the last one's results were gathered (the burst stopped early) */
+  size_t nt_sum; /* touching contacts summed over the gathered steps */
+  /* range 0's word to the others, a line apart from the fields above: go = 2 e to take
+   * step e, 2 e + 1 to stop before it; bfail = e: a boundary pair failed in step e */
+  _Alignas(ESF_LINE) _Atomic long go;
+  _Atomic long bfail;
+};
+
+/* What the particle pass needs: walls, 2D, local damping, kick, drift (fused_kick.c). */
+typedef struct esf_fused_kick {
+  double dt, cr0, cr1, ct0, ct1, lc; /* s; (1 -+ alpha h) factors; local coefficient */
+  int dim2;
+  int plain;                  /* 1: no damping of either form, 3D (a vectorised loop) */
+  esf_wall_pass_fn wall_pass; /* wall_fast.h, chosen once per call */
+  const esf_local_damping *loc;
+  const double *xref;            /* positions at the lists' build, or NULL */
+  const double *dom_lo, *dom_hi; /* the domain, or NULL */
+} esf_fused_kick;
+
+/* What every range's steps share in one call (fused.c). */
+typedef struct esf_fused_burst {
+  const esf_pair_batch_ctx *bc;
+  const esf_fused_kick *K;
+  long e0;     /* the epoch of the call's first step */
+  long steps;  /* steps at most */
+  double lim2; /* the lists need a rebuild past this squared displacement, m^2 */
+} esf_fused_burst;
+
+/* A range's interior pairs as two lists, contacts and idle candidates (fused_lists.c
+ * describes the layout). */
+typedef struct esf_fused_lists {
+  uint32_t *tl, *sq, *il;
+  size_t blk, nt, ni;
+} esf_fused_lists;
+
+/* Whether the spheres of pair (a, b) overlap: |x_b - x_a|^2 < (r_a + r_b)^2, the step's
+ * one test (pair_batch.c's lanes compute it for the contacts in the same order). */
+static inline int esf_fused_overlap(const double *x, const double *r, size_t a,
+                                    size_t b) {
+  double d[3];
+  v3_sub(d, x + 3 * b, x + 3 * a);
+  const double R = r[a] + r[b];
+  return v3_norm2(d) < R * R;
+}
+
+/* fused_ranges.c: step 0, the indices for the current lists and nth ranges, and the
+ * balance of the ranges. */
+int esf_fused_index(esf_sim *s, esf_fused *f, int nth, esf_error *err);
+void esf_fused_balance(esf_fused *f, size_t T);
+
+/* fused_lists.c: a range's contacts and idle candidates from step to step. */
+void esf_fused_lists_from_flags(const esf_sim *s, size_t k0, size_t k1, size_t end,
+                                esf_fused_lists *L);
+size_t esf_fused_screen(const esf_sim *s, const uint32_t *il, size_t j0, size_t j1,
+                        uint32_t *top, size_t nn);
+size_t esf_fused_merge_new(uint32_t *sq, const uint32_t *tl, size_t nt,
+                           const uint32_t *top, size_t nn);
+size_t esf_fused_idle_update(uint32_t *il, size_t ni, const uint32_t *top, size_t nn,
+                             const uint32_t *ended, size_t ne);
+
+/* fused_slots.c: step 1, the boundary pairs into their slots. */
+size_t esf_fused_boundary(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc,
+                          size_t j0, size_t j1, size_t *nt);
+
+/* fused_pairs.c: step 2's pair pass of one range. */
+size_t esf_fused_pairs(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc, size_t t,
+                       size_t lo, size_t hi, uint32_t *list, size_t cnt, uint32_t *ended,
+                       size_t *ne, size_t *kept);
+
+/* fused_kick.c: step 2's particle pass of one range: walls, kick, drift. */
+void esf_fused_kick_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *K,
+                          size_t lo, size_t hi, esf_fused_out *o, size_t *nt_pw);
+
+/* fused_sync.c: the flags between the ranges. */
+double esf_fused_wait(_Atomic long *flag, long e);
+int esf_fused_all_done(esf_fused *f, long e);
+int esf_fused_gather(const esf_fused *f, esf_fused_out *r);
+int esf_fused_decide(esf_fused *f, const esf_fused_burst *B, long e, double *waited);
+
+#endif

@@ -1,0 +1,137 @@
+/* fused_pairs.c — step 2's pair pass of the fused step (fused.c) for one range: its
+ * accumulators set to f = m g, t = 0, the incoming boundary slots (b in the range), its
+ * interior pairs in batches of eight (pair_batch.h) and its outgoing boundary slots'
+ * A sides, all in ascending pair index k, so that each particle receives its pair
+ * forces in the order of the serial scatter of model/forces.c whatever the ranges.
+ * Physics: the linear law of contact/contact_linear.c as pair_batch.c computes it.
+ * Entry: the range's lists merged (fused_lists.c) and the lower ranges' boundary slots
+ * of this step written (their ready flags seen, fused_sync.c). Units: SI. */
+#include "fused/fused_impl.h"
+
+#include "util/vec4.h"
+
+#define PF 32 /* history prefetch distance, pairs */
+
+/* Adds the A side of outgoing boundary pair j (its pair's a is in range). */
+static inline void outgoing(const esf_fused *f, const esf_contacts *c, size_t j) {
+  double *fa = f->acc + ESF_FUSED_ACC * c->a[f->bk[j]];
+  const double *sl = f->slot_a + ESF_FUSED_SLOT_A * j;
+  v4_acc(fa, sl);
+  v4_acc(fa + 4, sl + 4);
+}
+
+/* Sets the accumulators of particles [from, to) to f = m g, t = 0; returns the new
+ * frontier (max(from, to)). */
+static inline size_t acc_set(const esf_particles *p, const double *g, double *acc,
+                             size_t from, size_t to) {
+  const esf_v4 gv = {g[0], g[1], g[2], 0.0}, zero = {0.0, 0.0, 0.0, 0.0};
+  for (size_t i = from; i < to; i++) { /* four-wide stores: the adds' four-wide loads */
+    v4_st(acc + ESF_FUSED_ACC * i,
+          p->mass[i] * gv); /* are then forwarded from the store buffer */
+    v4_st(acc + ESF_FUSED_ACC * i + 4, zero);
+  }
+  return from > to ? from : to;
+}
+
+/* After a batch of list[q0 .. q0 + nl): its pairs whose bit is set in apart go to
+ * ended[*ng ..], the others to list[w ..] (w <= q0: in place). Returns the new w. */
+static inline size_t compact(uint32_t *list, size_t q0, int nl, unsigned apart, size_t w,
+                             uint32_t *ended, size_t *ng) {
+  if (!apart && w == q0) return w + (size_t)nl; /* nothing ended yet: in place already */
+  for (int l = 0; l < nl; l++) {
+    const uint32_t k = list[q0 + l];
+    if (apart >> l & 1u)
+      ended[(*ng)++] = k;
+    else
+      list[w++] = k;
+  }
+  return w;
+}
+
+/* The pair pass of range t, its interior contacts and new contacts in
+ * list[0 .. cnt) (ascending): forces of all pairs touching its particles, in ascending
+ * k per particle. The contacts that ended (the batch finds them) leave list, which is
+ * compacted in place to *kept pairs, and go to ended[0 .. *ne). Needs the lower
+ * ranges' boundary pairs of this step done (the incoming slots). Returns the lowest
+ * failing pair index or SIZE_MAX. Kept out of line: inlined into run_range
+ * (GCC 12 does when run_range is a little smaller) the one-thread step at 10k ran 2.5%
+ * slower. */
+__attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
+                                                 const esf_pair_batch_ctx *bc, size_t t,
+                                                 size_t lo, size_t hi, uint32_t *list,
+                                                 size_t cnt, uint32_t *ended, size_t *ne,
+                                                 size_t *kept) {
+  esf_particles *p = &s->p;
+  const esf_contacts *c = &s->nb.pp;
+  const double *g = s->cfg.gravity;
+  double *acc = f->acc;
+  size_t bad = SIZE_MAX;
+  /* The accumulators are set (f = m g, t = 0) just ahead of their first use, not in a
+   * pass of their own: a pair's b lies a few thousand particles ahead of its a, and a
+   * separate pass would leave its line to be fetched again from memory at the add. */
+  size_t fr = lo; /* acc[lo .. fr) are set */
+  size_t bmax = lo;
+  for (size_t q = f->binstart[t]; q < f->binstart[t + 1]; q++) {
+    const size_t b = c->b[f->bk[f->bin[q]]];
+    if (b >= bmax) bmax = b + 1;
+  }
+  fr = acc_set(p, g, acc, fr, bmax);
+  for (size_t q = f->binstart[t]; q < f->binstart[t + 1]; q++) { /* incoming */
+    const size_t j = f->bin[q];
+    double *ab = acc + ESF_FUSED_ACC * c->b[f->bk[j]];
+    const double *sl = f->slot + ESF_FUSED_SLOT * j;
+    v4_dec(ab, sl);
+    v4_acc(ab + 4, sl + 4);
+  }
+  size_t jo = f->bout[t];
+  const size_t jo1 = f->bout[t + 1];
+  double out[ESF_BATCH][ESF_BATCH_OUT];
+  const char *hist = (const char *)c->h;
+  size_t w = 0, ng = 0; /* list[0 .. w) kept, ended[0 .. ng) */
+  for (size_t q0 = 0; q0 < cnt; q0 += ESF_BATCH) {
+    const int nl = cnt - q0 < ESF_BATCH ? (int)(cnt - q0) : ESF_BATCH;
+    /* the histories of the pairs PF ahead (sparse in memory, so the hardware's
+     * stream prefetch does not see them coming; worth x1.38 at 50 000), both ends of
+     * each record: half the 48-byte records straddle two lines (the first end alone
+     * took 1/0.943 as long at 200 000 on one thread, 1/0.970 on two). Prefetching
+     * b's velocity, spin and accumulator too, as until 2026-11-24, cost 5-7% at
+     * 10 000 and gained nothing at 200 000 (paired runs, one and two threads). */
+    for (size_t q = q0 + PF; q < q0 + PF + ESF_BATCH && q < cnt; q++) {
+      const char *hq = hist + (size_t)list[q] * sizeof(esf_contact_hist);
+      __builtin_prefetch(hq, 1, 3);
+      __builtin_prefetch(hq + sizeof(esf_contact_hist) - 1, 1, 3);
+    }
+    for (int l = 0; l < nl; l++) /* b > a: covers the a sides and outgoing slots too */
+      if (c->b[list[q0 + l]] >= bmax) bmax = c->b[list[q0 + l]] + 1;
+    fr = acc_set(p, g, acc, fr, bmax);
+    if (jo == jo1 || f->bk[jo] > list[q0 + nl - 1]) {
+      /* no outgoing slot falls among these pairs: the batch adds its results itself,
+         as the loop below does (esf_pair_batch_acc_add) */
+      unsigned apart;
+      const unsigned fail = esf_pair_batch_linear_add(bc, list + q0, nl, acc, &apart);
+      for (int l = 0; fail && l < nl; l++)
+        if ((fail >> l & 1u) && list[q0 + l] < bad) bad = list[q0 + l];
+      w = compact(list, q0, nl, apart, w, ended, &ng);
+      continue;
+    }
+    unsigned apart;
+    const unsigned fail = esf_pair_batch_linear(bc, list + q0, nl, out, &apart);
+    for (int l = 0; l < nl; l++) {
+      const size_t k = list[q0 + l];
+      for (; jo < jo1 && f->bk[jo] < k; jo++) outgoing(f, c, jo);
+      if (apart >> l & 1u) continue;
+      if (fail >> l & 1u) {
+        if (k < bad) bad = k;
+        continue;
+      }
+      esf_pair_batch_acc_add(acc, c->a[k], c->b[k], v4_ld(out[l]), v4_ld(out[l] + 4),
+                             v4_ld(out[l] + 8));
+    }
+    w = compact(list, q0, nl, apart, w, ended, &ng);
+  }
+  acc_set(p, g, acc, fr, hi);
+  for (; jo < jo1; jo++) outgoing(f, c, jo);
+  *kept = w;
+  *ne = ng;
+  return bad;
+}
