@@ -1303,7 +1303,7 @@ def report_part2(Q, ray_rows, fc, ff, beta_ex, pack_ray):
     L.append("Seed 001 gives Rayleigh damping as formulas only (3.46–3.61: alpha = 2 omega "
              "zeta, beta = 2 zeta / omega, f = omega / 2 pi, inputs `_frac` and `_freq` of "
              "the SAND program) and **no numerical values** of zeta or f; "
-             "`shared/design/PHYSICS.md` has none either. The study therefore uses "
+             "`docs/physics.md#damping` has none either. The study therefore uses "
              f"zeta_R = {Q['rayleigh_zeta']:g} (docs/scene.md's example), sweeps f_R against "
              f"the contact frequency, and evaluates the example f_R = "
              f"{Q['rayleigh_example_f']:g} Hz.\n")

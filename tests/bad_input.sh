@@ -99,8 +99,9 @@ expect "history as state with the leapfrog" 2 "integrator.history: state .* erk:
 expect "roots without an adaptive erk" 2 "integrator.roots: .*adaptive erk: methods only \(rtol > 0\), not rk4" \
   -- run "$tmp/ok.yaml" --out "$tmp/o18" --set integrator.roots=true --set integrator.method=rk4
 
-# bond: the adhesive law's parameters (PHYSICS.md 3.4): epsilon in (0, 1) but not 1/e,
-# F >= 0, and a skin that keeps bonds in tension as candidates
+# bond: the adhesive law's parameters (docs/physics.md#adhesive-normal-law-and-bonds):
+# epsilon in (0, 1) but not 1/e, F >= 0, and a skin that keeps bonds in tension as
+# candidates
 sed 's/friction: 0.3}/friction: 0.3, adhesion: {force: 1, epsilon: 0.36787944117144233}}/' \
   "$tmp/ok.yaml" > "$tmp/b1.yaml"
 expect "adhesion epsilon 1/e" 2 "b1.yaml:3:[0-9]+: materials.glass.adhesion.epsilon: .*1/e" \

@@ -1,5 +1,6 @@
-/* test_bonds.c — the adhesive normal law and the bond rule (PHYSICS.md §3.4; 004
- * 2.22–2.25) against closed forms, and the block impact quick scene.
+/* test_bonds.c — the adhesive normal law and the bond rule
+ * (docs/physics.md#adhesive-normal-law-and-bonds; 004 2.22–2.25) against closed forms,
+ * and the block impact quick scene.
  *
  * 1. The law (F = 0.96 N, kn = 6.4e4 N/m; eps = 0.5, 1e-2, 1e-4, 1e-8): a fine scan of
  *    the elastic force f(u) over the bonded range finds the largest tension, which must

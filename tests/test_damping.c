@@ -1,4 +1,5 @@
-/* test_damping.c — damping of particle motion against closed forms (PHYSICS.md §4).
+/* test_damping.c — damping of particle motion against closed forms
+ * (docs/physics.md#damping).
  * 1. Local non-viscous damping, component form (001 3.50): a sphere in free fall feels
  *    the whole unbalanced force m g damped by alpha_c, so it accelerates at
  *    (1 - alpha_c) g (the sign is the half-step velocity's; see the first kick below).

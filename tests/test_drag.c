@@ -1,4 +1,4 @@
-/* test_drag.c — the one-way fluid force (PHYSICS.md §8, drag.c).
+/* test_drag.c — the one-way fluid force (docs/physics.md#fluid-force, drag.c).
  *
  * 1. Radial field: p - p_e, grad p and the Darcy velocity at r = 0.3 m and 1.7 m of a
  *    well (r_w 0.09 m, r_e 200 m, drop 15 MPa, k 1.8e-10 m^2, mu 0.0135 Pa s) against

@@ -1,7 +1,7 @@
 /* test_timestep.c — the critical-step rules give the seeds' values, dt: auto applies
  * FRAC, and a dt above the chosen rule's critical value is refused unless the scene
- * allows it (PHYSICS.md §5). Scene: two materials, the softer particle material sets
- * m_min; the stiffest pair (particle-wall) sets k_max. */
+ * allows it (docs/physics.md#time-step). Scene: two materials, the softer particle
+ * material sets m_min; the stiffest pair (particle-wall) sets k_max. */
 #include "simtest.h"
 
 static const char *scene =

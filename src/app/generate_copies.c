@@ -1,4 +1,5 @@
-/* generate_copies.c — model generation by successive copies (004 §3.3; PHYSICS.md §7).
+/* generate_copies.c — model generation by successive copies (004 §3.3;
+ * docs/physics.md#model-generation-by-successive-copies).
  *
  * Algorithm (the Sandia technique the seed adopts):
  *  1. The scene's particles are the primary set (typically a `generate: random` fill of

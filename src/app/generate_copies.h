@@ -1,9 +1,9 @@
 /* generate_copies.h — `esfera generate`: model generation by successive copies
- * (004 §3.3, PHYSICS.md §7). A scene's particles (the primary set) settle under gravity
- * in a box open at the top; the settled set is copied nx × ny × nz times to fill a box
- * nx, ny times as wide and long; the copies settle again (and, optionally, the side
- * walls move inward to compact them); the result is written as a packing CSV that
- * `particles: [{file: ...}]` loads. */
+ * (004 §3.3, docs/physics.md#model-generation-by-successive-copies). A scene's
+ * particles (the primary set) settle under gravity in a box open at the top; the
+ * settled set is copied nx × ny × nz times to fill a box nx, ny times as wide and long;
+ * the copies settle again (and, optionally, the side walls move inward to compact
+ * them); the result is written as a packing CSV that `particles: [{file: ...}]` loads. */
 #ifndef ESF_GENERATE_COPIES_H
 #define ESF_GENERATE_COPIES_H
 

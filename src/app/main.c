@@ -1,4 +1,4 @@
-/* main.c — the esfera command line (INTERFACE.md):
+/* main.c — the esfera command line (docs/usage.md#commands, #exit-status):
  *   esfera run SCENE.yaml [--out DIR] [--set KEY=VALUE]... [--threads N] [--quiet]
  *              [--checkpoint-every T]
  *   esfera run --resume DIR [--checkpoint-every T] [--quiet]

@@ -1,5 +1,6 @@
-/* wall_motion.c — prescribed rigid motions of wall groups (PHYSICS.md §1: walls are
- * never integrated; their motion is a function of time).
+/* wall_motion.c — prescribed rigid motions of wall groups
+ * (docs/physics.md#walls-and-prescribed-motion: walls are never integrated; their
+ * motion is a function of time).
  *
  * translate: d(t) = vel t;  velocity vel.
  * rotate:    angle(t) = rate t about the axis through pivot; a point x0 of the

@@ -1,5 +1,5 @@
 /* contact_adhesive.c — the nonlinear adhesive normal law with the bond rule Phi
- * (PHYSICS.md §3.4; 004 eqs. 2.22–2.25).
+ * (docs/physics.md#adhesive-normal-law-and-bonds; 004 eqs. 2.22–2.25).
  *
  * Law. With u the overlap (> 0 interpenetrating, < 0 a gap) and forces compressive
  * positive (the seed's 2.22 with its sign flipped), the elastic normal force of a bond is

@@ -6,9 +6,10 @@
  * the same law: the leapfrog commits the updated history every step; a Runge-Kutta
  * stage evaluates it without committing (history frozen), and so on.
  *
- * Conventions (PHYSICS.md §2): n is the unit normal from A's centre toward B (or toward
- * the wall point); un > 0 is the overlap; vc is the velocity of B's contact point minus
- * A's; forces returned are those acting ON A (B receives the opposite). */
+ * Conventions (docs/physics.md#contact-kinematics): n is the unit normal from A's
+ * centre toward B (or toward the wall point); un > 0 is the overlap; vc is the velocity
+ * of B's contact point minus A's; forces returned are those acting ON A (B receives the
+ * opposite). */
 #ifndef ESF_CONTACT_LAW_H
 #define ESF_CONTACT_LAW_H
 
@@ -92,7 +93,8 @@ typedef struct esf_contact_law {
 } esf_contact_law;
 
 extern const esf_contact_law esf_contact_linear;
-extern const esf_contact_law esf_contact_adhesive; /* PHYSICS.md §3.4, 004 2.22-2.25 */
+/* docs/physics.md#adhesive-normal-law-and-bonds, 004 2.22-2.25 */
+extern const esf_contact_law esf_contact_adhesive;
 
 /* The tangential part shared by the laws and the force assembly: contact_tangential.h
  * (esf_contact_tangential, esf_contact_finish). */

@@ -1,5 +1,5 @@
 /* contact_linear.c — the linear spring-dashpot law with incremental tangential force
- * (Cundall & Strack; PHYSICS.md §3.1–3.2).
+ * (Cundall & Strack; docs/physics.md#linear-springdashpot-law).
  *
  * Normal (004 2.19): fn = kn un + cn dun/dt with dun/dt = -vc.n; no tension: when the
  * sum is negative the force is zero (the dashpot's applied share is then -kn un).

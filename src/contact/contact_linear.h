@@ -1,7 +1,8 @@
-/* contact_linear.h — the linear law's evaluation (contact_linear.c, PHYSICS.md §3.1–3.2)
- * as a static inline function, so that a specialised caller (the fast wall pass,
- * wall_fast.c) compiles the same arithmetic without the strategy table's call and
- * structs. contact_linear.c's table entry is this function. */
+/* contact_linear.h — the linear law's evaluation (contact_linear.c,
+ * docs/physics.md#linear-springdashpot-law) as a static inline function, so that a
+ * specialised caller (the fast wall pass, wall_fast.c) compiles the same arithmetic
+ * without the strategy table's call and structs. contact_linear.c's table entry is
+ * this function. */
 #ifndef ESF_CONTACT_LINEAR_H
 #define ESF_CONTACT_LINEAR_H
 

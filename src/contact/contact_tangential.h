@@ -1,6 +1,7 @@
-/* contact_tangential.h — the tangential force every contact law shares (PHYSICS.md
- * §3.1), and the assembly of the total contact force; static inline so that each law
- * compiles them into its own evaluation (no call in the per-contact path).
+/* contact_tangential.h — the tangential force every contact law shares
+ * (docs/physics.md#tangential-force-and-the-mohr-coulomb-cap), and the assembly of the
+ * total contact force; static inline so that each law compiles them into its own
+ * evaluation (no call in the per-contact path).
  *
  * Per evaluation (000 3-17..3-26, 004 2.16, 2.26):
  *   1. bring xi into the current contact plane: xi1 = xi + (n_old x n) x xi, then

@@ -1,4 +1,5 @@
-/* material.c — material table and pair mixing (PHYSICS.md §3.2–3.3).
+/* material.c — material table and pair mixing
+ * (docs/physics.md#material-parameters-and-mixing).
  *
  * Damping from restitution (Tsuji et al., 004 eqs. 2.27–2.29): c = 2 gamma sqrt(m* k)
  * with gamma = -ln eta / sqrt(pi^2 + ln^2 eta) and m* the reduced mass (the particle's

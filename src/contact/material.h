@@ -1,10 +1,11 @@
 /* material.h — materials and the contact parameters of every pair of materials.
  *
- * A material carries the per-surface properties of PHYSICS.md §3 (stiffnesses,
- * restitution, friction, cohesion). The parameters of a contact between materials a and
- * b (a particle-particle or a particle-wall contact) are mixed from the two materials'
- * by one rule per property (esf_mixing), so that a pair of equal materials gets exactly
- * the material's own values under every rule. The mixed table is n x n, symmetric. */
+ * A material carries the per-surface properties of
+ * docs/physics.md#material-parameters-and-mixing (stiffnesses, restitution, friction,
+ * cohesion). The parameters of a contact between materials a and b (a particle-particle
+ * or a particle-wall contact) are mixed from the two materials' by one rule per
+ * property (esf_mixing), so that a pair of equal materials gets exactly the material's
+ * own values under every rule. The mixed table is n x n, symmetric. */
 #ifndef ESF_MATERIAL_H
 #define ESF_MATERIAL_H
 
@@ -52,8 +53,9 @@ void esf_mixing_default(esf_mixing *m);
 
 double esf_mix(int rule, double a, double b);
 
-/* The adhesive law's parameters for one pair (PHYSICS.md §3.4, contact_adhesive.c):
- * overlaps u in m, positive when interpenetrating. */
+/* The adhesive law's parameters for one pair
+ * (docs/physics.md#adhesive-normal-law-and-bonds, contact_adhesive.c): overlaps u in m,
+ * positive when interpenetrating. */
 typedef struct esf_adhesion {
   double F, eps;    /* the inputs: largest tensile force (N) and epsilon */
   double delta;     /* m, 004 (2.23) */

@@ -1,5 +1,5 @@
-/* bonds.c — forming bonds at the start and the bond bookkeeping (bonds.h; PHYSICS.md
- * §3.4, 004 2.25).
+/* bonds.c — forming bonds at the start and the bond bookkeeping (bonds.h;
+ * docs/physics.md#adhesive-normal-law-and-bonds, 004 2.25).
  *
  * esf_bonds_setup, on entry: pair table mixed, cfg.skin set. It scans the particle
  * material pairs for the adhesive law and takes the bond reach

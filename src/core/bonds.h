@@ -1,4 +1,5 @@
-/* bonds.h — the bond rule Phi of the adhesive law (PHYSICS.md §3.4; 004 2.25).
+/* bonds.h — the bond rule Phi of the adhesive law
+ * (docs/physics.md#adhesive-normal-law-and-bonds; 004 2.25).
  *
  * Bonds are the contacts that exist at the start of the analysis between particles of
  * an adhesive material pair (both materials have `adhesion`). "Exist" is defined with

@@ -1,6 +1,7 @@
-/* damping.h — damping of particle motion (PHYSICS.md §4): the local non-viscous forms
- * (a strategy table) and the adaptive global damping of 001 (3.62–3.63). Global viscous
- * damping lives in the integrators ((1 -+ alpha dt/2) form in the leapfrog). */
+/* damping.h — damping of particle motion (docs/physics.md#damping): the local
+ * non-viscous forms (a strategy table) and the adaptive global damping of 001
+ * (3.62–3.63). Global viscous damping lives in the integrators ((1 -+ alpha dt/2) form
+ * in the leapfrog). */
 #ifndef ESF_DAMPING_H
 #define ESF_DAMPING_H
 

@@ -1,4 +1,5 @@
-/* ledger.h — the energy ledger (INTERFACE.md energy.csv).
+/* ledger.h — the energy ledger (docs/output.md#energycsv;
+ * docs/physics.md#energy-ledger).
  *
  * Stored energies are measured from the state; dissipation and wall work are tallied
  * every step along each path. The balance residual

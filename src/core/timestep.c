@@ -1,4 +1,4 @@
-/* timestep.c — the critical time step rules of the seeds (PHYSICS.md §5).
+/* timestep.c — the critical time step rules of the seeds (docs/physics.md#time-step).
  *
  * With m_min the smallest particle mass, k_max the largest stiffness (k_n or k_t) of any
  * material pair the scene can bring into contact (for an adhesive pair, the largest

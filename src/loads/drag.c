@@ -1,5 +1,5 @@
-/* drag.c — one-way coupled fluid force (PHYSICS.md §8; seed 004 eqs. 4.1–4.4, after
- * Hoomans et al.).
+/* drag.c — one-way coupled fluid force (docs/physics.md#fluid-force; seed 004 eqs.
+ * 4.1–4.4, after Hoomans et al.).
  *
  * Radial field (steady Darcy flow to a well of radius r_w, drainage radius r_e, axis
  * through `center` along `axis`; r the distance from the axis; dp = p_e - p_w):

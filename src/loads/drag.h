@@ -1,8 +1,8 @@
-/* drag.h — one-way fluid forces on particles (PHYSICS.md §8, seed 004 §4.4): a
- * prescribed fluid field (steady radial Darcy flow toward a well, or uniform flow) and
- * the Ergun / Wen-Yu drag plus the pressure-gradient force on each particle. The fluid
- * is not affected by the particles. A scene without `fluid:` has s->drag NULL and pays
- * nothing. */
+/* drag.h — one-way fluid forces on particles (docs/physics.md#fluid-force, seed 004
+ * §4.4): a prescribed fluid field (steady radial Darcy flow toward a well, or uniform
+ * flow) and the Ergun / Wen-Yu drag plus the pressure-gradient force on each particle.
+ * The fluid is not affected by the particles. A scene without `fluid:` has s->drag NULL
+ * and pays nothing. */
 #ifndef ESF_DRAG_H
 #define ESF_DRAG_H
 

@@ -1,5 +1,5 @@
 /* events.c — scene events: deleting the particles in a region at a given time
- * (drilling; seed 004 §4.4, PHYSICS.md §9).
+ * (drilling; seed 004 §4.4, docs/physics.md#events-deleting-particles).
  *
  * An event with time `at` is applied at the start of the first step whose time t has
  * at <= t + dt/2 (the step nearest `at`), before the candidate lists are checked, from

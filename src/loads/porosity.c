@@ -1,4 +1,4 @@
-/* porosity.c — a coarse grid of local void fraction (fluid force, PHYSICS.md §8).
+/* porosity.c — a coarse grid of local void fraction (docs/physics.md#fluid-force).
  *
  * Each update: the bounding box of the particle surfaces [min(x - r), max(x + r)] is
  * divided on each axis into n = max(1, round(extent/h)) equal cells (2D: x and z only;

@@ -1,4 +1,5 @@
-/* forces.c — evaluation of the DEM forces (PHYSICS.md §2–3).
+/* forces.c — evaluation of the DEM forces (docs/physics.md#contact-kinematics,
+ * #linear-springdashpot-law, #adhesive-normal-law-and-bonds).
  *
  * For every candidate pair (A, B) with overlap un = rA + rB - d > 0 (000 3-15):
  *   n = (xB - xA)/d; contact point xc = xA + (rA - un/2) n (000 3-16); lever arms

@@ -1,5 +1,5 @@
 /* frames.c — the frames writer: frames.h5, its segment files and frames.xdmf
- * (frames.h, frames_index.h, INTERFACE.md "Output directory").
+ * (frames.h, frames_index.h, docs/output.md#frames).
  *
  * Frames go into segment files DIR.d/SSSSSS.h5 (SSSSSS: the segment's first frame); a
  * segment is created at the first frame after the start or after a checkpoint, and

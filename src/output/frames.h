@@ -1,6 +1,5 @@
-/* frames.h — the frames file (INTERFACE.md "Output directory"): frames.h5, the
- * segment directory frames.d/ beside it, and frames.xdmf (xdmf.h) describing it for
- * ParaView.
+/* frames.h — the frames file (docs/output.md#frames): frames.h5, the segment
+ * directory frames.d/ beside it, and frames.xdmf (xdmf.h) describing it for ParaView.
  *
  * frames.h5 (frames_index.h) is what readers open:
  *   /            attributes scene, esfera_version, kind = "frames" (strings)

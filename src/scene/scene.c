@@ -1,5 +1,5 @@
 /* scene.c — the scene schema: top level, materials, mixing, integrator, damping,
- * contact, search, run and output sections (INTERFACE.md). Particles and walls are read
+ * contact, search, run and output sections (docs/scene.md). Particles and walls are read
  * in scene_particles.c and scene_walls.c. Defaults are set by esf_config_default and
  * documented in docs/scene.md; nothing misspelt is ever silently defaulted, because
  * every mapping is checked against its list of keys first. */
@@ -20,8 +20,8 @@ static int positive(const esf_ynode *map, const char *key, double v, int strict,
                         strict ? "positive" : "non-negative", v);
 }
 
-/* adhesion: {force: F, epsilon: eps} (PHYSICS.md §3.4), checked by deriving the law
- * with the material's own kn. */
+/* adhesion: {force: F, epsilon: eps} (docs/physics.md#adhesive-normal-law-and-bonds),
+ * checked by deriving the law with the material's own kn. */
 static int read_adhesion(const esf_ynode *m, esf_material *mat, esf_error *err) {
   static const char *const keys[] = {"force", "epsilon", "bond_gap", NULL};
   const esf_ynode *ad = esf_ymap_get(m, "adhesion");

@@ -1,4 +1,4 @@
-/* scene.h — reading a YAML scene (INTERFACE.md) into a simulation.
+/* scene.h — reading a YAML scene (docs/scene.md) into a simulation.
  *
  * Every key is checked against the schema: an unknown key, a wrong type or a missing
  * required key is an ESF_EINPUT error naming the file, line and column (or the --set

@@ -1,8 +1,9 @@
 /* scene_particles.c — the `particles:` list of a scene: explicit particles, CSV files
- * and generators (INTERFACE.md). Entries are read in order; ids follow that order.
- * Explicit particles that overlap each other are an error (naming both entries)
- * unless contact.allow_initial_overlap is true; packings from files and generators are
- * taken as they are (a settled packing has contacts). */
+ * and generators (docs/scene.md#particles-a-list-ids-follow-the-order-of-definition).
+ * Entries are read in order; ids follow that order. Explicit particles that overlap
+ * each other are an error (naming both entries) unless contact.allow_initial_overlap
+ * is true; packings from files and generators are taken as they are (a settled packing
+ * has contacts). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

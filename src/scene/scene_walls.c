@@ -1,6 +1,7 @@
-/* scene_walls.c — the `walls:` list of a scene (INTERFACE.md): an infinite plane, a
- * polygon (triangle or quadrilateral) and the box helper (inward quadrilaterals less
- * the open faces). Each entry becomes one wall group; its material must be defined.
+/* scene_walls.c — the `walls:` list of a scene
+ * (docs/scene.md#walls-a-list-each-entry-is-one-wall): an infinite plane, a polygon
+ * (triangle or quadrilateral) and the box helper (inward quadrilaterals less the open
+ * faces). Each entry becomes one wall group; its material must be defined.
  * Prescribed motion (`motion:`): translate {velocity}, rotate {axis, center, rpm or
  * omega}, oscillate {direction, frequency, amplitude or acceleration in g, phase (rad)};
  * the whole wall (a box: all its faces) moves rigidly (wall_motion.c). Mesh walls (an
