@@ -128,8 +128,8 @@ def parse_summary(stdout):
 
 
 def energy(out):
-    """OUT/energy.csv as {column: array}. The CSV (13 digits), not frames.h5's /energy
-    (the unrounded doubles): the studies' results are computed from the CSV."""
+    """OUT/energy.csv as {column: array}: the CSV's rounded values, not frames.h5's
+    /energy (the doubles), since the studies' results are computed from the CSV."""
     return esfera_h5.load_energy(os.path.join(out, "energy.csv"))
 
 
@@ -145,6 +145,7 @@ def frames(out, select=None):
 
 
 def last_frame(out):
+    """The last frame of OUT/frames.h5, an esfera_h5.Frame(time, data)."""
     return esfera_h5.load_frames(out, select=[-1])[0]
 
 
