@@ -89,12 +89,11 @@ margins.png, limit_vs_kt.png, sweep.png, summary.csv (pack statistics, run time)
 report.md. Scratch scenes go to DIR/tmp/. --replot redraws the plots and the report
 from DIR's CSV files without running esfera.
 --quick: two restitutions, one stiffness ratio, a 60-sphere pack (under a minute).
-Needs numpy, matplotlib and h5py (Debian's /usr/bin/python3); reads frames through
-studies/esfera_h5.py when it imports, else with h5py.
+Needs numpy, matplotlib and h5py (Debian's /usr/bin/python3); runs esfera and reads its
+results through studies/common.py.
 """
 import argparse
 import concurrent.futures as cf
-import csv
 import math
 import os
 import shutil
@@ -110,15 +109,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
-from scene_io import yaml_flow  # noqa: E402
+from common import (energy, kinetic, last_frame, parse_line, read_csv, run,  # noqa: E402
+                    tsuji_zeta, write_csv, write_scene)
 
-try:
-    import esfera_h5  # someone else's reader; used when present and working
-except Exception:  # pragma: no cover - fallback below
-    esfera_h5 = None
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 RHO, KN, RADIUS, GRAV = 2500.0, 1.0e5, 0.005, 9.81
 K_SOFT = 1.0e-3 * KN      # the pair's holding walls
@@ -144,14 +138,6 @@ RULE_LABEL = {"cundall": "Cundall sqrt(m/k)", "hart": "Hart 2 sqrt(m/2k)",
 
 
 # ----------------------------------------------------------------------------- physics
-def gamma_of(eta):
-    """Tsuji's damping ratio for restitution eta (0 for eta = 1)."""
-    if eta >= 1.0:
-        return 0.0
-    le = math.log(eta)
-    return -le / math.sqrt(math.pi ** 2 + le * le)
-
-
 def damp_factor(xi):
     """The central-difference limit's damping factor sqrt(1 + xi^2) - xi."""
     return math.sqrt(1.0 + xi * xi) - xi
@@ -176,12 +162,6 @@ def leapfrog_limit(modes):
 
 
 # -------------------------------------------------------------------------------- YAML
-def write_scene(path, scene):
-    with open(path, "w") as fh:
-        for key, value in scene.items():
-            fh.write(f"{key}: {yaml_flow(value)}\n")
-
-
 def material(kt_ratio, eta, friction, cohesion):
     return {"density": RHO, "kn": KN, "kt": kt_ratio * KN, "restitution": eta,
             "friction": friction, "cohesion": cohesion}
@@ -202,7 +182,7 @@ def wall_case(eta, kt_ratio, tangential):
     inertia = 0.4 * m * RADIUS ** 2
     delta = m * GRAV / KN
     lever = RADIUS - delta
-    xi = gamma_of(eta)
+    xi = tsuji_zeta(eta)
     w_n = math.sqrt(KN / m)
     vel, spin = [0.0, 0.0, AMP * delta * w_n], [0.0, 0.0, 0.0]
     modes = [(w_n, xi)]
@@ -234,7 +214,7 @@ def pair_case(eta, kt_ratio, tangential):
     u_w = WALL_PRESS * RADIUS
     u_p = K_SOFT * u_w / KN
     lever = RADIUS - 0.5 * u_p
-    xi = gamma_of(eta)
+    xi = tsuji_zeta(eta)
     k_rel = 2.0 * KN + K_SOFT
     w_n = math.sqrt(k_rel / m)
     c_rel = 2 * 2 * xi * math.sqrt(0.5 * m * KN)  # the walls are undamped
@@ -279,7 +259,7 @@ def pack_case(eta, kt_ratio, pack):
     mat = material(kt_ratio, eta, 0.5, COHESION)
     particles = [{"file": pack["csv"], "material": "g"}]
     scene = base_scene("pack", [0.0, 0.0, -GRAV], {"g": mat}, particles, [pack["box"]])
-    return {"family": "pack", "kt_ratio": kt_ratio, "eta": eta, "xi": gamma_of(eta),
+    return {"family": "pack", "kt_ratio": kt_ratio, "eta": eta, "xi": tsuji_zeta(eta),
             "scene": scene, "closed": None,
             "kick": kick_energy(pack["rad"], pack["vel"], pack["spin"])}
 
@@ -293,52 +273,17 @@ def case_name(case):
 
 # ----------------------------------------------------------------------- esfera calls
 def esfera_run(esfera, scene_path, out_dir, sets=()):
-    """Runs esfera; returns (exit status, stderr). Status 2 (bad input) raises."""
-    cmd = [esfera, "run", scene_path, "--out", out_dir, "--quiet"]
-    for s in sets:
-        cmd += ["--set", s]
-    p = subprocess.run(cmd, capture_output=True, text=True)
-    if p.returncode not in (0, 1):
-        raise RuntimeError(f"{' '.join(cmd)}: exit {p.returncode}: {p.stderr.strip()}")
-    return p.returncode, p.stderr.strip()
+    """Runs esfera (exit 0 or 1: stable or stopped); status 2 (bad input) raises."""
+    return run(esfera, scene_path, out_dir, sets).check(ok=(0, 1))
 
 
 def esfera_modes(esfera, scene_path):
     """`esfera modes` as a dict of floats."""
     p = subprocess.run([esfera, "modes", scene_path], capture_output=True, text=True)
-    lines = [ln for ln in p.stdout.splitlines() if ln.startswith("modes:")]
-    if p.returncode != 0 or not lines:
+    modes = parse_line(p.stdout, "modes:")
+    if p.returncode != 0 or not modes:
         raise RuntimeError(f"esfera modes {scene_path}: {p.stderr.strip()}")
-    return {k: float(v) for k, v in (t.split("=", 1) for t in lines[-1].split()[1:])}
-
-
-def read_kinetic(out_dir):
-    """Kinetic energy (translational + rotational) per energy row."""
-    path = os.path.join(out_dir, "energy.csv")
-    if esfera_h5 is not None:
-        try:
-            e = esfera_h5.load_energy(path)
-            return e["kinetic_translational"] + e["kinetic_rotational"]
-        except Exception:
-            pass
-    with open(path) as fh:
-        head = fh.readline().strip().split(",")
-    cols = [head.index("kinetic_translational"), head.index("kinetic_rotational")]
-    return np.loadtxt(path, delimiter=",", skiprows=1, usecols=cols, ndmin=2).sum(axis=1)
-
-
-def read_last_frame(out_dir):
-    """(position, radius) of the last frame of frames.h5."""
-    if esfera_h5 is not None:
-        try:
-            fr = esfera_h5.load_frames(out_dir, select=[-1])[0]
-            return fr.data["position"], fr.data["radius"]
-        except Exception:
-            pass
-    import h5py
-    with h5py.File(os.path.join(out_dir, "frames.h5"), "r") as f:
-        g = f["frames"][sorted(f["frames"].keys())[-1]]
-        return g["position"][()], g["radius"][()]
+    return modes
 
 
 # ------------------------------------------------------------------------------ pack
@@ -378,12 +323,13 @@ def settle_pack(esfera, work, n, side):
 
 def run_settle(esfera, work, tag, scene):
     path = os.path.join(work, f"pack_{tag}.yaml")
-    write_scene(path, scene)
+    write_scene(path, scene, flow=True)
     out = os.path.join(work, f"pack_{tag}")
-    rc, err = esfera_run(esfera, path, out)
-    if rc:
-        raise RuntimeError(f"settling the pack ({tag}) failed: {err}")
-    return read_last_frame(out)
+    r = esfera_run(esfera, path, out)
+    if r.returncode:
+        raise RuntimeError(f"settling the pack ({tag}) failed: {r.stderr.strip()}")
+    d = last_frame(out).data
+    return d["position"], d["radius"]
 
 
 def coordination(pos, rad, side):
@@ -433,7 +379,7 @@ class Prober:
     def __init__(self, esfera, work, case, omega_max, periods, rules):
         self.esfera, self.case = esfera, case
         self.scene_path = os.path.join(work, f"{case['key']}.yaml")
-        write_scene(self.scene_path, case["scene"])
+        write_scene(self.scene_path, case["scene"], flow=True)
         self.run_dir = os.path.join(work, f"{case['key']}_run")
         self.omega, self.periods, self.rules = omega_max, periods, rules
         self.rows = []
@@ -444,12 +390,12 @@ class Prober:
 
     def probe(self, dt, purpose):
         n = self.steps(dt)
-        rc, err = esfera_run(self.esfera, self.scene_path, self.run_dir,
-                             [f"integrator.dt={dt!r}", f"run.steps={n}"])
+        r = esfera_run(self.esfera, self.scene_path, self.run_dir,
+                       [f"integrator.dt={dt!r}", f"run.steps={n}"])
+        rc = r.returncode
         growth = math.inf
         if rc == 0:
-            ke = read_kinetic(self.run_dir)
-            growth = window_growth(ke, self.case["kick"])
+            growth = window_growth(kinetic(energy(self.run_dir)), self.case["kick"])
         shutil.rmtree(self.run_dir, ignore_errors=True)
         unstable = rc != 0 or not growth <= GROWTH
         self.rows.append({"case": self.case["name"], "eta": self.case["eta"],
@@ -460,7 +406,7 @@ class Prober:
                           "frac_damped": dt / self.rules["damped"],
                           "steps": n, "exit": rc,
                           "growth": growth, "unstable": int(unstable),
-                          "message": first_line(err) if rc else ""})
+                          "message": first_line(r.stderr.strip()) if rc else ""})
         return unstable
 
 
@@ -597,10 +543,10 @@ def all_modes(esfera, work, cases, pool):
                 scene = dict(c["scene"])
                 scene["materials"] = {"g": material(c["kt_ratio"], 1.0, 0.5, COHESION)}
                 p = os.path.join(work, f"pack_kt{c['kt_ratio']:g}_modes.yaml")
-                write_scene(p, scene)
+                write_scene(p, scene, flow=True)
                 pack_jobs[c["kt_ratio"]] = pool.submit(esfera_modes, esfera, p)
             continue
-        write_scene(path, c["scene"])
+        write_scene(path, c["scene"], flow=True)
         jobs[c["key"]] = pool.submit(esfera_modes, esfera, path)
     out = {}
     for c in cases:
@@ -635,17 +581,6 @@ def run_all(esfera, work, cases, modes, cfg, jobs):
     key = {c["key"]: i for i, c in enumerate(cases)}
     results.sort(key=lambda r: key[f"{r['case']}_eta{r['eta']:g}"])
     return results, runs
-
-
-def write_csv(path, rows):
-    if not rows:
-        return
-    with open(path, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v)
-                        for k, v in r.items()})
 
 
 # ----------------------------------------------------------------------------- plots
@@ -952,14 +887,14 @@ def pick(results, name, eta):
 
 
 def onset(results, name, rule):
-    """(xi, eta) of the least damped run of a case where the rule is unsafe."""
+    """The least damped result row of a case where the rule is unsafe (None: none)."""
     bad = [r for r in of_case(results, name) if r[f"verdict_{rule}"] == "unsafe"]
-    return (bad[0]["xi"], bad[0]["eta"]) if bad else None
+    return bad[0] if bad else None
 
 
 def onset_text(results, name, rule):
     o = onset(results, name, rule)
-    return "never unsafe" if o is None else f"unsafe from xi = {o[0]:.2f} (eta {o[1]:g})"
+    return "never unsafe" if o is None else f"unsafe from xi = {o['xi']:.2f} (eta {o['eta']:g})"
 
 
 def xi_effective(tau, omega_tau):
@@ -1032,8 +967,8 @@ def c_tangential(results):
         c = onset(results, "wall_tangential_kt0.2", "modes_damped")
         if c:
             text += (f" At kt = 0.2 kn the normal mode is the fastest undamped, yet the "
-                     f"more damped tangential mode sets the limit from xi = {c[0]:.2f} "
-                     f"(eta {c[1]:g}).")
+                     f"more damped tangential mode sets the limit from xi = {c['xi']:.2f} "
+                     f"(eta {c['eta']:g}).")
     return text
 
 
@@ -1208,19 +1143,6 @@ def render(out, results, runs, info):
     plot_kt(results, os.path.join(out, "limit_vs_kt.png"))
     plot_sweep(runs, results, os.path.join(out, "sweep.png"))
     write_report(os.path.join(out, "report.md"), results, runs, info)
-
-
-def read_csv(path):
-    """Rows of a CSV written by write_csv, numbers parsed."""
-    def parse(v):
-        for kind in (int, float):
-            try:
-                return kind(v)
-            except ValueError:
-                pass
-        return v
-    with open(path, newline="") as fh:
-        return [{k: parse(v) for k, v in row.items()} for row in csv.DictReader(fh)]
 
 
 def replot(out):

@@ -15,7 +15,7 @@ e         measured restitution: separation speed / approach speed of an impact.
 cut form  the linear spring-dashpot impact with the no-tension cut (the contact ends
           when k u + c u' returns to zero, not when u does):
           e = -exp(-zeta th/s)(cos th - zeta/s sin th), th = pi - atan2(2 zeta s,
-          1 - 2 zeta^2), s = sqrt(1 - zeta^2) (tests/simtest.h, ported below); for
+          1 - 2 zeta^2), s = sqrt(1 - zeta^2) (tests/simtest.h, in studies/common.py); for
           zeta >= 1 (and with a body damper) the same cut oscillator solved exactly.
 log decrement  delta = ln(x_k / x_{k+1}) for successive peaks one period apart of the
           free vibration x(t) of a sphere resting on a wall about its equilibrium; we
@@ -73,12 +73,12 @@ Writes DIR/*.csv, DIR/*.png and DIR/report.md; scenes and raw runs go to DIR/tmp
 Needs Debian's python3 with numpy, matplotlib and h5py.
 """
 import argparse
+import collections
 import concurrent.futures
-import csv
+import dataclasses
 import math
 import os
 import shutil
-import subprocess
 import sys
 import time
 
@@ -89,53 +89,12 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from common import (cut_impact_closed_form, energy, fmt, frames, kinetic,  # noqa: E402
+                    last_frame, run, tsuji_zeta, write_csv, write_particles_csv,
+                    write_scene)
+
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 G = 9.81
-sys.path.insert(0, os.path.join(REPO, "studies"))
-from scene_io import parse_summary, to_yaml  # noqa: E402
-
-# --- reading results ------------------------------------------------------------------
-
-try:  # someone else's reader, used when present and working
-    sys.path.insert(0, os.path.join(REPO, "studies"))
-    import esfera_h5 as _eh5
-
-    if not hasattr(_eh5, "load_frames"):
-        _eh5 = None
-except Exception:  # noqa: BLE001 — any import failure: fall back to h5py
-    _eh5 = None
-
-
-def load_frames(outdir, select=None):
-    """[(time, {dataset: array})] of outdir/frames.h5 (select: frame indices)."""
-    if _eh5 is not None:
-        try:
-            return [(f.time, f.data) for f in _eh5.load_frames(outdir, select)]
-        except Exception:  # noqa: BLE001
-            pass
-    import h5py
-
-    with h5py.File(os.path.join(outdir, "frames.h5"), "r") as f:
-        names = sorted(f["frames"].keys())
-        idx = range(len(names)) if select is None else [range(len(names))[k] for k in select]
-        out = []
-        for k in idx:
-            g = f["frames"][names[k]]
-            data = {n: g[n][()] for n in g if hasattr(g[n], "shape")}
-            out.append((float(g.attrs["time"]), data))
-        return out
-
-
-def load_energy(outdir):
-    """energy.csv as {column: array}."""
-    path = os.path.join(outdir, "energy.csv")
-    with open(path) as fh:
-        cols = fh.readline().strip().split(",")
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    return {c: data[:, k] for k, c in enumerate(cols)}
-
-
-# --- writing scenes and running esfera ------------------------------------------------
 
 
 class Runner:
@@ -146,19 +105,14 @@ class Runner:
         os.makedirs(tmp, exist_ok=True)
 
     def run(self, name, scene, sets=(), check=True):
-        """Runs one scene; returns (outdir, summary dict, returncode, stderr)."""
-        path = os.path.join(self.tmp, name + ".yaml")
-        with open(path, "w") as fh:
-            fh.write(f"# written by studies/damping.py\n{to_yaml(scene)}")
+        """Runs one scene into tmp/NAME: a common.Run; raises unless it exits with
+        status 0 (check=False: any status)."""
+        path = write_scene(os.path.join(self.tmp, name + ".yaml"), scene,
+                           "written by studies/damping.py")
         out = os.path.join(self.tmp, name)
         shutil.rmtree(out, ignore_errors=True)
-        cmd = [self.esfera, "run", path, "--out", out, "--quiet"]
-        for s in sets:
-            cmd += ["--set", s]
-        p = subprocess.run(cmd, capture_output=True, text=True)
-        if check and p.returncode != 0:
-            raise RuntimeError(f"{' '.join(cmd)} failed ({p.returncode}): {p.stderr.strip()}")
-        return out, parse_summary(p.stdout), p.returncode, p.stderr
+        r = run(self.esfera, path, out, sets)
+        return r.check() if check else r
 
     def map(self, fn, items):
         """fn(item) for every item, in parallel, results in order."""
@@ -166,43 +120,48 @@ class Runner:
             return list(ex.map(fn, items))
 
 
-def write_csv(path, header, rows):
-    with open(path, "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(header)
-        w.writerows([[fmt(x) for x in r] for r in rows])
+@dataclasses.dataclass(frozen=True)
+class Case:
+    """A resting-sphere decay case: damping kind (contact, global, component, vector,
+    rayleigh), its parameter (eta, alpha, c, zeta_R) and the Rayleigh frequency f_R."""
+    kind: str
+    value: float
+    freq: float = None
 
 
-def fmt(x):
-    if isinstance(x, (float, np.floating)):
-        return "" if not np.isfinite(x) else f"{x:.6g}"
-    return str(x)
+@dataclasses.dataclass
+class Setup:
+    """One damping setup of a comparison (settling, dynamics, vibrated bed)."""
+    label: str
+    eta: float = 1.0
+    damping: dict = None
+    rule: str = "hart"
+
+
+def local(c, form="component"):
+    """The scene's `damping:` entry of local (Cundall) damping c."""
+    return {"local": {"coefficient": c, "form": form}}
+
+
+def drag(alpha):
+    """The scene's `damping:` entry of global damping alpha (1/s)."""
+    return {"global": {"translation": alpha, "rotation": alpha}}
+
+
+ADAPTIVE = {"global": {"auto": True}}
 
 
 # --- closed forms -----------------------------------------------------------------------
 
 
-def tsuji_zeta(eta):
-    """Damping ratio of the dashpot for restitution eta (004 2.28)."""
-    if eta >= 1:
-        return 0.0
-    ln = -math.log(eta)
-    return ln / math.sqrt(math.pi**2 + ln**2)
-
-
-def cut_impact_closed_form(zeta):
-    """Ported from tests/simtest.h: restitution and force duration (in units of 1/omega)
-    of the linear spring-dashpot impact with the no-tension cut, 0 <= zeta < 1."""
-    z, s = zeta, math.sqrt(1 - zeta * zeta)
-    th = math.pi - math.atan2(2 * z * s, 1 - 2 * z * z)
-    e = -math.exp(-z * th / s) * (math.cos(th) - z / s * math.sin(th))
-    return e, th / s
+Cut = collections.namedtuple("Cut", "e t_end u_end")
 
 
 def cut_impact(zeta_c, a=0.0):
     """The cut impact for any contact damping ratio zeta_c and a body damper alpha =
     a omega acting on the relative velocity as well (Rayleigh's mass term): returns
-    (e, t_end omega, overlap at t_end x omega / v0). Solved exactly:
+    Cut(e, t_end omega, overlap at t_end x omega / v0). Solved exactly (the closed form
+    common.cut_impact_closed_form covers 0 <= zeta_c < 1 without the body damper):
     u'' + (2 zeta_c + a) u' + u = 0 (omega = 1)
     from u = 0, u' = 1, until the contact force u + 2 zeta_c u' returns to zero."""
     zt = zeta_c + a / 2
@@ -233,9 +192,9 @@ def cut_impact(zeta_c, a=0.0):
                 break
             t += h
         if tz is None:
-            return 0.0, float("inf"), 0.0
+            return Cut(0.0, float("inf"), 0.0)
     u, v = state(tz)
-    return -v, tz, u
+    return Cut(-v, tz, u)
 
 
 def viscous_decrement(zeta):
@@ -392,19 +351,18 @@ def impact_scene(kind, eta, frac, damping=None):
 
 
 def measure_impact(R, name, kind, eta, frac, damping=None):
-    """Runs one impact; returns (e measured, zeta, a, omega, dt). With a body damper
+    """Runs one impact; returns {e (measured), zeta, a, omega, dt}. With a body damper
     (Rayleigh) the free flight after the contact, which decays as exp(-alpha t), is
     divided out: e = v(T) / v0 x exp(alpha (T - t_end))."""
     scene, v0, zeta, a, w, t_end = impact_scene(kind, eta, frac, damping)
-    out, summ, _, _ = R.run(name, scene)
-    t, d = load_frames(out, [-1])[0]
+    r = R.run(name, scene)
+    t, d = last_frame(r.out)
     v = d["velocity"]
     e = v[0, 2] / v0 if kind == "wall" else (v[1, 0] - v[0, 0]) / v0
     if np.any(d["force"] != 0):  # still in contact: the run was too short
         e = float("nan")
-    if not math.isfinite(t_end):
-        return float("nan"), zeta, a, w, summ.get("dt", float("nan"))
-    return e * math.exp(a * w * (t - t_end)), zeta, a, w, summ.get("dt", float("nan"))
+    e = e * math.exp(a * w * (t - t_end)) if math.isfinite(t_end) else float("nan")
+    return dict(e=e, zeta=zeta, a=a, omega=w, dt=r.summary.get("dt", float("nan")))
 
 
 def restitution_study(R, Q, res):
@@ -416,22 +374,29 @@ def restitution_study(R, Q, res):
         kind, eta, frac = job
         return measure_impact(R, f"rest_{kind}_{eta:g}_{frac:g}", kind, eta, frac)
 
-    got = R.map(one, jobs)
     rows = []
-    for (kind, eta, frac), (e, zeta, _, w, dt) in zip(jobs, got):
-        e_cf = cut_impact_closed_form(zeta)[0] if zeta < 1 else float("nan")
-        e_ex = cut_impact(zeta)[0]
-        rows.append([kind, eta, zeta, frac, w * dt, e, e_cf, e_ex, e / e_ex - 1])
-    write_csv(os.path.join(res, "restitution.csv"),
-              ["kind", "eta_requested", "zeta", "frac", "omega_dt", "e_measured",
-               "e_closed_form", "e_exact_solver", "rel_error"], rows)
+    for (kind, eta, frac), m in zip(jobs, R.map(one, jobs)):
+        zeta = m["zeta"]
+        e_ex = cut_impact(zeta).e
+        e_cf = cut_impact_closed_form(zeta).e if zeta < 1 else float("nan")
+        rows.append(dict(kind=kind, eta_requested=eta, zeta=zeta, frac=frac,
+                         omega_dt=m["omega"] * m["dt"], e_measured=m["e"], e_closed_form=e_cf,
+                         e_exact_solver=e_ex, rel_error=m["e"] / e_ex - 1))
+    write_csv(os.path.join(res, "restitution.csv"), rows, blank=True)
     return rows
+
+
+def worst_moderate(rest, frac):
+    """Largest |e / e_exact - 1| of the impacts at frac with eta 0.1-0.9 (nan: none)."""
+    errs = [abs(r["rel_error"]) for r in rest
+            if r["frac"] == frac and 0.1 <= r["eta_requested"] <= 0.9]
+    return max(errs) if errs else float("nan")
 
 
 def resting_scene(case, frac, periods):
     """A sphere resting on a plane at its static overlap, kicked upward at half the
     speed that would lift it off; the energy ledger every step."""
-    kind, val = case[0], case[1]
+    kind, val = case.kind, case.value
     r, m, k = DEMO["radius"], demo_mass(), DEMO["kn"]
     w = math.sqrt(k / m)
     u_eq = m * G / k
@@ -439,11 +404,11 @@ def resting_scene(case, frac, periods):
     if kind == "contact":
         eta = val
     elif kind == "global":
-        damping = {"global": {"translation": val, "rotation": val}}
+        damping = drag(val)
     elif kind in ("component", "vector"):
-        damping = {"local": {"coefficient": val, "form": kind}}
+        damping = local(val, kind)
     elif kind == "rayleigh":
-        damping = {"rayleigh": {"zeta": val, "frequency": case[2]}}
+        damping = {"rayleigh": {"zeta": val, "frequency": case.freq}}
     scene = {
         "name": "resting",
         "gravity": [0, 0, -G],
@@ -464,7 +429,7 @@ def resting_scene(case, frac, periods):
 
 def nominal_decrement(case, w):
     """(zeta nominal, decrement expected) of a resting-sphere case."""
-    kind, val = case[0], case[1]
+    kind, val = case.kind, case.value
     if kind == "contact":
         z = tsuji_zeta(val)
         return z, viscous_decrement(z)
@@ -474,15 +439,14 @@ def nominal_decrement(case, w):
     if kind in ("component", "vector"):
         d = local_decrement(val)
         return zeta_from_decrement(d), d
-    z = rayleigh_zeta(val, w / (2 * math.pi * case[2]))
+    z = rayleigh_zeta(val, w / (2 * math.pi * case.freq))
     return z, viscous_decrement(z)
 
 
 def measure_decay(R, name, case, frac, periods):
     """Runs a resting-sphere case; returns dict with the measured decrement."""
     scene, w, u_eq = resting_scene(case, frac, periods)
-    out, _, _, _ = R.run(name, scene)
-    E = load_energy(out)
+    E = energy(R.run(name, scene).out)
     u = np.sqrt(np.maximum(2 * E["elastic_normal"] / DEMO["kn"], 0))
     x = u - u_eq
     tp, xp = half_cycle_peaks(E["time"], x)
@@ -496,45 +460,53 @@ def measure_decay(R, name, case, frac, periods):
 
 
 def decay_study(R, Q, res):
-    cases = [("contact", eta) for eta in Q["decay_etas"]]
-    cases += [("global", 2 * z * math.sqrt(DEMO["kn"] / demo_mass())) for z in Q["decay_zetas"]]
-    cases += [(form, c) for form in ("component", "vector") for c in Q["local_coefs"]]
+    cases = [Case("contact", eta) for eta in Q["decay_etas"]]
+    cases += [Case("global", global_alpha(z)) for z in Q["decay_zetas"]]
+    cases += [Case(form, c) for form in ("component", "vector") for c in Q["local_coefs"]]
 
     def one(case):
-        return measure_decay(R, f"decay_{case[0]}_{case[1]:g}", case, Q["decay_frac"],
+        return measure_decay(R, f"decay_{case.kind}_{case.value:g}", case, Q["decay_frac"],
                              Q["periods"])
 
     got = R.map(one, cases)
-    rows = [[g["case"][0], g["case"][1], g["zeta_nominal"], g["delta_nominal"],
-             g["delta"], g["zeta_measured"], g["half_ratio"], g["peaks"]] for g in got]
-    write_csv(os.path.join(res, "decay.csv"),
-              ["damping", "parameter", "zeta_nominal", "decrement_expected",
-               "decrement_measured", "zeta_measured", "half_cycle_ratio", "peaks_used"],
-              rows)
+    write_csv(os.path.join(res, "decay.csv"), [dict(
+        damping=g["case"].kind, parameter=g["case"].value, zeta_nominal=g["zeta_nominal"],
+        decrement_expected=g["delta_nominal"], decrement_measured=g["delta"],
+        zeta_measured=g["zeta_measured"], half_cycle_ratio=g["half_ratio"],
+        peaks_used=g["peaks"]) for g in got], blank=True)
     etas, fracs = Q["decay_conv"]
     jobs = [(eta, fr) for eta in etas for fr in fracs]
-    conv = R.map(lambda j: measure_decay(R, f"decay_conv_{j[0]:g}_{j[1]:g}", ("contact", j[0]),
-                                         j[1], Q["periods"]), jobs)
-    crow = []
-    for (eta, fr), g in zip(jobs, conv):
-        wdt = fr * math.sqrt(2)  # Hart's step x frac, times omega (sphere on a wall)
-        crow.append([eta, fr, wdt, g["half_ratio"], g["delta"], g["delta_nominal"],
-                     g["delta"] / g["delta_nominal"] - 1])
-    write_csv(os.path.join(res, "decay_convergence.csv"),
-              ["eta_requested", "frac", "omega_dt", "half_cycle_ratio", "decrement_measured",
-               "decrement_expected", "rel_error"], crow)
+
+    def conv(job):
+        eta, fr = job
+        return measure_decay(R, f"decay_conv_{eta:g}_{fr:g}", Case("contact", eta), fr,
+                             Q["periods"])
+
+    crow = [dict(eta_requested=eta, frac=fr,
+                 omega_dt=fr * math.sqrt(2),  # Hart's step x frac, times omega (wall)
+                 half_cycle_ratio=g["half_ratio"], decrement_measured=g["delta"],
+                 decrement_expected=g["delta_nominal"],
+                 rel_error=g["delta"] / g["delta_nominal"] - 1)
+            for (eta, fr), g in zip(jobs, R.map(conv, jobs))]
+    write_csv(os.path.join(res, "decay_convergence.csv"), crow, blank=True)
     return got, crow
+
+
+def global_alpha(zeta):
+    """The global damping alpha (1/s) giving the resting sphere the ratio zeta."""
+    return 2 * zeta * math.sqrt(DEMO["kn"] / demo_mass())
 
 
 def plot_part1(rest, decay, res, Q):
     fig, ax = plt.subplots(1, 3, figsize=(16, 4.8))
     etas = np.logspace(-7, 0, 200)
-    ax[0].semilogx(etas, [cut_impact_closed_form(tsuji_zeta(x))[0] if x < 1 else 1
+    ax[0].semilogx(etas, [cut_impact_closed_form(tsuji_zeta(x)).e if x < 1 else 1
                           for x in etas], "k-", label="cut oscillator (closed form)")
     ax[0].semilogx(etas, etas, "k:", label="requested e = eta")
     fbest = min(Q["fracs"])
     for kind, mk in (("wall", "o"), ("pair", "s")):
-        pts = [(r[1], r[5]) for r in rest if r[0] == kind and r[3] == fbest]
+        pts = [(r["eta_requested"], r["e_measured"]) for r in rest
+               if r["kind"] == kind and r["frac"] == fbest]
         ax[0].semilogx(*zip(*pts), mk, mfc="none", label=f"{kind}, frac {fbest:g}")
     ax[0].set_xlabel("requested restitution eta")
     ax[0].set_ylabel("measured restitution e")
@@ -542,7 +514,8 @@ def plot_part1(rest, decay, res, Q):
     ax[0].legend(fontsize=8)
     for kind, ls in (("wall", "-"), ("pair", "--")):
         for eta in Q["err_etas"]:
-            pts = sorted((r[4], abs(r[8])) for r in rest if r[0] == kind and r[1] == eta)
+            pts = sorted((r["omega_dt"], abs(r["rel_error"])) for r in rest
+                         if r["kind"] == kind and r["eta_requested"] == eta)
             if pts:
                 ax[1].loglog(*zip(*pts), ls, marker="o", ms=3, label=f"{kind} eta {eta:g}")
     ax[1].set_xlabel("omega dt")
@@ -553,7 +526,8 @@ def plot_part1(rest, decay, res, Q):
     ax[2].plot(zz, zz, "k-", lw=0.8, label="measured = nominal")
     marks = {"contact": "o", "global": "s", "component": "^", "vector": "v"}
     for kind, mk in marks.items():
-        pts = [(g["zeta_nominal"], g["zeta_measured"]) for g in decay if g["case"][0] == kind]
+        pts = [(g["zeta_nominal"], g["zeta_measured"]) for g in decay
+               if g["case"].kind == kind]
         if pts:
             ax[2].plot(*zip(*pts), mk, mfc="none", label=kind if kind in
                        ("contact", "global") else f"local {kind} (zeta of its decrement)")
@@ -573,7 +547,7 @@ def plot_part1(rest, decay, res, Q):
         if g["case"] in Q["decay_show"]:
             w = g["omega"]
             ax.semilogy(g["t"] * w / (2 * math.pi), np.abs(g["x"]) + 1e-30,
-                        lw=0.8, label=f"{g['case'][0]} {g['case'][1]:.3g}")
+                        lw=0.8, label=f"{g['case'].kind} {g['case'].value:.3g}")
     ax.set_ylim(1e-17, 1e-6)
     ax.set_xlabel("time / contact period")
     ax.set_ylabel("|u - u_static| (m)")
@@ -592,31 +566,34 @@ def rayleigh_study(R, Q, res):
     w_wall = math.sqrt(DEMO["kn"] / demo_mass())
     fc = w_wall / (2 * math.pi)
     ratios = Q["rayleigh_ratios"]
-    cases = [("rayleigh", zr, fc * q) for q in ratios]
+    cases = [Case("rayleigh", zr, fc * q) for q in ratios]
 
     def decay(case):
-        return measure_decay(R, f"ray_decay_{case[2]:.6g}", case, Q["decay_frac"],
+        return measure_decay(R, f"ray_decay_{case.freq:.6g}", case, Q["decay_frac"],
                              Q["periods"])
 
     def impact(case):
-        damp = {"rayleigh": {"zeta": case[1], "frequency": case[2]}}
-        return measure_impact(R, f"ray_pair_{case[2]:.6g}", "pair", 1.0,
+        damp = {"rayleigh": {"zeta": case.value, "frequency": case.freq}}
+        return measure_impact(R, f"ray_pair_{case.freq:.6g}", "pair", 1.0,
                               Q["ray_impact_frac"], damp)
 
     dec = R.map(decay, cases)
     imp = R.map(impact, cases)
     rows = []
     w_pair = math.sqrt(2) * w_wall
-    for q, d, (e, zc, a, w, dt) in zip(ratios, dec, imp):
-        ref = cut_impact(zc, a)[0]
-        rows.append([zr, fc * q, q, d["zeta_nominal"], d["zeta_measured"],
-                     rayleigh_zeta(zr, w_pair / (2 * math.pi * fc * q)), zc, a * w,
-                     e, ref, e / ref - 1 if ref > 0 else float("nan"), cut_impact(zc)[0]])
-    write_csv(os.path.join(res, "rayleigh.csv"),
-              ["zeta_R", "f_R_Hz", "f_R_over_f_wall", "zeta_mode_wall_expected",
-               "zeta_mode_wall_measured", "zeta_mode_pair_expected",
-               "zeta_contact_pair_beta", "alpha_1_per_s", "e_pair_measured",
-               "e_pair_expected", "rel_error", "e_pair_contact_dashpot_only"], rows)
+    for q, d, m in zip(ratios, dec, imp):
+        zc, e = m["zeta"], m["e"]
+        ref = cut_impact(zc, m["a"]).e
+        rows.append(dict(
+            zeta_R=zr, f_R_Hz=fc * q, f_R_over_f_wall=q,
+            zeta_mode_wall_expected=d["zeta_nominal"],
+            zeta_mode_wall_measured=d["zeta_measured"],
+            zeta_mode_pair_expected=rayleigh_zeta(zr, w_pair / (2 * math.pi * fc * q)),
+            zeta_contact_pair_beta=zc, alpha_1_per_s=m["a"] * m["omega"],
+            e_pair_measured=e, e_pair_expected=ref,
+            rel_error=e / ref - 1 if ref > 0 else float("nan"),
+            e_pair_contact_dashpot_only=cut_impact(zc).e))
+    write_csv(os.path.join(res, "rayleigh.csv"), rows, blank=True)
     ff = freefall_rayleigh(R, Q)
     plot_rayleigh(rows, res, zr, fc, ff)
     return rows, fc, ff
@@ -637,8 +614,7 @@ def freefall_rayleigh(R, Q):
         "run": {"duration": 5 / alpha},
         "output": {"every": 0, "energy_every": 0},
     }
-    out, _, _, _ = R.run("ray_freefall", scene)
-    t, d = load_frames(out, [-1])[0]
+    t, d = last_frame(R.run("ray_freefall", scene).out)
     return {"zeta": zr, "f": fr, "alpha": alpha, "v_end": -d["velocity"][0, 2],
             "v_term": G / alpha, "t": t,
             "v_expected": G / alpha * (1 - math.exp(-alpha * t)),
@@ -653,17 +629,20 @@ def plot_rayleigh(rows, res, zr, fc, ff):
     ax[0].loglog(q, zr * q, "k:", lw=0.8, label="mass term alpha / 2 omega")
     ax[0].loglog(q, zr / q, "k--", lw=0.8, label="stiffness term beta omega / 2")
     ax[0].axhline(zr, color="r", lw=0.6, label="zeta_R requested")
-    pts = [(r[2], r[4]) for r in rows]
+    pts = [(r["f_R_over_f_wall"], r["zeta_mode_wall_measured"]) for r in rows]
     ax[0].loglog(*zip(*pts), "o", mfc="none", label="measured, sphere on wall")
     ax[0].axhline(1, color="grey", lw=0.5)
     ax[0].set_xlabel("f_R / f_contact")
     ax[0].set_ylabel("damping ratio of the contact mode")
     ax[0].set_title(f"Rayleigh zeta_R = {zr:g}: damping of a mode at f_contact = {fc:.0f} Hz")
     ax[0].legend(fontsize=8)
-    qq = [r[2] for r in rows]
-    ax[1].semilogx(qq, [r[8] for r in rows], "o", mfc="none", label="measured pair restitution")
-    ax[1].semilogx(qq, [r[9] for r in rows], "k-", label="cut oscillator with alpha and beta")
-    ax[1].semilogx(qq, [r[11] for r in rows], "k:", label="contact dashpot beta k only")
+    qq = [r["f_R_over_f_wall"] for r in rows]
+    ax[1].semilogx(qq, [r["e_pair_measured"] for r in rows], "o", mfc="none",
+                   label="measured pair restitution")
+    ax[1].semilogx(qq, [r["e_pair_expected"] for r in rows], "k-",
+                   label="cut oscillator with alpha and beta")
+    ax[1].semilogx(qq, [r["e_pair_contact_dashpot_only"] for r in rows], "k:",
+                   label="contact dashpot beta k only")
     ax[1].set_xlabel("f_R / f_contact (wall)")
     ax[1].set_ylabel("restitution of a head-on pair")
     ax[1].set_title("Impact restitution under Rayleigh damping")
@@ -680,17 +659,15 @@ def rayleigh_on_pack(Q):
     beta, alpha = 2 * zr / wr, 2 * wr * zr
     P = PACK
     out = []
-    for label, r1, r2, wall in (("smallest pair", P["rmin"], P["rmin"], False),
-                                ("mean pair", P["rmean"], P["rmean"], False),
-                                ("largest pair", P["rmax"], P["rmax"], False),
-                                ("mean sphere on wall", P["rmean"], None, True)):
-        m1 = 4 / 3 * math.pi * r1**3 * P["density"]
-        mstar = m1 if wall else 0.5 * m1
-        k = P["kn"] if not wall else P["kn"]
-        w = math.sqrt(k / mstar)
+    for label, r, wall in (("smallest pair", P["rmin"], False),
+                           ("mean pair", P["rmean"], False),
+                           ("largest pair", P["rmax"], False),
+                           ("mean sphere on wall", P["rmean"], True)):
+        m = 4 / 3 * math.pi * r**3 * P["density"]
+        w = math.sqrt(P["kn"] / (m if wall else 0.5 * m))
         zc = beta * w / 2
-        out.append((label, w / (2 * math.pi), zc, 0.5 * (alpha / w) + zc,
-                    cut_impact(zc, alpha / w)[0]))
+        out.append(dict(contact=label, f_c=w / (2 * math.pi), zeta_dashpot=zc,
+                        zeta_with_alpha=0.5 * (alpha / w) + zc, e=cut_impact(zc, alpha / w).e))
     return alpha, beta, out
 
 
@@ -718,11 +695,11 @@ def pack_scene(Q, eta, damping, source=None, rule="hart"):
                   "count": Q["pack_n"],
                   "radius": {"uniform": [PACK["rmin"], PACK["rmax"]]},
                   "material": "g", "seed": 11}]
-        gz, dur, every, frames = -G, Q["pack_duration"], Q["pack_energy_every"], 0
+        gz, dur, every, frame_every = -G, Q["pack_duration"], Q["pack_energy_every"], 0
     else:
         parts = [{"file": source, "material": "g"}]
         gz, dur = -2 * G, Q["load_duration"]
-        every, frames = Q["load_duration"] / 2000, Q["load_duration"] / Q["load_frames"]
+        every, frame_every = Q["load_duration"] / 2000, Q["load_duration"] / Q["load_frames"]
     scene = {
         "name": "settle",
         "gravity": [0, 0, gz],
@@ -733,7 +710,7 @@ def pack_scene(Q, eta, damping, source=None, rule="hart"):
         "contact": {"allow_initial_overlap": True},
         "integrator": {"method": "leapfrog", "dt": "auto", "dt_rule": rule, "frac": 0.1},
         "run": {"duration": dur},
-        "output": {"every": frames, "energy_every": every},
+        "output": {"every": frame_every, "energy_every": every},
     }
     if damping:
         scene["damping"] = damping
@@ -741,28 +718,27 @@ def pack_scene(Q, eta, damping, source=None, rule="hart"):
 
 
 def pack_configs(Q, stage):
-    """(label, material restitution, damping, dt rule) of the settling comparison."""
-    loc = lambda c, f: {"local": {"coefficient": c, "form": f}}  # noqa: E731
-    glo = lambda a: {"global": {"translation": a, "rotation": a}}  # noqa: E731
+    """The setups (label, material restitution, damping, dt rule) of the settling
+    comparison."""
     ray = {"rayleigh": {"zeta": Q["rayleigh_zeta"], "frequency": Q["rayleigh_example_f"]}}
     rlab = f"Rayleigh zeta {Q['rayleigh_zeta']:g}, f {Q['rayleigh_example_f']:g} Hz"
-    full = [("none (eta 1, friction only)", 1.0, None, "hart"),
-            ("contact dashpot eta 0.5", 0.5, None, "hart"),
-            ("local component 0.7", 1.0, loc(0.7, "component"), "hart"),
-            ("local vector 0.7", 1.0, loc(0.7, "vector"), "hart"),
-            ("local component 0.3", 1.0, loc(0.3, "component"), "hart"),
-            ("global alpha 20/s", 1.0, glo(20.0), "hart"),
-            ("global alpha 200/s", 1.0, glo(200.0), "hart"),
-            ("adaptive global", 1.0, {"global": {"auto": True}}, "hart"),
-            (rlab, 1.0, ray, "hart"),
-            (rlab + ", damped dt rule", 1.0, ray, "damped")]
+    full = [Setup("none (eta 1, friction only)"),
+            Setup("contact dashpot eta 0.5", 0.5),
+            Setup("local component 0.7", damping=local(0.7)),
+            Setup("local vector 0.7", damping=local(0.7, "vector")),
+            Setup("local component 0.3", damping=local(0.3)),
+            Setup("global alpha 20/s", damping=drag(20.0)),
+            Setup("global alpha 200/s", damping=drag(200.0)),
+            Setup("adaptive global", damping=ADAPTIVE),
+            Setup(rlab, damping=ray),
+            Setup(rlab + ", damped dt rule", damping=ray, rule="damped")]
     if not Q["quick"]:
         return full
     keep = {"pour": ("none (eta 1, friction only)", "contact dashpot eta 0.5",
                      "local component 0.7", "global alpha 20/s"),
             "load": ("none (eta 1, friction only)", "local component 0.7",
                      "local vector 0.7", "global alpha 20/s", "adaptive global")}[stage]
-    return [c for c in full if c[0] in keep]
+    return [c for c in full if c.label in keep]
 
 
 def ke_settle_time(t, ke, thr):
@@ -789,66 +765,58 @@ def pack_fraction(d):
 
 
 def measure_pour(R, Q, k, cfg):
-    label, eta, damping, rule = cfg
-    out, summ, _, _ = R.run(f"pour_{k}", pack_scene(Q, eta, damping, rule=rule))
-    E = load_energy(out)
-    d1 = load_frames(out, [-1])[0][1]
+    run_ = R.run(f"pour_{k}", pack_scene(Q, cfg.eta, cfg.damping, rule=cfg.rule))
+    out, summ = run_.out, run_.summary
+    E = energy(out)
+    d1 = last_frame(out).data
     r = d1["radius"]
     mass = 4 / 3 * np.pi * r**3 * PACK["density"]
     scale = len(r) * mass.mean() * G * 2 * r.mean()
-    ke = (E["kinetic_translational"] + E["kinetic_rotational"]) / scale
+    ke = kinetic(E) / scale
     t_settle = ke_settle_time(E["time"], ke, Q["ke_frac"])
     phi, top = pack_fraction(d1)
     fres = unbalanced(d1)
-    return {"label": label, "t": E["time"], "ke": ke, "dt": summ["dt"], "out": out,
+    return {"label": cfg.label, "t": E["time"], "ke": ke, "dt": summ["dt"], "out": out,
             "steps_settle": t_settle / summ["dt"], "t_settle": t_settle, "phi": phi,
             "f_res": fres.mean(), "f_res_med": np.median(fres), "ke_end": ke[-1],
             "height": top, "wall_s": summ.get("wall_s", float("nan"))}
 
 
-def write_pack_csv(d, path):
-    """A settled pack as esfera's particle CSV (x, y, z, radius)."""
-    rows = np.column_stack([d["position"], d["radius"]])
-    np.savetxt(path, rows, delimiter=",", header="x,y,z,radius", comments="", fmt="%.17g")
-
-
 def measure_load(R, Q, k, cfg, source):
-    label, eta, damping, rule = cfg
-    out, summ, _, _ = R.run(f"load_{k}", pack_scene(Q, eta, damping, source, rule))
-    fr = load_frames(out)
-    t = np.array([f[0] for f in fr])
-    fmean = np.array([unbalanced(f[1]).mean() for f in fr])
-    E = load_energy(out)
-    ke = E["kinetic_translational"] + E["kinetic_rotational"]
+    run_ = R.run(f"load_{k}", pack_scene(Q, cfg.eta, cfg.damping, source, cfg.rule))
+    summ = run_.summary
+    fr = frames(run_.out)
+    t = np.array([f.time for f in fr])
+    fmean = np.array([unbalanced(f.data).mean() for f in fr])
+    E = energy(run_.out)
     t_f = ke_settle_time(t, fmean, Q["force_tol"])
-    d1 = fr[-1][1]
-    return {"label": label, "t": t, "fmean": fmean, "dt": summ["dt"], "t_f": t_f,
+    d0, d1 = fr[0].data, fr[-1].data
+    phi, _ = pack_fraction(d1)
+    return {"label": cfg.label, "t": t, "fmean": fmean, "dt": summ["dt"], "t_f": t_f,
             "steps_f": t_f / summ["dt"], "f_end": fmean[-1],
-            "f_med_end": np.median(unbalanced(d1)), "ke_t": E["time"], "ke": ke,
-            "phi": pack_fraction(d1)[0],
-            "drop": (np.mean(fr[0][1]["position"][:, 2]) - np.mean(d1["position"][:, 2]))}
+            "f_med_end": np.median(unbalanced(d1)), "ke_t": E["time"], "ke": kinetic(E),
+            "phi": phi,
+            "drop": (np.mean(d0["position"][:, 2]) - np.mean(d1["position"][:, 2]))}
 
 
 def settling_study(R, Q, res):
     cfgs = pack_configs(Q, "pour")
     pour = R.map(lambda kc: measure_pour(R, Q, *kc), list(enumerate(cfgs)))
-    rows = [[g["label"], g["steps_settle"], g["t_settle"], g["phi"], g["f_res"],
-             g["f_res_med"], g["ke_end"], g["height"]] for g in pour]
-    write_csv(os.path.join(res, "settling_pour.csv"),
-              ["damping", "steps_to_ke_threshold", "time_to_ke_threshold_s",
-               "solid_fraction", "mean_unbalanced_force_over_mg",
-               "median_unbalanced_force_over_mg", "final_ke_over_NmgD", "pack_top_m"], rows)
+    write_csv(os.path.join(res, "settling_pour.csv"), [dict(
+        damping=g["label"], steps_to_ke_threshold=g["steps_settle"],
+        time_to_ke_threshold_s=g["t_settle"], solid_fraction=g["phi"],
+        mean_unbalanced_force_over_mg=g["f_res"], median_unbalanced_force_over_mg=g["f_res_med"],
+        final_ke_over_NmgD=g["ke_end"], pack_top_m=g["height"]) for g in pour], blank=True)
     src_cfg = next(g for g in pour if g["label"] == Q["load_source"])
     source = os.path.join(R.tmp, "settled_pack.csv")
-    write_pack_csv(load_frames(src_cfg["out"], [-1])[0][1], source)
+    write_particles_csv(source, last_frame(src_cfg["out"]).data)
     cfgs = pack_configs(Q, "load")
-    load = R.map(lambda kc: measure_load(R, Q, kc[0], kc[1], source), list(enumerate(cfgs)))
-    rows = [[g["label"], g["steps_f"], g["t_f"], g["f_end"], g["f_med_end"], g["phi"],
-             g["drop"]] for g in load]
-    write_csv(os.path.join(res, "settling_load.csv"),
-              ["damping", "steps_to_force_tolerance", "time_to_force_tolerance_s",
-               "final_mean_unbalanced_force_over_mg", "final_median_unbalanced_force_over_mg",
-               "solid_fraction", "mean_settlement_m"], rows)
+    load = R.map(lambda kc: measure_load(R, Q, *kc, source), list(enumerate(cfgs)))
+    write_csv(os.path.join(res, "settling_load.csv"), [dict(
+        damping=g["label"], steps_to_force_tolerance=g["steps_f"],
+        time_to_force_tolerance_s=g["t_f"], final_mean_unbalanced_force_over_mg=g["f_end"],
+        final_median_unbalanced_force_over_mg=g["f_med_end"], solid_fraction=g["phi"],
+        mean_settlement_m=g["drop"]) for g in load], blank=True)
     plot_settling(pour, load, res, Q)
     return pour, load
 
@@ -880,18 +848,18 @@ BALL = {"density": 2500.0, "kn": 1.0e6, "radius": 0.01, "h0": 0.1}
 
 
 def dynamic_configs(Q):
-    cfgs = [("undamped", 1.0, None),
-            ("contact eta 0.8", 0.8, None),
-            ("global alpha 1/s", 1.0, {"global": {"translation": 1.0, "rotation": 1.0}}),
-            ("global alpha 100/s", 1.0, {"global": {"translation": 100.0, "rotation": 100.0}}),
-            ("local component 0.1", 1.0, {"local": {"coefficient": 0.1, "form": "component"}}),
-            ("local component 0.3", 1.0, {"local": {"coefficient": 0.3, "form": "component"}}),
-            ("local component 0.7", 1.0, {"local": {"coefficient": 0.7, "form": "component"}}),
-            ("local vector 0.7", 1.0, {"local": {"coefficient": 0.7, "form": "vector"}}),
-            ("adaptive global", 1.0, {"global": {"auto": True}})]
+    cfgs = [Setup("undamped"),
+            Setup("contact eta 0.8", 0.8),
+            Setup("global alpha 1/s", damping=drag(1.0)),
+            Setup("global alpha 100/s", damping=drag(100.0)),
+            Setup("local component 0.1", damping=local(0.1)),
+            Setup("local component 0.3", damping=local(0.3)),
+            Setup("local component 0.7", damping=local(0.7)),
+            Setup("local vector 0.7", damping=local(0.7, "vector")),
+            Setup("adaptive global", damping=ADAPTIVE)]
     if Q["quick"]:
-        cfgs = [c for c in cfgs if c[0] in ("undamped", "contact eta 0.8",
-                                            "local component 0.7", "global alpha 1/s")]
+        cfgs = [c for c in cfgs if c.label in ("undamped", "contact eta 0.8",
+                                               "local component 0.7", "global alpha 1/s")]
     return cfgs
 
 
@@ -931,7 +899,7 @@ def drag_apex(h, alpha):
 def predicted_apex(eta, damping):
     """First apex / h0 of the bouncing sphere from the closed forms (nan: none)."""
     if damping is None:
-        return cut_impact(tsuji_zeta(eta))[0] ** 2
+        return cut_impact(tsuji_zeta(eta)).e ** 2
     if "local" in damping:
         c = damping["local"]["coefficient"]
         return ((1 - c) / (1 + c)) ** 2  # flight x contact, each (1 - c)/(1 + c)
@@ -942,9 +910,8 @@ def predicted_apex(eta, damping):
 
 
 def measure_bounce(R, Q, k, cfg):
-    label, eta, damping = cfg
-    out, _, _, _ = R.run(f"bounce_{k}", bounce_scene(eta, damping, Q["bounce_duration"]))
-    E = load_energy(out)
+    E = energy(R.run(f"bounce_{k}", bounce_scene(cfg.eta, cfg.damping,
+                                                  Q["bounce_duration"])).out)
     m = 4 / 3 * math.pi * BALL["radius"] ** 3 * BALL["density"]
     z = E["potential_gravity"] / (m * G)
     tp, zp = apex_heights(E["time"], z)
@@ -953,8 +920,13 @@ def measure_bounce(R, Q, k, cfg):
     tp, h = tp[keep], h[keep]
     el = E["elastic_normal"]
     first = E["time"][np.nonzero(el > 0)[0][0]] if np.any(el > 0) else float("nan")
-    return {"label": label, "t": E["time"], "z": z, "apex_t": tp, "apex_h": h / BALL["h0"],
-            "first_impact": first, "predicted": predicted_apex(eta, damping)}
+    return {"label": cfg.label, "t": E["time"], "z": z, "apex_t": tp, "apex_h": h / BALL["h0"],
+            "first_impact": first, "predicted": predicted_apex(cfg.eta, cfg.damping)}
+
+
+def apexes(g, nb):
+    """The first nb apex heights / h0 of a bounce, nan where there was none."""
+    return list(g["apex_h"][:nb]) + [float("nan")] * (nb - min(nb, len(g["apex_h"])))
 
 
 def chain_scene(Q, eta, damping):
@@ -978,18 +950,16 @@ def chain_scene(Q, eta, damping):
 
 
 def measure_chain(R, Q, k, cfg):
-    label, eta, damping = cfg
-    scene, v0, w = chain_scene(Q, eta, damping)
-    out, _, _, _ = R.run(f"chain_{k}", scene)
-    fr = load_frames(out)
-    t = np.array([f[0] for f in fr])
-    v_last = np.array([f[1]["velocity"][-1, 0] for f in fr]) / v0
-    v_all = np.array([f[1]["velocity"][:, 0] for f in fr]) / v0
+    scene, v0, w = chain_scene(Q, cfg.eta, cfg.damping)
+    fr = frames(R.run(f"chain_{k}", scene).out)
+    t = np.array([f.time for f in fr])
+    v_all = np.array([f.data["velocity"][:, 0] for f in fr]) / v0  # frame x sphere
+    v_last = v_all[:, -1]
     vmax = v_last.max()
-    return {"label": label, "t": t, "v": v_last, "amp": vmax,
+    return {"label": cfg.label, "t": t, "v": v_last, "amp": vmax,
             "t50": cross_time(t, v_last, 0.5 * vmax) if vmax > 0 else float("nan"),
             "t10": cross_time(t, v_last, 0.1 * vmax) if vmax > 0 else float("nan"),
-            "v_end": v_last[-1], "momentum_end": v_all[-1].sum(), "striker_end": v_all[-1][0],
+            "v_end": v_last[-1], "momentum_end": v_all[-1].sum(), "striker_end": v_all[-1, 0],
             "omega": w}
 
 
@@ -999,21 +969,17 @@ def dynamics_study(R, Q, res):
     bounce = R.map(lambda kc: measure_bounce(R, Q, *kc), items)
     chain = R.map(lambda kc: measure_chain(R, Q, *kc), items)
     nb = Q["bounces"]
-    rows = []
-    for g in bounce:
-        hs = list(g["apex_h"][:nb]) + [float("nan")] * (nb - min(nb, len(g["apex_h"])))
-        rows.append([g["label"], g["first_impact"], g["predicted"]] + hs)
-    write_csv(os.path.join(res, "bounce.csv"),
-              ["damping", "first_impact_s", "apex1_predicted"]
-              + [f"apex{k + 1}_over_h0" for k in range(nb)], rows)
+    write_csv(os.path.join(res, "bounce.csv"), [dict(
+        damping=g["label"], first_impact_s=g["first_impact"], apex1_predicted=g["predicted"],
+        **{f"apex{k + 1}_over_h0": h for k, h in enumerate(apexes(g, nb))}) for g in bounce],
+        blank=True)
     ref = chain[0]
-    crow = [[g["label"], g["t50"], g["t50"] / ref["t50"], g["t10"], g["amp"],
-             g["amp"] / ref["amp"], g["v_end"], g["momentum_end"], g["striker_end"]]
-            for g in chain]
-    write_csv(os.path.join(res, "chain.csv"),
-              ["damping", "arrival_t50_s", "arrival_vs_undamped", "arrival_t10_s",
-               "peak_velocity_over_v0", "amplitude_vs_undamped", "final_velocity_over_v0",
-               "final_momentum_over_m_v0", "striker_final_velocity_over_v0"], crow)
+    write_csv(os.path.join(res, "chain.csv"), [dict(
+        damping=g["label"], arrival_t50_s=g["t50"], arrival_vs_undamped=g["t50"] / ref["t50"],
+        arrival_t10_s=g["t10"], peak_velocity_over_v0=g["amp"],
+        amplitude_vs_undamped=g["amp"] / ref["amp"], final_velocity_over_v0=g["v_end"],
+        final_momentum_over_m_v0=g["momentum_end"],
+        striker_final_velocity_over_v0=g["striker_end"]) for g in chain], blank=True)
     fig, ax = plt.subplots(1, 2, figsize=(13, 4.8))
     for g in bounce:
         ax[0].plot(g["t"], (g["z"] - BALL["radius"]) / BALL["h0"], lw=0.9, label=g["label"])
@@ -1042,13 +1008,12 @@ def bed_amplitude():
 
 
 def bed_configs(Q):
-    loc = lambda c, f: {"local": {"coefficient": c, "form": f}}  # noqa: E731
-    cfgs = [("contact eta 0.7 (seed)", None),
-            ("local component 0.7", loc(0.7, "component")),
-            ("local vector 0.7", loc(0.7, "vector")),
-            ("local component 0.1", loc(0.1, "component")),
-            ("global alpha 20/s", {"global": {"translation": 20.0, "rotation": 20.0}}),
-            ("adaptive global", {"global": {"auto": True}})]
+    cfgs = [Setup("contact eta 0.7 (seed)"),
+            Setup("local component 0.7", damping=local(0.7)),
+            Setup("local vector 0.7", damping=local(0.7, "vector")),
+            Setup("local component 0.1", damping=local(0.1)),
+            Setup("global alpha 20/s", damping=drag(20.0)),
+            Setup("adaptive global", damping=ADAPTIVE)]
     if Q["quick"]:
         cfgs = cfgs[:2]
     return cfgs
@@ -1085,7 +1050,7 @@ def bed_model(c=0.0, alpha=0.0, cycles=14, steps=4000):
     (free flight: a = -g - c g sign(v)) or global damping alpha (a = -g - alpha v). It
     leaves the plate when the plate's acceleration falls below the free one and sticks
     on landing. Returns the largest lift above the plate, the airborne fraction and the
-    landings per driving period over the last four cycles."""
+    landings per driving period over the last four cycles (lift, air, lands)."""
     w = 2 * math.pi * BED["f"]
     A = bed_amplitude()
     dt = 1 / (BED["f"] * steps)
@@ -1108,7 +1073,7 @@ def bed_model(c=0.0, alpha=0.0, cycles=14, steps=4000):
             lift = max(lift, z - zp)
             air += not on
             count += 1
-    return lift, air / count, lands / 4
+    return {"lift": lift, "air": air / count, "lands": lands / 4}
 
 
 def flights_per_period(t, h, T):
@@ -1131,12 +1096,14 @@ def flights_per_period(t, h, T):
 
 def measure_bed(R, Q, k, cfg):
     """Runs one bed; returns the lift of its centre of mass above the floor."""
-    label, damping = cfg
-    out, _, rc, err = R.run(f"bed_{k}", bed_scene(Q, damping), check=False)
-    if rc != 0:
-        return {"label": label, "error": (rc, err.strip().splitlines()[-1] if err.strip() else "")}
-    E = load_energy(out)
-    d0 = load_frames(out, [0])[0][1]
+    damping = cfg.damping
+    r = R.run(f"bed_{k}", bed_scene(Q, damping), check=False)
+    if r.returncode != 0:
+        err = r.stderr.strip()
+        return {"label": cfg.label, "error": dict(returncode=r.returncode,
+                                                  message=err.splitlines()[-1] if err else "")}
+    E = energy(r.out)
+    d0 = frames(r.out, [0])[0].data
     M = np.sum(4 / 3 * np.pi * d0["radius"] ** 3 * BED["density"])
     t = E["time"]
     floor = bed_amplitude() * np.sin(2 * np.pi * BED["f"] * t)
@@ -1149,15 +1116,15 @@ def measure_bed(R, Q, k, cfg):
     c = damping["local"]["coefficient"] if damping and "local" in damping else 0.0
     a = (damping["global"].get("translation", 0.0)
          if damping and "global" in damping and "auto" not in damping["global"] else 0.0)
-    model = bed_model(c, a) if not (damping and "auto" in damping.get("global", {})) \
-        else (float("nan"),) * 3
+    model = (bed_model(c, a) if not (damping and "auto" in damping.get("global", {}))
+             else dict.fromkeys(("lift", "air", "lands"), float("nan")))
     up = h[win] > 0.1 * BED["dmin"]
     lands = flights_per_period(t[win], h[win], 1 / BED["f"])
-    return {"label": label, "t": t, "h": h, "lift": h[win].max(),
-            "air": np.mean(up), "lands": lands, "model_lands": model[2], "work": W,
+    return {"label": cfg.label, "t": t, "h": h, "lift": h[win].max(),
+            "air": np.mean(up), "lands": lands, "model_lands": model["lands"], "work": W,
             "art_frac": art / W if W > 0 else float("nan"),
             "contact_frac": E["dissipated_contact"][-1] / W if W > 0 else float("nan"),
-            "model_lift": model[0], "model_air": model[1]}
+            "model_lift": model["lift"], "model_air": model["air"]}
 
 
 def bed_study(R, Q, res):
@@ -1167,12 +1134,12 @@ def bed_study(R, Q, res):
         return {"unavailable": first["error"]}
     got = [first] + R.map(lambda kc: measure_bed(R, Q, *kc), list(enumerate(cfgs))[1:])
     got = [g for g in got if "error" not in g]
-    rows = [[g["label"], 1e3 * g["lift"], 1e3 * g["model_lift"], g["air"], g["model_air"],
-             g["lands"], g["model_lands"], g["art_frac"], g["contact_frac"]] for g in got]
-    write_csv(os.path.join(res, "vibrated_bed.csv"),
-              ["damping", "max_lift_mm", "model_lift_mm", "airborne_fraction",
-               "model_airborne_fraction", "flights_per_period", "model_flights_per_period",
-               "wall_work_to_damping", "wall_work_to_contacts"], rows)
+    write_csv(os.path.join(res, "vibrated_bed.csv"), [dict(
+        damping=g["label"], max_lift_mm=1e3 * g["lift"], model_lift_mm=1e3 * g["model_lift"],
+        airborne_fraction=g["air"], model_airborne_fraction=g["model_air"],
+        flights_per_period=g["lands"], model_flights_per_period=g["model_lands"],
+        wall_work_to_damping=g["art_frac"], wall_work_to_contacts=g["contact_frac"])
+        for g in got], blank=True)
     fig, ax = plt.subplots(figsize=(9, 4.5))
     for g in got:
         ax.plot(g["t"] * BED["f"], 1e3 * g["h"], lw=0.9, label=g["label"])
@@ -1191,8 +1158,7 @@ def bed_study(R, Q, res):
 
 def md_table(header, rows):
     out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    out += ["| " + " | ".join(fmt(x) if not isinstance(x, str) else x for x in r) + " |"
-            for r in rows]
+    out += ["| " + " | ".join(fmt(x, blank=True) for x in r) + " |" for r in rows]
     return "\n".join(out)
 
 
@@ -1218,52 +1184,57 @@ def report_part1(Q, rest, decay, conv):
     L = ["## 1. Requested vs measured restitution and decay\n"]
     L.append("Seed 004's damping demo sphere (k = 2e7 N/m, rho = 2000 kg/m^3, r = 0.05 m) "
              "launched at 0.1 m/s at a plane and as a head-on pair, no gravity.\n")
-    sel = [r for r in rest if r[3] == fbest]
+    fcoarse = max(Q["fracs"])
+
+    def one(kind, eta, frac):
+        return next(r for r in rest if r["kind"] == kind and r["eta_requested"] == eta
+                    and r["frac"] == frac)
+
+    sel = [r for r in rest if r["frac"] == fbest]
     rows = []
     for eta in Q["etas"]:
-        w_ = next(r for r in sel if r[0] == "wall" and r[1] == eta)
-        p_ = next(r for r in sel if r[0] == "pair" and r[1] == eta)
-        coarse = [r for r in rest if r[1] == eta and r[0] == "wall" and r[3] == max(Q["fracs"])]
-        rows.append([f"{eta:g}", w_[2], w_[6] if np.isfinite(w_[6]) else w_[7], w_[5], p_[5],
-                     100 * w_[8], 100 * p_[8], 100 * coarse[0][8]])
+        w_, p_ = one("wall", eta, fbest), one("pair", eta, fbest)
+        e_cf = w_["e_closed_form"]
+        rows.append([f"{eta:g}", w_["zeta"], e_cf if np.isfinite(e_cf) else w_["e_exact_solver"],
+                     w_["e_measured"], p_["e_measured"], 100 * w_["rel_error"],
+                     100 * p_["rel_error"], 100 * one("wall", eta, fcoarse)["rel_error"]])
     L.append(md_table(["eta requested", "zeta (Tsuji)", "e closed form", f"e wall (frac {fbest:g})",
                        f"e pair (frac {fbest:g})", "wall err %", "pair err %",
                        f"wall err % (frac {max(Q['fracs']):g})"], rows))
-    mod = [r for r in sel if 0.1 <= r[1] <= 0.9]
-    worst_mod = max(abs(r[8]) for r in mod) if mod else float("nan")
-    crs = [r for r in rest if r[3] == max(Q["fracs"]) and 0.1 <= r[1] <= 0.9]
-    worst_crs = max(abs(r[8]) for r in crs) if crs else float("nan")
-    lo = [r for r in sel if r[1] <= 1e-3 and r[0] == "wall"]
+    worst_mod, worst_crs = worst_moderate(rest, fbest), worst_moderate(rest, fcoarse)
+    lo = [r for r in sel if r["eta_requested"] <= 1e-3 and r["kind"] == "wall"]
+    wdt = [r["omega_dt"] for r in sel]
     L.append("")
     L.append(f"- The measured restitution follows the cut-oscillator closed form, **not** the "
-             f"requested eta: at frac {fbest:g} (omega dt {min(r[4] for r in sel):.3g}–"
-             f"{max(r[4] for r in sel):.3g}) every moderate case (eta 0.1–0.9) is within "
+             f"requested eta: at frac {fbest:g} (omega dt {min(wdt):.3g}–{max(wdt):.3g}) every "
+             f"moderate case (eta 0.1–0.9) is within "
              f"{100 * worst_mod:.2f}% of it; at the production frac {max(Q['fracs']):g} within "
              f"{100 * worst_crs:.2f}%. The leapfrog error is first order in dt (the dashpot "
              "force jumps at first touch and uses the half-step velocity).")
     if lo:
         L.append(f"- The 'overdamped' eta = 1e-7 of the seed is not overdamped: Tsuji's zeta "
                  f"is {tsuji_zeta(1e-7):.4f} < 1, and with the no-tension cut the sphere "
-                 f"still rebounds with e = {lo[0][5]:.4f} (closed form {lo[0][7]:.4f}); no "
+                 f"still rebounds with e = {lo[0]['e_measured']:.4f} (closed form "
+                 f"{lo[0]['e_exact_solver']:.4f}); no "
                  "requested eta can give e below "
-                 f"{cut_impact(0.99999)[0]:.3f}.")
+                 f"{cut_impact(0.99999).e:.3f}.")
     L.append(f"- e exceeds eta everywhere below eta ~ 1: eta 0.5 gives e = "
-             f"{cut_impact_closed_form(tsuji_zeta(0.5))[0]:.3f}, eta 0.1 gives "
-             f"{cut_impact_closed_form(tsuji_zeta(0.1))[0]:.3f}. A user who wants e should "
+             f"{cut_impact_closed_form(tsuji_zeta(0.5)).e:.3f}, eta 0.1 gives "
+             f"{cut_impact_closed_form(tsuji_zeta(0.1)).e:.3f}. A user who wants e should "
              "invert the cut form, not Tsuji's.\n")
     L.append("![restitution and decay](restitution_decay.png)\n")
     L.append("Resting sphere kicked upward (amplitude half its static overlap, so the "
              "contact never opens): the half-cycle amplitude ratio and the log decrement.\n")
-    rows = [[g["case"][0], f"{g['case'][1]:.4g}", g["zeta_nominal"], g["delta_nominal"],
+    rows = [[g["case"].kind, f"{g['case'].value:.4g}", g["zeta_nominal"], g["delta_nominal"],
              g["delta"], g["zeta_measured"], g["half_ratio"], g["peaks"]] for g in decay]
     L.append(md_table(["damping", "parameter", "zeta nominal", "decrement expected",
                        "decrement measured", "zeta measured", "half-cycle ratio", "peaks"], rows))
-    con = [g for g in decay if g["case"][0] == "contact" and np.isfinite(g["half_ratio"])
-           and g["case"][1] >= 0.1 and g["delta_nominal"] > 0]
+    con = [g for g in decay if g["case"].kind == "contact" and np.isfinite(g["half_ratio"])
+           and g["case"].value >= 0.1 and g["delta_nominal"] > 0]
     err_c = max(abs(g["delta"] / g["delta_nominal"] - 1) for g in con)
-    gl = [g for g in decay if g["case"][0] == "global"]
+    gl = [g for g in decay if g["case"].kind == "global"]
     err_g = max(abs(g["delta"] / g["delta_nominal"] - 1) for g in gl)
-    loc = [g for g in decay if g["case"][0] in ("component", "vector")]
+    loc = [g for g in decay if g["case"].kind in ("component", "vector")]
     err_l = max(abs(g["delta"] / g["delta_nominal"] - 1) for g in loc)
     L.append("")
     L.append(f"- Without the cut (contact kept closed) the dashpot delivers what was "
@@ -1278,10 +1249,11 @@ def report_part1(Q, rest, decay, conv):
              "dt -> 0 (first order):\n")
     L.append(md_table(["eta requested", "frac", "omega dt", "half-cycle ratio measured",
                        "decrement error %"],
-                      [[f"{r[0]:g}", r[1], r[2], r[3], 100 * r[6]] for r in conv]))
-    lost = [g for g in decay if g["case"][0] == "contact" and not np.isfinite(g["delta"])]
+                      [[f"{r['eta_requested']:g}", r["frac"], r["omega_dt"],
+                        r["half_cycle_ratio"], 100 * r["rel_error"]] for r in conv]))
+    lost = [g for g in decay if g["case"].kind == "contact" and not np.isfinite(g["delta"])]
     if lost:
-        L.append("\n  For eta = " + ", ".join(f"{g['case'][1]:g}" for g in lost) + " the second "
+        L.append("\n  For eta = " + ", ".join(f"{g['case'].value:g}" for g in lost) + " the second "
                  "peak (eta x 1e-7 m) lies below the position's resolution at a 0.05 m radius "
                  "(the overlap r - |x - q| is rounded to ~1e-17 m and the motion freezes near "
                  "1e-16 m), so no decrement is measurable.")
@@ -1307,30 +1279,36 @@ def report_part2(Q, ray_rows, fc, ff, beta_ex, pack_ray):
              f"zeta_R = {Q['rayleigh_zeta']:g} (docs/scene.md's example), sweeps f_R against "
              f"the contact frequency, and evaluates the example f_R = "
              f"{Q['rayleigh_example_f']:g} Hz.\n")
-    rows = [[r[2], r[1], r[3], r[4], r[5], r[6], r[8], r[9], r[11]] for r in ray_rows]
+    rows = [[r["f_R_over_f_wall"], r["f_R_Hz"], r["zeta_mode_wall_expected"],
+             r["zeta_mode_wall_measured"], r["zeta_mode_pair_expected"],
+             r["zeta_contact_pair_beta"], r["e_pair_measured"], r["e_pair_expected"],
+             r["e_pair_contact_dashpot_only"]] for r in ray_rows]
     L.append(md_table(["f_R / f_c", "f_R (Hz)", "zeta mode expected", "zeta mode measured",
                        "zeta pair mode", "zeta pair dashpot", "e pair measured",
                        "e pair expected", "e dashpot only"], rows))
-    ovd = [r for r in ray_rows if not np.isfinite(r[4])]
+    ovd = [r for r in ray_rows if not np.isfinite(r["zeta_mode_wall_measured"])]
     if ovd:
         L.append("\n  Blank measured mode ratio: at f_R / f_c = "
-                 + ", ".join(f"{r[2]:g}" for r in ovd)
+                 + ", ".join(f"{r['f_R_over_f_wall']:g}" for r in ovd)
                  + " the mode is overdamped (zeta > 1): no oscillation, no decrement.")
-    stuck = [r for r in ray_rows if not np.isfinite(r[8])]
+    stuck = [r for r in ray_rows if not np.isfinite(r["e_pair_measured"])]
     if stuck:
-        L.append("\n  Blank e: at f_R / f_c = " + ", ".join(f"{r[2]:g}" for r in stuck)
+        L.append("\n  Blank e: at f_R / f_c = "
+                 + ", ".join(f"{r['f_R_over_f_wall']:g}" for r in stuck)
                  + " the body damper alone overdamps the pair's relative motion while the "
                  "contact dashpot is too weak to end the contact: the spheres creep to rest "
                  "in contact and never separate (e = 0).\n")
-    errs = [abs(r[4] / r[3] - 1) for r in ray_rows if np.isfinite(r[4])]
-    eerr = [abs(r[10]) for r in ray_rows if np.isfinite(r[10])]
+    errs = [abs(r["zeta_mode_wall_measured"] / r["zeta_mode_wall_expected"] - 1)
+            for r in ray_rows if np.isfinite(r["zeta_mode_wall_measured"])]
+    eerr = [abs(r["rel_error"]) for r in ray_rows if np.isfinite(r["rel_error"])]
     L.append("")
-    at = [r for r in ray_rows if r[2] == 1]
+    at = [r for r in ray_rows if r["f_R_over_f_wall"] == 1]
     L.append("- The seed's pair of coefficients **doubles** the requested ratio: with alpha = "
              "2 omega_R zeta_R and beta = 2 zeta_R / omega_R each term alone gives zeta_R "
              "at f_R, together a mode at f gets zeta(f) = (alpha/omega + beta omega)/2 = "
              "zeta_R (f_R/f + f/f_R), 2 zeta_R at f = f_R"
-             + (f" (measured {at[0][4]:.4f} for zeta_R = {Q['rayleigh_zeta']:g})" if at else "")
+             + (f" (measured {at[0]['zeta_mode_wall_measured']:.4f} for zeta_R = "
+                f"{Q['rayleigh_zeta']:g})" if at else "")
              + f". The measured damping of the sphere-on-wall mode (f_c = {fc:.0f} Hz) "
              f"follows zeta(f) within {100 * max(errs):.2f}% over the sweep, and the pair "
              f"restitution the cut oscillator carrying both terms within "
@@ -1342,7 +1320,8 @@ def report_part2(Q, ray_rows, fc, ff, beta_ex, pack_ray):
              f"free-falling sphere reaches {ff['v_end']:.4f} m/s after {ff['t']:.3f} s "
              f"(expected {ff['v_expected']:.4f}, terminal g/alpha = {ff['v_term']:.4f} m/s) "
              f"and falls {ff['fall_1s']:.3f} m in 1 s instead of {ff['fall_1s_undamped']:.2f} m.")
-    rows = [[lab, f, zc, zm, e] for lab, f, zc, zm, e in pack_ray]
+    rows = [[p["contact"], p["f_c"], p["zeta_dashpot"], p["zeta_with_alpha"], p["e"]]
+            for p in pack_ray]
     L.append(f"- On the study's pack (glass, k = 1e4 N/m, r 1.2–2.2 mm) the same setting "
              f"(beta = {beta_ex:.3g} s) gives these contacts:\n")
     L.append(md_table(["contact", "f_c (Hz)", "zeta dashpot beta omega/2",
@@ -1391,8 +1370,7 @@ def report_part3b(Q, bounce, chain, vib):
     nb = Q["bounces"]
     rows = []
     for g in bounce:
-        hs = list(g["apex_h"][:nb]) + [float("nan")] * (nb - min(nb, len(g["apex_h"])))
-        rows.append([g["label"], g["first_impact"], g["predicted"]] + hs)
+        rows.append([g["label"], g["first_impact"], g["predicted"]] + apexes(g, nb))
     L.append(md_table(["damping", "first impact (s)", "apex 1 predicted"]
                       + [f"apex {k + 1}" for k in range(nb)], rows))
     L.append("")
@@ -1415,7 +1393,7 @@ def report_part3b(Q, bounce, chain, vib):
 
 def report_bed(Q, vib):
     if "unavailable" in vib:
-        rc, msg = vib["unavailable"]
+        rc, msg = vib["unavailable"]["returncode"], vib["unavailable"]["message"]
         return ["### Vibrated bed: not available\n",
                 "The vibrated bed (seed 004 Tables 17–18) needs a wall with prescribed "
                 f"motion (issue 4), which this esfera refuses (exit status {rc}: `{msg}`). "
@@ -1465,14 +1443,14 @@ def glance(Q, rest, decay, ray_rows, ff, pack_ray, settle, bounce, chain, vib):
     """The report's summary: one or two sentences per part, numbers from the runs."""
     pour, load = settle
     fine, coarse = min(Q["fracs"]), max(Q["fracs"])
-    worst = lambda fr: max(abs(r[8]) for r in rest  # noqa: E731
-                           if r[3] == fr and 0.1 <= r[1] <= 0.9)
-    e_of = {r[1]: r[5] for r in rest if r[0] == "wall" and r[3] == fine}
-    loc7 = next((g for g in decay if g["case"] == ("component", 0.7)), None)
+    e_of = {r["eta_requested"]: r["e_measured"] for r in rest
+            if r["kind"] == "wall" and r["frac"] == fine}
+    loc7 = next((g for g in decay if g["case"] == Case("component", 0.7)), None)
     L = ["## At a glance\n"]
     L.append(f"1. **Restitution.** Measured impact restitution is the cut-oscillator closed "
-             f"form (within {100 * worst(fine):.2f}% at omega dt ~ {fine * 1.41:.2g}, "
-             f"{100 * worst(coarse):.1f}% at the production frac {coarse:g}), always above the "
+             f"form (within {100 * worst_moderate(rest, fine):.2f}% at omega dt ~ "
+             f"{fine * 1.41:.2g}, {100 * worst_moderate(rest, coarse):.1f}% at the production "
+             f"frac {coarse:g}), always above the "
              f"requested eta: eta 0.5 -> e {e_of.get(0.5, float('nan')):.3f}, eta 0.1 -> "
              f"{e_of.get(0.1, float('nan')):.3f}, the seed's 'overdamped' eta 1e-7 -> "
              f"{e_of.get(1e-7, float('nan')):.3f}. A resting sphere (contact never opening) "
@@ -1481,13 +1459,14 @@ def glance(Q, rest, decay, ray_rows, ff, pack_ray, settle, bounce, chain, vib):
              "ln((1 + c)/(1 - c))"
              + (f" (c = 0.7: zeta_equiv {loc7['zeta_measured']:.3f})" if loc7 else "")
              + ", component and vector forms identical in 1D.")
-    at = [r for r in ray_rows if r[2] == 1]
-    ovd = [z for _, _, z, _, _ in pack_ray]
+    at = [r for r in ray_rows if r["f_R_over_f_wall"] == 1]
+    ovd = [p["zeta_dashpot"] for p in pack_ray]
     rp = [g for g in pour if g["label"].startswith("Rayleigh")]
     rl = [g for g in load if g["label"].startswith("Rayleigh")]
     txt = ("2. **Rayleigh.** The seed's alpha = 2 omega zeta, beta = 2 zeta / omega give a "
            "mode at f the ratio zeta_R (f_R/f + f/f_R): twice zeta_R at f_R"
-           + (f" (measured {at[0][4]:.4f} for zeta_R {Q['rayleigh_zeta']:g})" if at else "")
+           + (f" (measured {at[0]['zeta_mode_wall_measured']:.4f} for zeta_R "
+              f"{Q['rayleigh_zeta']:g})" if at else "")
            + f", rising away from it. The example zeta 0.05, f 100 Hz is a body drag "
            f"alpha = {ff['alpha']:.1f} 1/s (free fall capped at {ff['v_end']:.3f} m/s) and "
            f"overdamps the pack's contacts (zeta {min(ovd):.2f}–{max(ovd):.2f})")
@@ -1512,7 +1491,8 @@ def glance(Q, rest, decay, ray_rows, ff, pack_ray, settle, bounce, chain, vib):
     txt = "3. **Local vs global vs adaptive.** "
     if loc_p and none_p and fastest_p:
         txt += (f"Pouring a pack, local damping 0.7 is slow (it damps gravity itself: "
-                f"{fmt(loc_p['steps_settle'])} steps vs {fmt(none_p['steps_settle'])} with no "
+                f"{fmt(loc_p['steps_settle'], True)} steps vs "
+                f"{fmt(none_p['steps_settle'], True)} with no "
                 f"added damping, {fastest_p['steps_settle']:.0f} with {fastest_p['label']}) and "
                 f"leaves a looser pack (solid fraction {loc_p['phi']:.3f} vs "
                 f"{none_p['phi']:.3f}). ")
@@ -1651,9 +1631,8 @@ def settings(quick, jobs):
                  pack_n=300, pack_height=0.06, pack_duration=1.0, pack_energy_every=1e-3,
                  load_duration=0.3, load_frames=150,
                  chain_n=20, chain_frames=300, bounce_duration=1.5, bed_duration=0.4)
-    Q["decay_show"] = [("contact", 0.5), ("global", Q["decay_zetas"][0] * 2 *
-                                          math.sqrt(DEMO["kn"] / demo_mass())),
-                       ("component", 0.1), ("vector", 0.7), ("contact", 0.1)]
+    Q["decay_show"] = [Case("contact", 0.5), Case("global", global_alpha(Q["decay_zetas"][0])),
+                       Case("component", 0.1), Case("vector", 0.7), Case("contact", 0.1)]
     return Q
 
 

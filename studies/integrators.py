@@ -28,7 +28,7 @@ Scenes and error definitions (all errors are dimensionless):
            0.5, +-1 m/s). Error = max(|e/e_x - 1|, |t_c/t_c,x - 1|), e the restitution and
            t_c the time from first touch to the overlap's return to zero, against the
            closed form of the linear spring-dashpot with the no-tension cut (the formula
-           of tests/simtest.h, cut_impact_closed_form, re-derived here in Python). Both are
+           of tests/simtest.h, cut_impact_closed_form in studies/common.py). Both are
            read off the last frame: e = relative velocity / approach speed and, since the
            spheres coast freely after the impact, t_c = T - gap(T)/v_rel - t_touch.
   oblique  a sphere hitting a wall at 1 m/s normal and 0.4 m/s tangential, mu = 0.3, no
@@ -99,7 +99,6 @@ scene's plots and the report from DIR's files.
 """
 import argparse
 import collections
-import csv
 import json
 import math
 import os
@@ -116,15 +115,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
-from scene_io import parse_summary  # noqa: E402
+from common import (cut_impact_closed_form, last_frame, read_csv, run,  # noqa: E402
+                    tsuji_zeta, write_csv, write_particles_csv, write_scene)
 
-try:
-    import esfera_h5  # a reader written alongside; used when present and working
-except Exception:  # noqa: BLE001 - any failure: fall back to h5py
-    esfera_h5 = None
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 TARGETS = (1e-2, 1e-4, 1e-6)
 ATOL_PER_RTOL = 1e-5  # atol = 1e-5 * rtol (m, m/s, rad/s)
@@ -211,31 +205,12 @@ PACK_GENERATOR = ("{generate: random, region: {min: [0, 0, 0.0], max: [0.03, 0.0
 
 # ----------------------------------------------------------------- closed form, errors
 
-def tsuji_gamma(eta):
-    """Damping ratio of the linear dashpot giving restitution eta without the cut."""
-    ln = math.log(eta)
-    return -ln / math.sqrt(math.pi ** 2 + ln ** 2)
-
-
-def cut_impact(zeta, w):
-    """Restitution and time to zero overlap of u'' + 2 zeta w u' + w^2 u = 0 with the
-    force k u + c u' clipped at zero (no tension): the force ends at phase theta_end,
-    after which the bodies coast apart at e v0 from the overlap left then."""
-    s = math.sqrt(1 - zeta * zeta)
-    th = math.pi - math.atan2(2 * zeta * s, 1 - 2 * zeta * zeta)
-    decay = math.exp(-zeta * th / s)
-    t_end = th / (w * s)
-    e = -decay * (math.cos(th) - zeta / s * math.sin(th))
-    t_sep = t_end + decay * math.sin(th) / (w * s) / e
-    return e, t_sep
-
-
 def head_on_exact():
+    """(restitution, time to zero overlap) of the head-on pair: the cut closed form."""
     p = HEAD_ON
     m = 4.0 / 3.0 * math.pi * p["radius"] ** 3 * p["density"]
-    w = math.sqrt(p["kn"] / (m / 2))
-    e, t_sep = cut_impact(tsuji_gamma(p["eta"]), w)
-    return np.array([e, t_sep])
+    c = cut_impact_closed_form(tsuji_zeta(p["eta"]), math.sqrt(p["kn"] / (m / 2)))
+    return np.array([c.e, c.t_sep])
 
 
 def head_on_observe(frame):
@@ -280,67 +255,40 @@ def pack_error(obs, ref):
 
 # ------------------------------------------------------------------------- running
 
-Run = collections.namedtuple(
-    "Run", "status summary frame elapsed")
+Outcome = collections.namedtuple("Outcome", "status summary frame elapsed")
 
 
-def read_last_frame(outdir):
+def last_frame_by_id(outdir):
     """(time, {dataset: array}) of the last frame, rows sorted by particle id."""
-    path = os.path.join(outdir, "frames.h5")
-    if esfera_h5 is not None:
-        try:
-            fr = next(esfera_h5.iter_frames(path, select=[-1]))
-            t, d = fr.time, dict(fr.data)
-        except Exception:  # noqa: BLE001 - reader broken: read directly
-            t, d = read_last_frame_h5py(path)
-    else:
-        t, d = read_last_frame_h5py(path)
+    t, d = last_frame(outdir)
     order = np.argsort(d["id"])
     return t, {k: (a[order] if getattr(a, "shape", ())[:1] == order.shape else a)
                for k, a in d.items()}
 
 
-def read_last_frame_h5py(path):
-    import h5py
-
-    with h5py.File(path, "r") as f:
-        g = f["frames"][sorted(f["frames"].keys())[-1]]
-        data = {k: g[k][()] for k in g.keys() if isinstance(g[k], h5py.Dataset)}
-        return float(g.attrs["time"]), data
-
-
 class Esfera:
+    """Runs esfera into tmp/runs/TAG: an Outcome (status "ok", the summary and the last
+    frame; else what went wrong), the time spent in esfera summed in machine_s."""
+
     def __init__(self, path, tmp, timeout):
         self.path, self.tmp, self.timeout = path, tmp, timeout
         self.machine_s = 0.0
 
     def write_scene(self, name, text):
-        path = os.path.join(self.tmp, name + ".yaml")
-        with open(path, "w") as fh:
-            fh.write(text)
-        return path
+        return write_scene(os.path.join(self.tmp, name + ".yaml"), text)
 
     def run(self, scene, sets, tag, keep=False):
-        out = os.path.join(self.tmp, "runs", tag)
-        cmd = [self.path, "run", scene, "--out", out, "--quiet"]
-        for s in sets:
-            cmd += ["--set", s]
-        t0 = time.monotonic()
-        try:
-            p = subprocess.run(cmd, capture_output=True, text=True, timeout=self.timeout)
-        except subprocess.TimeoutExpired:
-            self.machine_s += time.monotonic() - t0
-            return Run(f"timeout after {self.timeout:.0f} s", None, None, self.timeout)
-        elapsed = time.monotonic() - t0
-        self.machine_s += elapsed
-        if p.returncode != 0:
-            msg = (p.stderr.strip().splitlines() or ["?"])[0]
-            return Run(f"exit {p.returncode}: {msg}", None, None, elapsed)
-        summ = parse_summary(p.stdout)
-        frame = read_last_frame(out)
+        r = run(self.path, scene, os.path.join(self.tmp, "runs", tag), sets, self.timeout)
+        self.machine_s += r.elapsed
+        if r.returncode is None:
+            return Outcome(f"timeout after {self.timeout:.0f} s", None, None, self.timeout)
+        if r.returncode != 0:
+            msg = (r.stderr.strip().splitlines() or ["?"])[0]
+            return Outcome(f"exit {r.returncode}: {msg}", None, None, r.elapsed)
+        frame = last_frame_by_id(r.out)
         if not keep:
-            shutil.rmtree(out, ignore_errors=True)
-        return Run("ok", summ, frame, elapsed)
+            shutil.rmtree(r.out, ignore_errors=True)
+        return Outcome("ok", r.summary, frame, r.elapsed)
 
     def log_text(self, tag):
         with open(os.path.join(self.tmp, "runs", tag, "log.txt")) as fh:
@@ -358,10 +306,17 @@ def loop_wall(summ):
 
 # ------------------------------------------------------------------- methods, curves
 
-Curve = collections.namedtuple("Curve", "method history roots mode settings")
+Key = collections.namedtuple("Key", "method history roots mode")  # a curve's identity
+Curve = collections.namedtuple("Curve", Key._fields + ("settings",))
+
+
+def row_key(r):
+    """The Key of the curve a CSV row belongs to."""
+    return Key(r["method"], r["history"], r["roots"] == "true", r["mode"])
 
 
 def label(c):
+    """A curve's name in plots and tables (c: a Curve or a Key)."""
     name = SHORT.get(c.method, c.method)
     if c.method in ("leapfrog", "verlet"):
         return name
@@ -484,7 +439,7 @@ class Scene:
         for k in cls.META:
             if k in meta:
                 setattr(sc, k, meta[k])
-        sc.rows = read_csv(cp)
+        sc.rows = read_rows(cp)
         return sc
 
 
@@ -524,22 +479,22 @@ def model_gap(scene, count=3):
     mutual error) and their median error against the reference, the gap. A gap above
     the reference floor means the leapfrog reference and the ODE solutions have not
     been shown to agree better than that: it then bounds the resolvable error."""
-    best = {}
+    best = {}  # method -> its most accurate history-as-state run
     for key, rows in by_curve(scene.rows).items():
         good = [r for r in ok_rows(rows) if "_obs" in r]
-        if key[1] == "state" and good:
+        if key.history == "state" and good:
             r = min(good, key=lambda q: q["error"])
-            if key[0] not in best or r["error"] < best[key[0]][1]["error"]:
-                best[key[0]] = (key, r)
-    picks = sorted(best.values(), key=lambda kr: kr[1]["error"])[:count]
-    picks = [kr for kr in picks if kr[1]["error"] <= 10 * picks[0][1]["error"]]
+            if key.method not in best or r["error"] < best[key.method]["error"]:
+                best[key.method] = r
+    picks = sorted(best.values(), key=lambda r: r["error"])[:count]
+    picks = [r for r in picks if r["error"] <= 10 * picks[0]["error"]]
     if len(picks) < 2 or scene.exact_ref:
         return
-    spread = max(scene.error(a[1]["_obs"], b[1]["_obs"])
+    spread = max(scene.error(a["_obs"], b["_obs"])
                  for i, a in enumerate(picks) for b in picks[i + 1:])
-    gap = float(np.median([kr[1]["error"] for kr in picks]))
-    names = ", ".join(f"{curve_label(k)} at {r['setting']:.3g} ({r['error']:.2g})"
-                      for k, r in picks)
+    gap = float(np.median([r["error"] for r in picks]))
+    names = ", ".join(f"{label(row_key(r))} at {r['setting']:.3g} ({r['error']:.2g})"
+                      for r in picks)
     scene.gap_note = (f"the most accurate history-as-state runs ({names}) agree among "
                       f"themselves to {spread:.2g} but lie {gap:.2g} (median) from the "
                       "reference")
@@ -622,13 +577,8 @@ def by_curve(rows):
     """Rows grouped per curve, in sweep order (coarse to fine)."""
     groups = collections.OrderedDict()
     for r in rows:
-        key = (r["method"], r["history"], r["roots"] == "true", r["mode"])
-        groups.setdefault(key, []).append(r)
+        groups.setdefault(row_key(r), []).append(r)
     return groups
-
-
-def curve_label(key):
-    return label(Curve(key[0], key[1], key[2], key[3], []))
 
 
 def cost_at(rows, target, cost):
@@ -648,12 +598,16 @@ def cost_at(rows, target, cost):
     return None, ""
 
 
+Best = collections.namedtuple("Best", "key cost flag")
+
+
 def cheapest(groups, target, cost):
+    """The curve reaching error <= target at the least cost: Best(key, cost, flag)."""
     best = None
     for key, rows in groups.items():
         c, flag = cost_at(rows, target, cost)
-        if c is not None and (best is None or c < best[1]):
-            best = (key, c, flag)
+        if c is not None and (best is None or c < best.cost):
+            best = Best(key, c, flag)
     return best
 
 
@@ -688,7 +642,7 @@ def orders(rows, floor):
     half = max(2, (len(x) + 1) // 2)
     return dict(all=slope(x, y), envelope=slope(x, envelope),
                 coarse=slope(x[:half], y[:half]), fine=slope(x[-half:], y[-half:]),
-                local=local, e_range=(max(y), min(y)))
+                local=local, e_max=max(y), e_min=min(y))
 
 
 def pair_compare(groups, a_key, b_key, cost="rhs_evals"):
@@ -714,30 +668,13 @@ CSV_FIELDS = ["method", "history", "roots", "setting", "error", "rhs_evals", "wa
               "steps", "rejected", "mode", "events", "restarts", "status"]
 
 
-def write_csv(path, rows):
-    with open(path, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=CSV_FIELDS, extrasaction="ignore")
-        w.writeheader()
-        for r in rows:
-            q = dict(r)
-            for k in ("setting", "error", "wall_s"):
-                if isinstance(q[k], float):
-                    q[k] = f"{q[k]:.6g}"
-            w.writerow(q)
-
-
-def read_csv(path):
-    """Rows as write_csv wrote them, numbers parsed (empty cells stay empty)."""
-    rows = []
-    with open(path, newline="") as fh:
-        for q in csv.DictReader(fh):
-            r = dict(q)
-            for k in ("setting", "error", "wall_s"):
-                r[k] = float(r[k]) if r[k] != "" else float("nan")
-            for k in ("rhs_evals", "steps", "rejected", "events", "restarts"):
-                if r.get(k, "") != "":
-                    r[k] = int(r[k])
-            rows.append(r)
+def read_rows(path):
+    """A SCENE.csv's rows, numbers parsed; setting, error and wall_s always floats (nan
+    where empty), the other columns empty where the run failed."""
+    rows = read_csv(path)
+    for r in rows:
+        for k in ("setting", "error", "wall_s"):
+            r[k] = float(r[k]) if r[k] != "" else float("nan")
     return rows
 
 
@@ -764,7 +701,7 @@ def plot_scene(scene, out, cost, xlabel):
         pts = ok_rows(rows)
         if pts:
             ax.loglog([r[cost] for r in pts], [r["error"] for r in pts],
-                      label=curve_label(key), **style(key))
+                      label=label(key), **style(key))
     front = pareto(scene.rows, cost)
     if front:
         ax.step([r[cost] for r in front], [r["error"] for r in front], where="post",
@@ -811,8 +748,8 @@ def cheapest_table(scene):
             if best is None:
                 cells += ["not reached", "-"]
             else:
-                note = " (at its coarsest run)" if best[2] else ""
-                cells += [curve_label(best[0]) + note, fmt_cost(best[1], cost)]
+                note = " (at its coarsest run)" if best.flag else ""
+                cells += [label(best.key) + note, fmt_cost(best.cost, cost)]
         lines.append("| " + " | ".join(cells) + " |")
     return lines
 
@@ -823,17 +760,17 @@ def orders_table(scene):
              "|---|---|---|---|---|---|---|---|---|"]
     fits = []
     for key, rows in by_curve(scene.rows).items():
-        if key[3] != "fixed":
+        if key.mode != "fixed":
             continue
         o = orders(rows, scene.resolvable())
         if o is None:
             continue
         fits.append((key, o))
         loc = " ".join(f"{s:.1f}" for s in o["local"])
-        lines.append(f"| {SHORT.get(key[0], key[0])} | {key[1]} | {NOMINAL.get(key[0])} | "
+        lines.append(f"| {SHORT.get(key.method, key.method)} | {key.history} | "
+                     f"{NOMINAL.get(key.method)} | "
                      f"{o['all']:.2f} | {o['envelope']:.2f} | {o['coarse']:.2f} | "
-                     f"{o['fine']:.2f} | {loc} | {o['e_range'][0]:.1e} .. "
-                     f"{o['e_range'][1]:.1e} |")
+                     f"{o['fine']:.2f} | {loc} | {o['e_max']:.1e} .. {o['e_min']:.1e} |")
     return lines, orders_summary(fits)
 
 
@@ -843,9 +780,9 @@ def orders_summary(fits):
         return ""
     sl = [o["all"] for _, o in fits]
     env = [o["envelope"] for _, o in fits]
-    hi = max(max(o["e_range"][0] for _, o in fits), 0)
-    lo = min(o["e_range"][1] for _, o in fits)
-    nom = sorted({NOMINAL.get(k[0]) for k, _ in fits})
+    hi = max(max(o["e_max"] for _, o in fits), 0)
+    lo = min(o["e_min"] for _, o in fits)
+    nom = sorted({NOMINAL.get(k.method) for k, _ in fits})
     text = (f"Fitted slopes {min(sl):.2f} .. {max(sl):.2f} (envelopes {min(env):.2f} .. "
             f"{max(env):.2f}) for nominal orders {nom[0]} .. {nom[-1]}, over errors "
             f"{hi:.0e} .. {lo:.0e}.")
@@ -867,7 +804,7 @@ def history_table(scene):
         method, history, roots, mode = key
         if history != "frozen":
             continue
-        skey = (method, "state", roots, mode)
+        skey = key._replace(history="state")
         cmp = pair_compare(groups, key, skey)
         if cmp is None:
             continue
@@ -884,8 +821,8 @@ def best_by_history(scene):
     best = {"frozen": [], "state": []}
     for key, rows in by_curve(scene.rows).items():
         good = ok_rows(rows)
-        if key[1] in best and good and key[0] != "cvode-adams":
-            best[key[1]].append(min(r["error"] for r in good))
+        if key.history in best and good and key.method != "cvode-adams":
+            best[key.history].append(min(r["error"] for r in good))
     parts = [f"{h} median {np.median(v):.2g} ({min(v):.2g} .. {max(v):.2g}, "
              f"{len(v)} curves)" for h, v in best.items() if v]
     return ("Best error reached per erk/rk4 curve: " + "; ".join(parts) + ". A curve "
@@ -902,7 +839,7 @@ def roots_table(scene):
         method, history, roots, mode = key
         if mode != "adaptive" or roots or method == "cvode-adams":
             continue
-        rkey = (method, history, True, mode)
+        rkey = key._replace(roots=True)
         cmp = pair_compare(groups, key, rkey)
         cmpw = pair_compare(groups, key, rkey, cost="wall_s")
         if cmp is None:
@@ -925,14 +862,14 @@ def matched_table(scene, target):
     for key, rows in by_curve(scene.rows).items():
         good = [r for r in ok_rows(rows) if r["error"] <= target]
         if not good:
-            entries.append((math.inf, f"| {curve_label(key)} | not reached | - | - | - | "
+            entries.append((math.inf, f"| {label(key)} | not reached | - | - | - | "
                                       "- | - |"))
             continue
         r = min(good, key=lambda q: q["rhs_evals"])
         c_rhs, _ = cost_at(rows, target, "rhs_evals")
         c_wall, _ = cost_at(rows, target, "wall_s")
-        kind = "frac" if key[3] == "fixed" else "rtol"
-        entries.append((c_rhs, f"| {curve_label(key)} | {kind} {r['setting']:.3g} | "
+        kind = "frac" if key.mode == "fixed" else "rtol"
+        entries.append((c_rhs, f"| {label(key)} | {kind} {r['setting']:.3g} | "
                                f"{r['error']:.2e} | {r['rhs_evals']} | {r['wall_s']:.3g} s "
                                f"| {c_rhs:.3g} | {c_wall:.3g} s |"))
     return lines + [e[1] for e in sorted(entries, key=lambda q: q[0])]
@@ -944,7 +881,7 @@ def per_rhs_table(scene):
     for key, rows in by_curve(scene.rows).items():
         q = [r["wall_s"] / r["rhs_evals"] for r in ok_rows(rows) if r["rhs_evals"]]
         if q:
-            cells.append((float(np.median(q)), curve_label(key)))
+            cells.append((float(np.median(q)), label(key)))
     lines = ["| method | wall time per rhs evaluation (median) |", "|---|---|"]
     return lines + [f"| {n} | {t * 1e6:.3g} us |" for t, n in sorted(cells)]
 
@@ -952,7 +889,7 @@ def per_rhs_table(scene):
 def pareto_members(scene, cost):
     names = []
     for r in pareto(scene.rows, cost):
-        n = curve_label((r["method"], r["history"], r["roots"] == "true", r["mode"]))
+        n = label(row_key(r))
         if n not in names:
             names.append(n)
     return ", ".join(names)
@@ -960,8 +897,7 @@ def pareto_members(scene, cost):
 
 def failures(scene):
     bad = [r for r in scene.rows if r["status"] != "ok"]
-    return [f"- {curve_label((r['method'], r['history'], r['roots'] == 'true', r['mode']))}"
-            f" at {r['setting']:.3g}: {r['status']}" for r in bad]
+    return [f"- {label(row_key(r))} at {r['setting']:.3g}: {r['status']}" for r in bad]
 
 
 def scene_section(scene):
@@ -1014,6 +950,7 @@ def scene_section(scene):
 # ------------------------------------------------------------------------- the study
 
 def make_head_on(es):
+    e_x, tc_x = head_on_exact()
     ho = Scene("head_on", "Head-on collision", es.write_scene("head_on", head_on_yaml()),
                HEAD_ON["duration"], head_on_observe, head_on_error, 6.0)
     ho.matched = 1e-4
@@ -1021,7 +958,7 @@ def make_head_on(es):
         "Two equal glass spheres, r = 5 mm, kn = 1e5 N/m, restitution 0.5, 1 m/s each, "
         "no gravity, T = 2 ms (scenes/head_on.yaml). Error = max(|e/e_x - 1|, "
         "|t_c/t_c,x - 1|) against the no-tension closed form (e_x = "
-        f"{head_on_exact()[0]:.6f}, t_c,x = {head_on_exact()[1] * 1e6:.3f} us).")
+        f"{e_x:.6f}, t_c,x = {tc_x * 1e6:.3f} us).")
     return ho
 
 
@@ -1038,15 +975,6 @@ def make_oblique(es):
     return ob
 
 
-def write_start_csv(path, d):
-    """A frame's particles (position, radius, velocity, angular velocity) as the CSV
-    start state of a scene (particles: file)."""
-    cols = np.column_stack([d["position"], d["radius"], d["velocity"],
-                            d["angular_velocity"]])
-    np.savetxt(path, cols, delimiter=",", fmt="%.17g",
-               header="x,y,z,radius,vx,vy,vz,wx,wy,wz", comments="")
-
-
 def make_pack(es):
     """The poured pack at t = 0.12 s (a leapfrog run), written to a CSV start state."""
     gen = es.write_scene("pack_pour", pack_yaml(PACK_GENERATOR, PACK["presettle"]))
@@ -1054,7 +982,7 @@ def make_pack(es):
     if r.status != "ok":
         raise RuntimeError(f"pack pour failed: {r.status}")
     _, d = r.frame
-    write_start_csv(os.path.join(es.tmp, "pack_start.csv"), d)
+    write_particles_csv(os.path.join(es.tmp, "pack_start.csv"), d, motion=True)
     path = es.write_scene("pack", pack_yaml("{file: pack_start.csv, material: g}",
                                             PACK["duration"]))
     pk = Scene("pack", "Settling pack", path, PACK["duration"], pack_observe, pack_error,
@@ -1096,7 +1024,7 @@ def make_vibrated_bed(es):
         raise RuntimeError(f"vibrated bed presettle failed: {r.status}")
     t0, d = r.frame
     csv_path = os.path.join(es.tmp, "vibrated_bed_start.csv")
-    write_start_csv(csv_path, d)
+    write_particles_csv(csv_path, d, motion=True)
     w = 2 * math.pi * freq
     th = phase0 + w * t0
     amp = gam * 9.81 / w ** 2
@@ -1167,7 +1095,7 @@ def summary_lines(scenes):
                     continue
                 b = cheapest(g, t, cost)
                 cells.append("not reached" if b is None else
-                             f"{curve_label(b[0])} ({fmt_cost(b[1], cost)})")
+                             f"{label(b.key)} ({fmt_cost(b.cost, cost)})")
             out.append(f"| {s.title} | {t:g} | {cells[0]} | {cells[1]} |")
     return out
 
@@ -1288,7 +1216,7 @@ def main(argv):
                          elapsed_s=round(time.monotonic() - ts, 1),
                          machine_s=round(es.machine_s - ms, 1),
                          date=time.strftime("%Y-%m-%d"))
-            write_csv(os.path.join(out, name + ".csv"), s.rows)
+            write_csv(os.path.join(out, name + ".csv"), s.rows, CSV_FIELDS)
             write_meta(os.path.join(out, name + ".json"), s)
             log(f"{name}: {s.run['elapsed_s']:.0f} s elapsed, "
                 f"{s.run['machine_s']:.0f} s in esfera")
