@@ -29,7 +29,7 @@ size_t esf_dem_ode_layout(esf_dem_ode *o) {
   return o->len;
 }
 
-static void pack_xi(const esf_contacts *c, double *xi) {
+static void pack_xi(const esf_candidates *c, double *xi) {
   for (size_t k = 0; k < c->n; k++)
     for (int q = 0; q < 3; q++) xi[3 * k + q] = c->touch[k] ? c->h[k].xi[q] : 0.0;
 }

@@ -57,7 +57,7 @@ static int erk_events(realtype t, N_Vector y, realtype *g, void *data) {
   erk *e = data;
   const double *yy = N_VGetArrayPointer(y);
   esf_walls_set_time(&e->ode.s->walls, t);
-  esf_events_eval(e->ode.s, yy, yy + 3 * e->ode.n, g);
+  esf_roots_eval(e->ode.s, yy, yy + 3 * e->ode.n, g);
   return 0;
 }
 
@@ -66,7 +66,7 @@ static int erk_events(realtype t, N_Vector y, realtype *g, void *data) {
  * functions (a new count, a list rebuild, events back on) is followed by a restart on
  * the current state at the current step size, unless one was just made. */
 static int erk_roots_init(erk *e, int changed, int restarted) {
-  int m = e->roots_off ? 0 : (int)esf_events_count(e->ode.s);
+  int m = e->roots_off ? 0 : (int)esf_roots_count(e->ode.s);
   if (m == e->nroots && !changed) return 0;
   e->nroots = m;
   if (ERKStepRootInit(e->mem, m, m ? erk_events : NULL) != ARK_SUCCESS) return -1;

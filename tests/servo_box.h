@@ -1,5 +1,5 @@
 /* servo_box.h — the servo-confined packing shared by the sand-production tests
- * (test_servo, test_drag, test_sand_ckpt): 80 spheres of material `m` (radii 3-4 mm)
+ * (test_servo, test_drag, test_loads_ckpt): 80 spheres of material `m` (radii 3-4 mm)
  * in a 0.04 m square box open at the top, under a servo lid that starts at z = 0.06 m
  * and holds 2e4 Pa (max 0.2 m/s). The scene's name, gravity, materials and the rest
  * come before and after it. */

@@ -398,9 +398,9 @@ static void block_impact(const char *dir) {
   long near = 0, b2bonds = 0;
   int k_cols = 0;
   {
-    const esf_contacts *c = &s->nb.pp;
+    const esf_candidates *c = &s->nb.pp;
     for (size_t k = 0; k < c->n; k++) {
-      if (!esf_contacts_bonded(c, k)) continue;
+      if (!esf_candidates_bonded(c, k)) continue;
       uint32_t a = c->a[k], b = c->b[k];
       if (s->p.material[a] == m2 && s->p.material[b] == m2) {
         b2bonds++;

@@ -52,7 +52,7 @@ int main(void) {
   }
   for (int k = 0; k < 3; k++) simtest_step(&T);
   esf_sim *s = &T.s;
-  esf_contacts *c = &s->nb.pp;
+  esf_candidates *c = &s->nb.pp;
   size_t nc = c->n;
   uint8_t *touch = malloc(nc ? nc : 1);
   esf_contact_hist *h = malloc((nc ? nc : 1) * sizeof *h);

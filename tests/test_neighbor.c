@@ -37,7 +37,7 @@ static const char *const scene_fmt =
     "run: {steps: 1}\n"
     "output: {energy_every: 0}\n";
 
-static int has_pair(const esf_contacts *c, uint32_t a, uint32_t b) {
+static int has_pair(const esf_candidates *c, uint32_t a, uint32_t b) {
   size_t lo = 0, hi = c->n; /* sorted by (a, b) */
   while (lo < hi) {
     size_t mid = (lo + hi) / 2;
@@ -80,7 +80,7 @@ static int open_case(simtest *T, int count, double rmin, double rmax, int seed,
  * nb->threads (1); returns the builds that differed. */
 static int threads_differ(esf_sim *s) {
   esf_neighbor *nb = &s->nb;
-  const esf_contacts *l[2] = {&nb->pp, &nb->pw};
+  const esf_candidates *l[2] = {&nb->pp, &nb->pw};
   size_t n[2];
   uint32_t *ab[2][2];
   for (int q = 0; q < 2; q++) {
@@ -257,7 +257,7 @@ static int marked(const mark_rule *m, uint32_t a, uint32_t b) {
 /* Marks the contacts of a list touching by the rule and gives every one a keyed
  * history, carried velocity and (where the list keeps them) bond state (the others'
  * must not be carried); returns how many touch. */
-static size_t mark_list(esf_contacts *c, const mark_rule *m) {
+static size_t mark_list(esf_candidates *c, const mark_rule *m) {
   size_t nt = 0;
   for (size_t k = 0; k < c->n; k++) {
     const uint32_t a = c->a[k], b = c->b[k];
@@ -278,8 +278,8 @@ static size_t mark_list(esf_contacts *c, const mark_rule *m) {
 /* After a build: every candidate whose key was in the old list (its keys in old) and
  * marked has its keyed history, velocity and flag, every other one zeros; *carried
  * counts the former. Returns the candidates that were wrong. */
-static long check_list(const esf_contacts *c, const esf_contacts *old, const mark_rule *m,
-                       size_t *carried) {
+static long check_list(const esf_candidates *c, const esf_candidates *old,
+                       const mark_rule *m, size_t *carried) {
   long bad = 0;
   for (size_t k = 0; k < c->n; k++) {
     const uint32_t a = c->a[k], b = c->b[k];
@@ -322,13 +322,13 @@ static void check_transfer(void) {
   const int threads[3] = {1, 3, 2};
   CHECK_OK(esf_neighbor_build(nb, &s->p, &s->walls, &err), err);
   for (int r = 0; r < 3; r++) {
-    esf_contacts *l[2] = {&nb->pp, &nb->pw};
+    esf_candidates *l[2] = {&nb->pp, &nb->pw};
     const int shrink = skins[r] < nb->skin;
     const mark_rule rule[2] = {{&s->p, shrink ? 0.5 * skins[r] : INFINITY, 0},
                                {NULL, 0.0, shrink}};
     size_t nmark[2], carried[2] = {0, 0}, cap0 = nb->pp.cap;
     long bad[2];
-    esf_contacts old[2]; /* the old lists' keys (sorted by (a, b), for has_pair) */
+    esf_candidates old[2]; /* the old lists' keys (sorted by (a, b), for has_pair) */
     for (int q = 0; q < 2; q++) {
       nmark[q] = mark_list(l[q], &rule[q]);
       memset(&old[q], 0, sizeof old[q]);

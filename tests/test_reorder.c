@@ -66,7 +66,7 @@ static int run(int reorder, int fused, result *R) {
   if (rc) return rc;
   for (int k = 0; k < STEPS && !rc; k++) rc = simtest_step(&T);
   const esf_particles *p = &T.s.p;
-  const esf_contacts *c = &T.s.nb.pp;
+  const esf_candidates *c = &T.s.nb.pp;
   memset(R, 0, sizeof *R);
   if (!rc) {
     R->n = p->n;

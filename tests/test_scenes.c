@@ -31,7 +31,7 @@ static double model_flight(double G) {
 }
 
 static int floor_contacts(const esf_sim *s) {
-  const esf_contacts *c = &s->nb.pw;
+  const esf_candidates *c = &s->nb.pw;
   int n = 0;
   for (size_t k = 0; k < c->n; k++)
     if (c->touch[k] && s->walls.e[c->b[k]].n[2] > 0.9) n++;

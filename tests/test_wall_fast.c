@@ -183,7 +183,7 @@ typedef struct result {
 static void eval_pass(esf_sim *s, int fast, size_t k0, size_t k1, const double *f0,
                       const double *t0, const esf_contact_hist *h0, const uint8_t *tc0,
                       result *r) {
-  esf_contacts *c = &s->nb.pw;
+  esf_candidates *c = &s->nb.pw;
   const size_t m = k1 - k0;
   memcpy(r->f, f0, sizeof r->f);
   memcpy(r->t, t0, sizeof r->t);
@@ -208,7 +208,7 @@ static int same(const result *a, const result *b, size_t m) {
 
 /* Compares the passes for every particle with wall candidates at the current state. */
 static void compare_all(esf_sim *s, stats *st) {
-  esf_contacts *c = &s->nb.pw;
+  esf_candidates *c = &s->nb.pw;
   size_t cap = c->n ? c->n : 1;
   esf_contact_hist *h0 = malloc(cap * sizeof *h0);
   uint8_t *tc0 = malloc(cap);

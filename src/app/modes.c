@@ -127,7 +127,7 @@ int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
   }
   double kc[4];
   const esf_materials *mt = &s->mats;
-  const esf_contacts *c = &s->nb.pp;
+  const esf_candidates *c = &s->nb.pp;
   for (size_t k = 0; k < c->n; k++) {
     if (!c->touch[k]) continue;
     uint32_t a = c->a[k], b = c->b[k];

@@ -45,6 +45,21 @@ int esf_mkdirs(const char *path, esf_error *err) {
   return ESF_OK;
 }
 
+/* The contact law of every material pair: laws are chosen per pair (material.c), so
+ * the log names each, e.g. "contact laws: glass-glass linear, glass-steel linear". */
+static void log_laws(const esf_sim *s) {
+  const esf_materials *mt = &s->mats;
+  char line[1024] = "contact laws:";
+  size_t len = strlen(line);
+  const char *sep = "";
+  for (int a = 0; a < mt->n; a++)
+    for (int b = a; b < mt->n && len < sizeof line; b++, sep = ",")
+      len += (size_t)snprintf(line + len, sizeof line - len, "%s %s-%s %s", sep,
+                              mt->m[a].name, mt->m[b].name,
+                              mt->pair[a * mt->n + b].law->name);
+  esf_sim_log(s, "%s", line);
+}
+
 static void log_setup(const esf_sim *s, const esf_integrator_type *it) {
   const esf_config *c = &s->cfg;
   esf_sim_log(s, "esfera %s", ESF_VERSION);
@@ -66,7 +81,8 @@ static void log_setup(const esf_sim *s, const esf_integrator_type *it) {
               "Rayleigh beta %.6g s",
               s->alpha_r, s->alpha_t, c->autod.on ? " (adaptive)" : "",
               s->local ? s->local->name : "off", c->local_coef, s->beta);
-  esf_sim_log(s, "contact law: %s, tangential frame: %s; skin %.6g m", s->law->name,
+  log_laws(s);
+  esf_sim_log(s, "tangential frame: %s; skin %.6g m",
               c->tframe == ESF_TFRAME_ROTATE ? "rotate (seed)" : "project", c->skin);
   for (int a = 0; s->bonds.on && a < s->mats.n; a++)
     for (int b = a; b < s->mats.n; b++) {

@@ -77,7 +77,7 @@ static void put_sec(esf_blob *b, const char *tag, const void *p, size_t n) {
   sec_end(b, s);
 }
 
-static void put_contacts(esf_blob *b, const char *tag, const esf_contacts *c) {
+static void put_contacts(esf_blob *b, const char *tag, const esf_candidates *c) {
   size_t s = sec_begin(b, tag);
   uint64_t n = c->n;
   uint8_t has_vc0 = c->vc0 != NULL, has_bond = c->bond != NULL;
@@ -166,8 +166,8 @@ int esf_ckpt_write(const char *path, esf_sim *s, const esf_integrator_type *it, 
     esf_blob_put(&b, &s->walls.g[g].angle_mark, sizeof(double));
   }
   sec_end(&b, st);
-  st = sec_begin(&b, "SAND"); /* servo walls, events, fluid (sand_ckpt.c) */
-  esf_sand_ckpt_save(s, &b);
+  st = sec_begin(&b, "SAND"); /* servo walls, events, fluid (loads_ckpt.c) */
+  esf_loads_ckpt_save(s, &b);
   sec_end(&b, st);
 
   st = sec_begin(&b, "MATS");

@@ -9,8 +9,8 @@
  *   lists with a, b, history, touch and vc0, nb.xref and nb.builds; the materials and
  *   pair table; the walls' time and rebuild marks (their placement is a function of
  *   time); servo walls' displacement and velocity, the events applied and the fluid
- *   force's state (section SAND, sand_ckpt.h); damping state (alpha_r, alpha_t); the rng;
- * t, dt, step and the counters; the energy ledger; the integrator's own state
+ *   force's state (section SAND, loads_ckpt.h); damping state (alpha_r, alpha_t); the
+ * rng; t, dt, step and the counters; the energy ledger; the integrator's own state
  * (integrator.h save/restore); the run loop's schedule (esf_ckpt_run). Format (native
  * byte order; the build's record layouts are stored and must match): "ESFCKPT\0", u32
  * byte-order mark 0x01020304, u32 format version, then sections [tag 8 bytes][u64

@@ -8,7 +8,7 @@
  * scene's: particles leave the domain); the scalars, rng and ledger set; moving walls
  * placed at the saved time (their placement is a function of time; servo walls' from
  * their saved displacement, with the events applied and the fluid's state, section
- * SAND, sand_ckpt.c) with the rebuild marks restored; the candidate lists built once
+ * SAND, loads_ckpt.c) with the rebuild marks restored; the candidate lists built once
  * (which sizes every derived scratch array) and overwritten with the saved lists, xref
  * and build count; last the integrator's own state (integrator.h restore). Every count
  * read from the file is checked against its section's size and every index against what
@@ -44,8 +44,8 @@ static int mismatch(const esf_ckpt *c, esf_error *err, const char *what) {
                   c->path, what);
 }
 
-static int get_contacts(const esf_ckpt *c, const char *tag, esf_contacts *dst, size_t np,
-                        size_t nb_other, esf_error *err) {
+static int get_contacts(const esf_ckpt *c, const char *tag, esf_candidates *dst,
+                        size_t np, size_t nb_other, esf_error *err) {
   esf_blob_in in = esf_ckpt_sec(c, tag);
   uint64_t m = 0;
   uint8_t has_vc0 = 0, has_bond = 0;
@@ -153,8 +153,8 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
   in = esf_ckpt_sec(c, "LEDGER");
   if (esf_blob_get(&in, &s->led, sizeof s->led) || in.pos != in.n)
     return mismatch(c, err, "the LEDGER section's size");
-  in = esf_ckpt_sec(c, "SAND"); /* servo walls, events, fluid (sand_ckpt.c) */
-  if (esf_sand_ckpt_restore(s, &in))
+  in = esf_ckpt_sec(c, "SAND"); /* servo walls, events, fluid (loads_ckpt.c) */
+  if (esf_loads_ckpt_restore(s, &in))
     return mismatch(c, err, "the servo walls, events or fluid force (SAND section)");
   s->walls.t = NAN; /* so that set_time places moving walls at the saved time */
   esf_walls_set_time(&s->walls, cs.walls_t);

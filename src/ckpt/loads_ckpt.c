@@ -1,4 +1,4 @@
-/* sand_ckpt.c — checkpoint section "SAND" (sand_ckpt.h).
+/* loads_ckpt.c — checkpoint section "SAND" (loads_ckpt.h).
  * Layout (native): int32 servo count, then per servo group int32 group index, disp[3]
  * (m), vel[3] (m/s), sigma (Pa); int32 event count, then per event int32 done, int64
  * deleted, double t_done (s); int32 fluid present, int32 its log state. */
@@ -9,7 +9,7 @@
 #include "loads/drag.h"
 #include "loads/events.h"
 
-void esf_sand_ckpt_save(const esf_sim *s, esf_blob *b) {
+void esf_loads_ckpt_save(const esf_sim *s, esf_blob *b) {
   const esf_walls *w = &s->walls;
   int32_t ns = 0;
   for (int g = 0; g < w->ngroups; g++) ns += w->g[g].motion.kind == ESF_MOTION_SERVO;
@@ -36,7 +36,7 @@ void esf_sand_ckpt_save(const esf_sim *s, esf_blob *b) {
   esf_blob_put(b, fl, sizeof fl);
 }
 
-int esf_sand_ckpt_restore(esf_sim *s, esf_blob_in *in) {
+int esf_loads_ckpt_restore(esf_sim *s, esf_blob_in *in) {
   esf_walls *w = &s->walls;
   int32_t ns_scene = 0, ne_scene = s->events ? s->events->n : 0;
   for (int g = 0; g < w->ngroups; g++)

@@ -38,7 +38,7 @@ typedef struct esf_contact_hist {
 
 /* The bond state of one contact (Phi of 004 2.25; bonds.h): set only at the start of
  * the analysis, cleared for good when the bond ruptures; zero for every other contact.
- * Kept beside the history only by scenes with bonds (esf_contacts.bond), so that the
+ * Kept beside the history only by scenes with bonds (esf_candidates.bond), so that the
  * others neither store nor stream it (16 bytes a candidate). */
 typedef struct esf_contact_bond {
   double s;      /* offset added to the overlap for the bonded law, m (bond_gap) */

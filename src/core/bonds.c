@@ -4,16 +4,15 @@
  * esf_bonds_setup, on entry: pair table mixed, cfg.skin set. It scans the particle
  * material pairs for the adhesive law and takes the bond reach
  *   reach = max over those pairs of (bond_gap > 0 ? bond_gap + u_eq : 0) - u_rupture,
- * an upper bound of the gap at which any bond ruptures (m). With bonds, s->law (the
- * scene's law family, for the log) becomes the adhesive law; pairs still use their
- * own pp->law. It also records mats.particles_linear (every pair of the particles'
- * materials linear: the fused linear step of fused/fused.c requires it).
- * esf_bonds_form, on entry: the candidate list just built at the initial positions,
- * no force evaluated yet. For each candidate of an adhesive pair that meets the rule
- * of bonds.h it sets touch = 1, xi = 0, n = the current normal, and the bond state
- * (nb.pp.bond, which only scenes with bonds allocate: sim.c sets nb.bonds): on = 1 and
- * the offset s. On exit pending = 0 and formed counts the bonds.
- * Rupture is counted where the force loop commits it (forces.c), with its energy. */
+ * an upper bound of the gap at which any bond ruptures (m). It also records
+ * mats.particles_linear (every pair of the particles' materials linear: the fused linear
+ * step of fused/fused.c requires it). esf_bonds_form, on entry: the candidate list just
+ * built at the initial positions, no force evaluated yet. For each candidate of an
+ * adhesive pair that meets the rule of bonds.h it sets touch = 1, xi = 0, n = the current
+ * normal, and the bond state (nb.pp.bond, which only scenes with bonds allocate: sim.c
+ * sets nb.bonds): on = 1 and the offset s. On exit pending = 0 and formed counts the
+ * bonds. Rupture is counted where the force loop commits it (forces.c), with its energy.
+ */
 #include "core/bonds.h"
 
 #include <math.h>
@@ -42,8 +41,6 @@ int esf_bonds_setup(esf_sim *s, int skin_auto, esf_error *err) {
     }
   free(used);
   B->pending = B->on;
-  /* the scene's law family: the fused linear step (fused/fused.c) is then not taken */
-  if (B->on) s->law = &esf_contact_adhesive;
   if (!B->on || s->cfg.skin > B->reach) return ESF_OK;
   if (skin_auto) {
     s->cfg.skin = 1.25 * B->reach;
@@ -63,7 +60,7 @@ int esf_bonds_form(esf_sim *s, esf_error *err) {
   esf_bonds *B = &s->bonds;
   const esf_particles *p = &s->p;
   const esf_materials *mt = &s->mats;
-  esf_contacts *c = &s->nb.pp;
+  esf_candidates *c = &s->nb.pp;
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
@@ -95,8 +92,8 @@ int esf_bonds_form(esf_sim *s, esf_error *err) {
 }
 
 long esf_bonds_alive(const esf_sim *s) {
-  const esf_contacts *c = &s->nb.pp;
+  const esf_candidates *c = &s->nb.pp;
   long m = 0;
-  for (size_t k = 0; k < c->n; k++) m += c->touch[k] && esf_contacts_bonded(c, k);
+  for (size_t k = 0; k < c->n; k++) m += c->touch[k] && esf_candidates_bonded(c, k);
   return m;
 }

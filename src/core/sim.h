@@ -91,8 +91,7 @@ typedef struct esf_sim {
   esf_walls walls;
   esf_neighbor nb;
   esf_ledger led;
-  esf_bonds bonds; /* the adhesive law's bonds (bonds.h) */
-  const esf_contact_law *law;
+  esf_bonds bonds;                /* the adhesive law's bonds (bonds.h) */
   const esf_local_damping *local; /* NULL when off */
   double beta;                    /* Rayleigh stiffness-proportional factor (0: off), s */
   double alpha_r, alpha_t; /* current global damping (adaptive changes them), 1/s */

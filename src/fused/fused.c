@@ -129,7 +129,7 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
   }
   const size_t T = (size_t)nth;
   const double dt = s->dt, h = 0.5 * dt;
-  const esf_contacts *cp = &s->nb.pp;
+  const esf_candidates *cp = &s->nb.pp;
   const esf_pair_batch_ctx bc = {
       .x = p->x,
       .v = p->v,
@@ -215,7 +215,7 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
    * p.t keep what the last sync left */
   s->ft_lazy = fail ? NULL : f->acc;
   if (r.bad_pair != SIZE_MAX) {
-    const esf_contacts *c = &s->nb.pp;
+    const esf_candidates *c = &s->nb.pp;
     uint32_t a = c->a[r.bad_pair], b = c->b[r.bad_pair];
     double d[3];
     v3_sub(d, p->x + 3 * (size_t)b, p->x + 3 * (size_t)a);

@@ -24,8 +24,9 @@
 #define ESF_FUSED_FEATURES 1
 #endif
 
-#define ESF_FUSED_ACC ESF_FT_STRIDE /* accumulators: four-wide force, four-wide torque   \
-                                     */
+#define ESF_FUSED_ACC                                                                    \
+  ESF_FT_STRIDE /* accumulators: four-wide force, four-wide torque                       \
+                 */
 /* A boundary pair's results, twice: what b's range reads (force on A, torque on B), one
  * line per pair in `slot`, and what a's range reads (force and torque on A) in
  * `slot_a`, which stays in a's core. Four doubles each, the last zero. */

@@ -20,7 +20,7 @@
  * Returns 1 when an overlap exceeds the limit (*bad_part: the first such particle). */
 static int walls_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *K, size_t lo,
                        size_t hi, size_t *nt_pw, size_t *bad_part) {
-  const esf_contacts *pw = &s->nb.pw;
+  const esf_candidates *pw = &s->nb.pw;
   const esf_wall_pass_fn wall_pass = K->wall_pass;
   int fail = 0;
   for (size_t k = f->wstart[lo], k1; k < f->wstart[hi]; k = k1) {

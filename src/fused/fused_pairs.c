@@ -13,7 +13,7 @@
 #define PF 32 /* history prefetch distance, pairs */
 
 /* Adds the A side of outgoing boundary pair j (its pair's a is in range). */
-static inline void outgoing(const esf_fused *f, const esf_contacts *c, size_t j) {
+static inline void outgoing(const esf_fused *f, const esf_candidates *c, size_t j) {
   double *fa = f->acc + ESF_FUSED_ACC * c->a[f->bk[j]];
   const double *sl = f->slot_a + ESF_FUSED_SLOT_A * j;
   v4_acc(fa, sl);
@@ -62,7 +62,7 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
                                                  size_t cnt, uint32_t *ended, size_t *ne,
                                                  size_t *kept) {
   esf_particles *p = &s->p;
-  const esf_contacts *c = &s->nb.pp;
+  const esf_candidates *c = &s->nb.pp;
   const double *g = s->cfg.gravity;
   double *acc = f->acc;
   size_t bad = SIZE_MAX;

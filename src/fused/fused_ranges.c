@@ -62,7 +62,7 @@ static int grow(void **p, size_t n, size_t size) {
  * (computing and adding it), 6 per wall candidate. */
 enum { W_PART = 2, W_CAND = 1, W_TOUCH = 5, W_WALL = 6 };
 
-static size_t work_of(const esf_fused *f, const esf_contacts *c, size_t i) {
+static size_t work_of(const esf_fused *f, const esf_candidates *c, size_t i) {
   size_t w = W_PART + W_WALL * (f->wstart[i + 1] - f->wstart[i]);
   for (size_t k = f->astart[i]; k < f->astart[i + 1]; k++)
     w += W_CAND + W_TOUCH * c->touch[k];
@@ -89,7 +89,7 @@ static void cut_once(esf_fused *f, const size_t *wt, size_t n, size_t T) {
 /* With f->recut (same particles and lists, ranges measured unequal), each particle's
  * work is scaled by its old range's measured seconds per unit (rounded to 1/64).
  * wt: 2n of scratch, the weights cut by, then each particle's unscaled work. */
-static void cut_ranges(esf_fused *f, const esf_contacts *c, size_t *wt, size_t n,
+static void cut_ranges(esf_fused *f, const esf_candidates *c, size_t *wt, size_t n,
                        size_t T) {
   size_t *base = wt + n;
   for (size_t i = 0; i < n; i++) wt[i] = base[i] = work_of(f, c, i);
@@ -136,7 +136,7 @@ void esf_fused_balance(esf_fused *f, size_t T) {
  * particle's pair block and wall candidates, each pair's sqrt(m*), the one material. */
 static void index_pairs(esf_sim *s, esf_fused *f, int nth) {
   const esf_particles *p = &s->p;
-  const esf_contacts *c = &s->nb.pp, *cw = &s->nb.pw;
+  const esf_candidates *c = &s->nb.pp, *cw = &s->nb.pw;
   const size_t n = p->n, m = c->n;
   memset(f->astart, 0, (n + 1) * sizeof(size_t));
   memset(f->wstart, 0, (n + 1) * sizeof(size_t));
@@ -162,7 +162,7 @@ static void index_pairs(esf_sim *s, esf_fused *f, int nth) {
 /* Step 0: indices for the current lists and T ranges. */
 int esf_fused_index(esf_sim *s, esf_fused *f, int nth, esf_error *err) {
   const esf_particles *p = &s->p;
-  const esf_contacts *c = &s->nb.pp;
+  const esf_candidates *c = &s->nb.pp;
   const size_t n = p->n, m = c->n, T = (size_t)nth;
   if (m > f->cap_k) {
     if (!grow((void **)&f->list[0], m, sizeof(uint32_t)) ||

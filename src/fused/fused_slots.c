@@ -61,7 +61,7 @@ static inline void slot_fence(void) {
 size_t esf_fused_boundary(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc,
                           size_t j0, size_t j1, size_t *nt) {
   const esf_particles *p = &s->p;
-  esf_contacts *c = &s->nb.pp;
+  esf_candidates *c = &s->nb.pp;
   uint32_t kb[ESF_BATCH];
   size_t jb[ESF_BATCH], bad = SIZE_MAX;
   int m = 0;

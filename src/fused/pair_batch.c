@@ -1,13 +1,14 @@
 /* pair_batch.c — the linear law of the fused step, ESF_BATCH pairs in vector lanes.
  *
- * Physics: contact_linear.c's law (PHYSICS.md §3.1–3.2), as the fused step needs it
- * (no ledger by-products): normal spring and dashpot without tension (004 2.9–2.12),
- * the incremental tangential spring xi carried into the new contact plane, rotated
- * (000 3-17, 3-18: xi += (n_old x n) x xi, then the twist of the mean spin about n) or
- * projected and rescaled to its old length, the tangential dashpot while sticking and
- * the Mohr-Coulomb cap with radial return (004 2.13–2.16). The contact point divides
- * the overlap equally: lever arms la = ra - un/2, lb = rb - un/2; the relative contact
- * velocity is vc = (vB - vA) - (la wA + lb wB) x n (000 3-21).
+ * Physics: contact_linear.c's law (docs/physics.md#linear-springdashpot-law), as the
+ * fused step needs it (no ledger by-products): normal spring and dashpot without
+ * tension (004 2.9–2.12), the incremental tangential spring xi carried into the new
+ * contact plane, rotated (000 3-17, 3-18: xi += (n_old x n) x xi, then the twist of the
+ * mean spin about n) or projected and rescaled to its old length, the tangential
+ * dashpot while sticking and the Mohr-Coulomb cap with radial return (004 2.13–2.16).
+ * The contact point divides the overlap equally: lever arms la = ra - un/2,
+ * lb = rb - un/2; the relative contact velocity is vc = (vB - vA) - (la wA + lb wB) x n
+ * (000 3-21).
  *
  * Order per batch: gather the lanes' positions, radii, velocities, spins, history and
  * pair parameters; compute everything lane-wise with the same instructions for every

@@ -1,9 +1,10 @@
 /* wall_fast.c — the particle-wall contacts of one particle for static walls and the
- * linear law (wall_fast.h), the fused leapfrog step's wall pass (fused/fused.c).
+ * linear law (wall_fast.h), the fused leapfrog step's wall pass (fused_kick.c).
  *
- * Physics: exactly forces.c's wall contacts (PHYSICS.md §2–3; 004 §2.3.2, eqs.
- * 2.4–2.5 for the nearest point; 000 3-15..3-26 and 004 2.16–2.29 for the law), with
- * the same operations in the same order, so the results are the same bits:
+ * Physics: exactly model/forces.c's wall contacts (docs/physics.md#contact-kinematics,
+ * #linear-springdashpot-law; 004 §2.3.2, eqs. 2.4–2.5 for the nearest point; 000
+ * 3-15..3-26 and 004 2.16–2.29 for the law), with the same operations in the same
+ * order, so the results are the same bits:
  *   1. per candidate element, the nearest point and the overlap un = r - dist
  *      (esf_wall_nearest): the signed height over the element's plane, once
  *      (esf_wall_height); a plane by it; a polygon by its face test given it
@@ -78,7 +79,7 @@ static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
                                 const esf_wall_hit *hit, double un, size_t a, size_t k,
                                 double dt, size_t *nt, double *f, double *t) {
   const esf_particles *p = &s->p;
-  esf_contacts *c = &s->nb.pw;
+  esf_candidates *c = &s->nb.pw;
   const double *v = p->v + 3 * a, *w = p->w + 3 * a;
   esf_contact_in in;
   v3_copy(in.n, hit->n);
@@ -111,7 +112,7 @@ static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
 int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
                            double *f, double *t) {
   const esf_particles *p = &s->p;
-  esf_contacts *c = &s->nb.pw;
+  esf_candidates *c = &s->nb.pw;
   const esf_wall_elem *E = s->walls.e;
   const size_t m = k1 - k0, a = c->a[k0];
   const double *x = p->x + 3 * a, r = p->radius[a];

@@ -50,7 +50,7 @@ static double removed_elastic(const esf_sim *s, const unsigned char *keep) {
   const esf_particles *p = &s->p;
   const esf_materials *mt = &s->mats;
   double e = 0.0;
-  const esf_contacts *c = &s->nb.pp;
+  const esf_candidates *c = &s->nb.pp;
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];
     if (!c->touch[k] || (keep[a] && keep[b])) continue;
@@ -59,8 +59,8 @@ static double removed_elastic(const esf_sim *s, const unsigned char *keep) {
     double un = p->radius[a] + p->radius[b] - v3_norm(d);
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
     double fel; /* a separated pair stores no normal energy unless a bond holds it */
-    if (un > 0 || esf_contacts_bonded(c, k))
-      e += pp->law->energy_n(pp, esf_contacts_bond(c, k), un, &fel);
+    if (un > 0 || esf_candidates_bonded(c, k))
+      e += pp->law->energy_n(pp, esf_candidates_bond(c, k), un, &fel);
     e += 0.5 * pp->kt * v3_norm2(c->h[k].xi);
   }
   c = &s->nb.pw;

@@ -65,9 +65,9 @@ static inline void contact_velocity(const double *v, const double *w, uint32_t a
  * (commit), records the ledger scratch (when led is not NULL) and adds the slip work
  * to *slip. Returns 1 when the contact carries force. */
 static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *in,
-                        esf_contacts *c, size_t k, int commit, double *led, double *slip,
-                        esf_contact_out *out) {
-  const esf_contact_bond *bond = esf_contacts_bond(c, k);
+                        esf_candidates *c, size_t k, int commit, double *led,
+                        double *slip, esf_contact_out *out) {
+  const esf_contact_bond *bond = esf_candidates_bond(c, k);
   if (c->xs) { /* history as ODE state: xi is y's, its rate goes to ydot */
     esf_contact_hist h;
     v3_copy(h.xi, c->xs + 3 * k);
@@ -128,7 +128,7 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
 static int pair_forces(esf_sim *s, const double *x, const double *v, const double *w,
                        double dt, int commit, size_t *touching, esf_error *err) {
   esf_particles *p = &s->p;
-  esf_contacts *c = &s->nb.pp;
+  esf_candidates *c = &s->nb.pp;
   const esf_materials *mt = &s->mats;
   double *led = commit && s->led.on ? c->led : NULL;
   double slip = 0;
@@ -140,7 +140,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
     v3_sub(d, xb, xa);
     double R = p->radius[a] + p->radius[b];
     double d2 = v3_norm2(d);
-    if (d2 >= R * R && !(c->touch[k] && esf_contacts_bonded(c, k))) { /* bonds pull */
+    if (d2 >= R * R && !(c->touch[k] && esf_candidates_bonded(c, k))) { /* bonds pull */
       if (commit) c->touch[k] = 0;
       continue;
     }
@@ -220,7 +220,7 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
                              double *led, double *slip, size_t *nt, double *f, double *t,
                              esf_error *err) {
   esf_particles *p = &s->p;
-  esf_contacts *c = &s->nb.pw;
+  esf_candidates *c = &s->nb.pw;
   const esf_materials *mt = &s->mats;
   esf_wall_hit *hits = s->nb.wall_hits + k0;
   double *un = s->nb.wall_un + k0;
@@ -274,7 +274,7 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
 static int wall_forces(esf_sim *s, const double *x, const double *v, const double *w,
                        double dt, int commit, size_t *touching, esf_error *err) {
   esf_particles *p = &s->p;
-  esf_contacts *c = &s->nb.pw;
+  esf_candidates *c = &s->nb.pw;
   double *led = commit && s->led.on ? c->led : NULL;
   double slip = 0;
   size_t nt = 0;
@@ -346,7 +346,7 @@ void esf_forces_ledger_pass(esf_sim *s, const double *vbar, const double *wbar,
   const esf_particles *p = &s->p;
   const esf_materials *mt = &s->mats;
   double dn = 0, dtg = 0, ww = 0, en = 0, et = 0;
-  const esf_contacts *c = &s->nb.pp;
+  const esf_candidates *c = &s->nb.pp;
   for (size_t k = 0; k < c->n; k++) {
     if (!c->touch[k]) continue;
     uint32_t a = c->a[k], b = c->b[k];
@@ -359,7 +359,7 @@ void esf_forces_ledger_pass(esf_sim *s, const double *vbar, const double *wbar,
     dn += -L[1] * v3_dot(vc, n) * dt; /* fd_n x approach rate */
     dtg += v3_dot(L + 2, vc) * dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
-    elastic_tally(pp, esf_contacts_bond(c, k), L[0], c->h[k].xi, n, vch, dt, &en, &et);
+    elastic_tally(pp, esf_candidates_bond(c, k), L[0], c->h[k].xi, n, vch, dt, &en, &et);
   }
   c = &s->nb.pw;
   for (size_t k = 0; k < c->n; k++) {

@@ -1,4 +1,4 @@
-/* contact_events.c — event functions for contact onset and separation (see the header).
+/* roots.c — event functions for contact onset and separation (see the header).
  *
  * Pair k (A, B): d = xB - xA, n = d/|d|, un = rA + rB - |d|, vn = (vB - vA).n (rotation
  * adds nothing along n). Wall candidate (A, element e): q the element's nearest point
@@ -13,7 +13,7 @@
 
 #include "util/vec3.h"
 
-size_t esf_events_count(const esf_sim *s) { return s->nb.pp.n + s->nb.pw.n; }
+size_t esf_roots_count(const esf_sim *s) { return s->nb.pp.n + s->nb.pw.n; }
 
 static double event_value(const esf_pair_params *pp, double beta, double mstar, double un,
                           double vn) {
@@ -22,10 +22,10 @@ static double event_value(const esf_pair_params *pp, double beta, double mstar, 
   return fmin(un, un - ratio * vn);
 }
 
-void esf_events_eval(const esf_sim *s, const double *x, const double *v, double *g) {
+void esf_roots_eval(const esf_sim *s, const double *x, const double *v, double *g) {
   const esf_particles *p = &s->p;
   const esf_materials *mt = &s->mats;
-  const esf_contacts *c = &s->nb.pp;
+  const esf_candidates *c = &s->nb.pp;
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];
     double d[3], dv[3];

@@ -49,7 +49,6 @@ static int set_masses(esf_sim *s, esf_error *err) {
 
 int esf_sim_setup(esf_sim *s, esf_error *err) {
   esf_config *c = &s->cfg;
-  s->law = &esf_contact_linear;
   s->local = c->local_form == ESF_LOCAL_COMPONENT ? &esf_local_component
              : c->local_form == ESF_LOCAL_VECTOR  ? &esf_local_vector
                                                   : NULL;

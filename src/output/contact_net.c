@@ -34,7 +34,7 @@ static int reserve(esf_contact_net *net, size_t n, esf_error *err) {
 static double normal_force(const esf_sim *s, size_t k, const double d[3], double dist,
                            double un) {
   const esf_particles *p = &s->p;
-  const esf_contacts *c = &s->nb.pp;
+  const esf_candidates *c = &s->nb.pp;
   uint32_t a = c->a[k], b = c->b[k];
   esf_contact_in in;
   if (dist > 0)
@@ -57,14 +57,14 @@ static double normal_force(const esf_sim *s, size_t k, const double d[3], double
   const esf_materials *mt = &s->mats;
   const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
   esf_contact_out out;
-  pp->law->eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], esf_contacts_bond(c, k),
+  pp->law->eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], esf_candidates_bond(c, k),
                 !c->touch[k], NULL, &out);
   return out.touching ? out.fn : 0.0;
 }
 
 int esf_contact_net_build(const esf_sim *s, esf_contact_net *net, esf_error *err) {
   const esf_particles *p = &s->p;
-  const esf_contacts *c = &s->nb.pp;
+  const esf_candidates *c = &s->nb.pp;
   net->n = 0;
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];
@@ -72,7 +72,7 @@ int esf_contact_net_build(const esf_sim *s, esf_contact_net *net, esf_error *err
     double d[3];
     v3_sub(d, p->x + 3 * b, p->x + 3 * a);
     double R = p->radius[a] + p->radius[b], d2 = v3_norm2(d);
-    if (d2 >= R * R && !(c->touch[k] && esf_contacts_bonded(c, k)))
+    if (d2 >= R * R && !(c->touch[k] && esf_candidates_bonded(c, k)))
       continue; /* bonds in tension */
     int rc = reserve(net, net->n + 1, err);
     if (rc) return rc;

@@ -328,7 +328,7 @@ static int read_top(const esf_ynode *root, esf_config *c, esf_error *err) {
       "name",   "dimension", "disk_thickness", "gravity",    "domain",  "materials",
       "mixing", "particles", "walls",          "integrator", "damping", "contact",
       "search", "run",       "output",         "generate",
-      "events", "fluid", /* sand production (scene_sand.c) */
+      "events", "fluid", /* sand production (scene_loads.c) */
       NULL};
   /* clang-format on */
   int rc = esf_ynode_require_map(root, err);
@@ -371,7 +371,7 @@ int esf_scene_read(esf_ydoc *doc, esf_sim *s, esf_error *err) {
   if (!rc) rc = read_damping(root, c, err);
   if (!rc) rc = read_misc(root, c, err);
   if (!rc) rc = esf_scene_walls(esf_ymap_get(root, "walls"), esf_ydoc_dir(doc), s, err);
-  if (!rc) rc = esf_scene_sand(root, s, err); /* events, fluid (scene_sand.c) */
+  if (!rc) rc = esf_scene_loads(root, s, err); /* events, fluid (scene_loads.c) */
   if (!rc) {
     const esf_ynode *ps = esf_ymap_get(root, "particles");
     if (!ps) return esf_ynode_fail(root, err, "missing key 'particles'");

@@ -1,4 +1,4 @@
-/* scene_sand.c — scene keys for servo walls, events and the fluid force (docs/scene.md):
+/* scene_loads.c — scene keys for servo walls, events and the fluid force (docs/scene.md):
  *   walls[i].motion: {servo: {stress, direction, max_speed, gain | alpha, area}}
  *   events: [{at, delete: {cylinder: {center, axis, radius}} | {box: {min, max}}}]
  *   fluid: {start, porosity, viscosity, density, permeability,
@@ -178,7 +178,7 @@ static int read_fluid(const esf_ynode *f, esf_sim *s, esf_error *err) {
   return rc;
 }
 
-int esf_scene_sand(const esf_ynode *root, esf_sim *s, esf_error *err) {
+int esf_scene_loads(const esf_ynode *root, esf_sim *s, esf_error *err) {
   const esf_ynode *ev = esf_ymap_get(root, "events"), *fl = esf_ymap_get(root, "fluid");
   int rc = ESF_OK;
   if (ev && ev->kind != ESF_YN_NULL) rc = read_events(ev, s, err);

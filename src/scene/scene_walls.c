@@ -98,7 +98,7 @@ static int read_polygon(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
  * {oscillate: {direction, frequency, amplitude | acceleration (peak, in g), phase}} */
 static int read_motion(const esf_ynode *mo, esf_wall_motion *m, esf_error *err) {
   static const char *const kinds[] = {"translate", "rotate", "oscillate",
-                                      "servo", /* scene_sand.c */
+                                      "servo", /* scene_loads.c */
                                       NULL};
   static const char *const tkeys[] = {"velocity", NULL};
   static const char *const rkeys[] = {"axis", "center", "rpm", "omega", NULL};

@@ -20,7 +20,7 @@
 #include "util/vec3.h"
 #include "bodies/wall_index.h"
 
-static void contacts_release(esf_contacts *c) {
+static void contacts_release(esf_candidates *c) {
   free(c->a);
   free(c->b);
   free(c->h);
@@ -33,7 +33,7 @@ static void contacts_release(esf_contacts *c) {
 
 /* Room for n candidates in c, with the optional arrays: ledger scratch, carried
  * velocities (carry), bond states (bonds). */
-static int contacts_reserve(esf_contacts *c, size_t n, int ledger, int carry, int bonds,
+static int contacts_reserve(esf_candidates *c, size_t n, int ledger, int carry, int bonds,
                             esf_error *err) {
   if (n <= c->cap) return ESF_OK;
   const size_t cap = n + n / 4 + 64; /* a quarter of room: the lists grow and shrink */
@@ -176,7 +176,7 @@ static int scratch_reserve(esf_neighbor *nb, size_t n, size_t m, esf_error *err)
 /* Step (2): the touching contacts of list (every a < n: the lists were renumbered) into
  * kc, particle a's at ws_ostart[a] .. ws_ostart[a + 1], in list order; *carry: their
  * carried velocities were copied too. Their bond states are, when the list has them. */
-static int keep_touching(esf_neighbor *nb, const esf_contacts *list, esf_contacts *kc,
+static int keep_touching(esf_neighbor *nb, const esf_candidates *list, esf_candidates *kc,
                          size_t n, int *carry, esf_error *err) {
   int rc = scratch_reserve(nb, n, list->n, err);
   if (rc) return rc;
@@ -206,7 +206,7 @@ static int keep_touching(esf_neighbor *nb, const esf_contacts *list, esf_contact
 /* Step (3): list filled, in its own storage, from the keys (a, b) (m of them, a < n),
  * with the history of the kept contacts kc (keep_touching, which sized the scratch for
  * these n particles); bonds: the list keeps bond states. */
-static int fill_list(esf_neighbor *nb, esf_contacts *list, const esf_contacts *kc,
+static int fill_list(esf_neighbor *nb, esf_candidates *list, const esf_candidates *kc,
                      size_t n, const uint32_t *ka, const uint32_t *kb, size_t m,
                      int carry, int bonds, esf_error *err) {
   list->n = 0;     /* nothing to keep: the storage is refilled */
@@ -243,7 +243,7 @@ static int fill_list(esf_neighbor *nb, esf_contacts *list, const esf_contacts *k
         list->touch[k] = 1;
         if (carry && list->vc0)
           memcpy(list->vc0 + 3 * k, kc->vc0 + 3 * f, 3 * sizeof(double));
-        const esf_contact_bond *kb = esf_contacts_bond(kc, f);
+        const esf_contact_bond *kb = esf_candidates_bond(kc, f);
         if (bonds) list->bond[k] = kb ? *kb : (esf_contact_bond){0};
       } else {
         memset(&list->h[k], 0, sizeof list->h[k]);
@@ -262,7 +262,7 @@ static int fill_list(esf_neighbor *nb, esf_contacts *list, const esf_contacts *k
  * it stayed resident beside the next reorder's two copies of the particles and raised
  * the peak of 300 steps at 10^6 spheres from 923 to 1 016 MB. (Its pages are faulted in
  * at each build, about 270 a build at 10 000: no difference in paired whole runs.) */
-static int rebuild_list(esf_neighbor *nb, esf_contacts *list, size_t n,
+static int rebuild_list(esf_neighbor *nb, esf_candidates *list, size_t n,
                         const uint32_t *ka, const uint32_t *kb, size_t m, int bonds,
                         esf_error *err) {
   int carry;
@@ -394,7 +394,7 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
  * new numbers come in the other order is turned round to keep a < b: A and B swap,
  * so the history's tangential displacement (force on A = kt xi), its normal (A to B)
  * and the carried relative velocity (B - A) change sign. */
-static void remap_list(esf_contacts *c, const size_t *remap, size_t n_old, int walls) {
+static void remap_list(esf_candidates *c, const size_t *remap, size_t n_old, int walls) {
   size_t m = 0;
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];

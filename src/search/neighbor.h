@@ -34,7 +34,7 @@
  * on A (N), [5..7] total force on the particle (N, wall contacts). */
 #define ESF_LED_STRIDE 8
 
-typedef struct esf_contacts {
+typedef struct esf_candidates {
   size_t n, cap;
   uint32_t *a;            /* particle A */
   uint32_t *b;            /* particle B, or the wall element index */
@@ -48,15 +48,15 @@ typedef struct esf_contacts {
   const double *xs;       /* history as ODE state (dem_ode.h): 3 per contact, the live
                              tangential displacement, m; NULL otherwise (not owned) */
   double *xsdot;          /* its rate, m/s, written by evaluations when not NULL */
-} esf_contacts;
+} esf_candidates;
 
 typedef struct esf_neighbor {
-  double skin;     /* m */
-  esf_contacts pp; /* particle-particle candidates */
-  esf_contacts pw; /* particle-wall candidates */
-  int ledger;      /* allocate ledger scratch */
-  int carry;       /* keep vc0 (ODE methods set it before the first build) */
-  int bonds;       /* keep pp.bond (sim.c sets it before the first build) */
+  double skin;       /* m */
+  esf_candidates pp; /* particle-particle candidates */
+  esf_candidates pw; /* particle-wall candidates */
+  int ledger;        /* allocate ledger scratch */
+  int carry;         /* keep vc0 (ODE methods set it before the first build) */
+  int bonds;         /* keep pp.bond (sim.c sets it before the first build) */
   esf_cells *cells;
   esf_pairbuf buf;
   esf_pairbuf *wbuf;  /* the wall candidates' per-thread buffers, nwbuf of them */
@@ -87,7 +87,7 @@ typedef struct esf_neighbor {
   /* the build's storage: the old list's touching contacts copied aside (during a
    * build only), and the history transfer's scratch, kept between builds (ws_n
    * particle offsets, ws_m contact entries) */
-  esf_contacts kept;
+  esf_candidates kept;
   size_t *ws_start, *ws_ostart, ws_n, ws_m;
   uint32_t *ws_ok;
 } esf_neighbor;
@@ -141,13 +141,14 @@ void esf_neighbor_remap(esf_neighbor *nb, const size_t *remap, size_t n_old);
 int esf_neighbor_reserve(esf_neighbor *nb, size_t npp, size_t npw, esf_error *err);
 
 /* Candidate k's bond state, or NULL when c keeps none (the laws' `bond` argument). */
-static inline const esf_contact_bond *esf_contacts_bond(const esf_contacts *c, size_t k) {
+static inline const esf_contact_bond *esf_candidates_bond(const esf_candidates *c,
+                                                          size_t k) {
   return c->bond ? &c->bond[k] : NULL;
 }
 
 /* Whether candidate k of c is bonded (Phi = 1; it is then touching). */
-static inline int esf_contacts_bonded(const esf_contacts *c, size_t k) {
-  const esf_contact_bond *b = esf_contacts_bond(c, k);
+static inline int esf_candidates_bonded(const esf_candidates *c, size_t k) {
+  const esf_contact_bond *b = esf_candidates_bond(c, k);
   return b && b->on;
 }
 

@@ -1,4 +1,4 @@
-/* test_sand_ckpt.c — a checkpoint of a run with servo walls, a drilling event and the
+/* test_loads_ckpt.c — a checkpoint of a run with servo walls, a drilling event and the
  * fluid force resumes bit for bit (checkpoint.h, section SAND): run A is checkpointed
  * after the drilling and before the fluid starts and goes on; run B is rebuilt from
  * the checkpoint and steps to the same time. Particle state, servo wall displacement
@@ -30,14 +30,14 @@ static int run_to(simtest *T, double t) {
 }
 
 int main(void) {
-  char dir[] = "/tmp/esf_sand_ckptXXXXXX";
+  char dir[] = "/tmp/esf_loads_ckptXXXXXX";
   CHECK(mkdtemp(dir) != NULL, "temporary directory");
   char path[256];
   snprintf(path, sizeof path, "%s/checkpoint.esf", dir);
   simtest A;
   int rc = simtest_open(&A, scene, NULL, 0);
   CHECK(rc == 0, "scene opens");
-  if (rc) return check_finish("sand_ckpt");
+  if (rc) return check_finish("loads_ckpt");
   rc = run_to(&A, 0.14);
   CHECK(rc == 0 && A.s.events->e[0].done, "run A reaches 0.14 s, drilled");
   esf_ckpt_scene sc = {"test.yaml", scene, strlen(scene), NULL, 0};
@@ -88,5 +88,5 @@ int main(void) {
   simtest_close(&B);
   unlink(path);
   rmdir(dir);
-  return check_finish("sand_ckpt");
+  return check_finish("loads_ckpt");
 }
