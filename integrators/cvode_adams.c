@@ -14,8 +14,8 @@
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
 #include "integrators/dem_ode.h"
-#include "model/model.h"
 #include "integrators/integrator.h"
+#include "model/model.h"
 
 typedef struct cvadams {
   SUNContext ctx;

@@ -22,10 +22,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "model/roots.h"
 #include "integrators/dem_ode.h"
-#include "model/model.h"
 #include "integrators/integrator.h"
+#include "model/model.h"
+#include "model/roots.h"
 
 typedef struct erk {
   SUNContext ctx;

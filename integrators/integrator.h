@@ -12,9 +12,9 @@
 #ifndef ESF_INTEGRATOR_H
 #define ESF_INTEGRATOR_H
 
+#include "core/sim.h"
 #include "util/blob.h"
 #include "util/esf_error.h"
-#include "core/sim.h"
 
 enum {
   ESF_INTEG_FIXED_STEP = 1u << 0,         /* uses s->dt */

@@ -25,11 +25,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "integrators/dem_ode.h"
-#include "model/forces.h"
 #include "fused/fused.h"
-#include "model/model.h"
+#include "integrators/dem_ode.h"
 #include "integrators/integrator.h"
+#include "model/forces.h"
+#include "model/model.h"
 #include "util/vec3.h"
 
 typedef struct leapfrog {

@@ -18,10 +18,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "model/forces.h"
 #include "integrators/dem_ode.h"
-#include "model/model.h"
 #include "integrators/integrator.h"
+#include "model/forces.h"
+#include "model/model.h"
 
 typedef struct verlet {
   size_t cap;

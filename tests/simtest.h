@@ -9,9 +9,9 @@
 #include <string.h>
 
 #include "check.h"
+#include "integrators/integrator.h"
 #include "model/forces.h"
 #include "model/model.h"
-#include "integrators/integrator.h"
 #include "scene/scene.h"
 #include "util/vec3.h"
 

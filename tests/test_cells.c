@@ -10,8 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "search/cells.h"
 #include "check.h"
+#include "search/cells.h"
 #include "util/rng.h"
 
 static int cmp_u64(const void *a, const void *b) {

@@ -21,10 +21,10 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "check.h"
-#include "output/frames.h"
 #include "bodies/wall_mesh.h"
+#include "check.h"
 #include "formats/xdmf.h"
+#include "output/frames.h"
 
 static char tmpdir[256];
 

@@ -14,8 +14,8 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "util/rng.h"
 #include "simtest.h"
+#include "util/rng.h"
 
 static const char *const scene_fmt =
     "name: lists\n"

@@ -14,11 +14,11 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "check.h"
-#include "simtest.h"
-#include "formats/stl.h"
-#include "util/vec3.h"
 #include "bodies/wall_geom.h"
+#include "check.h"
+#include "formats/stl.h"
+#include "simtest.h"
+#include "util/vec3.h"
 
 static char dir[64];
 

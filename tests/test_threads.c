@@ -21,8 +21,8 @@
  * domain check it goes 200 steps late; without the burst's stop on it, 24). */
 #include <stdlib.h>
 
-#include "simtest.h"
 #include "fused/fused.h"
+#include "simtest.h"
 
 /* A minimal build (meson -Dfeatures=minimal) compiles damping out of the fused step:
  * there the scene goes without it, so that the fused step still runs it. */

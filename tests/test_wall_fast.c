@@ -24,8 +24,8 @@
  * comparison cannot pass vacuously. */
 #include <stdlib.h>
 
-#include "simtest.h"
 #include "fused/wall_fast.h"
+#include "simtest.h"
 
 static const char *const box_scene =
     "name: wallfast-box\n"

@@ -5,9 +5,9 @@
 #include <math.h>
 #include <string.h>
 
+#include "bodies/wall_geom.h"
 #include "check.h"
 #include "util/vec3.h"
-#include "bodies/wall_geom.h"
 
 #define TOL     1e-12
 #define SQRT1_2 0.70710678118654752440

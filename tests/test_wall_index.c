@@ -14,11 +14,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "check.h"
-#include "util/vec3.h"
 #include "bodies/wall_gen.h"
 #include "bodies/wall_index.h"
 #include "bodies/wall_mesh.h"
+#include "check.h"
+#include "util/vec3.h"
 
 static void test_cylinder(void) {
   esf_walls w = {0};

@@ -11,9 +11,9 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "bodies/wall_mesh.h"
 #include "check.h"
 #include "util/vec3.h"
-#include "bodies/wall_mesh.h"
 
 /* Unit normal and area of triangle k of m. */
 static double tri_normal(const esf_wall_mesh *m, size_t k, double n[3]) {

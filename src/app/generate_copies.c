@@ -32,10 +32,10 @@
 #include <string.h>
 #include <time.h>
 
-#include "util/atomic_file.h"
-#include "model/model.h"
 #include "integrators/integrator.h"
+#include "model/model.h"
 #include "scene/scene.h"
+#include "util/atomic_file.h"
 #include "util/vec3.h"
 
 typedef struct settle_spec {

@@ -18,15 +18,15 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "util/atomic_file.h"
-#include "ckpt/checkpoint.h"
 #include "app/generate_copies.h"
 #include "app/info.h"
-#include "integrators/integrator.h"
 #include "app/modes.h"
-#include "model/model.h"
 #include "app/run.h"
+#include "ckpt/checkpoint.h"
+#include "integrators/integrator.h"
+#include "model/model.h"
 #include "scene/scene.h"
+#include "util/atomic_file.h"
 #include "util/version.h"
 
 static void usage(FILE *f) {

@@ -18,9 +18,9 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "ckpt/run_ckpt.h"
 #include "output/contact_net.h"
 #include "output/frames.h"
-#include "ckpt/run_ckpt.h"
 #include "util/vec3.h"
 #include "util/version.h"
 

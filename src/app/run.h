@@ -5,8 +5,8 @@
 #include <signal.h>
 
 #include "ckpt/checkpoint.h"
-#include "integrators/integrator.h"
 #include "core/sim.h"
+#include "integrators/integrator.h"
 
 typedef struct esf_run_opts {
   const char *out_dir; /* where energy.csv, log.txt, frames.h5 go */

@@ -15,8 +15,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "util/esf_error.h"
 #include "bodies/walls.h"
+#include "util/esf_error.h"
 
 typedef struct esf_wall_mesh {
   size_t np;         /* points */

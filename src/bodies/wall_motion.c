@@ -19,8 +19,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/vec3.h"
 #include "bodies/walls.h"
+#include "util/vec3.h"
 
 static void motion_at(const esf_wall_motion *m, double t, double d[3], double v[3],
                       double *angle) {

@@ -7,8 +7,8 @@
 
 #include <stddef.h>
 
-#include "util/esf_error.h"
 #include "bodies/wall_geom.h"
+#include "util/esf_error.h"
 
 /* Prescribed rigid motions (wall_motion.c). */
 enum {

@@ -20,10 +20,10 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "util/atomic_file.h"
-#include "util/blob.h"
 #include "ckpt/checkpoint_format.h"
 #include "ckpt/loads_ckpt.h"
+#include "util/atomic_file.h"
+#include "util/blob.h"
 #include "util/version.h"
 
 /* Update with every field added to esf_contact_hist or esf_contact_bond

@@ -22,8 +22,8 @@
 
 #include <stdio.h>
 
-#include "integrators/integrator.h"
 #include "core/sim.h"
+#include "integrators/integrator.h"
 
 #define ESF_CKPT_NAME "checkpoint.esf"
 

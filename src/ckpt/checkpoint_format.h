@@ -6,8 +6,8 @@
 
 #include <stdint.h>
 
-#include "util/blob.h"
 #include "ckpt/checkpoint.h"
+#include "util/blob.h"
 
 /* Scalars of the sim between steps. */
 typedef struct ck_sim {

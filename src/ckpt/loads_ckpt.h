@@ -5,8 +5,8 @@
 #ifndef ESF_LOADS_CKPT_H
 #define ESF_LOADS_CKPT_H
 
-#include "util/blob.h"
 #include "core/sim.h"
+#include "util/blob.h"
 
 /* Appends the state to b. */
 void esf_loads_ckpt_save(const esf_sim *s, esf_blob *b);

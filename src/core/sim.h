@@ -6,16 +6,16 @@
 
 #include <stdio.h>
 
-#include "core/bonds.h"
-#include "contact/contact_law.h"
-#include "core/damping.h"
-#include "util/esf_error.h"
-#include "core/ledger.h"
-#include "contact/material.h"
-#include "search/neighbor.h"
 #include "bodies/particles.h"
-#include "util/rng.h"
 #include "bodies/walls.h"
+#include "contact/contact_law.h"
+#include "contact/material.h"
+#include "core/bonds.h"
+#include "core/damping.h"
+#include "core/ledger.h"
+#include "search/neighbor.h"
+#include "util/esf_error.h"
+#include "util/rng.h"
 
 enum { ESF_DT_CUNDALL = 0, ESF_DT_HART = 1, ESF_DT_DAMPED = 2, ESF_DT_RULES = 3 };
 extern const char *const esf_dt_rule_names[]; /* "cundall", "hart", "damped", NULL */

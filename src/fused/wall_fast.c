@@ -33,10 +33,10 @@
 #include <math.h>
 #include <stdint.h>
 
+#include "bodies/walls.h"
 #include "contact/contact_linear.h"
 #include "model/forces.h"
 #include "util/vec3.h"
-#include "bodies/walls.h"
 
 #define FAST_MAX 8 /* candidates per particle whose hits go on the stack */
 

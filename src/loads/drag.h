@@ -6,8 +6,8 @@
 #ifndef ESF_DRAG_H
 #define ESF_DRAG_H
 
-#include "loads/porosity.h"
 #include "core/sim.h"
+#include "loads/porosity.h"
 
 enum { ESF_DRAG_RADIAL = 0, ESF_DRAG_UNIFORM = 1 };
 

@@ -6,8 +6,8 @@
 
 #include <stddef.h>
 
-#include "util/esf_error.h"
 #include "bodies/particles.h"
+#include "util/esf_error.h"
 
 /* Void fractions are clamped to this range (Ergun's 1/eps diverges at 0). */
 #define ESF_POROSITY_MIN 0.1

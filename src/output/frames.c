@@ -31,11 +31,11 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "util/atomic_file.h"
-#include "output/frames_index.h"
-#include "formats/h5io.h"
 #include "bodies/wall_mesh.h"
+#include "formats/h5io.h"
 #include "formats/xdmf.h"
+#include "output/frames_index.h"
+#include "util/atomic_file.h"
 
 /* The index and XDMF are rewritten after each of the first PUBLISH_EVERY_MAX frames;
  * later only once the time since the last rewrite is PUBLISH_COST_RATIO times what

@@ -23,10 +23,10 @@
 #ifndef ESF_FRAMES_H
 #define ESF_FRAMES_H
 
-#include "output/contact_net.h"
-#include "util/esf_error.h"
 #include "bodies/particles.h"
 #include "bodies/walls.h"
+#include "output/contact_net.h"
+#include "util/esf_error.h"
 
 typedef struct esf_frames esf_frames;
 

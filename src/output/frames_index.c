@@ -16,9 +16,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/atomic_file.h"
 #include "formats/h5io.h"
 #include "formats/h5table.h"
+#include "util/atomic_file.h"
 
 static int write_file(const char *tmp, const esf_frames_index *ix, esf_error *err) {
   hid_t f = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);

@@ -11,8 +11,8 @@
 #ifndef ESF_FRAMES_INDEX_H
 #define ESF_FRAMES_INDEX_H
 
-#include "util/esf_error.h"
 #include "formats/xdmf.h"
+#include "util/esf_error.h"
 
 /* What an index names. seg[k]: the segment (its first frame's number) of frame k;
  * rows: nrows x ncols energy rows, row-major (ncols 0: no /energy). */

@@ -7,8 +7,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "util/esf_error.h"
 #include "bodies/particles.h"
+#include "util/esf_error.h"
 
 /* Resolves a material name from a CSV `material` column to its index; returns ESF_OK or
  * an error (ESF_EINPUT) whose message the reader prefixes with file and line. */

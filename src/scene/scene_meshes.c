@@ -9,11 +9,11 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "bodies/wall_gen.h"
+#include "formats/stl.h"
 #include "scene/scene.h"
 #include "scene/scene_parts.h"
-#include "formats/stl.h"
 #include "util/vec3.h"
-#include "bodies/wall_gen.h"
 
 /* `caps: [bottom, top]` (either, both or none) */
 static int read_caps(const esf_ynode *m, int *bottom, int *top, esf_error *err) {

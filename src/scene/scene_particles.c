@@ -8,10 +8,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "search/cells.h"
 #include "scene/particle_source.h"
 #include "scene/scene.h"
 #include "scene/scene_parts.h"
+#include "search/cells.h"
 
 typedef struct lookup_ctx {
   const esf_materials *m;

@@ -11,8 +11,8 @@
 #include <string.h>
 
 #include "scene/scene.h"
-#include "scene/scene_parts.h"
 #include "scene/scene_loads.h"
+#include "scene/scene_parts.h"
 #include "util/vec3.h"
 
 static int wall_material(const esf_ynode *e, const esf_sim *s, int32_t *m,

@@ -16,9 +16,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bodies/wall_index.h"
 #include "util/lines.h"
 #include "util/vec3.h"
-#include "bodies/wall_index.h"
 
 static void contacts_release(esf_candidates *c) {
   free(c->a);

@@ -12,10 +12,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "search/cells.h"
-#include "contact/contact_law.h"
 #include "bodies/particles.h"
 #include "bodies/walls.h"
+#include "contact/contact_law.h"
+#include "search/cells.h"
 
 /* A build's cost in screened candidates per particle (the adaptive skin): about 500 ns
  * per particle against 4-5 ns per screened candidate (scene S1, 50 000 spheres). */
