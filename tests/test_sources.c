@@ -71,7 +71,7 @@ static void expect_error(const char *name, const char *content, int code,
         err.msg, want);
   CHECK(defs.n == 1, "%s: the list must be restored to its entry length, has %zu", name,
         defs.n);
-  esf_particle_defs_clear(&defs);
+  esf_particle_defs_release(&defs);
 }
 
 static void test_csv_roundtrip(void) {
@@ -124,7 +124,7 @@ static void test_csv_roundtrip(void) {
               d->w[2] == 0,
           "missing velocity columns must read as zero");
   }
-  esf_particle_defs_clear(&defs);
+  esf_particle_defs_release(&defs);
 }
 
 static void test_csv_materials(void) {
@@ -143,7 +143,7 @@ static void test_csv_materials(void) {
     CHECK(defs.d[0].material == 1 && defs.d[1].material == 0 && defs.d[2].material == 1,
           "materials %d %d %d, expected 1 0 1", (int)defs.d[0].material,
           (int)defs.d[1].material, (int)defs.d[2].material);
-  esf_particle_defs_clear(&defs);
+  esf_particle_defs_release(&defs);
 
   expect_error("badmat.csv", "x,y,z,radius,material\n0,0,0,1,glass\n\n1,0,0,1,wood\n",
                ESF_EINPUT, ":4:5: unknown material 'wood'");
@@ -160,7 +160,7 @@ static void test_csv_materials(void) {
   CHECK(rc == ESF_EINPUT && strstr(err.msg, ":1: no material column"),
         "no material column and no default: %d '%s'", rc, err.msg);
   CHECK(defs.n == 0, "nothing appended on failure");
-  esf_particle_defs_clear(&defs);
+  esf_particle_defs_release(&defs);
 }
 
 static void test_csv_errors(void) {
@@ -220,7 +220,7 @@ static void test_csv_errors(void) {
   rc = esf_particles_read_csv(path, 0, NULL, NULL, &defs, NULL);
   CHECK(rc == ESF_EIO, "missing file with NULL err: %d", rc);
   CHECK(defs.n == 0, "no particles on failure");
-  esf_particle_defs_clear(&defs);
+  esf_particle_defs_release(&defs);
 }
 
 static void test_csv_long_line(void) {
@@ -254,7 +254,7 @@ static void test_csv_long_line(void) {
     CHECK(defs.d[1].x[2] == 3 && defs.d[1].radius == 4,
           "line after the long one misread");
   }
-  esf_particle_defs_clear(&defs);
+  esf_particle_defs_release(&defs);
 }
 
 /* ---- random fill ------------------------------------------------------------------ */
@@ -341,9 +341,9 @@ static void test_random_basic(void) {
   size_t same = 0;
   for (size_t i = 0; i < c.n && i < a.n; i++) same += a.d[i].x[0] == c.d[i].x[0];
   CHECK(c.n == a.n && same < 3, "another seed must differ (%zu equal x)", same);
-  esf_particle_defs_clear(&a);
-  esf_particle_defs_clear(&b);
-  esf_particle_defs_clear(&c);
+  esf_particle_defs_release(&a);
+  esf_particle_defs_release(&b);
+  esf_particle_defs_release(&c);
 }
 
 /* |k - N p| <= 4 sqrt(N p (1 - p)) */
@@ -399,7 +399,7 @@ static void test_random_fractions(void) {
   size_t big = 0;
   for (size_t i = n0; i < a.n; i++) big += a.d[i].radius != 0.001;
   CHECK(a.n == n0 + 50 && big == 0, "zero-fraction radius drawn %zu times", big);
-  esf_particle_defs_clear(&a);
+  esf_particle_defs_release(&a);
 }
 
 static void test_random_existing_2d(void) {
@@ -420,7 +420,7 @@ static void test_random_existing_2d(void) {
   CHECK(count_overlaps(&d, 3) == 0, "fill overlaps existing or itself: %zu",
         count_overlaps(&d, 3));
   CHECK(count_outside(&d, 3, &s) == 0, "fill around existing: outside");
-  esf_particle_defs_clear(&d);
+  esf_particle_defs_release(&d);
 
   /* 2D: y = 0, the region's y ignored */
   s = base_spec();
@@ -436,7 +436,7 @@ static void test_random_existing_2d(void) {
   CHECK(bady == 0, "2D fill: %zu particles with y != 0", bady);
   CHECK(count_overlaps(&d, 0) == 0, "2D fill overlaps");
   CHECK(count_outside(&d, 0, &s) == 0, "2D fill outside");
-  esf_particle_defs_clear(&d);
+  esf_particle_defs_release(&d);
 }
 
 static void test_random_overfull(void) {
@@ -457,7 +457,7 @@ static void test_random_overfull(void) {
                             "(asked solid fraction 4.19;"),
         "overfull message: '%s'", err.msg);
   CHECK(d.n == 1, "overfull: list restored (%zu)", d.n);
-  esf_particle_defs_clear(&d);
+  esf_particle_defs_release(&d);
 }
 
 static void expect_spec_error(const esf_fill_spec *s, int lattice, const char *part) {
@@ -468,7 +468,7 @@ static void expect_spec_error(const esf_fill_spec *s, int lattice, const char *p
   CHECK(rc == ESF_EINPUT && strstr(err.msg, part), "expected '%s', got %d '%s'", part, rc,
         err.msg);
   CHECK(d.n == 0, "spec error: nothing appended");
-  esf_particle_defs_clear(&d);
+  esf_particle_defs_release(&d);
 }
 
 static void test_spec_errors(void) {
@@ -525,14 +525,14 @@ static void test_lattice(void) {
     CHECK(count_outside(&d, 0, &s) == 0, "lattice outside the region");
     CHECK(count_overlaps(&d, 0) == 0, "lattice overlaps");
   }
-  esf_particle_defs_clear(&d);
+  esf_particle_defs_release(&d);
 
   s.spacing = 0.02; /* floor((0.1 - 0.01) / 0.02) + 1 = 5 per axis */
   rc = esf_generate_lattice(&s, &d, &err);
   CHECK_OK(rc, err);
   CHECK(d.n == 125, "lattice spacing 0.02: %zu sites, expected 125", d.n);
   if (d.n == 125) CHECK_NEAR(d.d[4].x[0], 0.085, 1e-15, "fifth site x");
-  esf_particle_defs_clear(&d);
+  esf_particle_defs_release(&d);
 
   s.count = 7;
   rc = esf_generate_lattice(&s, &d, &err);
@@ -543,7 +543,7 @@ static void test_lattice(void) {
     CHECK_NEAR(d.d[6].x[1], 0.025, 1e-15, "7th site y");
     CHECK(d.d[6].v[2] == -0.5 && d.d[6].material >= 4, "lattice velocity, material");
   }
-  esf_particle_defs_clear(&d);
+  esf_particle_defs_release(&d);
 
   s.count = 126;
   expect_spec_error(&s, 1, "only 125 sites");
@@ -564,7 +564,7 @@ static void test_lattice(void) {
   CHECK(badr == 0, "lattice radii outside [a, b]: %zu", badr);
   CHECK(count_outside(&d, 0, &s) == 0 && count_overlaps(&d, 0) == 0,
         "lattice uniform: outside or overlapping");
-  esf_particle_defs_clear(&d);
+  esf_particle_defs_release(&d);
 
   /* 2D: x-z plane at y = 0 */
   s = base_spec();
@@ -582,7 +582,7 @@ static void test_lattice(void) {
   for (size_t i = 0; i < d.n; i++) bady += d.d[i].x[1] != 0.0;
   CHECK(bady == 0, "2D lattice: y != 0");
   if (d.n == 50) CHECK_NEAR(d.d[10].x[2] - d.d[0].x[2], 0.01, 1e-15, "2D lattice z step");
-  esf_particle_defs_clear(&d);
+  esf_particle_defs_release(&d);
 }
 
 int main(void) {

@@ -19,7 +19,7 @@ int esf_particle_defs_push(esf_particle_defs *defs, const esf_particle_def *def,
   return ESF_OK;
 }
 
-void esf_particle_defs_clear(esf_particle_defs *defs) {
+void esf_particle_defs_release(esf_particle_defs *defs) {
   free(defs->d);
   defs->d = NULL;
   defs->n = defs->cap = 0;

@@ -47,7 +47,7 @@ typedef struct esf_particle_defs {
 
 int esf_particle_defs_push(esf_particle_defs *defs, const esf_particle_def *def,
                            esf_error *err);
-void esf_particle_defs_clear(esf_particle_defs *defs);
+void esf_particle_defs_release(esf_particle_defs *defs);
 
 /* Allocates storage for n particles (all arrays zeroed). */
 int esf_particles_alloc(esf_particles *p, size_t n, esf_error *err);

@@ -122,7 +122,7 @@ int esf_ckpt_write(const char *path, esf_sim *s, const esf_integrator_type *it, 
   esf_blob integ = {0};
   int rc = it->save(s, ist, &integ, err);
   if (rc) {
-    esf_blob_free(&integ);
+    esf_blob_release(&integ);
     return rc;
   }
   esf_blob b = {0};
@@ -207,13 +207,13 @@ int esf_ckpt_write(const char *path, esf_sim *s, const esf_integrator_type *it, 
     put_sec(&b, "NBSKIN", sk, sizeof sk);
   }
   put_sec(&b, "INTEG", integ.d, integ.n);
-  esf_blob_free(&integ);
+  esf_blob_release(&integ);
   put_sec(&b, "END", NULL, 0);
   if (b.nomem)
     rc = esf_fail(err, ESF_ENOMEM, "out of memory assembling the checkpoint");
   else
     rc = esf_atomic_write(path, b.d, b.n, err);
-  esf_blob_free(&b);
+  esf_blob_release(&b);
   return rc;
 }
 

@@ -281,6 +281,6 @@ int esf_scene_particles(const esf_ynode *seq, const char *dir, esf_sim *s,
   }
   free(first);
   free(src);
-  esf_particle_defs_clear(&defs);
+  esf_particle_defs_release(&defs);
   return rc;
 }

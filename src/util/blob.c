@@ -22,7 +22,7 @@ void esf_blob_put(esf_blob *b, const void *data, size_t len) {
   b->n += len;
 }
 
-void esf_blob_free(esf_blob *b) {
+void esf_blob_release(esf_blob *b) {
   free(b->d);
   b->d = NULL;
   b->n = b->cap = 0;

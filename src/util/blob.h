@@ -15,7 +15,7 @@ typedef struct esf_blob {
 
 /* Appends len bytes (ignored once nomem is set). */
 void esf_blob_put(esf_blob *b, const void *data, size_t len);
-void esf_blob_free(esf_blob *b);
+void esf_blob_release(esf_blob *b);
 
 typedef struct esf_blob_in {
   const unsigned char *d;
