@@ -11,17 +11,13 @@
  *   3. local damping F_d from F_n and the sign of v_{n-1/2} (and M_d from w);
  *   4. kick: v_{n+1/2} = [(1 - a_r dt/2) v_{n-1/2} + (F_n + F_d) dt/m] / (1 + a_r dt/2),
  *            w_{n+1/2} likewise with a_t, M and I (001 3.53–3.54);
- *   5. ledger (when on): dissipation of every path with the mid-step velocity
- *      vbar = (v_{n-1/2} + v_{n+1/2})/2, for which the discrete identity
- *      KE_{n+1/2} - KE_{n-1/2} = (F_n + F_d - a_r m vbar) . vbar dt holds exactly;
- *      stored energies: kinetic at t_n + dt/2, gravity at the mean of x_n and x_{n+1},
- *      elastic at x_n (led_time = t_n);
+ *   5. ledger (when on): every path's dissipation with the mid-step velocity vbar, for
+ *      which the kinetic energy balances exactly (lf_step, at the ledger);
  *   6. adaptive damping (when on): alpha from the kinetic energies either side;
  *   7. drift: x_{n+1} = x_n + v_{n+1/2} dt; t += dt.
- * Scenes that need neither the ledger nor adaptive damping take steps 2-4 and 7 in
+ * Scenes needing neither the ledger nor adaptive damping take steps 2-4 and 7 in
  * fused/fused.c's fused, threaded passes (the same physics and order of operations).
- * Start: the first call sets v_{-1/2} = v_0 - (dt/2) F(x_0, v_0)/m (likewise w), so the
- * scheme is second order from the initial conditions. */
+ * Start: v_{-1/2} from v_0 (start): second order from the initial conditions. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -59,7 +55,9 @@ static void lf_destroy(void **state) {
   *state = NULL;
 }
 
-/* v_{-1/2} from v_0: half a step back with the initial forces (history not touched) */
+/* v_{-1/2} = v_0 - (dt/2) F(x_0, v_0)/m (likewise w): half a step back with the initial
+ * forces (history not touched), so the scheme is second order from the initial
+ * conditions. */
 static int start(esf_sim *s, esf_error *err) {
   esf_particles *p = &s->p;
   int rc = esf_forces_eval(s, p->x, p->v, p->w, s->dt, ESF_FORCES_TRIAL, NULL, err);
@@ -168,6 +166,11 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   }
   kick_tally k;
   kick(s, tally, &k);
+  /* Step 5: the dissipation of every path with the mid-step velocity
+   * vbar = (v_{n-1/2} + v_{n+1/2})/2, for which the discrete identity
+   * KE_{n+1/2} - KE_{n-1/2} = (F_n + F_d - a_r m vbar) . vbar dt holds exactly; stored
+   * energies: kinetic at t_n + dt/2, gravity at the mean of x_n and x_{n+1}, elastic at
+   * x_n (led_time = t_n). */
   if (ledger) {
     /* mid-step velocities, in place in vold */
     double *vb = lf->vold, *wb = lf->vold + 3 * p->n;

@@ -1,26 +1,19 @@
 /* generate_copies.c — model generation by successive copies (004 §3.3;
- * docs/physics.md#model-generation-by-successive-copies).
- *
- * Algorithm (the Sandia technique the seed adopts):
+ * docs/physics.md#model-generation-by-successive-copies), the Sandia technique the
+ * seed adopts:
  *  1. The scene's particles are the primary set (typically a `generate: random` fill of
  *     the primary box, radii in [r_min, r_max], a material mix). Walls: the five faces
  *     of generate.box (open at the top), of generate.material.
  *  2. Settle under gravity with the scene's integrator, damping and contact law until
- *     E_k < ke_fraction · E_ref, checked every check_every seconds, or until max_time.
- *     E_k = Σ ½ m v² + ½ I ω² (J); E_ref = max(|ΔE_p|, Σ m |g| r) (J), ΔE_p the change
- *     of gravitational potential energy over the stage: the energy released by the
- *     settling; the floor Σ m|g|r (lifting every particle by its radius) keeps a scale
- *     for a stage that barely moves.
+ *     E_k < ke_fraction · E_ref, checked every check_every seconds, or until max_time
+ *     (E_k, E_ref: settle).
  *  3. Copy: copy (i, j, k) is the settled set translated by (i L_x, j L_y, k H), L the
  *     box's edges and H the settled height (highest top minus box floor), so the
  *     copies are exact periodic images; the box grows to n_x L_x × n_y L_y with
  *     walls n_z L_z high (open top).
  *  4. Settle again (generate.resettle, default the settle values; max_time 0 skips
  *     it), write the CSV in id order with velocities dropped.
- *  5. Optionally compact (generate.compact: strain, time): the four lateral walls move
- *     inward at constant speed by strain L / 2 each over `time`, the floor stays; then
- *     the particles settle (resettle values) in a static box of the compacted size.
- *
+ *  5. Optionally compact (generate.compact: strain, time; compact).
  * Units: SI. State: each stage builds its own esf_sim from the same parsed scene
  * (materials, damping, integrator), so nothing of a stage leaks into the next but the
  * particle positions, radii and materials. The library never prints except to `log`. */
@@ -155,7 +148,11 @@ static void energies(const esf_sim *s, double *ek, double *ep) {
   *ek = kt + kr;
 }
 
-/* Settles the set-up sim (see the prologue); fills rep. */
+/* Settles the set-up sim under gravity until E_k < ke_fraction · E_ref, checked every
+ * check_every seconds, or until max_time; fills rep. E_k = Σ ½ m v² + ½ I ω² (J);
+ * E_ref = max(|ΔE_p|, Σ m |g| r) (J), ΔE_p the change of gravitational potential energy
+ * over the stage: the energy released by the settling; the floor Σ m|g|r (lifting every
+ * particle by its radius) keeps a scale for a stage that barely moves. */
 static int settle(esf_sim *s, const settle_spec *sp, esf_settle_report *rep,
                   esf_error *err) {
   const esf_integrator_type *it = esf_integrator_find(s->cfg.method);
@@ -304,9 +301,10 @@ static int check_inside(const esf_sim *s, const gen_spec *gs, esf_error *err) {
   return ESF_OK;
 }
 
-/* Compaction (optional): the lateral walls of the box [min, max] move inward by
- * strain L / 2 each over compact_time (the floor stays), then a box that size holds
- * the particles while they settle (resettle values). Replaces *b by the result. */
+/* Compaction (optional, generate.compact: strain, time): the four lateral walls of the
+ * box [min, max] move inward at constant speed by strain L / 2 each over compact_time
+ * (the floor stays), then a static box of the compacted size holds the particles while
+ * they settle (resettle values). Replaces *b by the result. */
 static int compact(esf_ydoc *doc, const char *path, const gen_spec *gs, double min[3],
                    double max[3], esf_sim *b, FILE *log, esf_error *err) {
   static const long one[3] = {1, 1, 1};

@@ -1,8 +1,8 @@
 /* checkpoint.c — writing and verifying checkpoints (checkpoint.h); restoring is in
  * checkpoint_restore.c.
  *
- * Writing assembles the whole file in memory (one esf_blob: 1.34 MB for the settle
- * scene's 3000 particles) and hands it to esf_atomic_write (temporary file, fsync,
+ * Writing assembles the whole file in memory (one esf_blob; sizes in
+ * docs/checkpoints.md#format) and hands it to esf_atomic_write (temporary file, fsync,
  * rename, fsync of the directory), so the previous checkpoint is replaced only by a
  * complete new one. Each section carries a CRC-32 (IEEE 802.3, bitwise); loading reads
  * the whole file and checks the signature, byte order, format version, every section's
@@ -33,7 +33,7 @@ _Static_assert(sizeof(esf_contact_hist) == 6 * sizeof(double) &&
                    sizeof(esf_contact_bond) == 2 * sizeof(double),
                "esf_contact_hist or esf_contact_bond changed: update HIST_LAYOUT");
 
-enum { CK_VERSION = 2, CK_BOM = 0x01020304 }; /* 2: bond states apart (2026-11-25) */
+enum { CK_VERSION = 2, CK_BOM = 0x01020304 }; /* 2: bond states apart */
 static const char ck_magic[8] = "ESFCKPT";
 
 static uint32_t crc32(const unsigned char *p, size_t n) {

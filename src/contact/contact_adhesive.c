@@ -4,39 +4,19 @@
  * Law. With u the overlap (> 0 interpenetrating, < 0 a gap) and forces compressive
  * positive (the seed's 2.22 with its sign flipped), the elastic normal force of a bond is
  *   f(u) = kn [u - (1 - e^{-alpha u}) delta] = kn [u + delta expm1(-alpha u)],
- * negative (tension) between the two roots of f. With L = alpha delta = -ln eps and
- * x = alpha u: f'(u) = kn (1 - L e^{-x}) vanishes at x* = ln L, where the tension is
- *   -f(u*) = kn delta (L - 1 - ln L) / L.
- * Setting it to the user's F gives delta = F L / (kn (L - 1 - ln L)) (= 2.23; the seed
- * prints the opposite overall sign because its F is negative) and alpha = L / delta
- * (2.24). L = 1 (eps = 1/e) makes delta infinite: rejected.
- *   eps < 1/e (L > 1): the peak is in overlap (x* > 0); f is tensile on (0, u_eq) with
- *     u_eq the positive root of x = L (1 - e^{-x}) (u_eq -> delta for small eps), the
- *     stable rest state; the bond opens (ruptures) at u = 0, where f returns to zero.
- *   eps > 1/e (L < 1): the peak is in the gap (x* < 0); f is compressive for u > 0 and
- *     tensile on (u_r, 0), u_r the negative root (x_r = -L exactly for eps = 1/2);
- *     the rest state is u = 0; the bond opens at u_r.
- * Past the rupture point the formula turns compressive again (e^{-x} grows without
- * bound); it is never applied there: a bonded contact with u < u_rupture breaks.
- * Tangent stiffness: df/du = kn (1 - L e^{-x}) rises monotonically with u, so over the
- * bonded range u >= u_r its largest magnitude is k_max = kn max(1, |1 - L e^{-x_r}|):
- * kn (L - 1) for eps < 1/e when L > 2 (17.4 kn at eps = 1e-8), kn for eps = 1/2.
- * Energy (the spring's potential, closed form): W(u) = integral_0^u f(s) ds
- *   = kn [u^2/2 - delta (u + expm1(-x)/alpha)], W(0) = 0; W(u_r) > 0 for eps > 1/e is
- *   the work needed to open a bond from rest to rupture.
+ * negative (tension) between the two roots of f; delta and alpha follow from the user's
+ * peak tension F and eps (2.23, 2.24; esf_adhesion_derive: the two regimes either side
+ * of eps = 1/e, the rest state, the rupture point, the largest stiffness). Past the
+ * rupture point the formula turns compressive again (e^{-x} grows without bound); it is
+ * never applied there: a bonded contact with u < u_rupture breaks.
  *
  * Bond rule (2.25). bond->on is Phi (contact_law.h, esf_contact_bond): set for the
  * contacts that exist at the start (bonds.c), with an overlap offset bond->s (u = un +
  * s in the law; 0 unless the scene's bond_gap bonds pairs at a gap). A bonded contact
- * carries force at any u >= u_rupture, gap or not (touching stays 1), with the normal
- * dashpot unclipped. When u < u_rupture the bond breaks: Phi = 0 for good; the evaluation
- * then follows the linear law (no tension, u < 0 so no force, history reset), out->broke
- * = 1 and out->e_break = W(u) + (1/2) kt |xi|^2, the energy the bond held, which the
- * caller books as dissipated, clearing the bond state when it commits. A contact without
- * a bond (every later contact of the pair) is the linear law: compression and friction
- * only. A trial evaluation (hist_out NULL) that finds u < u_rupture evaluates the broken
- * law too, without committing. Tangential: esf_contact_tangential with the total normal
- * force (tension negative). Units: SI. Forces are those on A. */
+ * carries force at any u >= u_rupture, gap or not; below, the bond breaks for good
+ * (adhesive_eval). A contact without a bond (every later contact of the pair) is the
+ * linear law: compression and friction only. Tangential: esf_contact_tangential with
+ * the total normal force (tension negative). Units: SI. Forces are those on A. */
 #include "contact/contact_law.h"
 #include "contact/contact_linear.h"
 #include "contact/contact_tangential.h"
@@ -49,6 +29,9 @@ double esf_adhesion_force(double kn, const esf_adhesion *a, double u) {
   return kn * (u + a->delta * expm1(-a->alpha * u));
 }
 
+/* The spring's potential, closed form: W(u) = integral_0^u f(s) ds
+ *   = kn [u^2/2 - delta (u + expm1(-x)/alpha)], x = alpha u, W(0) = 0; W(u_r) > 0 for
+ *   eps > 1/e is the work needed to open a bond from rest to rupture. */
 double esf_adhesion_energy(double kn, const esf_adhesion *a, double u) {
   if (!(a->alpha > 0)) return 0.5 * kn * u * u;
   return kn * (0.5 * u * u - a->delta * (u + expm1(-a->alpha * u) / a->alpha));
@@ -70,6 +53,21 @@ static double other_root(double L) {
   return x;
 }
 
+/* The law's constants from the user's F and eps. With L = alpha delta = -ln eps and
+ * x = alpha u: f'(u) = kn (1 - L e^{-x}) vanishes at x* = ln L, where the tension is
+ *   -f(u*) = kn delta (L - 1 - ln L) / L.
+ * Setting it to the user's F gives delta = F L / (kn (L - 1 - ln L)) (= 2.23; the seed
+ * prints the opposite overall sign because its F is negative) and alpha = L / delta
+ * (2.24). L = 1 (eps = 1/e) makes delta infinite: rejected.
+ *   eps < 1/e (L > 1): the peak is in overlap (x* > 0); f is tensile on (0, u_eq) with
+ *     u_eq the positive root of x = L (1 - e^{-x}) (u_eq -> delta for small eps), the
+ *     stable rest state; the bond opens (ruptures) at u = 0, where f returns to zero.
+ *   eps > 1/e (L < 1): the peak is in the gap (x* < 0); f is compressive for u > 0 and
+ *     tensile on (u_r, 0), u_r the negative root (x_r = -L exactly for eps = 1/2);
+ *     the rest state is u = 0; the bond opens at u_r.
+ * Tangent stiffness: df/du = kn (1 - L e^{-x}) rises monotonically with u, so over the
+ * bonded range u >= u_r its largest magnitude is k_max = kn max(1, |1 - L e^{-x_r}|):
+ * kn (L - 1) for eps < 1/e when L > 2 (17.4 kn at eps = 1e-8), kn for eps = 1/2. */
 int esf_adhesion_derive(double F, double eps, double kn, esf_adhesion *a,
                         esf_error *err) {
   *a = (esf_adhesion){0};
@@ -109,6 +107,14 @@ int esf_adhesion_derive(double F, double eps, double kn, esf_adhesion *a,
   return ESF_OK;
 }
 
+/* Bond rule (2.25): a bonded contact carries force at any u >= u_rupture, gap or not
+ * (touching stays 1), with the normal dashpot unclipped. When u < u_rupture the bond
+ * breaks: Phi = 0 for good; the evaluation then follows the linear law (no tension,
+ * u < 0 so no force, history reset), out->broke = 1 and out->e_break = W(u) + (1/2) kt
+ * |xi|^2, the energy the bond held, which the caller books as dissipated, clearing the
+ * bond state when it commits. A trial evaluation (hist_out NULL) that finds
+ * u < u_rupture evaluates the broken law too, without committing. Without a bond:
+ * the linear law. */
 static void adhesive_eval(const esf_pair_params *pp, double beta, int tframe,
                           const esf_contact_in *in, const esf_contact_hist *hist,
                           const esf_contact_bond *bond, int first,

@@ -6,8 +6,7 @@
  * 150 bytes each) must stay in the core's L2 cache while the pass sweeps through it,
  * or every such access waits on L3 or memory. Numbering the particles along cells
  * bounds the window by one slab of cells, whatever order the scene gave them in (a
- * random order runs at about 0.6 of a cell order).
- *
+ * random order runs slower: docs/performance.md#the-fused-step).
  * Algorithm: a grid over the particles' bounding box with cells of 2 r_mean + skin
  * (coarsened if it would have more than 2n cells); the cell coordinates are ranked so
  * that the axis with the most cells varies slowest and the one with the fewest

@@ -7,16 +7,9 @@
  * valid for x_n, history at t_{n-1}. The particles are cut into T contiguous ranges,
  * one per thread; as the pair list is sorted by (a, b), a < b, the pairs whose a lies
  * in range t form one block, and a pair whose b lies in a higher range is a boundary
- * pair. One call runs up to nmax steps in one parallel region; range t, each step:
- *   0. esf_fused_index (fused_ranges.c), at a call's start when the lists, T or the
- *      balance changed: pair blocks, wall candidates, ranges, boundary pairs;
- *   1. from the second step on, waits for range 0's word and the higher ranges' done
- *      flags (fused_sync.c: esf_fused_decide, esf_fused_wait); esf_fused_boundary
- *      (fused_slots.c) computes its boundary pairs into slots, then its ready flag;
- *   2. esf_fused_screen (fused_lists.c) finds its new contacts among the idle
- *      candidates; waits for the lower ranges' ready flags; esf_fused_pairs
- *      (fused_pairs.c) sums its pair forces; esf_fused_kick_range (fused_kick.c) adds
- *      its walls, kicks and drifts; its results and its done flag.
+ * pair. One call runs up to nmax steps in one parallel region, after esf_fused_index
+ * (fused_ranges.c) when the lists, T or the balance changed; each range's step:
+ * boundary pairs into slots, screening, pair forces, walls, kick and drift (run_range).
  * Invariant: every particle receives its pair forces in ascending pair index k, the
  * order of the serial scatter in model/forces.c, whatever T (incoming slots, interior
  * batches and outgoing slots are merged in k), and every other sum is per particle;
@@ -47,6 +40,17 @@ int esf_fused_eligible(const esf_sim *s) {
          !s->drag; /* servo walls, fluid force: general path */
 }
 
+/* Range t's steps of one call (esf_fused_run), each step:
+ *   0. esf_fused_index (fused_ranges.c), at a call's start when the lists, T or the
+ *      balance changed: pair blocks, wall candidates, ranges, boundary pairs (run by
+ *      esf_fused_run before the parallel region);
+ *   1. from the second step on, waits for range 0's word and the higher ranges' done
+ *      flags (fused_sync.c: esf_fused_decide, esf_fused_wait); esf_fused_boundary
+ *      (fused_slots.c) computes its boundary pairs into slots, then its ready flag;
+ *   2. esf_fused_screen (fused_lists.c) finds its new contacts among the idle
+ *      candidates; waits for the lower ranges' ready flags; esf_fused_pairs
+ *      (fused_pairs.c) sums its pair forces; esf_fused_kick_range (fused_kick.c) adds
+ *      its walls, kicks and drifts; its results and its done flag. */
 static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t t) {
   esf_fused_range *me = f->rr + t;
   const size_t T = (size_t)f->nth, lo = f->rlo[t], hi = f->rlo[t + 1];

@@ -54,7 +54,7 @@ static void kick_plain_loop(size_t lo, size_t hi, double dt, double *restrict x,
   int nan = 0, out = 0;
   /* the new position is tested from registers, not read back: a vector load of what
      the loop has just stored piecewise cannot be forwarded from the store buffer and
-     waits for the stores to retire (that load drew 2.7% of a two-thread run's samples) */
+     waits for the stores to retire (docs/performance.md#wall-contacts-and-the-kick) */
   const double bl[3] = {lo3[0], lo3[1], lo3[2]}, bh[3] = {hi3[0], hi3[1], hi3[2]};
   for (size_t i = lo; i < hi; i++) {
     const double *fi = acc + ESF_FUSED_ACC * i, *ti = fi + 4;

@@ -53,9 +53,8 @@ static inline size_t compact(uint32_t *list, size_t q0, int nl, unsigned apart, 
  * k per particle. The contacts that ended (the batch finds them) leave list, which is
  * compacted in place to *kept pairs, and go to ended[0 .. *ne). Needs the lower
  * ranges' boundary pairs of this step done (the incoming slots). Returns the lowest
- * failing pair index or SIZE_MAX. Kept out of line: inlined into run_range
- * (GCC 12 does when run_range is a little smaller) the one-thread step at 10k ran 2.5%
- * slower. */
+ * failing pair index or SIZE_MAX. Kept out of line: inlined into run_range, the step
+ * ran slower (docs/performance.md#tried-and-not-kept). */
 __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
                                                  const esf_pair_batch_ctx *bc, size_t t,
                                                  size_t lo, size_t hi, uint32_t *list,
@@ -91,11 +90,9 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
   for (size_t q0 = 0; q0 < cnt; q0 += ESF_BATCH) {
     const int nl = cnt - q0 < ESF_BATCH ? (int)(cnt - q0) : ESF_BATCH;
     /* the histories of the pairs PF ahead (sparse in memory, so the hardware's
-     * stream prefetch does not see them coming; worth x1.38 at 50 000), both ends of
-     * each record: half the 48-byte records straddle two lines (the first end alone
-     * took 1/0.943 as long at 200 000 on one thread, 1/0.970 on two). Prefetching
-     * b's velocity, spin and accumulator too, as until 2026-11-24, cost 5-7% at
-     * 10 000 and gained nothing at 200 000 (paired runs, one and two threads). */
+     * stream prefetch does not see them coming), both ends of each record: half the
+     * 48-byte records straddle two lines. Not b's velocity, spin and accumulator: that
+     * cost time and gained nothing (docs/performance.md#the-pair-batches). */
     for (size_t q = q0 + PF; q < q0 + PF + ESF_BATCH && q < cnt; q++) {
       const char *hq = hist + (size_t)list[q] * sizeof(esf_contact_hist);
       __builtin_prefetch(hq, 1, 3);

@@ -9,8 +9,8 @@
  * overlap clears its flag and its slots, so an absent contact adds zeros. The slots are
  * written by non-temporal stores and fenced before the range raises its ready flag
  * (fused_sync.c), so they are visible to b's range once it sees the flag; the stores
- * do not pull the line back from b's core (docs/performance.md, "Two threads at 10 000:
- * two modes"). Units: N, N m. */
+ * do not pull the line back from b's core
+ * (docs/performance.md#two-threads-at-10-000-two-modes). Units: N, N m. */
 #include "fused/fused_impl.h"
 
 #include <string.h>
@@ -26,10 +26,8 @@ _Static_assert(
 /* A computed boundary pair's force on A and torque on B (row[0..3], row[8..11] of the
  * batch's) to its slot, one line, by non-temporal stores, which do not take the line
  * from the core of b's range, where the last step's read of it left a copy
- * (slot_fence before the ready flag makes them visible). With two threads at 10 000
- * spheres, in the runs where lines travel slowly between the cores (docs/performance.md,
- * two modes), ordinary stores made range 0's boundary pass take 0.30-0.35 s of 11 000
- * steps, these 0.13-0.17; elsewhere both 0.11-0.12 s. */
+ * (slot_fence before the ready flag makes them visible). They pay when lines travel
+ * slowly between the cores (docs/performance.md#two-threads-at-10-000-two-modes). */
 static inline void slot_put(double *slot, const double *row) {
 #if defined(__AVX__)
   _mm256_stream_pd(slot, _mm256_loadu_pd(row));

@@ -32,8 +32,9 @@ static inline void cpu_relax(void) {
 }
 
 /* Spins before a waiting thread yields its core: a wait between two steps is a few
- * microseconds, and a yield is a system call of about one (measured: yielding after 64
- * spins put 4% of a two-thread run's samples in the kernel's scheduler). */
+ * microseconds, and a yield is a system call of about one (yielding sooner spent time
+ * in the kernel's scheduler:
+ * docs/performance.md#bursts-threads-that-do-not-meet-between-steps). */
 #define SPIN 4096
 
 /* Spins until *flag reaches epoch e (flags only grow); returns the seconds waited, 0

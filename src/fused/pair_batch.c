@@ -8,15 +8,7 @@
  * dashpot while sticking and the Mohr-Coulomb cap with radial return (004 2.13–2.16).
  * The contact point divides the overlap equally: lever arms la = ra - un/2,
  * lb = rb - un/2; the relative contact velocity is vc = (vB - vA) - (la wA + lb wB) x n
- * (000 3-21).
- *
- * Order per batch: gather the lanes' positions, radii, velocities, spins, history and
- * pair parameters; compute everything lane-wise with the same instructions for every
- * lane (the Coulomb cap as a select, its square root only when some lane slides); then
- * transpose the outputs to one row per lane (written to out, or kept in registers),
- * commit the history of the lanes that are in range and within the overlap limit and,
- * for the accumulating entry point, add those lanes' rows to their particles in lane
- * order. Lanes past nl repeat lane 0's pair and are neither written back nor reported.
+ * (000 3-21). Every lane runs the same instructions (the order per batch: batch).
  * Entry: the pairs overlapped at their last screening or step; their touch flag says
  * whether the history is live.
  * Exit: a pair whose spheres no longer overlap (the screening's test, |d|^2 < (ra +
@@ -41,7 +33,7 @@
  * four SSE2 halves otherwise). Rows of four doubles (a lane's x, v, w, history) are
  * loaded and stored as esf_v4 and transposed in two groups of four lanes; with AVX-512
  * the loads put lanes l and l + 4 in one register and transpose with eight-wide
- * shuffles (fewer of them: 3.6% faster on S1). */
+ * shuffles (fewer of them: docs/performance.md#the-pair-batches). */
 typedef double vd __attribute__((vector_size(ESF_BATCH * sizeof(double))));
 typedef long long vm __attribute__((vector_size(ESF_BATCH * sizeof(double))));
 typedef esf_v4 v4;
@@ -118,7 +110,8 @@ static inline void rows_by_transpose(const vd c[4], v4 r[ESF_BATCH]) {
 }
 
 /* Columns c to the lanes' rows at out[l] + off (by the transposes also with AVX-512:
- * the eight-wide network below, stored, was 1-2% slower). */
+ * the eight-wide network below, stored, was slower:
+ * docs/performance.md#tried-and-not-kept). */
 static inline void store_rows(const vd c[4], double out[ESF_BATCH][ESF_BATCH_OUT],
                               int off) {
   v4 r[ESF_BATCH];
@@ -130,7 +123,8 @@ static inline void store_rows(const vd c[4], double out[ESF_BATCH][ESF_BATCH_OUT
 static inline void rows_of(const vd c[4], v4 r[ESF_BATCH]) {
 #if defined(__AVX512F__)
   /* the load's network backwards (it is its own inverse): rows l and l + 4 side by
-     side in z[l] (1.5% faster here than two four-wide transposes) */
+     side in z[l] (faster here than two four-wide transposes:
+     docs/performance.md#tried-and-not-kept) */
   vd u[4], z[4];
   u[0] = __builtin_shufflevector(c[0], c[2], 0, 1, 8, 9, 4, 5, 12, 13);
   u[2] = __builtin_shufflevector(c[0], c[2], 2, 3, 10, 11, 6, 7, 14, 15);
@@ -195,9 +189,16 @@ static inline vd dot(const vd a[3], const vd b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-/* The batch; its results to out (acc NULL) or added to acc. One copy behind both entry
- * points below (GCC keeps it out of line; two copies, each inlined and specialised for
- * its output, ran 4.5% slower in-process). */
+/* The batch; its results to out (acc NULL) or added to acc. In order: gather the lanes'
+ * positions, radii, velocities, spins, history and pair parameters; compute everything
+ * lane-wise with the same instructions for every lane (the Coulomb cap as a select, its
+ * square root only when some lane slides); then transpose the outputs to one row per
+ * lane (written to out, or kept in registers), commit the history of the lanes that
+ * are in range and within the overlap limit and, for the accumulating entry point, add
+ * those lanes' rows to their particles in lane order. Lanes past nl repeat lane 0's
+ * pair and are neither written back nor reported. One copy behind both entry points
+ * below (GCC keeps it out of line; two copies, each inlined and specialised for its
+ * output, were slower: docs/performance.md#tried-and-not-kept). */
 static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
                              double out[ESF_BATCH][ESF_BATCH_OUT], double *acc,
                              unsigned *apart) {

@@ -6,8 +6,8 @@
  * result does not depend on the batch it lands in nor on its lane: the fused step
  * stays bit for bit independent of the thread count however its ranges cut the
  * batches. The results go either to an array of rows or, added in lane order, straight
- * into the particles' accumulators (no round trip through memory: 8% less time for the
- * law and its scatter). */
+ * into the particles' accumulators (no round trip through memory:
+ * docs/performance.md#distance-from-the-machines-limit). */
 #ifndef ESF_PAIR_BATCH_H
 #define ESF_PAIR_BATCH_H
 

@@ -6,24 +6,14 @@
  * 3-15..3-26 and 004 2.16–2.29 for the law), with the same operations in the same
  * order, so the results are the same bits:
  *   1. per candidate element, the nearest point and the overlap un = r - dist
- *      (esf_wall_nearest): the signed height over the element's plane, once
- *      (esf_wall_height); a plane by it; a polygon by its face test given it
- *      (esf_wall_polygon_foot; both wall_geom.h, shared with esf_wall_nearest); a centre
- *      whose foot falls outside goes to esf_wall_nearest for the edge or vertex;
+ *      (wall_overlap);
  *   2. which hits carry force: with at most one overlapping candidate, that one; with
  *      more, esf_forces_select_wall_hits itself (faces first, shared points once);
- *   3. per kept hit, in candidate order: the overlap limit, then the law
- *      (esf_contact_linear_eval, contact_linear.h, inline: no strategy-table call)
- *      with the contact velocity vc = v_wall - [vA + wA x (lA n)], lA = dist, where a
- *      static wall's point velocity is +0 exactly as esf_wall_point_velocity computes
- *      it for a group with zero vel and omega, and the spin (wA.n + 0.n)/2;
- *      f += force, t += lA n x ft.
- * Shortcut (the only arithmetic forces.c does not do): a polygon whose plane is
- * farther than r, by a slack that covers rounding, from the centre is not touched and
- * costs one dot product (esf_wall_out_of_reach, wall_geom.h: esf_wall_nearest's
- * overlap is <= 0 there too).
- * Up to FAST_MAX candidates per particle the hits live on the stack; more use the
- * neighbour lists' wall scratch at k0 (as forces.c), so particles run in parallel.
+ *   3. per kept hit, in candidate order: the overlap limit, then the law (wall_contact).
+ * The only arithmetic forces.c does not do: a polygon out of reach costs one dot
+ * product (wall_overlap). Up to FAST_MAX candidates per particle the hits live on the
+ * stack; more use the neighbour lists' wall scratch at k0 (as forces.c), so particles
+ * run in parallel.
  * Entry: candidate lists valid for s->p.x; walls static (s->walls.moving == 0), every
  * material pair linear, no ledger, tally, servo walls or history as ODE state
  * (esf_wall_pass_select checks). Exit: as esf_forces_wall_particle committing.
@@ -43,7 +33,14 @@
 static const double zero3[3] = {0.0, 0.0, 0.0}; /* a static wall's omega, rad/s */
 
 /* Candidate e for centre x, radius r: the overlap r - dist of
- * esf_wall_nearest, and *hit when it is > 0. Returns 0 for a polygon out of reach. */
+ * esf_wall_nearest, and *hit when it is > 0. Returns 0 for a polygon out of reach.
+ * The signed height over the element's plane, once (esf_wall_height); a plane by it; a
+ * polygon by its face test given it (esf_wall_polygon_foot; both wall_geom.h, shared
+ * with esf_wall_nearest); a centre whose foot falls outside goes to esf_wall_nearest
+ * for the edge or vertex. Shortcut (the only arithmetic forces.c does not do): a
+ * polygon whose plane is farther than r, by a slack that covers rounding, from the
+ * centre is not touched and costs one dot product (esf_wall_out_of_reach, wall_geom.h:
+ * esf_wall_nearest's overlap is <= 0 there too). */
 static inline double wall_overlap(const esf_wall_elem *e, const double *x, double r,
                                   esf_wall_hit *hit) {
   const double h0 = esf_wall_height(e, x); /* signed height of x over the plane */
@@ -58,7 +55,7 @@ static inline double wall_overlap(const esf_wall_elem *e, const double *x, doubl
     }
     return un;
   }
-  if (esf_wall_out_of_reach(e, x, h0, r)) return 0.0; /* (prologue) */
+  if (esf_wall_out_of_reach(e, x, h0, r)) return 0.0; /* (the shortcut) */
   double foot[3];
   if (esf_wall_polygon_foot(e, x, h0, foot)) { /* as esf_wall_nearest */
     const double dist = fabs(h0), un = r - dist;
@@ -74,7 +71,11 @@ static inline double wall_overlap(const esf_wall_elem *e, const double *x, doubl
   return r - hit->dist;
 }
 
-/* The contact of particle a with kept hit `hit` on element el, candidate k. */
+/* The contact of particle a with kept hit `hit` on element el, candidate k: the law
+ * (esf_contact_linear_eval, contact_linear.h, inline: no strategy-table call) with the
+ * contact velocity vc = v_wall - [vA + wA x (lA n)], lA = dist, where a static wall's
+ * point velocity is +0 exactly as esf_wall_point_velocity computes it for a group with
+ * zero vel and omega, and the spin (wA.n + 0.n)/2; f += force, t += lA n x ft. */
 static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
                                 const esf_wall_hit *hit, double un, size_t a, size_t k,
                                 double dt, size_t *nt, double *f, double *t) {

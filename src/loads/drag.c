@@ -1,22 +1,12 @@
 /* drag.c — one-way coupled fluid force (docs/physics.md#fluid-force; seed 004 eqs.
  * 4.1–4.4, after Hoomans et al.).
  *
- * Radial field (steady Darcy flow to a well of radius r_w, drainage radius r_e, axis
- * through `center` along `axis`; r the distance from the axis; dp = p_e - p_w):
- *   p(r) - p_e = -dp ln(r_e/r) / ln(r_e/r_w)                        (4.1)
- *   grad p     = dp / (ln(r_e/r_w) r) e_r          (pointing away from the well)
- *   u          = -(k/mu) grad p                    (Darcy velocity, 4.4)
- * The field acts for r_w <= r <= r_e only (no porous medium inside the well).
- * Uniform field: u and grad p given.
- * Force on a particle of volume V_p (3D 4/3 pi r^3; 2D pi r^2 thickness), diameter
- * d_p = 2r and velocity v_p (4.2, with 1 - epsilon as in Hoomans et al.; the seed
- * prints 1 + epsilon):
+ * Field: radial, steady Darcy flow to a well (4.1, 4.4; esf_drag_field), or uniform
+ * (u and grad p given). Force on a particle of volume V_p (3D 4/3 pi r^3; 2D pi r^2
+ * thickness), diameter d_p = 2r and velocity v_p (4.2, with 1 - epsilon as in Hoomans
+ * et al.; the seed prints 1 + epsilon):
  *   F = V_p beta/(1 - eps) (u - v_p) - V_p grad p
- * beta (4.3), Ergun for eps < 0.8:
- *   beta = 150 (1 - eps)^2/eps mu/d_p^2 + 1.75 (1 - eps) rho_f |u - v_p| / d_p
- * and Wen-Yu for eps >= 0.8 (the usual Gidaspow switch; the seed gives no rule):
- *   beta = 3/4 C_d eps (1 - eps) rho_f |u - v_p| / d_p eps^-2.65,
- *   C_d = 24/Re (1 + 0.15 Re^0.687) (Re < 1000), 0.44 above, Re = eps rho_f |u-v| d/mu.
+ * with beta (4.3) by Ergun for eps < 0.8 and Wen-Yu above (esf_drag_beta).
  * u is used as the seed uses it: the Darcy (superficial) velocity. The porosity is a
  * fixed scene value, or the local void fraction of a coarse grid of cells
  * (porosity.c) rebuilt at every evaluation while the force acts. The force starts at
@@ -32,6 +22,13 @@
 #include "loads/servo.h"
 #include "util/vec3.h"
 
+/* Radial field (steady Darcy flow to a well of radius r_w, drainage radius r_e, axis
+ * through `center` along `axis`; r the distance from the axis; dp = p_e - p_w):
+ *   p(r) - p_e = -dp ln(r_e/r) / ln(r_e/r_w)                        (4.1)
+ *   grad p     = dp / (ln(r_e/r_w) r) e_r          (pointing away from the well)
+ *   u          = -(k/mu) grad p                    (Darcy velocity, 4.4)
+ * The field acts for r_w <= r <= r_e only (no porous medium inside the well).
+ * Uniform field: u and grad p given. */
 int esf_drag_field(const esf_drag *d, const double x[3], double *p, double gradp[3],
                    double u[3]) {
   if (d->kind == ESF_DRAG_UNIFORM) {
@@ -55,6 +52,12 @@ int esf_drag_field(const esf_drag *d, const double x[3], double *p, double gradp
   return 1;
 }
 
+/* beta (4.3), Ergun for eps < 0.8:
+ *   beta = 150 (1 - eps)^2/eps mu/d_p^2 + 1.75 (1 - eps) rho_f |u - v_p| / d_p
+ * and Wen-Yu for eps >= 0.8 (the usual Gidaspow switch; the seed gives no rule):
+ *   beta = 3/4 C_d eps (1 - eps) rho_f |u - v_p| / d_p eps^-2.65,
+ *   C_d = 24/Re (1 + 0.15 Re^0.687) (Re < 1000), 0.44 above,
+ *   Re = eps rho_f |u-v| d/mu. */
 double esf_drag_beta(const esf_drag *d, double eps, double dp, double slip) {
   double e = eps, s = 1.0 - e;
   if (e < 0.8)

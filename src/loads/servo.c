@@ -1,4 +1,5 @@
-/* servo.c — the servo controller of stress-controlled walls.
+/* servo.c — the servo controller of stress-controlled walls
+ * (docs/physics.md#servo-walls).
  *
  * Measured stress of group g with unit compression direction d (the way the wall moves
  * to squeeze the packing): sigma = (sum of the contact forces the group's elements put
@@ -10,16 +11,8 @@
  * Control law (the classic DEM servo, Itasca PFC's wall servo): the wall velocity is
  *   v = G (sigma_target - sigma) d,   |v| <= vmax,
  * set after each committed force evaluation and used over the next step (the wall is
- * drifted by v dt in esf_walls_set_time: a leapfrog for the wall itself).
- * Gain rule: moving the wall by v dt changes the stress by about kn N_c v dt / A
- * (N_c touching contacts of normal stiffness kn in parallel), so
- *   G = alpha A / (kn N_c dt)
- * removes the fraction alpha of the stress error per step if the packing behind the
- * contacts were rigid; the packing is softer than its wall contacts, so the real
- * change is smaller and alpha < 1 is a stable, non-overshooting choice (default 0.5).
- * N_c = 0 (no contact yet) uses N_c = 1, so the wall approaches at vmax. A fixed gain
- * (m/(s Pa)) may be given instead. kn is the largest normal stiffness between the
- * wall's materials and those of the particles.
+ * drifted by v dt in esf_walls_set_time: a leapfrog for the wall itself). The gain is
+ * G = alpha A / (kn N_c dt) (esf_servo_update) or a fixed one, m/(s Pa).
  * The wall's work on the particles enters the ledger as wall work through the wall
  * velocity (forces.c), as for prescribed motion. Units: SI. */
 #include "loads/servo.h"
@@ -91,6 +84,15 @@ int esf_servo_setup(esf_sim *s, esf_error *err) {
   return ESF_OK;
 }
 
+/* Gain rule: moving the wall by v dt changes the stress by about kn N_c v dt / A
+ * (N_c touching contacts of normal stiffness kn in parallel), so
+ *   G = alpha A / (kn N_c dt)
+ * removes the fraction alpha of the stress error per step if the packing behind the
+ * contacts were rigid; the packing is softer than its wall contacts, so the real
+ * change is smaller and alpha < 1 is a stable, non-overshooting choice (default 0.5).
+ * N_c = 0 (no contact yet) uses N_c = 1, so the wall approaches at vmax. A fixed gain
+ * (m/(s Pa)) may be given instead. kn is the largest normal stiffness between the
+ * wall's materials and those of the particles (esf_servo_setup). */
 void esf_servo_update(esf_sim *s) {
   esf_walls *w = &s->walls;
   for (int k = 0; k < w->ngroups; k++) {

@@ -159,7 +159,8 @@ static int seg_open(esf_frames *fr, esf_error *err) {
   char p[1400];
   seg_path(fr, fr->count, p, sizeof p);
   /* chunk-index B-tree nodes of 8 entries, not 64: most datasets have one chunk, and
-     the default node (~2.5 kB each) made up 11% of a 3000-particle frame */
+     the default node (~2.5 kB each) is a large share of a small frame
+     (docs/performance.md#frame-files) */
   hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
   if (fcpl >= 0) H5Pset_istore_k(fcpl, 4);
   fr->seg = H5Fcreate(p, H5F_ACC_TRUNC, fcpl >= 0 ? fcpl : H5P_DEFAULT, H5P_DEFAULT);

@@ -11,14 +11,9 @@
  * gets default_material. Lines end in \n or \r\n and may be of any length (the line
  * buffer grows); a UTF-8 byte-order mark at the start is skipped.
  *
- * Errors: ESF_EIO "cannot open 'PATH': reason" / "error reading 'PATH': reason";
- * ESF_EINPUT "PATH:LINE:COL: message" (COL = 1-based field number) or "PATH:LINE:
- * message" for whole-line problems, "PATH: no particles" for a file without data rows.
- * A material column with a NULL lookup, or no material column with default_material
- * < 0, is an ESF_EINPUT error at the header.
- *
- * On entry `out` holds any number of definitions; on success the file's particles are
- * appended in file order; on failure `out` is restored to its entry length. */
+ * Errors: see esf_particles_read_csv. On entry `out` holds any number of definitions;
+ * on success the file's particles are appended in file order; on failure `out` is
+ * restored to its entry length. */
 #include "scene/particle_source.h"
 
 #include <errno.h>
@@ -225,6 +220,11 @@ static int parse_row(const char *path, long lineno, char *line, field_buf *fb,
   return ESF_OK;
 }
 
+/* Errors: ESF_EIO "cannot open 'PATH': reason" / "error reading 'PATH': reason";
+ * ESF_EINPUT "PATH:LINE:COL: message" (COL = 1-based field number) or "PATH:LINE:
+ * message" for whole-line problems, "PATH: no particles" for a file without data rows.
+ * A material column with a NULL lookup, or no material column with default_material
+ * < 0, is an ESF_EINPUT error at the header. */
 int esf_particles_read_csv(const char *path, int32_t default_material,
                            esf_material_lookup_fn lookup, void *lookup_ctx,
                            esf_particle_defs *out, esf_error *err) {

@@ -3,32 +3,17 @@
  *
  * The random fill is the pseudo-random generation of a primary set of 004 §3.3 (ranges
  * of coordinates, radii and materials); compaction is left to the simulation (let the
- * particles settle under gravity, or move the walls). Algorithm (random sequential
- * addition): draw all N radii from the size distribution and N materials from the mix,
- * sort by radius descending (ties by draw order, so the order is deterministic), then
- * place each particle at a uniformly random centre for which the sphere lies inside the
- * region, rejecting positions that overlap a placed particle or one of `existing`;
- * after MAX_ATTEMPTS rejections the fill fails. Overlaps are found through a uniform
- * grid over the region of cell edge h >= 2 r_max (grown when the region is huge
- * against the particles so the grid has O(N) cells); each particle is registered in
- * every cell its bounding box touches, so a query looks only at the <= 2 cells per
- * axis under the candidate's bounding box: O(1) per attempt, O(N) overall. Existing
- * particles of any size are handled the same way (a big one registers in many cells).
- * Random sequential addition of equal spheres jams at a solid fraction of 0.38 in 3D
- * (0.55 for disks in 2D), well below random loose packing (~0.55-0.6); with
- * MAX_ATTEMPTS tries per particle this fill reaches about 0.29 in 3D and 0.5 in 2D,
- * which the error message says.
- *
+ * particles settle under gravity, or move the walls). Algorithm: random sequential
+ * addition, largest first, overlaps found through a uniform grid, O(N) overall
+ * (esf_generate_random).
  * Randomness: one esf_rng seeded with spec->seed seeds three independent streams, for
  * radii, materials and positions, so radii and materials do not depend on how many
  * placement attempts were needed and the lattice gets the same radii and materials as
  * the random fill for the same seed. Same spec -> identical output.
- *
  * Units: lengths m, velocities m/s. In 2D (dim = 2) centres lie in the x-z plane at
  * y = 0 and the region's y bounds are ignored. Generated particles get
  * spec->velocity and zero angular velocity. Output order: the random fill appends in
  * placement order (largest first); the lattice in site order, x fastest, then y, then z.
- *
  * On entry `out` holds any number of definitions (it may be the same list as
  * `existing`); on success the generated particles are appended; on failure `out` is
  * restored to its entry length. */
@@ -340,6 +325,20 @@ static void make_def(const esf_fill_spec *s, const double x[3], const drawn *d,
   def->material = d->material;
 }
 
+/* Random sequential addition: draw all N radii from the size distribution and N
+ * materials from the mix, sort by radius descending (ties by draw order, so the order
+ * is deterministic), then place each particle at a uniformly random centre for which
+ * the sphere lies inside the region, rejecting positions that overlap a placed
+ * particle or one of `existing`; after MAX_ATTEMPTS rejections the fill fails.
+ * Overlaps are found through a uniform grid over the region of cell edge h >= 2 r_max
+ * (grown when the region is huge against the particles so the grid has O(N) cells);
+ * each particle is registered in every cell its bounding box touches, so a query looks
+ * only at the <= 2 cells per axis under the candidate's bounding box: O(1) per attempt,
+ * O(N) overall. Existing particles of any size are handled the same way (a big one
+ * registers in many cells). Random sequential addition of equal spheres jams at a
+ * solid fraction of 0.38 in 3D (0.55 for disks in 2D), well below random loose packing
+ * (~0.55-0.6); with MAX_ATTEMPTS tries per particle this fill reaches about 0.29 in 3D
+ * and 0.5 in 2D, which the error message says. */
 int esf_generate_random(const esf_fill_spec *spec, const esf_particle_defs *existing,
                         esf_particle_defs *out, esf_error *err) {
   double rmax;

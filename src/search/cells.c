@@ -1,48 +1,17 @@
 /* cells.c — contact-candidate search by linked cells (004 §3.5, Figs. 3.10–3.11), with
- * size classes for polydisperse sets (the idea of LAMMPS's `neighbor multi`).
+ * size classes for polydisperse sets (the idea of LAMMPS's `neighbor multi`;
+ * docs/physics.md#contact-search).
  *
  * Criterion, shared bit-for-bit with the brute-force reference: with d the difference
  * of the two positions and c = (r_i + r_j) + skin, a pair is a candidate when c > 0 and
  * d·d < c·c (no square root). Pairs are stored as (min, max) index, each once, in an
  * order fixed by the sweep, so the output is deterministic.
- *
  * One grid (the size ratio is small): a uniform grid of cells of edge >= 2 r_max + skin
- * over the bounding box, the half-shell sweep (cells_grid.c). Cost: with rho particles
- * per unit volume, about 27/2 · N · rho (2 r_max + skin)^3 distance tests.
- *
- * Size classes: let s_i = 2 r_i + skin, the cutoff a particle brings to a pair with its
- * twin, and S the ratio of the largest s to the smallest positive s. The particles are
- * cut into K = ceil(log S / log f) classes (f = 2 by default, at least 2, at most
- * ESF_CELLS_MAX_CLASSES) of equal ratio F = S^(1/K) in s: class 0 holds the largest,
- * s in (s_max / F, s_max], class k s in (s_max / F^(k+1), s_max / F^k], the last class
- * everything smaller (also s <= 0). Each class k gets its own grid over its own
- * bounding box with edge 2 R_k + skin, R_k its largest radius, and finds its own pairs
- * by the half-shell sweep. A pair between class k and a larger class m < k is found
- * once, from the smaller side: each particle i of class k queries the grid of class m
- * over the box of half-width r_i + R_m + skin around it (at most 3, usually 2 cells per
- * axis since that reach is <= class m's edge). Each pair is thus tested in exactly one
- * place, and the set found is the same as the single grid's and brute force's. Cost:
- * small particles are tested against small-cell neighbourhoods only, so a small-small
- * pair no longer costs the 27 large cells of the single grid; overhead: one pass to
- * classify, a counting sort, and per particle one box query per larger class.
- *
- * Choice (ESF_CELLS_AUTO): one grid when S < 2; otherwise a pass over the radii counts
- * the classes and both searches are estimated as if every class filled the bounding box
- * evenly: distance tests n (n / cells) (stencil cells) / 2 per grid and n_k (n_m /
- * cells_m) (query cells) per class pair, plus costs per particle, per class-grid cell
- * and per cell visited by a query, weighted as fitted to bench_cells (COST_*). Classes
- * are taken when their estimate is below 0.8 of the single grid's. Measured there
- * (n = 20000, random positions, CPU time): classes lose, 0.6-0.9x, on radii uniform by
- * number up to 1:10 and by volume up to 1:3 (a few particles per large cell: the extra
- * passes cost more than the tests saved), and win where the small ones are numerous:
- * bimodal with equal volumes 1:3 1.6x, 1:5 8x, 1:10 70x; uniform by volume 1:10 4.5x.
- *
- * Memory, added per particle over the single grid: the class order (4 bytes) and the
- * class index (1 byte); each class grid is capped like the single grid (max(64, 4 n_k)
- * cells, 4 bytes a cell) and LIST (4 bytes) is shared. Storage is kept for reuse, so
- * a search that switches between the modes holds the single grid's cells as well:
- * esf_cells_bytes reports the total.
- *
+ * over the bounding box, the half-shell sweep (cells_grid.c; esf_cells_pairs). Size
+ * classes: each class of similar cutoffs 2 r + skin gets its own grid, and a pair
+ * across two classes is found once, from the smaller side (the size-classes section);
+ * the set found is the same as the single grid's and brute force's. ESF_CELLS_AUTO
+ * chooses between the two by a cost estimate (classes_pay). Memory: struct esf_cells.
  * Units: positions, radii and skin in m. On entry: x holds 3n finite doubles, radius n
  * finite non-negative ones (checked: a non-finite position is ESF_ENUMERIC naming the
  * particle, a bad radius or skin ESF_EINPUT). On exit: out holds the candidate pairs
@@ -57,15 +26,20 @@
 
 #define CELLS_FACTOR_DEFAULT 2.0 /* target ratio of s within one class */
 #define CELLS_MIN_RATIO      2.0 /* below this S the classes never paid (bench_cells) */
-#define CELLS_GAIN           0.8 /* classes when their estimated cost is below this share */
-/* cost weights in units of one distance test, fitted to bench_cells (30 timings of 16
- * random sets, n = 20000, ratios 1:1.5 to 1:10; one test ~ 2 ns there): */
+#define CELLS_GAIN           0.8 /* classes when their estimate is below this share */
+/* cost weights in units of one distance test, fitted to bench_cells
+ * (docs/performance.md#contact-search-for-polydisperse-beds): */
 #define COST_PART_ONE 78.0 /* per particle, one grid (scan, threading, sweep) */
 #define COST_PART_CLASSES                                                                \
   38.0                  /* per particle, with classes (their cells counted apart) */
 #define COST_CELL  65.0 /* per cell of a class grid */
 #define COST_QCELL 6.6  /* per cell visited by a box query */
 
+/* Memory, added per particle over the single grid: the class order (4 bytes) and the
+ * class index (1 byte); each class grid is capped like the single grid (max(64, 4 n_k)
+ * cells, 4 bytes a cell) and LIST (4 bytes) is shared. Storage is kept for reuse, so
+ * a search that switches between the modes holds the single grid's cells as well:
+ * esf_cells_bytes reports the total. */
 struct esf_cells {
   uint32_t *list;        /* LIST: next particle in the same cell (shared by all grids) */
   uint32_t *ord;         /* the particles ordered by class, ascending within a class */
@@ -182,6 +156,22 @@ static int grow(void **a, size_t *cap, size_t n, size_t sz, esf_error *err) {
 /* ---- size classes -------------------------------------------------------------------
  */
 
+/* Size classes: let s_i = 2 r_i + skin, the cutoff a particle brings to a pair with its
+ * twin, and S the ratio of the largest s to the smallest positive s. The particles are
+ * cut into K = ceil(log S / log f) classes (f = 2 by default, at least 2, at most
+ * ESF_CELLS_MAX_CLASSES) of equal ratio F = S^(1/K) in s: class 0 holds the largest,
+ * s in (s_max / F, s_max], class k s in (s_max / F^(k+1), s_max / F^k], the last class
+ * everything smaller (also s <= 0). Each class k gets its own grid over its own
+ * bounding box with edge 2 R_k + skin, R_k its largest radius, and finds its own pairs
+ * by the half-shell sweep. A pair between class k and a larger class m < k is found
+ * once, from the smaller side: each particle i of class k queries the grid of class m
+ * over the box of half-width r_i + R_m + skin around it (at most 3, usually 2 cells per
+ * axis since that reach is <= class m's edge). Each pair is thus tested in exactly one
+ * place, and the set found is the same as the single grid's and brute force's. Cost:
+ * small particles are tested against small-cell neighbourhoods only, so a small-small
+ * pair no longer costs the 27 large cells of the single grid; overhead: one pass to
+ * classify, a counting sort, and per particle one box query per larger class. */
+
 typedef struct class_info {
   size_t start, count; /* the class's slice of ord */
   double lo[3], hi[3]; /* its bounding box (m) */
@@ -265,7 +255,16 @@ static double est_tests(double n, double C, const double nc[3]) {
 }
 
 /* Whether the classes of plan pl are estimated to cost less than one grid, all classes
- * spread evenly over the box of extent ext (the mixed bed the classes are made for). */
+ * spread evenly over the box of extent ext (the mixed bed the classes are made for).
+ * Choice (ESF_CELLS_AUTO): one grid when S < 2 (CELLS_MIN_RATIO); otherwise a pass over
+ * the radii counts the classes and both searches are estimated as if every class filled
+ * the bounding box evenly: distance tests n (n / cells) (stencil cells) / 2 per grid
+ * and n_k (n_m / cells_m) (query cells) per class pair, plus costs per particle, per
+ * class-grid cell and per cell visited by a query, weighted as fitted to bench_cells
+ * (COST_*). Classes are taken when their estimate is below 0.8 (CELLS_GAIN) of the
+ * single grid's. They lose where a large cell holds only a few particles (the extra
+ * passes cost more than the tests saved) and win where the small ones are numerous
+ * (docs/performance.md#contact-search-for-polydisperse-beds). */
 static int classes_pay(size_t n, const double *radius, double skin, double smax,
                        const double ext[3], const class_plan *pl) {
   double cnt[ESF_CELLS_MAX_CLASSES] = {0};
@@ -356,6 +355,10 @@ static int sweep_threaded(esf_cells *c, const esf_grid *g, const double *x,
   return ESF_OK;
 }
 
+/* One grid (the size ratio is small): a uniform grid of cells of edge >= 2 r_max + skin
+ * over the bounding box, the half-shell sweep (cells_grid.c). Cost: with rho particles
+ * per unit volume, about 27/2 · N · rho (2 r_max + skin)^3 distance tests. The classes
+ * (above) when the mode asks for them, or in ESF_CELLS_AUTO when classes_pay. */
 int esf_cells_pairs(esf_cells *c, size_t n, const double *x, const double *radius,
                     double skin, esf_pairbuf *out, esf_error *err) {
   out->n = 0;

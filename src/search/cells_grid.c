@@ -1,32 +1,12 @@
 /* cells_grid.c — one uniform grid of linked cells over a subset of the particles
- * (004 §3.5, Figs. 3.10–3.11), the building block of the contact-candidate search.
- *
- * Build: the subset's axis-aligned bounding box is cut into nx × ny × nz box cells whose
- * edges are all >= edge (times 1 + 1e-6, a margin that absorbs the rounding of the cell
- * coordinates). Each particle is threaded onto the linked list of its cell: HEAD[cell]
- * is the first particle, LIST[i] the next one (Fig. 3.10); the lists are built from the
- * last particle down, so each runs in increasing index order. When the box is huge
- * against the edge (a particle flew far away) the edge grows until the grid holds at
- * most max(64, 4 m) cells, so memory and the sweep over cells stay O(m). Cost O(m +
- * cells).
- *
- * Pairs within the grid: every cell is paired with itself (each pair within it once)
- * and with the 13 neighbours of the half shell (Fig. 3.11: +x; the row y+1; the whole
- * layer z+1), so every pair of adjacent cells is visited once. The grid is not periodic;
- * neighbours outside it are skipped, which also covers a box flat in one or two
- * dimensions (a 2D scene is one cell thick). With edge >= 2 r_max + skin of the subset,
- * two of its particles closer than r_i + r_j + skin sit in the same or adjacent cells.
- * Cost: the distance tests, about 27/2 · m · (particles per cell).
- *
- * Pairs with outside particles: for each outside particle i the reach is
- * q = ((r_i + r_grid) + skin)(1 + 1e-6), r_grid the grid's largest radius; every grid
- * particle j with |x_i - x_j| < r_i + r_j + skin lies within q of x_i along each axis,
- * so within the cells from floor((x_i - q - lo) / h) to floor((x_i + q - lo) / h)
- * (clamped to the grid; skipped when wholly outside it). Cell coordinates are monotonic
- * in the position, so the range holds every such j. With q <= edge the range is at most
- * 3 cells per axis, usually 2. Cost: the distance tests, the grid particles in those
- * cells.
- *
+ * (004 §3.5, Figs. 3.10–3.11; docs/physics.md#contact-search), the building block of
+ * the contact-candidate search:
+ *   build: the subset's bounding box cut into box cells of edge >= edge, each particle
+ *     threaded onto the linked list of its cell (esf_grid_build), cost O(m + cells);
+ *   pairs within the grid: every cell with itself and the 13 neighbours of its half
+ *     shell (esf_grid_self_pairs), about 27/2 · m · (particles per cell) distance tests;
+ *   pairs with outside particles: for each, the grid's cells within its reach, at most
+ *     3, usually 2 per axis (esf_grid_cross_pairs).
  * Units: positions, radii, edges and skin in m. On entry: finite positions and radii
  * (cells.c checks them). On exit: pairs are appended to out as (min, max) index. */
 #include "search/cells_grid.h"
@@ -73,6 +53,14 @@ void esf_grid_dims(const double ext[3], double edge, size_t m, int64_t nc[3],
   }
 }
 
+/* Build: the subset's axis-aligned bounding box is cut into nx × ny × nz box cells whose
+ * edges are all >= edge (times 1 + 1e-6, a margin that absorbs the rounding of the cell
+ * coordinates). Each particle is threaded onto the linked list of its cell: HEAD[cell]
+ * is the first particle, LIST[i] the next one (Fig. 3.10); the lists are built from the
+ * last particle down, so each runs in increasing index order. When the box is huge
+ * against the edge (a particle flew far away) the edge grows until the grid holds at
+ * most max(64, 4 m) cells (esf_grid_dims), so memory and the sweep over cells stay
+ * O(m). Cost O(m + cells). */
 int esf_grid_build(esf_grid *g, size_t m, const uint32_t *idx, const double *x,
                    const double lo[3], const double hi[3], double edge, uint32_t *list,
                    esf_error *err) {
@@ -114,6 +102,13 @@ int esf_grid_build(esf_grid *g, size_t m, const uint32_t *idx, const double *x,
   return ESF_OK;
 }
 
+/* Pairs within the grid: every cell is paired with itself (each pair within it once)
+ * and with the 13 neighbours of the half shell (Fig. 3.11: +x; the row y+1; the whole
+ * layer z+1), so every pair of adjacent cells is visited once. The grid is not periodic;
+ * neighbours outside it are skipped, which also covers a box flat in one or two
+ * dimensions (a 2D scene is one cell thick). With edge >= 2 r_max + skin of the subset,
+ * two of its particles closer than r_i + r_j + skin sit in the same or adjacent cells.
+ * Cost: the distance tests, about 27/2 · m · (particles per cell). */
 int esf_grid_self_pairs(const esf_grid *g, const uint32_t *list, const double *x,
                         const double *radius, double skin, esf_pairbuf *out,
                         esf_error *err) {
@@ -191,6 +186,14 @@ static int axis_range(const esf_grid *g, int d, double v, double q, int64_t *c0,
   return 1;
 }
 
+/* Pairs with outside particles: for each outside particle i the reach is
+ * q = ((r_i + r_grid) + skin)(1 + 1e-6), r_grid the grid's largest radius; every grid
+ * particle j with |x_i - x_j| < r_i + r_j + skin lies within q of x_i along each axis,
+ * so within the cells from floor((x_i - q - lo) / h) to floor((x_i + q - lo) / h)
+ * (clamped to the grid; skipped when wholly outside it). Cell coordinates are monotonic
+ * in the position, so the range holds every such j. With q <= edge the range is at most
+ * 3 cells per axis, usually 2. Cost: the distance tests, the grid particles in those
+ * cells. */
 int esf_grid_cross_pairs(const esf_grid *g, const uint32_t *list, double rgrid, size_t m,
                          const uint32_t *idx, const double *x, const double *radius,
                          double skin, esf_pairbuf *out, esf_error *err) {

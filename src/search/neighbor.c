@@ -260,8 +260,8 @@ static int fill_list(esf_neighbor *nb, esf_candidates *list, const esf_candidate
 /* Rebuilds *list from the keys in its own storage, the old touching contacts' history
  * carried over through nb->kept, which lives only for the build: kept between builds,
  * it stayed resident beside the next reorder's two copies of the particles and raised
- * the peak of 300 steps at 10^6 spheres from 923 to 1 016 MB. (Its pages are faulted in
- * at each build, about 270 a build at 10 000: no difference in paired whole runs.) */
+ * the peak memory; faulting its pages in at each build costs no measurable time
+ * (docs/performance.md#lists-and-rebuilds). */
 static int rebuild_list(esf_neighbor *nb, esf_candidates *list, size_t n,
                         const uint32_t *ka, const uint32_t *kb, size_t m, int bonds,
                         esf_error *err) {

@@ -17,15 +17,15 @@
 #include "contact/contact_law.h"
 #include "search/cells.h"
 
-/* A build's cost in screened candidates per particle (the adaptive skin): about 500 ns
- * per particle against 4-5 ns per screened candidate (scene S1, 50 000 spheres). */
+/* A build's cost in screened candidates per particle (the adaptive skin), from timings
+ * of both (docs/performance.md#lists-and-rebuilds). */
 #define ESF_SKIN_BUILD_COST 100.0
 
 /* A scene without a skin: ESF_SKIN_DEFAULT r_mean, the reference the adaptive skin's
  * range (1/8 to 2.5 of it) and its first value (ESF_SKIN_START of it, 0.1 r_mean) are
- * taken from (sim.c). Started at the reference itself, as until 2026-11-25, the first
- * 1 000 steps of scene S1 at 10 000 spheres took 1/0.91 as long on one thread (whole
- * processes, paired, median of 12). */
+ * taken from (sim.c). It starts below the reference, since a first list at the
+ * reference itself lasts long with several times the idle candidates
+ * (docs/performance.md#lists-and-rebuilds). */
 #define ESF_SKIN_DEFAULT 0.4
 #define ESF_SKIN_START   0.25
 
