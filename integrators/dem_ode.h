@@ -5,7 +5,7 @@
  * of walls, and with history as state the power into the tangential springs: Coulomb
  * dissipation is then that work less the change of their stored energy), so that an
  * adaptive method integrates the energy balance to its own accuracy. f = [ v | a | dw |
- * powers ] with a, dw the damped accelerations (integ_common.h) from the forces at (x, v,
+ * powers ] with a, dw the damped accelerations (model/model.h) from the forces at (x, v,
  * w).
  *
  * Contact history, treatment (b) "frozen" (integrator.history: frozen): within a step

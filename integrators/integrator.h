@@ -2,7 +2,7 @@
  *
  * Every scheme (the production leapfrog here; velocity Verlet and the SUNDIALS methods
  * of the testbed) is a const descriptor with its capabilities, so that the run driver
- * treats them alike and all of them call the same physics (src/forces.h).
+ * treats them alike and all of them call the same physics (model/forces.h).
  *
  * Contract of step(): on entry the sim holds a consistent state at time s->t; on exit
  * it holds the state one step later (fixed-step schemes advance by s->dt; adaptive ones

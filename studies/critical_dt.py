@@ -35,7 +35,7 @@ f(xi)     sqrt(1 + xi^2) - xi, the central-difference factor for damping.
 tau       dt / sqrt(m_min / k_max): the step in units of Cundall's rule (m_min the
           lightest particle, k_max = max(kn, kt)); esfera's own rule values are used.
 rules     cundall sqrt(m/k), hart 2 sqrt(m/2k), damped 2 sqrt(m/k) f(xi) (FRAC = 1,
-          esfera's values, src/timestep.c); 2/omega_max and (2/omega_max) f(xi_max)
+          esfera's values, src/core/timestep.c); 2/omega_max and (2/omega_max) f(xi_max)
           from `esfera modes` at the initial state (xi_max: the contacts' ratio);
           bound (2/omega_max) f(xi_b), xi_b = xi omega_max sqrt(m_max / k_min): an
           upper bound of the fastest mode's damping ratio, since every dashpot has

@@ -10,7 +10,7 @@
 
     /usr/bin/python3 studies/esfera_h5.py FILE.h5  # a summary, like `esfera info`
 
-Layout (README "Output", src/frames.h): /frames/NNNNNN groups with attribute `time`
+Layout (docs/output.md, src/output/frames.h): /frames/NNNNNN groups with attribute `time`
 and datasets id, position, velocity, angular_velocity, force, radius, material, and
 the groups walls/ (points, triangles, group, material) and contacts/ (pairs,
 normal_force) when present; /energy holds one 1-D dataset per energy.csv column, in

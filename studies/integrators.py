@@ -9,7 +9,7 @@ right-hand-side evaluations (the summary line's rhs_evals) and the wall time of 
 loop (wall_s; for short runs recomputed from steps * particles / particle_steps_per_s,
 which the summary prints to six digits, and the least of three repeats).
 
-Methods (README "Integrators"):
+Methods (docs/integrators.md):
   leapfrog, verlet                 fixed step, integrator.frac sweep
   rk4, erk:<TABLE> fixed step      frac sweep with rtol = 0 (Heun-Euler 2, Bogacki-Shampine
                                    3, Dormand-Prince 5, Verner 6), history frozen and state

@@ -6,7 +6,7 @@
  * esf_sim_refresh. Every particle whose centre lies in the region (an infinite
  * cylinder: distance from the axis <= radius; a box: min <= x <= max) is deleted with
  * esf_particles_compact, and the candidate lists are renumbered with
- * esf_neighbor_remap, as for particles leaving the domain (sim.c).
+ * esf_neighbor_remap, as for particles leaving the domain (core/sim.c).
  * Ledger: energy_removed gains what the deleted particles carried: kinetic
  * (1/2 m v^2 + 1/2 I w^2, at the leapfrog's half-step velocity), gravitational
  * (-m g.x) and the elastic energy of their touching contacts (the pair law's normal

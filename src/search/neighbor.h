@@ -23,7 +23,7 @@
 
 /* A scene without a skin: ESF_SKIN_DEFAULT r_mean, the reference the adaptive skin's
  * range (1/8 to 2.5 of it) and its first value (ESF_SKIN_START of it, 0.1 r_mean) are
- * taken from (sim.c). It starts below the reference, since a first list at the
+ * taken from (model/setup.c). It starts below the reference, since a first list at the
  * reference itself lasts long with several times the idle candidates
  * (docs/performance.md#lists-and-rebuilds). */
 #define ESF_SKIN_DEFAULT 0.4
@@ -56,7 +56,7 @@ typedef struct esf_neighbor {
   esf_candidates pw; /* particle-wall candidates */
   int ledger;        /* allocate ledger scratch */
   int carry;         /* keep vc0 (ODE methods set it before the first build) */
-  int bonds;         /* keep pp.bond (sim.c sets it before the first build) */
+  int bonds;         /* keep pp.bond (model/setup.c sets it before the first build) */
   esf_cells *cells;
   esf_pairbuf buf;
   esf_pairbuf *wbuf;  /* the wall candidates' per-thread buffers, nwbuf of them */
