@@ -45,8 +45,8 @@ static void usage(FILE *f) {
           "            generate.copies times, settle again, write a packing CSV\n"
           "  --set     override a scene key by its dotted path, e.g.\n"
           "            --set integrator.frac=0.2 --set gravity=[0,0,-9.81]\n"
-          "  --threads worker threads of the leapfrog's fused step (results do not "
-          "depend on it)\n"
+          "  --threads worker threads (default: all available cores; results do not\n"
+          "            depend on it)\n"
           "  --quiet   no progress display\n"
           "  --checkpoint-every T  write DIR/checkpoint.esf every T seconds of\n"
           "            simulated time (= --set output.checkpoint_every=T); SIGINT or\n"
@@ -306,12 +306,12 @@ static int cmd_run(int argc, char **argv) {
          "particle_steps_per_s=%.6g dt=%.6g rebuilds=%ld rhs_evals=%ld "
          "energy_error=%.6g dissipated=%.6g removed=%ld method=%s rejected=%ld "
          "acc_limited=%ld stab_limited=%ld h_last=%.6g events=%ld restarts=%ld "
-         "checkpoints=%ld bonds=%ld bonds_broken=%ld\n",
+         "checkpoints=%ld bonds=%ld bonds_broken=%ld threads=%d\n",
          st.steps, st.particles_mean, st.contacts_mean, st.wall_s, st.rate, s.dt,
          s.nb.builds, st.integ.rhs_evals, st.energy_error, st.dissipated, s.removed,
          s.cfg.method, st.integ.rejected, st.integ.acc_limited, st.integ.stab_limited,
          st.integ.h_last, st.integ.events, st.integ.restarts, st.checkpoints,
-         s.bonds.formed, s.bonds.broken);
+         s.bonds.formed, s.bonds.broken, s.cfg.threads);
   esf_sim_release(&s);
   return 0;
 }

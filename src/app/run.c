@@ -66,6 +66,10 @@ static void log_setup(const esf_sim *s, const esf_integrator_type *it) {
   esf_sim_log(s, "scene: %s (%s), %dD, %zu particles, %d materials, %zu wall elements",
               c->name, c->source, c->dim, s->p.n, s->mats.n, s->walls.n);
   esf_sim_log(s, "integrator: %s (order %d): %s", it->name, it->order, it->summary);
+  esf_sim_log(s, "threads: %d (%s)", c->threads,
+              c->threads_auto ? "all available: OMP_NUM_THREADS or the CPU affinity; "
+                                "--threads N to choose"
+                              : "--threads");
   esf_sim_log(s,
               "critical dt (FRAC = 1): cundall %.6g s, hart %.6g s, damped %.6g s "
               "(m_min %.6g kg, k_max %.6g N/m, damping ratio %.4g)",

@@ -65,7 +65,7 @@ int esf_reorder_particles(esf_sim *s, int *changed, esf_error *err) {
     goto done;
   }
   const long nn = (long)n;
-#pragma omp parallel for num_threads(s->cfg.threads > 1 ? s->cfg.threads : 1)
+#pragma omp parallel for num_threads(esf_sim_threads_for(s, n))
   for (long ii = 0; ii < nn; ii++) {
     const size_t i = (size_t)ii;
     size_t c[3];
@@ -87,7 +87,7 @@ int esf_reorder_particles(esf_sim *s, int *changed, esf_error *err) {
   }
   if (same) goto done;
   esf_sim_forces_sync(s);
-  rc = esf_particles_permute(p, src, s->cfg.threads, err);
+  rc = esf_particles_permute(p, src, esf_sim_threads_for(s, n), err);
   if (rc) goto done;
   esf_neighbor_remap(&s->nb, remap, n);
   *changed = 1;

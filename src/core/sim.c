@@ -18,7 +18,7 @@ void esf_config_default(esf_config *c) {
   memset(c, 0, sizeof *c);
   snprintf(c->name, sizeof c->name, "scene");
   c->dim = 3;
-  c->threads = 1;
+  c->threads = 0; /* all available */
   c->fused = 1;
   c->disk_thickness = 1.0;
   v3_set(c->gravity, 0, 0, -9.81);

@@ -70,8 +70,10 @@ typedef struct esf_config {
   int out_contacts;    /* output.contacts: the contact network in every frame */
   double ckpt_every;   /* output.checkpoint_every: s between checkpoints; 0: none */
   char out_dir[1024];
-  int threads; /* worker threads (fused/fused.h; results independent of it), >= 1 */
-  int fused;   /* leapfrog: take the fused step when the scene allows (default 1) */
+  int threads;      /* worker threads (results independent of it); 0: all available,
+                      esf_sim_setup then sets the count (util/threads.h) */
+  int threads_auto; /* set up: threads was 0 (all available) */
+  int fused;        /* leapfrog: take the fused step when the scene allows (default 1) */
 } esf_config;
 
 void esf_config_default(esf_config *c);
@@ -120,6 +122,14 @@ typedef struct esf_sim {
 } esf_sim;
 
 #define ESF_FT_STRIDE 8
+
+/* Threads worth using for a pass over n particles (list builds, renumbering): the run's
+ * threads from ESF_PARALLEL_MIN particles on, one below, where starting the threads
+ * costs more than they save. */
+#define ESF_PARALLEL_MIN 1024
+static inline int esf_sim_threads_for(const esf_sim *s, size_t n) {
+  return n >= ESF_PARALLEL_MIN && s->cfg.threads > 1 ? s->cfg.threads : 1;
+}
 
 /* Makes p.f and p.t current (copies the fused step's forces when it left them in its
  * accumulators). Called by whoever reads p.f, p.t: frames, checkpoints, compaction. */

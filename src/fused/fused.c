@@ -125,12 +125,13 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
   esf_particles *p = &s->p;
   int rc;
   *taken = 0;
-  const int nth = s->cfg.threads > 0 ? s->cfg.threads : 1;
-  if (f->built != s->nb.builds || f->np != p->n || f->nth != nth || f->recut) {
+  const int want = s->cfg.threads > 0 ? s->cfg.threads : 1;
+  if (f->built != s->nb.builds || f->np != p->n || f->want != want || f->recut) {
     esf_sim_forces_sync(s); /* acc may move */
-    rc = esf_fused_index(s, f, nth, err);
+    rc = esf_fused_index(s, f, want, err);
     if (rc) return rc;
   }
+  const int nth = f->nth; /* the ranges worth running (fused_ranges.c) */
   const size_t T = (size_t)nth;
   const double dt = s->dt, h = 0.5 * dt;
   const esf_candidates *cp = &s->nb.pp;

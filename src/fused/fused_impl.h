@@ -24,9 +24,13 @@
 #define ESF_FUSED_FEATURES 1
 #endif
 
-#define ESF_FUSED_ACC                                                                    \
-  ESF_FT_STRIDE /* accumulators: four-wide force, four-wide torque                       \
-                 */
+/* Estimated work a range must have to be worth a thread, in units of one screened
+ * candidate (fused_ranges.c's work_of): below it a thread's handoffs cost more than
+ * its share saves (docs/performance.md#threads-on-small-scenes). */
+#define ESF_FUSED_MIN_WORK 1000
+
+/* the accumulators' stride: four-wide force, four-wide torque */
+#define ESF_FUSED_ACC ESF_FT_STRIDE
 /* A boundary pair's results, twice: what b's range reads (force on A, torque on B), one
  * line per pair in `slot`, and what a's range reads (force and torque on A) in
  * `slot_a`, which stays in a's core. Four doubles each, the last zero. */
@@ -56,6 +60,7 @@ struct esf_fused {
   long built;        /* nb.builds the indices below belong to (-1: none) */
   size_t np;         /* particles the indices were made for */
   int nth;           /* ranges (threads) the split was made for */
+  int want;          /* the threads asked for when it was made (nth <= want) */
   size_t cap_k;      /* pair capacity */
   size_t cap_n;      /* particle capacity */
   double *acc;       /* ESF_FUSED_ACC per particle: force (3, N), 0, torque (3, N m), 0 */
@@ -135,7 +140,7 @@ static inline int esf_fused_overlap(const double *x, const double *r, size_t a,
 
 /* fused_ranges.c: step 0, the indices for the current lists and nth ranges, and the
  * balance of the ranges. */
-int esf_fused_index(esf_sim *s, esf_fused *f, int nth, esf_error *err);
+int esf_fused_index(esf_sim *s, esf_fused *f, int want, esf_error *err);
 void esf_fused_balance(esf_fused *f, size_t T);
 
 /* fused_lists.c: a range's contacts and idle candidates from step to step. */

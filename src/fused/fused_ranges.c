@@ -133,8 +133,8 @@ void esf_fused_balance(esf_fused *f, size_t T) {
 }
 
 /* Step 0's part that depends on the lists only (not redone for a re-cut): each
- * particle's pair block and wall candidates, each pair's sqrt(m*), the one material. */
-static void index_pairs(esf_sim *s, esf_fused *f, int nth) {
+ * particle's pair block and wall candidates, and the one material. */
+static void index_pairs(esf_sim *s, esf_fused *f) {
   const esf_particles *p = &s->p;
   const esf_candidates *c = &s->nb.pp, *cw = &s->nb.pw;
   const size_t n = p->n, m = c->n;
@@ -146,24 +146,39 @@ static void index_pairs(esf_sim *s, esf_fused *f, int nth) {
     f->astart[i + 1] += f->astart[i];
     f->wstart[i + 1] += f->wstart[i];
   }
-  /* the dashpots' sqrt(m*), m* = ma mb / (ma + mb), once per build rather than per
-     step (the operations pair_batch.c's lanes did, so the same bits) */
-  const long mm = (long)m;
-#pragma omp parallel for num_threads(nth) schedule(static)
-  for (long k = 0; k < mm; k++) {
-    const double ma = p->mass[c->a[k]], mb = p->mass[c->b[k]];
-    f->sm[k] = sqrt(ma * mb / (ma + mb));
-  }
   f->m0 = n ? p->material[0] : -1;
   for (size_t i = 1; i < n && f->m0 >= 0; i++)
     if (p->material[i] != f->m0) f->m0 = -1;
 }
 
-/* Step 0: indices for the current lists and T ranges. */
-int esf_fused_index(esf_sim *s, esf_fused *f, int nth, esf_error *err) {
+/* Each pair's sqrt(m*), m* = ma mb / (ma + mb), for the dashpots: once per build
+ * rather than per step (the operations pair_batch.c's lanes did, so the same bits). */
+static void reduced_masses(esf_sim *s, esf_fused *f, int nth) {
   const esf_particles *p = &s->p;
   const esf_candidates *c = &s->nb.pp;
-  const size_t n = p->n, m = c->n, T = (size_t)nth;
+  const long mm = (long)c->n;
+#pragma omp parallel for num_threads(nth) schedule(static)
+  for (long k = 0; k < mm; k++) {
+    const double ma = p->mass[c->a[k]], mb = p->mass[c->b[k]];
+    f->sm[k] = sqrt(ma * mb / (ma + mb));
+  }
+}
+
+/* The ranges worth running for `want` threads: one per ESF_FUSED_MIN_WORK units of
+ * the step's estimated work, at least one, at most want (a small scene would lose more
+ * to the ranges' handoffs than the threads gain). */
+static int ranges_for(const esf_fused *f, const esf_candidates *c, size_t n, int want) {
+  size_t total = 0;
+  for (size_t i = 0; i < n; i++) total += work_of(f, c, i);
+  const size_t r = total / ESF_FUSED_MIN_WORK;
+  return r < 1 ? 1 : r < (size_t)want ? (int)r : want;
+}
+
+/* Step 0: indices for the current lists, and the ranges for up to `want` threads. */
+int esf_fused_index(esf_sim *s, esf_fused *f, int want, esf_error *err) {
+  const esf_particles *p = &s->p;
+  const esf_candidates *c = &s->nb.pp;
+  const size_t n = p->n, m = c->n;
   if (m > f->cap_k) {
     if (!grow((void **)&f->list[0], m, sizeof(uint32_t)) ||
         !grow((void **)&f->list[1], m, sizeof(uint32_t)) ||
@@ -182,6 +197,10 @@ int esf_fused_index(esf_sim *s, esf_fused *f, int nth, esf_error *err) {
   }
   /* new lists (else the same lists re-cut, or cut for another T) */
   const int fresh = f->np != n || f->built != s->nb.builds;
+  if (fresh) index_pairs(s, f);
+  const int nth = ranges_for(f, c, n, want);
+  if (fresh) reduced_masses(s, f, nth);
+  const size_t T = (size_t)nth;
   if (f->nth != nth || fresh) f->recut = 0;
   if (!grow((void **)&f->bout, T + 1, sizeof(size_t)) ||
       !grow((void **)&f->binstart, T + 1, sizeof(size_t)) ||
@@ -202,7 +221,6 @@ int esf_fused_index(esf_sim *s, esf_fused *f, int nth, esf_error *err) {
   atomic_init(&f->go, 0);
   atomic_init(&f->bfail, 0);
   f->epoch = 0;
-  if (fresh) index_pairs(s, f, nth);
   size_t *wt = calloc(n ? 2 * n : 1, sizeof *wt); /* cut_ranges' weights and work */
   if (!wt) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particle ranges", n);
   cut_ranges(f, c, wt, n, T);
@@ -258,5 +276,6 @@ int esf_fused_index(esf_sim *s, esf_fused *f, int nth, esf_error *err) {
   f->built = s->nb.builds;
   f->np = n;
   f->nth = nth;
+  f->want = want;
   return ESF_OK;
 }

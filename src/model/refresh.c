@@ -28,7 +28,7 @@ int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
   rc = esf_sim_remove_escaped(s, err);
   int moved = 0;
   if (!rc && s->reorder_ok && s->cfg.reorder) rc = esf_reorder_particles(s, &moved, err);
-  s->nb.threads = s->cfg.threads;
+  s->nb.threads = esf_sim_threads_for(s, s->p.n);
   if (!rc) rc = esf_neighbor_build(&s->nb, &s->p, &s->walls, err);
   if (!rc) s->nb.built_step = s->step;
   if (!rc) esf_walls_mark(&s->walls);

@@ -16,6 +16,7 @@
 #include "loads/drag.h"
 #include "loads/events.h"
 #include "loads/servo.h"
+#include "util/threads.h"
 #include "util/vec3.h"
 
 static int set_masses(esf_sim *s, esf_error *err) {
@@ -49,6 +50,8 @@ static int set_masses(esf_sim *s, esf_error *err) {
 
 int esf_sim_setup(esf_sim *s, esf_error *err) {
   esf_config *c = &s->cfg;
+  c->threads_auto = c->threads <= 0;
+  if (c->threads_auto) c->threads = esf_threads_available(); /* all the run may use */
   s->local = c->local_form == ESF_LOCAL_COMPONENT ? &esf_local_component
              : c->local_form == ESF_LOCAL_VECTOR  ? &esf_local_vector
                                                   : NULL;
