@@ -31,6 +31,7 @@
 typedef struct leapfrog {
   int started;
   esf_fused *fast; /* the fused threaded step (fused/fused.h) */
+  int logged;      /* the path last logged: 1 fused, 2 general, 0 none yet */
   size_t cap;
   double *vold; /* 6 cap: v | w at the previous half step (ledger) */
 } leapfrog;
@@ -42,7 +43,7 @@ static int lf_create(esf_sim *s, void **state, esf_error *err) {
   if (!lf) return esf_fail(err, ESF_ENOMEM, "out of memory");
   *state = lf;
   s->reorder_ok = 1; /* x, v, w and p.f, p.t are all the state between steps */
-  return esf_fused_create(&lf->fast, err);
+  return esf_fused_create(&lf->fast, s->cfg.isa, err);
 }
 
 static void lf_destroy(void **state) {
@@ -143,8 +144,18 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     if (rc) return rc;
   }
   size_t touching = 0;
-  if (esf_fused_eligible(s)) { /* steps 2-4 and 7 fused and threaded, s->burst of */
-    long taken = 0;            /* them at most in one go */
+  const char *why = esf_fused_refusal(s);
+  if (!lf->logged || (why == NULL) != (lf->logged == 1)) { /* the path, when it changes */
+    if (why)
+      esf_sim_log(s, "t = %.6g s: leapfrog on the general path, one thread (%s)", s->t,
+                  why);
+    else
+      esf_sim_log(s, "t = %.6g s: leapfrog on the fused step, %s kernels, %d threads",
+                  s->t, esf_fused_isa(lf->fast), s->cfg.threads);
+    lf->logged = why ? 2 : 1;
+  }
+  if (!why) {       /* steps 2-4 and 7 fused and threaded, s->burst of */
+    long taken = 0; /* them at most in one go */
     rc = esf_fused_run(s, lf->fast, s->burst, &taken, err);
     if (taken > 0) lf->started = 1;
     return rc;

@@ -39,6 +39,8 @@ def halves(exe, tmp, scene, name, half, *extra):
 
 def main():
     exe = sys.argv[1]
+    os.environ["ESF_RANGE_WORK"] = "1"  # the fused step: one range per thread, small as
+    # the scenes are, so that "checkpoint on 2 threads, resume on 1" crosses ranges
     tmp = tempfile.mkdtemp(prefix="esf_restart_")
     try:
         scene = write_scene(tmp)

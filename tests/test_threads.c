@@ -9,7 +9,9 @@
  * contact histories of the threaded runs are compared with memcmp. The general path
  * computes the same expressions in another arrangement, so it agrees only to rounding
  * amplified by the collisions (measured 1e-10 of a radius): the bound, 1e-9 of the mean
- * radius, is far below what any difference in the physics would produce.
+ * radius, is far below what any difference in the physics would produce. The kernels
+ * of every instruction set this CPU runs (base, AVX2, AVX-512; fused_isa.h) give the
+ * base kernels' state bit for bit.
  * A minimal build (meson -Dfeatures=minimal) drops the damping, which it compiles out of
  * the fused step, and checks that the projected frame, also compiled out, goes to the
  * general path at one step per call.
@@ -71,6 +73,10 @@ typedef struct snapshot {
 
 /* 1500 steps with the floor oscillating or still, `burst` steps at most per call of
  * the scheme (s->burst, as the driver sets it: more than one only with static walls). */
+/* The fused step's kernels for run(): "" for the CPU's widest, or base, avx2, avx512
+ * (fused_isa.h). */
+static const char *isa_ = "";
+
 static int run(int threads, int fused, const char *tframe, int moving, long burst,
                snapshot *out) {
   char s_fu[64], s_tf[64], scene[2048];
@@ -82,6 +88,16 @@ static int run(int threads, int fused, const char *tframe, int moving, long burs
   int rc = simtest_open(&T, scene, sets, 2);
   if (rc) return rc;
   T.s.cfg.threads = threads;
+  T.s.cfg.range_work = 1; /* one range per thread, however small the scene */
+  if (*isa_) {            /* the scheme again, with these kernels */
+    T.it->destroy(&T.ist);
+    snprintf(T.s.cfg.isa, sizeof T.s.cfg.isa, "%s", isa_);
+    rc = T.it->create(&T.s, &T.ist, &T.err);
+    if (rc) {
+      simtest_close(&T);
+      return rc;
+    }
+  }
   const int on = fused && esf_fused_eligible(&T.s);
   long calls = 0;
   for (; T.s.step < 1500 && !rc; calls++) {
@@ -159,6 +175,7 @@ static long run_fail(int threads, int fused, const char *limit, long burst, char
   msg[0] = '\0';
   if (simtest_open(&T, clash, sets, 2)) return -1;
   T.s.cfg.threads = threads;
+  T.s.cfg.range_work = 1; /* one range per thread, however small the scene */
   int rc = 0;
   while (T.s.step < 1500 && !rc) {
     T.s.burst = burst;
@@ -225,6 +242,7 @@ static long leave_step(int threads, int fused, long burst) {
   simtest T;
   if (simtest_open(&T, leave, sets, 1)) return -2;
   T.s.cfg.threads = threads;
+  T.s.cfg.range_work = 1; /* one range per thread, however small the scene */
   CHECK(!fused || esf_fused_eligible(&T.s), "leave: the fused step must run it");
   long at = -1;
   int rc = 0;
@@ -255,6 +273,31 @@ static void check_leave(void) {
           " general path %ld",
           v[j].threads, v[j].burst, at, gen);
   }
+}
+
+/* Every instruction set's kernels (fused_isa.h) that this CPU runs give the base
+ * kernels' state bit for bit, on 2 threads. */
+static void check_isas(void) {
+  const char *isas[] = {"base", "avx2", "avx512"};
+  snapshot ref, b;
+  int nref = 0;
+  for (int q = 0; q < 3; q++) {
+    isa_ = isas[q];
+    if (run(2, 1, "rotate", 1, 1, q ? &b : &ref) != 0) {
+      CHECK(q > 0, "base kernels must run");
+      printf("isa %s: not run here (not built, or the CPU lacks it)\n", isas[q]);
+      continue;
+    }
+    if (q) {
+      check_same(&b, &ref, isas[q]);
+      release(&b);
+      printf("isa %s: the same state as the base kernels\n", isas[q]);
+    }
+    nref++;
+  }
+  isa_ = "";
+  printf("kernels compared: %d instruction sets\n", nref);
+  if (nref) release(&ref);
 }
 
 int main(void) {
@@ -314,6 +357,7 @@ int main(void) {
     }
     release(&ref);
   }
+  check_isas();
   check_failure();
   check_leave();
   return check_finish("threads");

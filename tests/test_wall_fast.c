@@ -311,6 +311,7 @@ static void threads_same(void) {
     CHECK(rc == 0, "threads: open");
     if (rc) return;
     T.s.cfg.threads = q + 1;
+    T.s.cfg.range_work = 1; /* one range per thread */
     for (int k = 0; k < 4000 && !rc; k++) rc = simtest_step(&T);
     CHECK(rc == 0, "threads %d: run", q + 1);
     n[q] = T.s.p.n;

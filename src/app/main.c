@@ -144,6 +144,26 @@ static int load_scene(const cli_args *a, const esf_ckpt *ck, esf_sim *s, esf_err
   return rc;
 }
 
+/* Diagnostic knobs from the environment (docs/usage.md#environment): ESF_ISA, the
+ * fused step's kernels (base, avx2, avx512); ESF_RANGE_WORK, its least work per range
+ * (1: one range per thread). Results do not depend on either. */
+static int env_knobs(esf_config *c, esf_error *err) {
+  const char *isa = getenv("ESF_ISA"), *rw = getenv("ESF_RANGE_WORK");
+  if (isa && *isa) {
+    if (strlen(isa) >= sizeof c->isa)
+      return esf_fail(err, ESF_EINPUT, "ESF_ISA=%s: base, avx2 or avx512", isa);
+    snprintf(c->isa, sizeof c->isa, "%s", isa);
+  }
+  if (rw && *rw) {
+    char *end;
+    const long v = strtol(rw, &end, 10);
+    if (*end || v < 1 || v > 1000000000)
+      return esf_fail(err, ESF_EINPUT, "ESF_RANGE_WORK=%s: a whole number from 1", rw);
+    c->range_work = (int)v;
+  }
+  return ESF_OK;
+}
+
 /* Parses the arguments, loads the scene and sets the sim up; 0 ok, else the exit
  * status (the message printed; the sim released). */
 static int prepare(int argc, char **argv, cli_args *a, esf_ckpt **ck, esf_sim *s) {
@@ -161,6 +181,7 @@ static int prepare(int argc, char **argv, cli_args *a, esf_ckpt **ck, esf_sim *s
   }
   rc = load_scene(a, ck ? *ck : NULL, s, &err);
   if (!rc && a->threads) s->cfg.threads = a->threads;
+  if (!rc) rc = env_knobs(&s->cfg, &err);
   if (!rc) rc = esf_sim_setup(s, &err);
   if (rc) {
     free(a->sets);

@@ -74,6 +74,10 @@ typedef struct esf_config {
                       esf_sim_setup then sets the count (util/threads.h) */
   int threads_auto; /* set up: threads was 0 (all available) */
   int fused;        /* leapfrog: take the fused step when the scene allows (default 1) */
+  int range_work;   /* fused step: least estimated work per range (0: its default;
+                       tests set 1 for one range per thread; ESF_RANGE_WORK) */
+  char isa[16];     /* fused step: the kernels' instruction set, "" for the CPU's
+                       widest (base, avx2, avx512; ESF_ISA) */
 } esf_config;
 
 void esf_config_default(esf_config *c);

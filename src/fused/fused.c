@@ -18,6 +18,8 @@
 #include "fused/fused_impl.h"
 
 #include <math.h>
+#include <stdlib.h>
+#include <string.h>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -28,17 +30,95 @@
 /* idle candidates range 0 screens between looks at the others */
 #define SCREEN_CHUNK 256
 
+/* The kernels for this CPU: the widest instruction set it has among those built, or
+ * the one `want` names (base, avx2, avx512: for tests and comparisons). */
+static int pick_kernels(const char *want, const esf_fused_kernels **out, esf_error *err) {
+  const esf_fused_kernels *all[3] = {&esf_fused_kernels_base, NULL, NULL};
+  int have[3] = {1, 0, 0};
+#ifdef ESF_FUSED_X86
+  __builtin_cpu_init();
+  all[1] = &esf_fused_kernels_avx2;
+  all[2] = &esf_fused_kernels_avx512;
+  have[1] = __builtin_cpu_supports("avx2");
+  have[2] = have[1] && __builtin_cpu_supports("avx512f") &&
+            __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl") &&
+            __builtin_cpu_supports("avx512bw");
+#endif
+  *out = all[0];
+  for (int i = 0; i < 3; i++) {
+    if (!all[i]) continue;
+    if (want && *want && strcmp(want, all[i]->isa) == 0) {
+      if (!have[i])
+        return esf_fail(err, ESF_EINPUT,
+                        "ESF_ISA=%s: this CPU lacks that instruction set", want);
+      *out = all[i];
+      return ESF_OK;
+    }
+    if (have[i]) *out = all[i];
+  }
+  if (want && *want)
+    return esf_fail(err, ESF_EINPUT,
+                    "ESF_ISA=%s: not a kernel set of this build (base%s)", want,
+                    all[1] ? ", avx2, avx512" : "");
+  return ESF_OK;
+}
+
+int esf_fused_create(esf_fused **out, const char *isa, esf_error *err) {
+  *out = esf_lines_realloc(NULL, 0, sizeof **out); /* go: a line of its own */
+  if (!*out) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  memset(*out, 0, sizeof **out);
+  (*out)->built = -1;
+  const int rc = pick_kernels(isa, &(*out)->k, err);
+  if (rc) esf_fused_free(out);
+  return rc;
+}
+
+void esf_fused_free(esf_fused **f) {
+  if (!f || !*f) return;
+  esf_fused *q = *f;
+  free(q->list[0]);
+  free(q->list[1]);
+  free(q->idle);
+  free(q->sm);
+  free(q->astart);
+  free(q->wstart);
+  free(q->acc);
+  free(q->bk);
+  free(q->slot);
+  free(q->slot_a);
+  free(q->bout);
+  free(q->bin);
+  free(q->binstart);
+  free(q->rlo);
+  free(q->busy);
+  free(q->work);
+  free(q->rate);
+  free(q->rr);
+  free(q);
+  *f = NULL;
+}
+
+const char *esf_fused_isa(const esf_fused *f) { return f->k->isa; }
+
 static int minimal_ok(const esf_sim *s) {
   return !s->mats.any_cohesion && s->cfg.tframe == ESF_TFRAME_ROTATE && s->cfg.dim == 3 &&
          !s->local && s->alpha_r == 0.0 && s->alpha_t == 0.0 && !s->walls.moving;
 }
 
-int esf_fused_eligible(const esf_sim *s) {
-  return s->cfg.fused && !s->led.on && !s->cfg.autod.on && !s->tally &&
-         s->mats.particles_linear && !s->nb.pp.vc0 && !s->nb.pp.xs && !s->nb.pw.xs &&
-         (ESF_FUSED_FEATURES || minimal_ok(s)) && !s->walls.gforce &&
-         !s->drag; /* servo walls, fluid force: general path */
+const char *esf_fused_refusal(const esf_sim *s) {
+  if (!s->cfg.fused) return "integrator.fused: false";
+  if (s->led.on) return "the energy ledger is on: output.energy_every > 0";
+  if (s->cfg.autod.on) return "adaptive damping";
+  if (s->tally || s->nb.pp.vc0 || s->nb.pp.xs || s->nb.pw.xs)
+    return "the integrator's own tallies or history";
+  if (!s->mats.particles_linear) return "a contact law other than the linear one";
+  if (s->walls.gforce) return "servo walls";
+  if (s->drag) return "the fluid force";
+  if (!ESF_FUSED_FEATURES && !minimal_ok(s)) return "a feature of a minimal build";
+  return NULL;
 }
+
+int esf_fused_eligible(const esf_sim *s) { return esf_fused_refusal(s) == NULL; }
 
 /* Range t's steps of one call (esf_fused_run), each step:
  *   0. esf_fused_index (fused_ranges.c), at a call's start when the lists, T or the
@@ -86,7 +166,7 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
       for (size_t u = t + 1; u < T; u++) waited += esf_fused_wait(&f->rr[u].done, e - 1);
     }
     esf_fused_out o = ESF_FUSED_OUT_NONE;
-    o.bad_pair = esf_fused_boundary(s, f, B->bc, f->bout[t], f->bout[t + 1], &nt_pp);
+    o.bad_pair = f->k->boundary(s, f, B->bc, f->bout[t], f->bout[t + 1], &nt_pp);
     if (o.bad_pair != SIZE_MAX) atomic_store_explicit(&f->bfail, e, memory_order_relaxed);
     atomic_store_explicit(&me->ready, e, memory_order_release);
     if (j < L.ni)
@@ -95,8 +175,7 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
       waited += esf_fused_wait(&f->rr[u].ready, e);
     const size_t cnt = esf_fused_merge_new(L.sq, L.tl, L.nt, top, nn);
     size_t ne, kept;
-    const size_t bad =
-        esf_fused_pairs(s, f, B->bc, t, lo, hi, L.sq, cnt, L.tl, &ne, &kept);
+    const size_t bad = f->k->pairs(s, f, B->bc, t, lo, hi, L.sq, cnt, L.tl, &ne, &kept);
     L.ni =
         esf_fused_idle_update(L.il, L.ni, top, nn, L.tl, ne); /* ended: in tl, free now */
     uint32_t *const tl = L.tl;
@@ -107,7 +186,7 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
     if (bad < o.bad_pair) o.bad_pair = bad;
     if (o.bad_pair == SIZE_MAX &&
         atomic_load_explicit(&f->bfail, memory_order_relaxed) != e)
-      esf_fused_kick_range(s, f, B->K, lo, hi, &o, &nt_pw);
+      f->k->kick_range(s, f, B->K, lo, hi, &o, &nt_pw);
     o.nt = nt_pp + nt_pw;
     me->out = o;
 #ifdef _OPENMP

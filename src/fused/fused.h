@@ -10,12 +10,22 @@
 
 typedef struct esf_fused esf_fused;
 
-int esf_fused_create(esf_fused **out, esf_error *err);
+/* isa: the kernels' instruction set (base, avx2, avx512), or NULL or "" for the widest
+ * this CPU has. */
+int esf_fused_create(esf_fused **out, const char *isa, esf_error *err);
 void esf_fused_free(esf_fused **f);
+
+/* The instruction set of the kernels esf_fused_create picked: "base", "avx2" or
+ * "avx512". */
+const char *esf_fused_isa(const esf_fused *f);
 
 /* 1 when the sim's current settings can use the fused step (checked every step: the
  * ledger or adaptive damping may be switched by the driver). */
 int esf_fused_eligible(const esf_sim *s);
+
+/* Why the fused step cannot take the sim's current settings (for the log), or NULL
+ * when it can. */
+const char *esf_fused_refusal(const esf_sim *s);
 
 /* Up to nmax leapfrog steps from x_n, v_{n-1/2}, w_{n-1/2} (candidate lists valid),
  * each: forces at x_n committing the history, kick with global and local damping,

@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "core/sim.h"
+#include "fused/fused_isa.h"
 #include "fused/fused.h"
 #include "fused/pair_batch.h"
 #include "fused/wall_fast.h"
@@ -56,13 +57,33 @@ typedef struct esf_fused_range {
   esf_fused_out out;
 } esf_fused_range;
 
+struct esf_fused_kick;
+
+/* One instruction set's copy of the kernels (fused_isa.h, fused_kernels.c). */
+typedef struct esf_fused_kernels {
+  const char *isa; /* "base", "avx2", "avx512" */
+  size_t (*boundary)(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc, size_t j0,
+                     size_t j1, size_t *nt);
+  size_t (*pairs)(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc, size_t t,
+                  size_t lo, size_t hi, uint32_t *list, size_t cnt, uint32_t *ended,
+                  size_t *ne, size_t *kept);
+  void (*kick_range)(esf_sim *s, const esf_fused *f, const struct esf_fused_kick *K,
+                     size_t lo, size_t hi, esf_fused_out *o, size_t *nt_pw);
+} esf_fused_kernels;
+
+extern const esf_fused_kernels esf_fused_kernels_base;
+#ifdef ESF_FUSED_X86
+extern const esf_fused_kernels esf_fused_kernels_avx2, esf_fused_kernels_avx512;
+#endif
+
 struct esf_fused {
-  long built;        /* nb.builds the indices below belong to (-1: none) */
-  size_t np;         /* particles the indices were made for */
-  int nth;           /* ranges (threads) the split was made for */
-  int want;          /* the threads asked for when it was made (nth <= want) */
-  size_t cap_k;      /* pair capacity */
-  size_t cap_n;      /* particle capacity */
+  const esf_fused_kernels *k; /* the kernels for this CPU (esf_fused_create) */
+  long built;                 /* nb.builds the indices below belong to (-1: none) */
+  size_t np;                  /* particles the indices were made for */
+  int nth;                    /* ranges (threads) the split was made for */
+  int want;                   /* the threads asked for when it was made (nth <= want) */
+  size_t cap_k;               /* pair capacity */
+  size_t cap_n;               /* particle capacity */
   double *acc;       /* ESF_FUSED_ACC per particle: force (3, N), 0, torque (3, N m), 0 */
   uint32_t *list[2]; /* per pair, two buffers (esf_fused_lists): in each block, the
                         touching interior pairs, the batches' sequence, the new contacts

@@ -17,39 +17,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-int esf_fused_create(esf_fused **out, esf_error *err) {
-  *out = esf_lines_realloc(NULL, 0, sizeof **out); /* go: a line of its own */
-  if (!*out) return esf_fail(err, ESF_ENOMEM, "out of memory");
-  memset(*out, 0, sizeof **out);
-  (*out)->built = -1;
-  return ESF_OK;
-}
-
-void esf_fused_free(esf_fused **f) {
-  if (!f || !*f) return;
-  esf_fused *q = *f;
-  free(q->list[0]);
-  free(q->list[1]);
-  free(q->idle);
-  free(q->sm);
-  free(q->astart);
-  free(q->wstart);
-  free(q->acc);
-  free(q->bk);
-  free(q->slot);
-  free(q->slot_a);
-  free(q->bout);
-  free(q->bin);
-  free(q->binstart);
-  free(q->rlo);
-  free(q->busy);
-  free(q->work);
-  free(q->rate);
-  free(q->rr);
-  free(q);
-  *f = NULL;
-}
-
 static int grow(void **p, size_t n, size_t size) {
   void *q = realloc(*p, (n ? n : 1) * size);
   if (!q) return 0;
@@ -164,13 +131,17 @@ static void reduced_masses(esf_sim *s, esf_fused *f, int nth) {
   }
 }
 
-/* The ranges worth running for `want` threads: one per ESF_FUSED_MIN_WORK units of
+/* The ranges worth running for `want` threads: one per ESF_FUSED_MIN_WORK (or
+ * cfg.range_work) units of
  * the step's estimated work, at least one, at most want (a small scene would lose more
  * to the ranges' handoffs than the threads gain). */
-static int ranges_for(const esf_fused *f, const esf_candidates *c, size_t n, int want) {
+static int ranges_for(const esf_sim *s, const esf_fused *f, size_t n, int want) {
+  const esf_candidates *c = &s->nb.pp;
+  const size_t least =
+      s->cfg.range_work > 0 ? (size_t)s->cfg.range_work : ESF_FUSED_MIN_WORK;
   size_t total = 0;
   for (size_t i = 0; i < n; i++) total += work_of(f, c, i);
-  const size_t r = total / ESF_FUSED_MIN_WORK;
+  const size_t r = total / least;
   return r < 1 ? 1 : r < (size_t)want ? (int)r : want;
 }
 
@@ -198,7 +169,7 @@ int esf_fused_index(esf_sim *s, esf_fused *f, int want, esf_error *err) {
   /* new lists (else the same lists re-cut, or cut for another T) */
   const int fresh = f->np != n || f->built != s->nb.builds;
   if (fresh) index_pairs(s, f);
-  const int nth = ranges_for(f, c, n, want);
+  const int nth = ranges_for(s, f, n, want);
   if (fresh) reduced_masses(s, f, nth);
   const size_t T = (size_t)nth;
   if (f->nth != nth || fresh) f->recut = 0;

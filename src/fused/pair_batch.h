@@ -15,6 +15,7 @@
 #include <stdint.h>
 
 #include "contact/contact_law.h"
+#include "fused/fused_isa.h"
 #include "contact/material.h"
 #include "util/vec4.h"
 
