@@ -28,8 +28,8 @@ particles:
 walls:
   - {box: {min: [0, 0, 0], max: [0.03, 0.03, 0.06]}, open: [top], material: g}
 integrator: {method: leapfrog, dt: auto, frac: 0.2}
-run: {duration: 0.15}
-output: {every: 0.03, energy_every: 1.0e-3, contacts: true}
+run: {duration: 0.3}
+output: {every: 0.05, energy_every: 2.0e-3, contacts: true}
 """
 
 MOVING = """name: move
@@ -77,7 +77,8 @@ def main():
         check(np.array_equal(frames[-1].data["position"], last_pos), "last frame's positions")
         only = esfera_h5.load_frames(h5, select=[-1])
         check(len(only) == 1 and only[0].time == times[-1], "select=[-1]")
-        check(len(frames[-1].data["contacts/pairs"]) > 20, "the pack has contacts")
+        # settled by 0.3 s (about 120 contacts); at 0.15 s it still bounces
+        check(len(frames[-1].data["contacts/pairs"]) > 60, "the pack has contacts")
 
         e_h5 = esfera_h5.load_energy(h5)
         e_csv = esfera_h5.load_energy(os.path.join(out, "energy.csv"))

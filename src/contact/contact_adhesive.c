@@ -139,7 +139,7 @@ static void adhesive_eval(const esf_pair_params *pp, double beta, int tframe,
   double fd = -cn * vn;
   double fn = esf_adhesion_force(pp->kn, A, u) + fd; /* tension negative, unclipped */
   double xi[3];
-  esf_contact_tangential(pp, ct, tframe, in, hist, 0, vn, fn, xi, out);
+  esf_contact_tangential(pp, ct, tframe, 1, in, hist, 0, vn, fn, xi, out);
   esf_contact_finish(in, fn, fd, xi, hist_out, out);
   out->e_el_n = esf_adhesion_energy(pp->kn, A, u);
 }

@@ -1,16 +1,15 @@
 /* contact_linear.h — the linear law's evaluation (contact_linear.c,
- * docs/physics.md#linear-springdashpot-law) as a static inline function, so that a
- * specialised caller (the fast wall pass, wall_fast.c) compiles the same arithmetic
- * without the strategy table's call and structs. contact_linear.c's table entry is
- * this function. */
+ * docs/physics.md#linear-springdashpot-law) for one contact, from law_body.h's
+ * formulas, as a static inline function, so that a specialised caller (the fast wall
+ * pass, wall_fast.c) compiles it without the strategy table's call. contact_linear.c's
+ * table entry is this function. */
 #ifndef ESF_CONTACT_LINEAR_H
 #define ESF_CONTACT_LINEAR_H
 
-#include "contact/contact_law.h"
-#include "contact/contact_tangential.h"
-
 #include <math.h>
 
+#include "contact/contact_law.h"
+#include "contact/contact_tangential.h"
 #include "util/vec3.h"
 
 static inline void esf_contact_linear_eval(const esf_pair_params *pp, double beta,
@@ -24,20 +23,13 @@ static inline void esf_contact_linear_eval(const esf_pair_params *pp, double bet
     if (hist_out) *hist_out = (esf_contact_hist){{0, 0, 0}, {n[0], n[1], n[2]}};
     return;
   }
-  double sm = sqrt(in->mstar);
-  double cn = beta > 0 ? beta * pp->kn : pp->cn_factor * sm;
-  double ct = beta > 0 ? beta * pp->kt : pp->ct_factor * sm;
-
-  double vn = v3_dot(in->vc, n); /* < 0 approaching */
-  double fel = pp->kn * in->un;
-  double fd = -cn * vn;
-  double fn = fel + fd;
-  if (fn < 0.0) {
-    fn = 0.0;
-    fd = -fel;
-  }
-  double xi[3];
-  esf_contact_tangential(pp, ct, tframe, in, hist, first, vn, fn, xi, out);
+  const double sm = sqrt(in->mstar);
+  const double cn = beta > 0 ? beta * pp->kn : pp->cn_factor * sm;
+  const double ct = beta > 0 ? beta * pp->kt : pp->ct_factor * sm;
+  const double vn = v3_dot(in->vc, n); /* < 0 approaching */
+  double fd, xi[3];
+  const double fn = esf_law_linear_normal_s(pp->kn, cn, in->un, vn, &fd);
+  esf_contact_tangential(pp, ct, tframe, 0, in, hist, first, vn, fn, xi, out);
   esf_contact_finish(in, fn, fd, xi, hist_out, out);
   out->e_el_n = 0.5 * pp->kn * in->un * in->un;
 }

@@ -179,15 +179,23 @@ static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
   load_cols_n(base, off, c, 4);
 }
 
-static inline void cross(vd r[3], const vd a[3], const vd b[3]) {
-  r[0] = a[1] * b[2] - a[2] * b[1];
-  r[1] = a[2] * b[0] - a[0] * b[2];
-  r[2] = a[0] * b[1] - a[1] * b[0];
-}
+/* The contact formulas (contact/law_body.h) over eight lanes: the same operations per
+ * lane as the general path's scalar copy, so the same bits. */
+#define LANE_R            vd
+#define LANE_M            vm
+#define LANE_SEL(m, a, b) sel(m, a, b)
+#define LANE_SQRT(x)      vsqrt(x)
+#define LANE_ANY(m)       any(m)
+#define LANE_FN(name)     name##_v
+#include "contact/law_body.h"
+#undef LANE_R
+#undef LANE_M
+#undef LANE_SEL
+#undef LANE_SQRT
+#undef LANE_ANY
+#undef LANE_FN
 
-static inline vd dot(const vd a[3], const vd b[3]) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
+static inline vd dot(const vd a[3], const vd b[3]) { return esf_law_dot_v(a, b); }
 
 /* The batch; its results to out (acc NULL) or added to acc. In order: gather the lanes'
  * positions, radii, velocities, spins, history and pair parameters; compute everything
@@ -214,7 +222,7 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
     hk[l] = kk[l] * sizeof(esf_contact_hist);
     tch[l] = -(long long)c->touch[kk[l]];
   }
-  const vd zero = {0}, one = zero + 1.0;
+  const vd zero = {0};
   vd kn, kt, mu, cnf, ctf, coh = zero;
   if (c->one) { /* one material: the same parameters in every lane */
     kn = zero + c->one->kn;
@@ -256,66 +264,31 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   load_cols((const char *)c->h + HXI, hk, h0); /* xi[0..2], n[0] */
   load_cols((const char *)c->h + HX2, hk, h1); /* xi[2], n[0..2] */
   const vd hx[3] = {h0[0], h0[1], h0[2]}, hn[3] = {h0[3], h1[2], h1[3]};
-  for (int q = 0; q < 3; q++) d[q] = xb[q] - xa[q];
   const vd ra = gat(c->radius, ia), rb = gat(c->radius, ib);
-  /* the screening's test, the same operations in the same order (fused/fused.c) */
-  const vd d2 = dot(d, d), rr = ra + rb;
-  const vm in = d2 < rr * rr;
-  const vd dist = vsqrt(d2);
-  const vm pos = dist > 0;
-  const vd inv = 1.0 / dist;
-  n[0] = sel(pos, d[0] * inv, zero);
-  n[1] = sel(pos, d[1] * inv, zero);
-  n[2] = sel(pos, d[2] * inv, one);
-  const vd un = rr - dist;
+  /* the screening's test, the same operations in the same order (fused_lists.c) */
+  vd d2, un, la, lb, vc[3];
+  const vm in = esf_law_pair_overlap_v(xa, xb, ra, rb, d, &d2);
+  esf_law_pair_kinematics_v(d, d2, ra, rb, va, vb, wa, wb, n, &un, &la, &lb, vc);
   const vm bad = un > c->max_overlap * sel(ra < rb, ra, rb);
-  const vd la = ra - 0.5 * un, lb = rb - 0.5 * un;
-  /* vc = (vB - vA) - (la wA + lb wB) x n */
-  vd sw[3], vc[3];
-  for (int q = 0; q < 3; q++) sw[q] = la * wa[q] + lb * wb[q];
-  cross(vc, sw, n);
-  for (int q = 0; q < 3; q++) vc[q] = vb[q] - va[q] - vc[q];
   const vd vn = dot(vc, n);
-  vd fn = kn * un - cn * vn;
-  fn = sel(fn < 0.0, zero, fn);
-
-  vd xi[3];
-  if (c->rotate) { /* 000 (3-17)-(3-18) */
-    vd t1[3], t2[3], sp[3];
-    cross(t1, hn, n);
-    cross(t2, t1, hx);
-    for (int q = 0; q < 3; q++) xi[q] = hx[q] + t2[q];
-    const vd ang = 0.5 * (dot(wa, n) + dot(wb, n)) * c->dt;
-    for (int q = 0; q < 3; q++) sp[q] = ang * n[q];
-    cross(t2, sp, xi);
-    for (int q = 0; q < 3; q++) xi[q] = xi[q] + t2[q];
-  } else {
-    const vd m0 = vsqrt(dot(hx, hx)), s = dot(hx, n);
-    for (int q = 0; q < 3; q++) xi[q] = hx[q] - s * n[q];
-    const vd m1 = vsqrt(dot(xi, xi));
-    const vd r = m0 / m1;
-    for (int q = 0; q < 3; q++) xi[q] = sel(m1 > 0, xi[q] * r, xi[q]);
-  }
-  vd vct[3], ft[3];
-  for (int q = 0; q < 3; q++) {
-    vct[q] = vc[q] - vn * n[q];
-    xi[q] = sel(tch, xi[q], zero) + c->dt * vct[q];
-    ft[q] = kt * xi[q] + ct * vct[q];
-  }
-  /* fn >= 0 here (no tension): the tension cut-off never applies */
-  const vd tau = c->cohesion ? coh + mu * fn : mu * fn;
-  const vd ftm2 = dot(ft, ft);
-  const vm slide = ftm2 > tau * tau;
-  if (any(slide)) { /* sliding: radial return, no dashpot (004 2.16) */
-    const vd sc = tau / vsqrt(ftm2), ikt = sel(kt > 0, 1.0 / kt, zero);
-    for (int q = 0; q < 3; q++) {
-      ft[q] = sel(slide, ft[q] * sc, ft[q]);
-      xi[q] = sel(slide, ikt * ft[q], xi[q]);
-    }
-  }
-  vd m[3];
-  cross(m, n, ft);
-  const vd f4[4] = {ft[0] - fn * n[0], ft[1] - fn * n[1], ft[2] - fn * n[2], zero};
+  vd fd;
+  const vd fn = esf_law_linear_normal_v(kn, cn, un, vn, &fd);
+  const vd spin = 0.5 * (dot(wa, n) + dot(wb, n));
+  const esf_law_tpar_v P = {.kt = kt,
+                            .ct = ct,
+                            .mu = mu,
+                            .coh = coh,
+                            .tl = zero,
+                            .rotate = c->rotate,
+                            .tension = 0, /* fn >= 0: the linear law does not pull */
+                            .ledger = 0,
+                            .vi = NULL};
+  esf_law_tout_v T;
+  esf_law_tangential_v(&P, zero + c->dt, n, spin, vc, vn, fn, hx, hn, tch, &T);
+  vd m[3], f[3];
+  esf_law_force_v(n, fn, T.ft, f, m);
+  const vd *xi = T.xi;
+  const vd f4[4] = {f[0], f[1], f[2], zero};
   const vd ta[4] = {la * m[0], la * m[1], la * m[2], zero};
   const vd tb[4] = {lb * m[0], lb * m[1], lb * m[2], zero};
   v4 rf[ESF_BATCH], rta[ESF_BATCH], rtb[ESF_BATCH];

@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "loads/drag.h"
+#include "contact/lane_scalar.h"
 #include "loads/servo.h"
 #include "util/vec3.h"
 
@@ -135,29 +136,22 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
   size_t nt = 0;
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];
-    const double *xa = x + 3 * a, *xb = x + 3 * b;
-    double d[3];
-    v3_sub(d, xb, xa);
-    double R = p->radius[a] + p->radius[b];
-    double d2 = v3_norm2(d);
-    if (d2 >= R * R && !(c->touch[k] && esf_candidates_bonded(c, k))) { /* bonds pull */
+    const double ra = p->radius[a], rb = p->radius[b];
+    double d[3], d2;
+    if (!esf_law_pair_overlap_s(x + 3 * a, x + 3 * b, ra, rb, d, &d2) &&
+        !(c->touch[k] && esf_candidates_bonded(c, k))) { /* bonds pull */
       if (commit) c->touch[k] = 0;
       continue;
     }
-    double dist = sqrt(d2);
     esf_contact_in in;
-    if (dist > 0)
-      v3_scale(in.n, 1.0 / dist, d);
-    else
-      v3_set(in.n, 0, 0, 1);
-    in.un = R - dist;
-    double rmin = fmin(p->radius[a], p->radius[b]);
+    double la, lb;
+    const double *wa = w + 3 * a, *wb = w + 3 * b;
+    esf_law_pair_kinematics_s(d, d2, ra, rb, v + 3 * a, v + 3 * b, wa, wb, in.n, &in.un,
+                              &la, &lb, in.vc);
+    double rmin = fmin(ra, rb);
     if (in.un > s->cfg.max_overlap * rmin)
       return esf_forces_overlap_failure(s, (long long)p->id[a], (long long)p->id[b], 0,
                                         in.un, rmin, err);
-    double la = p->radius[a] - 0.5 * in.un, lb = p->radius[b] - 0.5 * in.un;
-    const double *wa = w + 3 * a, *wb = w + 3 * b;
-    contact_velocity(v, w, a, v + 3 * b, wb, la, lb, in.n, in.vc);
     in.spin_n = 0.5 * (v3_dot(wa, in.n) + v3_dot(wb, in.n));
     in.mstar = p->mass[a] * p->mass[b] / (p->mass[a] + p->mass[b]);
     in.dt = dt;
@@ -354,8 +348,10 @@ void esf_forces_ledger_pass(esf_sim *s, const double *vbar, const double *wbar,
     const double *n = c->h[k].n;
     double la = p->radius[a] - 0.5 * L[0], lb = p->radius[b] - 0.5 * L[0];
     double vc[3], vch[3];
-    contact_velocity(vbar, wbar, a, vbar + 3 * b, wbar + 3 * b, la, lb, n, vc);
-    contact_velocity(p->v, p->w, a, p->v + 3 * b, p->w + 3 * b, la, lb, n, vch);
+    esf_law_pair_velocity_s(vbar + 3 * a, vbar + 3 * b, wbar + 3 * a, wbar + 3 * b, la,
+                            lb, n, vc);
+    esf_law_pair_velocity_s(p->v + 3 * a, p->v + 3 * b, p->w + 3 * a, p->w + 3 * b, la,
+                            lb, n, vch);
     dn += -L[1] * v3_dot(vc, n) * dt; /* fd_n x approach rate */
     dtg += v3_dot(L + 2, vc) * dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];

@@ -1,0 +1,197 @@
+/* law_body.h — the contact formulas written once, over a lane type: the pair's geometry
+ * and contact velocity, the linear normal law, the tangential force every law shares,
+ * and the forces and torques. Included (no guard: once per lane type) by a file that
+ * first defines
+ *   LANE_R          the lane: double, or a vector of doubles (GCC vector extension)
+ *   LANE_M          a mask of lanes: what LANE_R's comparisons give (int, or a vector)
+ *   LANE_SEL(m,a,b) per lane, m ? a : b
+ *   LANE_SQRT(x)    per lane, sqrt
+ *   LANE_ANY(m)     whether some lane of m is set
+ *   LANE_FN(name)   the name of this lane type's copy of a function
+ * (contact/lane_scalar.h: double, for the general path and the ODE methods;
+ * fused/pair_batch.c: eight lanes for the fused step's batches). Every copy performs the
+ * same IEEE operations in the same order per lane, so a pair's result does not depend
+ * on which copy computed it, bit for bit (test contact_lanes).
+ * Physics: docs/physics.md#contact-kinematics, #linear-springdashpot-law,
+ * #tangential-force-and-the-mohr-coulomb-cap (000 3-15..3-26, 004 2.9-2.16, 2.28).
+ * Conventions: n from A to B, un > 0 overlapping, vc = B's contact point minus A's,
+ * forces on A. Units: SI. */
+
+static inline LANE_R LANE_FN(esf_law_dot)(const LANE_R a[3], const LANE_R b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static inline void LANE_FN(esf_law_cross)(LANE_R r[3], const LANE_R a[3],
+                                          const LANE_R b[3]) {
+  const LANE_R x = a[1] * b[2] - a[2] * b[1], y = a[2] * b[0] - a[0] * b[2],
+               z = a[0] * b[1] - a[1] * b[0];
+  r[0] = x;
+  r[1] = y;
+  r[2] = z;
+}
+
+/* A pair's separation d = xB - xA and whether the spheres overlap,
+ * |d|^2 < (rA + rB)^2 (the one overlap test of every path: the fused step screens its
+ * candidates with the same operations). */
+static inline LANE_M LANE_FN(esf_law_pair_overlap)(const LANE_R xa[3], const LANE_R xb[3],
+                                                   LANE_R ra, LANE_R rb, LANE_R d[3],
+                                                   LANE_R *d2) {
+  for (int q = 0; q < 3; q++) d[q] = xb[q] - xa[q];
+  *d2 = LANE_FN(esf_law_dot)(d, d);
+  const LANE_R rr = ra + rb;
+  return *d2 < rr * rr;
+}
+
+/* The relative velocity of a pair's contact point, B's minus A's, for lever arms la,
+ * lb along n: vc = (vB - vA) - (la wA + lb wB) x n (000 3-21). */
+static inline void LANE_FN(esf_law_pair_velocity)(const LANE_R va[3], const LANE_R vb[3],
+                                                  const LANE_R wa[3], const LANE_R wb[3],
+                                                  LANE_R la, LANE_R lb, const LANE_R n[3],
+                                                  LANE_R vc[3]) {
+  LANE_R sw[3], c[3];
+  for (int q = 0; q < 3; q++) sw[q] = la * wa[q] + lb * wb[q];
+  LANE_FN(esf_law_cross)(c, sw, n);
+  for (int q = 0; q < 3; q++) vc[q] = vb[q] - va[q] - c[q];
+}
+
+/* The rest of a pair's geometry (000 3-15, 3-16, 3-21): n = d/|d| (+z for coincident
+ * centres), the overlap un = rA + rB - |d|, the lever arms to the contact point
+ * lA = rA - un/2, lB = rB - un/2 (so the tangential forces act at one point), and the
+ * contact point's relative velocity (esf_law_pair_velocity). */
+static inline void
+LANE_FN(esf_law_pair_kinematics)(const LANE_R d[3], LANE_R d2, LANE_R ra, LANE_R rb,
+                                 const LANE_R va[3], const LANE_R vb[3],
+                                 const LANE_R wa[3], const LANE_R wb[3], LANE_R n[3],
+                                 LANE_R *un, LANE_R *la, LANE_R *lb, LANE_R vc[3]) {
+  const LANE_R zero = {0}, one = zero + 1.0;
+  const LANE_R dist = LANE_SQRT(d2);
+  const LANE_M pos = dist > 0;
+  const LANE_R inv = 1.0 / dist;
+  n[0] = LANE_SEL(pos, d[0] * inv, zero);
+  n[1] = LANE_SEL(pos, d[1] * inv, zero);
+  n[2] = LANE_SEL(pos, d[2] * inv, one);
+  *un = (ra + rb) - dist;
+  *la = ra - 0.5 * *un;
+  *lb = rb - 0.5 * *un;
+  LANE_FN(esf_law_pair_velocity)(va, vb, wa, wb, *la, *lb, n, vc);
+}
+
+/* The linear normal force (004 2.9-2.12): elastic kn un and dashpot -cn vn (vn < 0
+ * approaching), no tension: a negative total is cut to zero, the dashpot's share then
+ * -kn un. Returns fn (> 0 compressive); *fd the dashpot's share actually applied. */
+static inline LANE_R LANE_FN(esf_law_linear_normal)(LANE_R kn, LANE_R cn, LANE_R un,
+                                                    LANE_R vn, LANE_R *fd) {
+  const LANE_R zero = {0};
+  const LANE_R fel = kn * un, fdv = -cn * vn, fn = fel + fdv;
+  const LANE_M neg = fn < 0.0;
+  *fd = LANE_SEL(neg, -fel, fdv);
+  return LANE_SEL(neg, zero, fn);
+}
+
+/* The tangential parameters of a pair, per lane. */
+typedef struct LANE_FN(esf_law_tpar) {
+  LANE_R kt, ct;    /* spring N/m, dashpot N s/m */
+  LANE_R mu, coh;   /* friction coefficient, cohesion N */
+  LANE_R tl;        /* tension cut-off of the shear strength, N (tension: 1 only) */
+  int rotate;       /* 1: the seed's two rotations (000 3-17, 3-18); 0: projection */
+  int tension;      /* 1: fn may be negative (the adhesive law): the tension cut-off */
+  int ledger;       /* 1: slip work and elastic energy computed */
+  const LANE_R *vi; /* NULL, or the velocity whose tangential part integrates the
+                       increment over dt (the ODE methods' trapezoidal carry) */
+} LANE_FN(esf_law_tpar);
+
+/* What the tangential force gives. */
+typedef struct LANE_FN(esf_law_tout) {
+  LANE_R ft[3];  /* tangential force on A, N */
+  LANE_R fdt[3]; /* its dashpot part actually applied (zero while sliding), N */
+  LANE_R xi[3];  /* the new elastic displacement, m */
+  LANE_M slide;  /* the Coulomb cap was active */
+  LANE_R slip;   /* friction work of this evaluation, J (ledger) */
+  LANE_R e_el;   /* elastic energy (1/2) kt |xi|^2, J (ledger) */
+} LANE_FN(esf_law_tout);
+
+/* The tangential force (000 3-17..3-26, 004 2.13-2.16, 2.26): the stored displacement
+ * hx (expressed in the plane of normal hn; live: the contact was touching at the last
+ * commit, else it starts from zero) brought into the current plane, by the seed's
+ * rotations (xi += (hn x n) x xi, then the twist of the spin about n over dt) or by
+ * projection and rescaling; the trial xi + dt vct; the force kt xi + ct vct; the
+ * Mohr-Coulomb cap tau = max(0, coh + mu fn), zero once fn < -tl (tension only), with
+ * radial return xi = ft/kt and no dashpot while sliding. The slip work is the slip
+ * xi_trial - xi_new times the mean elastic force kt (xi_rot + xi_new)/2. */
+static inline void LANE_FN(esf_law_tangential)(const LANE_FN(esf_law_tpar) * P, LANE_R dt,
+                                               const LANE_R n[3], LANE_R spin,
+                                               const LANE_R vc[3], LANE_R vn, LANE_R fn,
+                                               const LANE_R hx[3], const LANE_R hn[3],
+                                               LANE_M live, LANE_FN(esf_law_tout) * o) {
+  const LANE_R zero = {0};
+  LANE_R xr[3], t1[3], t2[3];
+  if (P->rotate) {
+    LANE_FN(esf_law_cross)(t1, hn, n);
+    LANE_FN(esf_law_cross)(t2, t1, hx);
+    for (int q = 0; q < 3; q++) xr[q] = hx[q] + t2[q];
+    const LANE_R ang = spin * dt;
+    for (int q = 0; q < 3; q++) t1[q] = ang * n[q];
+    LANE_FN(esf_law_cross)(t2, t1, xr);
+    for (int q = 0; q < 3; q++) xr[q] = xr[q] + t2[q];
+  } else {
+    const LANE_R m0 = LANE_SQRT(LANE_FN(esf_law_dot)(hx, hx));
+    const LANE_R s = LANE_FN(esf_law_dot)(hx, n);
+    for (int q = 0; q < 3; q++) xr[q] = hx[q] - s * n[q];
+    const LANE_R m1 = LANE_SQRT(LANE_FN(esf_law_dot)(xr, xr));
+    const LANE_R r = m0 / m1;
+    for (int q = 0; q < 3; q++) xr[q] = LANE_SEL(m1 > 0, xr[q] * r, xr[q]);
+  }
+  LANE_R vct[3], inc[3];
+  for (int q = 0; q < 3; q++) {
+    vct[q] = vc[q] - vn * n[q];
+    xr[q] = LANE_SEL(live, xr[q], zero);
+  }
+  if (P->vi) {
+    const LANE_R s = LANE_FN(esf_law_dot)(P->vi, n);
+    for (int q = 0; q < 3; q++) inc[q] = P->vi[q] - s * n[q];
+  } else {
+    for (int q = 0; q < 3; q++) inc[q] = vct[q];
+  }
+  for (int q = 0; q < 3; q++) {
+    o->xi[q] = xr[q] + dt * inc[q];
+    o->fdt[q] = P->ct * vct[q];
+    o->ft[q] = P->kt * o->xi[q] + o->fdt[q];
+  }
+  LANE_R tau = P->coh + P->mu * fn;
+  if (P->tension) {
+    tau = LANE_SEL(fn < -P->tl, zero, tau);
+    tau = LANE_SEL(tau < 0.0, zero, tau);
+  }
+  const LANE_R ftm2 = LANE_FN(esf_law_dot)(o->ft, o->ft);
+  o->slide = ftm2 > tau * tau;
+  o->slip = zero;
+  if (LANE_ANY(o->slide)) { /* radial return, no dashpot (004 2.16) */
+    const LANE_R sc = tau / LANE_SQRT(ftm2), ikt = LANE_SEL(P->kt > 0, 1.0 / P->kt, zero);
+    LANE_R xn[3];
+    for (int q = 0; q < 3; q++) {
+      o->ft[q] = LANE_SEL(o->slide, o->ft[q] * sc, o->ft[q]);
+      xn[q] = ikt * o->ft[q];
+    }
+    if (P->ledger) { /* (1/2) kt (xi_rot + xi_new) . (xi_trial - xi_new) */
+      LANE_R fm[3], sl[3];
+      for (int q = 0; q < 3; q++) {
+        sl[q] = o->xi[q] - xn[q];
+        fm[q] = xr[q] + xn[q];
+      }
+      o->slip = LANE_SEL(o->slide, 0.5 * P->kt * LANE_FN(esf_law_dot)(fm, sl), zero);
+    }
+    for (int q = 0; q < 3; q++) {
+      o->xi[q] = LANE_SEL(o->slide, xn[q], o->xi[q]);
+      o->fdt[q] = LANE_SEL(o->slide, zero, o->fdt[q]);
+    }
+  }
+  if (P->ledger) o->e_el = 0.5 * P->kt * LANE_FN(esf_law_dot)(o->xi, o->xi);
+}
+
+/* The contact force on A, f = ft - fn n, and the torque direction m = n x ft: the
+ * torques are lA m on A and lB m on B (same sense, 004 2.34). */
+static inline void LANE_FN(esf_law_force)(const LANE_R n[3], LANE_R fn,
+                                          const LANE_R ft[3], LANE_R f[3], LANE_R m[3]) {
+  for (int q = 0; q < 3; q++) f[q] = ft[q] - fn * n[q];
+  LANE_FN(esf_law_cross)(m, n, ft);
+}
