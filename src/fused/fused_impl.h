@@ -69,6 +69,8 @@ typedef struct esf_fused_kernels {
                   size_t *ne, size_t *kept);
   void (*kick_range)(esf_sim *s, const esf_fused *f, const struct esf_fused_kick *K,
                      size_t lo, size_t hi, esf_fused_out *o, size_t *nt_pw);
+  unsigned (*batch)(const esf_pair_batch_ctx *ctx, const uint32_t *k, int nl,
+                    double out[ESF_BATCH][ESF_BATCH_OUT], unsigned *apart); /* tests */
 } esf_fused_kernels;
 
 extern const esf_fused_kernels esf_fused_kernels_base;

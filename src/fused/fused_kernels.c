@@ -7,4 +7,5 @@ const esf_fused_kernels ESF_ISA_NAME(esf_fused_kernels) = {
     .boundary = esf_fused_boundary,
     .pairs = esf_fused_pairs,
     .kick_range = esf_fused_kick_range,
+    .batch = esf_pair_batch_linear,
 };
