@@ -24,6 +24,7 @@
 #include "fused/fused.h"
 #include "integrators/dem_ode.h"
 #include "integrators/integrator.h"
+#include "loads/drag.h"
 #include "model/forces.h"
 #include "model/model.h"
 #include "util/vec3.h"
@@ -32,8 +33,6 @@ typedef struct leapfrog {
   int started;
   esf_fused *fast; /* the fused threaded step (fused/fused.h) */
   int logged;      /* the path last logged: 1 fused, 2 general, 0 none yet */
-  size_t cap;
-  double *vold; /* 6 cap: v | w at the previous half step (ledger) */
 } leapfrog;
 
 static int lf_create(esf_sim *s, void **state, esf_error *err) {
@@ -49,7 +48,6 @@ static int lf_create(esf_sim *s, void **state, esf_error *err) {
 static void lf_destroy(void **state) {
   leapfrog *lf = *state;
   if (lf) {
-    free(lf->vold);
     esf_fused_free(&lf->fast);
   }
   free(lf);
@@ -71,13 +69,10 @@ static int start(esf_sim *s, esf_error *err) {
   return ESF_OK;
 }
 
-typedef struct kick_tally {
-  double ke_old, ke_new; /* kinetic, J */
-  double ket_new, ker_new, pe_old, pe_new, d_global, d_local;
-} kick_tally;
-
-/* Steps 3-4 (and the per-particle part of 5-6). */
-static void kick(esf_sim *s, int tally, kick_tally *k) {
+/* Steps 3-4: the kick with local and global damping; with blk (the ledger or adaptive
+ * damping), each particle's energies and damping work go to its block's sums
+ * (esf_ledger_kick_particle, the fused step's own). */
+static void kick(esf_sim *s, double *blk) {
   esf_particles *p = &s->p;
   const double dt = s->dt, h = 0.5 * dt;
   const double ar = s->alpha_r, at = s->alpha_t;
@@ -85,8 +80,10 @@ static void kick(esf_sim *s, int tally, kick_tally *k) {
   const double ct0 = 1.0 - at * h, ct1 = 1.0 / (1.0 + at * h);
   const esf_local_damping *loc = s->local;
   const double lc = s->cfg.local_coef;
-  const double *g = s->cfg.gravity;
-  memset(k, 0, sizeof *k);
+  const esf_ledger_kick K = {.dt = dt, .alpha_r = ar, .alpha_t = at, .g = s->cfg.gravity};
+  /* the fluid force's work (drag.c keeps the last evaluation's forces) */
+  const double *ff = s->drag && s->led.on && s->drag->n == p->n ? s->drag->f : NULL;
+  const double *rows = s->led.on ? s->led_rows : NULL;
   for (size_t i = 0; i < p->n; i++) {
     double *v = p->v + 3 * i, *w = p->w + 3 * i, *x = p->x + 3 * i;
     double f[3], m[3], fd[3] = {0, 0, 0}, md[3] = {0, 0, 0};
@@ -106,30 +103,23 @@ static void kick(esf_sim *s, int tally, kick_tally *k) {
       v[q] = (cr0 * v[q] + f[q] * im) * cr1;
       w[q] = (ct0 * w[q] + m[q] * ii) * ct1;
     }
-    if (tally) {
-      double mass = p->mass[i], I = p->inertia[i];
-      double vb[3], wb[3];
-      for (int q = 0; q < 3; q++) {
-        vb[q] = 0.5 * (v0[q] + v[q]);
-        wb[q] = 0.5 * (w0[q] + w[q]);
-      }
-      double kt0 = 0.5 * mass * v3_norm2(v0), kr0 = 0.5 * I * v3_norm2(w0);
-      double kt1 = 0.5 * mass * v3_norm2(v), kr1 = 0.5 * I * v3_norm2(w);
-      k->ke_old += kt0 + kr0;
-      k->ke_new += kt1 + kr1;
-      k->ket_new += kt1;
-      k->ker_new += kr1;
-      double g0 = 0, g1 = 0;
-      for (int q = 0; q < 3; q++) {
-        g0 += g[q] * (x[q] - h * v0[q]);
-        g1 += g[q] * (x[q] + h * v[q]);
-      }
-      k->pe_old -= mass * g0;
-      k->pe_new -= mass * g1;
-      k->d_global += (ar * mass * v3_norm2(vb) + at * I * v3_norm2(wb)) * dt;
-      k->d_local -= (v3_dot(fd, vb) + v3_dot(md, wb)) * dt;
-    }
+    if (blk)
+      esf_ledger_kick_particle(&K, p->mass[i], p->inertia[i], x, v0, v, w0, w,
+                               loc ? fd : NULL, loc ? md : NULL, ff ? ff + 3 * i : NULL,
+                               rows ? rows + ESF_LR * i : NULL,
+                               blk + ESF_LB_N * (i / ESF_LEDGER_BLOCK));
   }
+}
+
+/* The kinetic energies before and after the step's kick, from the blocks in order. */
+static void kinetic(const double *blk, size_t nb, double *ke_old, double *ke_new) {
+  double ko = 0, kn = 0;
+  for (size_t b = 0; b < nb; b++) {
+    ko += blk[ESF_LB_N * b + ESF_LB_KO];
+    kn += blk[ESF_LB_N * b + ESF_LB_KT] + blk[ESF_LB_N * b + ESF_LB_KR];
+  }
+  *ke_old = ko;
+  *ke_new = kn;
 }
 
 static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
@@ -160,51 +150,30 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     if (taken > 0) lf->started = 1;
     return rc;
   }
+  const int ledger = s->led.on, tally = ledger || s->cfg.autod.on;
+  if (tally) { /* the step's ledger rows and blocks, zeroed (ledger.h) */
+    rc = esf_sim_ledger_room(s, err);
+    if (rc) return rc;
+  }
   rc = esf_forces_eval(s, p->x, p->v, p->w, s->dt, ESF_FORCES_COMMIT, &touching, err);
   if (rc) return rc;
   s->contacts_sum += (double)touching;
-
-  int ledger = s->led.on, tally = ledger || s->cfg.autod.on;
-  if (ledger) {
-    if (lf->cap < p->n) {
-      free(lf->vold);
-      lf->vold = malloc(6 * p->n * sizeof(double));
-      if (!lf->vold) return esf_fail(err, ESF_ENOMEM, "out of memory");
-      lf->cap = p->n;
-    }
-    memcpy(lf->vold, p->v, 3 * p->n * sizeof(double));
-    memcpy(lf->vold + 3 * p->n, p->w, 3 * p->n * sizeof(double));
-  }
-  kick_tally k;
-  kick(s, tally, &k);
   /* Step 5: the dissipation of every path with the mid-step velocity
    * vbar = (v_{n-1/2} + v_{n+1/2})/2, for which the discrete identity
    * KE_{n+1/2} - KE_{n-1/2} = (F_n + F_d - a_r m vbar) . vbar dt holds exactly; stored
    * energies: kinetic at t_n + dt/2, gravity at the mean of x_n and x_{n+1}, elastic at
    * x_n (led_time = t_n). */
+  double *blk = tally ? s->led_blocks : NULL;
+  kick(s, blk);
+  const size_t nb = esf_ledger_nblocks(p->n);
   if (ledger) {
-    /* mid-step velocities, in place in vold */
-    double *vb = lf->vold, *wb = lf->vold + 3 * p->n;
-    for (size_t j = 0; j < 3 * p->n; j++) {
-      vb[j] = 0.5 * (vb[j] + p->v[j]);
-      wb[j] = 0.5 * (wb[j] + p->w[j]);
-    }
-    esf_forces_ledger_pass(s, vb, wb, s->dt);
-    esf_ledger *L = &s->led;
-    if (!L->started) {
-      L->e0 = k.ke_old + k.pe_old + L->el_n + L->el_t;
-      L->started = 1;
-    }
-    L->kin_t = k.ket_new;
-    L->kin_r = k.ker_new;
-    L->pot_g = k.pe_new;
-    L->d_global += k.d_global;
-    L->d_local += k.d_local;
+    esf_ledger_step(&s->led, blk, nb);
     s->led_time = s->t;
   }
   if (s->cfg.autod.on) {
-    double a =
-        esf_auto_damping_update(&s->cfg.autod, s->alpha_r, k.ke_old, k.ke_new, s->dt);
+    double ke_old, ke_new;
+    kinetic(blk, nb, &ke_old, &ke_new);
+    double a = esf_auto_damping_update(&s->cfg.autod, s->alpha_r, ke_old, ke_new, s->dt);
     double ratio = s->alpha_r > 0 ? a / s->alpha_r : 1.0;
     s->alpha_r = a;
     s->alpha_t *= ratio;

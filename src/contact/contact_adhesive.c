@@ -137,10 +137,12 @@ static void adhesive_eval(const esf_pair_params *pp, double beta, int tframe,
   double ct = beta > 0 ? beta * pp->kt : pp->ct_factor * sm;
   double vn = v3_dot(in->vc, in->n);
   double fd = -cn * vn;
-  double fn = esf_adhesion_force(pp->kn, A, u) + fd; /* tension negative, unclipped */
+  const double fel = esf_adhesion_force(pp->kn, A, u);
+  double fn = fel + fd; /* tension negative, unclipped */
   double xi[3];
   esf_contact_tangential(pp, ct, tframe, 1, in, hist, 0, vn, fn, xi, out);
   esf_contact_finish(in, fn, fd, xi, hist_out, out);
+  out->fel = fel;
   out->e_el_n = esf_adhesion_energy(pp->kn, A, u);
 }
 

@@ -52,6 +52,7 @@ typedef struct esf_contact_out {
   double ft[3];     /* its tangential part, N (the torque arm acts on this) */
   double fn;        /* normal force magnitude, N (> 0 compressive) */
   double fd_n;      /* the normal dashpot's share of fn actually applied, N */
+  double fel;       /* the normal spring's force (> 0 repulsive), N */
   double fd_t[3];   /* the tangential dashpot force on A actually applied, N */
   double slip_work; /* friction work of this evaluation (force x slip), J */
   double e_el_n;    /* elastic energy in the normal spring, J */

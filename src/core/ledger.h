@@ -62,4 +62,149 @@ typedef struct esf_force_tally {
   double p_fluid;      /* power delivered by the fluid force (drag.c), W */
 } esf_force_tally;
 
+/* The leapfrog's ledger, summed the same way on the general path and the fused step,
+ * on any thread count (docs/physics.md#energy-ledger).
+ *
+ * Per step, every contact adds to per-particle rows (ESF_LR doubles a particle, six
+ * rows of four, in the order the particle receives its forces): the forces and torques
+ * of its normal dashpot, normal spring, tangential dashpot and tangential spring, and in
+ * the fourth lane of its first particle's rows (A: the pair's lower index, or the
+ * particle of a wall contact) its scalars: slip work, the springs' energies, the wall's
+ * work rate, a ruptured bond's energy. A contact's dissipation over the step is then the
+ * power of its dashpots at the mid-step velocities, and its spring's energy in the
+ * leapfrog's measure W(u_n) + (1/2) f . (u_{n+1} - u_n) uses the new velocities: both
+ * sums over particles of rows . velocities (esf_ledger_particle); a wall contact adds
+ * its wall's side (the prescribed wall velocity) as scalars. Particles are summed
+ * in blocks of ESF_LEDGER_BLOCK (channels ESF_LB_*), and the blocks in order
+ * (esf_ledger_step): the fused step's ranges hold whole blocks, so no sum depends on
+ * how the particles are cut. */
+#define ESF_LR           32 /* ledger rows per particle: eight rows of four */
+#define ESF_LEDGER_BLOCK 64 /* particles per block of the ledger's sums */
+enum {                      /* row offsets (xyz, then the scalar lane) */
+       ESF_LR_DN = 0,       /* normal dashpot force | slip work (J) */
+       ESF_LR_EN = 4,       /* normal spring force | its energy W (J) */
+       ESF_LR_DT = 8,   /* tangential dashpot force | the tangential spring's energy */
+       ESF_LR_MDT = 12, /* tangential dashpot torque | wall work rate F.v_wall (W) */
+       ESF_LR_ET = 16,  /* tangential spring force | energy of ruptured bonds (J) */
+       ESF_LR_MET = 20, /* tangential spring torque | 0 */
+       ESF_LR_W = 24    /* a moving wall's side of the dashpots' power: normal -fd vw.n,
+                           tangential fdt.vw (W) | 0 | 0 | 0 */
+};
+enum {            /* channels of a block's sums */
+       ESF_LB_KT, /* kinetic, translational, at v_{n+1/2}, J */
+       ESF_LB_KR, /* kinetic, rotational */
+       ESF_LB_PE, /* gravity at (x_n + x_{n+1})/2 */
+       ESF_LB_KO, /* kinetic at v_{n-1/2} (the start's stored energy) */
+       ESF_LB_PO, /* gravity at x_n - v_{n-1/2} dt/2 */
+       ESF_LB_DG, /* global damping over the step */
+       ESF_LB_DL, /* local damping */
+       ESF_LB_DN, /* normal dashpots */
+       ESF_LB_DT, /* tangential dashpots */
+       ESF_LB_EN, /* normal springs, J (stored) */
+       ESF_LB_ET, /* tangential springs */
+       ESF_LB_SL, /* Coulomb slip */
+       ESF_LB_WW, /* work of the walls */
+       ESF_LB_BD, /* ruptured bonds */
+       ESF_LB_WF, /* work of the fluid force */
+       ESF_LB_N = 16
+};
+
+/* Adds one touching pair contact to the rows of A (ra) and B (rb): n, lever arms la,
+ * lb, the normal dashpot fd and spring fel (N, compressive positive), the tangential
+ * dashpot fdt and spring ket forces on A (N), the slip work and the springs' energies
+ * (J). */
+static inline void esf_ledger_pair_rows(double *ra, double *rb, const double n[3],
+                                        double la, double lb, double fd, double fel,
+                                        const double fdt[3], const double ket[3],
+                                        double slip, double e_n, double e_t) {
+  double md[3], me[3], x;
+  md[0] = n[1] * fdt[2] - n[2] * fdt[1];
+  md[1] = n[2] * fdt[0] - n[0] * fdt[2];
+  md[2] = n[0] * fdt[1] - n[1] * fdt[0];
+  me[0] = n[1] * ket[2] - n[2] * ket[1];
+  me[1] = n[2] * ket[0] - n[0] * ket[2];
+  me[2] = n[0] * ket[1] - n[1] * ket[0];
+  for (int q = 0; q < 3; q++) {
+    x = -fd * n[q];
+    ra[ESF_LR_DN + q] += x;
+    rb[ESF_LR_DN + q] -= x;
+    x = -fel * n[q];
+    ra[ESF_LR_EN + q] += x;
+    rb[ESF_LR_EN + q] -= x;
+    ra[ESF_LR_DT + q] += fdt[q];
+    rb[ESF_LR_DT + q] -= fdt[q];
+    ra[ESF_LR_MDT + q] += la * md[q];
+    rb[ESF_LR_MDT + q] += lb * md[q];
+    ra[ESF_LR_ET + q] += ket[q];
+    rb[ESF_LR_ET + q] -= ket[q];
+    ra[ESF_LR_MET + q] += la * me[q];
+    rb[ESF_LR_MET + q] += lb * me[q];
+  }
+  ra[ESF_LR_DN + 3] += slip;
+  ra[ESF_LR_EN + 3] += e_n;
+  ra[ESF_LR_DT + 3] += e_t;
+}
+
+/* Adds one touching wall contact of a particle to its rows r: as a pair's A side
+ * (esf_ledger_pair_rows), with the wall's side at its point velocity vw: the contact
+ * force f's work rate f . vw, the dashpots' power on the wall, and the springs'
+ * extrapolation -(dt/2) fel vw.n and (dt/2) ket.vw folded into their energies. */
+static inline void esf_ledger_wall_rows(double *r, const double n[3], double la,
+                                        double fd, double fel, const double fdt[3],
+                                        const double ket[3], double slip, double e_n,
+                                        double e_t, const double f[3], const double vw[3],
+                                        double dt) {
+  double md[3], me[3], x;
+  md[0] = n[1] * fdt[2] - n[2] * fdt[1];
+  md[1] = n[2] * fdt[0] - n[0] * fdt[2];
+  md[2] = n[0] * fdt[1] - n[1] * fdt[0];
+  me[0] = n[1] * ket[2] - n[2] * ket[1];
+  me[1] = n[2] * ket[0] - n[0] * ket[2];
+  me[2] = n[0] * ket[1] - n[1] * ket[0];
+  for (int q = 0; q < 3; q++) {
+    x = -fd * n[q];
+    r[ESF_LR_DN + q] += x;
+    x = -fel * n[q];
+    r[ESF_LR_EN + q] += x;
+    r[ESF_LR_DT + q] += fdt[q];
+    r[ESF_LR_MDT + q] += la * md[q];
+    r[ESF_LR_ET + q] += ket[q];
+    r[ESF_LR_MET + q] += la * me[q];
+  }
+  const double vwn = vw[0] * n[0] + vw[1] * n[1] + vw[2] * n[2];
+  const double kv = ket[0] * vw[0] + ket[1] * vw[1] + ket[2] * vw[2];
+  r[ESF_LR_DN + 3] += slip;
+  r[ESF_LR_EN + 3] += e_n - 0.5 * dt * fel * vwn;
+  r[ESF_LR_DT + 3] += e_t + 0.5 * dt * kv;
+  r[ESF_LR_MDT + 3] += f[0] * vw[0] + f[1] * vw[1] + f[2] * vw[2];
+  r[ESF_LR_W] += -fd * vwn;
+  r[ESF_LR_W + 1] += fdt[0] * vw[0] + fdt[1] * vw[1] + fdt[2] * vw[2];
+}
+
+/* The rows of a step's particle i: rows r (ESF_LR), velocities and spins before (vo,
+ * wo: v_{n-1/2}) and after the kick (vn, wn), step dt. Adds to its block's channels
+ * blk the dashpots' dissipation -(F . vbar + M . wbar) dt, the springs' energies less
+ * (1/2) (F . v_{n+1/2} + M . w_{n+1/2}) dt, and the scalars (slip, wall work, bonds). */
+void esf_ledger_particle(const double *r, const double vo[3], const double vn[3],
+                         const double wo[3], const double wn[3], double dt, double *blk);
+
+/* One particle's kick in the ledger's blocks: its kinetic energies at v_{n+1/2} (v, w)
+ * and v_{n-1/2} (v0, w0), gravity at x_n +- (dt/2) v (x: x_n), global damping
+ * alpha_r m |vbar|^2 + alpha_t I |wbar|^2 and local damping -(fl . vbar + ml . wbar)
+ * over dt (fl, ml: the local damping force and moment, or NULL), the fluid force's work
+ * ff . vbar dt (ff or NULL), and its ledger rows (r or NULL: esf_ledger_particle). */
+typedef struct esf_ledger_kick {
+  double dt, alpha_r, alpha_t; /* s, 1/s */
+  const double *g;             /* gravity, m/s^2 */
+} esf_ledger_kick;
+void esf_ledger_kick_particle(const esf_ledger_kick *k, double m, double I,
+                              const double x[3], const double v0[3], const double v[3],
+                              const double w0[3], const double w[3], const double *fl,
+                              const double *ml, const double *ff, const double *r,
+                              double *blk);
+
+/* Sums the nb blocks' channels (ESF_LB_N each) in order and books the step: stored
+ * energies set, dissipation and work added; the first booked step also sets e0. */
+void esf_ledger_step(esf_ledger *l, const double *blocks, size_t nb);
+
 #endif

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/lines.h"
 #include "util/vec3.h"
 
 const char *const esf_history_names[] = {"frozen", "state", NULL};
@@ -98,5 +99,22 @@ int esf_sim_remove_escaped(esf_sim *s, esf_error *err) {
   free(remap);
   if (rc) return rc;
   s->removed += (long)out;
+  return ESF_OK;
+}
+
+int esf_sim_ledger_room(esf_sim *s, esf_error *err) {
+  const size_t n = s->p.n;
+  if (n > s->led_cap || !s->led_rows) {
+    const size_t cap = n > 64 ? n + n / 4 : 64;
+    double *r = esf_lines_realloc(s->led_rows, 0, cap * ESF_LR * sizeof(double));
+    if (!r) return esf_fail(err, ESF_ENOMEM, "out of memory for the energy ledger");
+    s->led_rows = r;
+    double *b = realloc(s->led_blocks, esf_ledger_nblocks(cap) * ESF_LB_N * sizeof *b);
+    if (!b) return esf_fail(err, ESF_ENOMEM, "out of memory for the energy ledger");
+    s->led_blocks = b;
+    s->led_cap = cap;
+  }
+  memset(s->led_rows, 0, n * ESF_LR * sizeof(double));
+  memset(s->led_blocks, 0, esf_ledger_nblocks(n) * ESF_LB_N * sizeof(double));
   return ESF_OK;
 }

@@ -123,6 +123,12 @@ typedef struct esf_sim {
    * particle (force 3, N; one spare; torque 3, N m; one spare), not yet copied to p.f and
    * p.t; NULL when p.f and p.t are current. esf_sim_forces_sync copies them. */
   const double *ft_lazy;
+  /* The leapfrog's energy ledger of the step (ledger.h): ESF_LR rows per particle
+   * (line-aligned, zeroed before each committing evaluation), ESF_LB_N channels per
+   * block of ESF_LEDGER_BLOCK particles; NULL with the ledger off (esf_sim_ledger_room)
+   */
+  double *led_rows, *led_blocks;
+  size_t led_cap; /* particles they have room for */
 } esf_sim;
 
 #define ESF_FT_STRIDE 8
@@ -145,6 +151,15 @@ void esf_sim_log(const esf_sim *s, const char *fmt, ...)
 
 /* Critical-step estimates for the sim's particles, materials and damping. */
 void esf_dt_estimate_compute(const esf_sim *s, esf_dt_estimate *e);
+
+/* Room in led_rows and led_blocks for the current particles, rows zeroed (the
+ * leapfrog's ledger, ledger.h). */
+int esf_sim_ledger_room(esf_sim *s, esf_error *err);
+
+/* Blocks of the ledger's sums for n particles. */
+static inline size_t esf_ledger_nblocks(size_t n) {
+  return (n + ESF_LEDGER_BLOCK - 1) / ESF_LEDGER_BLOCK;
+}
 
 /* Removes the particles outside the domain (if one is set) and logs them. */
 int esf_sim_remove_escaped(esf_sim *s, esf_error *err);

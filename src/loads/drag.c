@@ -154,14 +154,6 @@ int esf_drag_apply(esf_sim *s, const double *x, const double *v, esf_error *err)
   return ESF_OK;
 }
 
-double esf_drag_work(const esf_sim *s, const double *vbar, double dt) {
-  const esf_drag *d = s->drag;
-  double wsum = 0.0;
-  for (size_t i = 0; i < d->n && i < s->p.n; i++)
-    wsum += v3_dot(d->f + 3 * i, vbar + 3 * i);
-  return wsum * dt;
-}
-
 void esf_drag_free(esf_drag **d) {
   if (!*d) return;
   free((*d)->f);

@@ -55,10 +55,6 @@ int esf_drag_setup(esf_sim *s, esf_error *err);
  * ledger, and its power into s->tally (p_fluid) when set. */
 int esf_drag_apply(esf_sim *s, const double *x, const double *v, esf_error *err);
 
-/* Work of the last evaluation's fluid forces over a step with mid-step velocities
- * vbar (the leapfrog's ledger pass), J. */
-double esf_drag_work(const esf_sim *s, const double *vbar, double dt);
-
 void esf_drag_free(esf_drag **d);
 
 #endif

@@ -62,12 +62,13 @@ static inline void contact_velocity(const double *v, const double *w, uint32_t a
   for (int q = 0; q < 3; q++) vc[q] = vb[q] + tb[q] - v[3 * a + q] - ta[q];
 }
 
-/* Evaluates the law for candidate k of list c, updates its touching flag and history
- * (commit), records the ledger scratch (when led is not NULL) and adds the slip work
- * to *slip. Returns 1 when the contact carries force. */
+/* Evaluates the law for candidate k of list c and updates its touching flag and
+ * history (commit). A bond's rupture energy goes to the ledger rows of its first
+ * particle ra (the leapfrog's ledger, ledger.h) or, without rows, to the ledger
+ * directly. Returns 1 when the contact carries force. */
 static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *in,
-                        esf_candidates *c, size_t k, int commit, double *led,
-                        double *slip, esf_contact_out *out) {
+                        esf_candidates *c, size_t k, int commit, double *ra,
+                        esf_contact_out *out) {
   const esf_contact_bond *bond = esf_candidates_bond(c, k);
   if (c->xs) { /* history as ODE state: xi is y's, its rate goes to ydot */
     esf_contact_hist h;
@@ -104,7 +105,10 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
   if (commit && out->broke) { /* a bond ruptured (contact_adhesive.c): Phi = 0 */
     c->bond[k] = (esf_contact_bond){0}; /* for good: as a contact that never bonded */
     s->bonds.broken++;
-    s->led.d_bonds += out->e_break;
+    if (ra)
+      ra[ESF_LR_ET + 3] += out->e_break;
+    else
+      s->led.d_bonds += out->e_break;
   }
   if (!out->touching) return 0;
   esf_force_tally *ty = s->tally;
@@ -115,15 +119,13 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
     ty->e_el_t += out->e_el_t;
     ty->slip += out->slip_work;
   }
-  if (led) {
-    double *L = led + ESF_LED_STRIDE * k;
-    L[0] = in->un;
-    L[1] = out->fd_n;
-    v3_copy(L + 2, out->fd_t);
-    v3_copy(L + 5, out->f);
-    *slip += out->slip_work;
-  }
   return 1;
+}
+
+/* The tangential spring's force kt xi of a committed contact, on A. */
+static void spring_t(const esf_pair_params *pp, const esf_contact_hist *h,
+                     double ket[3]) {
+  for (int q = 0; q < 3; q++) ket[q] = pp->kt * h->xi[q];
 }
 
 static int pair_forces(esf_sim *s, const double *x, const double *v, const double *w,
@@ -131,7 +133,8 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
   esf_particles *p = &s->p;
   esf_candidates *c = &s->nb.pp;
   const esf_materials *mt = &s->mats;
-  double *led = commit && s->led.on ? c->led : NULL;
+  double *rows = commit && s->led.on ? s->led_rows : NULL; /* the leapfrog's (ledger.h) */
+  const int slips = commit && s->led.on && !rows;          /* the other schemes' ledger */
   double slip = 0;
   size_t nt = 0;
   for (size_t k = 0; k < c->n; k++) {
@@ -157,7 +160,8 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
     in.dt = dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
     esf_contact_out out;
-    if (!eval_contact(s, pp, &in, c, k, commit, led, &slip, &out)) continue;
+    double *rows_a = rows ? rows + ESF_LR * a : NULL;
+    if (!eval_contact(s, pp, &in, c, k, commit, rows_a, &out)) continue;
     nt++;
     v3_add(p->f + 3 * a, p->f + 3 * a, out.f);
     v3_sub(p->f + 3 * b, p->f + 3 * b, out.f);
@@ -165,8 +169,15 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
     v3_cross(m, in.n, out.ft);
     v3_axpy(p->t + 3 * a, la, m);
     v3_axpy(p->t + 3 * b, lb, m);
+    if (rows_a) {
+      double ket[3];
+      spring_t(pp, &c->h[k], ket);
+      esf_ledger_pair_rows(rows_a, rows + ESF_LR * b, in.n, la, lb, out.fd_n, out.fel,
+                           out.fd_t, ket, out.slip_work, out.e_el_n, out.e_el_t);
+    }
+    if (slips) slip += out.slip_work;
   }
-  if (led) s->led.d_friction += slip;
+  if (slips) s->led.d_friction += slip;
   *touching += nt;
   return ESF_OK;
 }
@@ -211,7 +222,7 @@ void esf_forces_select_wall_hits(const esf_walls *walls, const uint32_t *elem,
 
 int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
                              const double *v, const double *w, double dt, int commit,
-                             double *led, double *slip, size_t *nt, double *f, double *t,
+                             double *rows, double *slip, size_t *nt, double *f, double *t,
                              esf_error *err) {
   esf_particles *p = &s->p;
   esf_candidates *c = &s->nb.pw;
@@ -252,8 +263,15 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
     in.dt = dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
     esf_contact_out out;
-    if (!eval_contact(s, pp, &in, c, k, commit, led, slip, &out)) continue;
+    if (!eval_contact(s, pp, &in, c, k, commit, rows, &out)) continue;
     (*nt)++;
+    if (rows) {
+      double ket[3];
+      spring_t(pp, &c->h[k], ket);
+      esf_ledger_wall_rows(rows, in.n, la, out.fd_n, out.fel, out.fd_t, ket,
+                           out.slip_work, out.e_el_n, out.e_el_t, out.f, vw, dt);
+    }
+    if (slip) *slip += out.slip_work;
     if (s->tally) s->tally->p_walls += v3_dot(out.f, vw);
     if (commit && s->walls.gforce) /* servo walls (servo.c); general path only */
       esf_servo_add(s->walls.gforce + 4 * el->group, &out, in.n);
@@ -269,17 +287,19 @@ static int wall_forces(esf_sim *s, const double *x, const double *v, const doubl
                        double dt, int commit, size_t *touching, esf_error *err) {
   esf_particles *p = &s->p;
   esf_candidates *c = &s->nb.pw;
-  double *led = commit && s->led.on ? c->led : NULL;
+  double *rows = commit && s->led.on ? s->led_rows : NULL; /* the leapfrog's (ledger.h) */
+  const int slips = commit && s->led.on && !rows;          /* the other schemes' ledger */
   double slip = 0;
   size_t nt = 0;
   for (size_t k0 = 0, k1; k0 < c->n; k0 = k1) {
     uint32_t a = c->a[k0];
     for (k1 = k0; k1 < c->n && c->a[k1] == a; k1++) continue;
-    int rc = esf_forces_wall_particle(s, k0, k1, x, v, w, dt, commit, led, &slip, &nt,
-                                      p->f + 3 * a, p->t + 3 * a, err);
+    int rc = esf_forces_wall_particle(
+        s, k0, k1, x, v, w, dt, commit, rows ? rows + ESF_LR * a : NULL,
+        slips ? &slip : NULL, &nt, p->f + 3 * a, p->t + 3 * a, err);
     if (rc) return rc;
   }
-  if (led) s->led.d_friction += slip;
+  if (slips) s->led.d_friction += slip;
   *touching += nt;
   return ESF_OK;
 }
@@ -316,72 +336,4 @@ int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *
   s->rhs_evals++;
   if (touching) *touching = nt;
   return ESF_OK;
-}
-
-/* Elastic energy of one contact in the leapfrog's own measure: with u_{n+1} and
- * xi_{n+1} extrapolated by the new half-step velocity, (1/2) k u_n u_{n+1} and
- * (1/2) kt xi_n . xi_{n+1} are what the kicks exchange with the kinetic energy exactly
- * (the work k u_n vbar dt telescopes), so the balance residual measures only the
- * integrator's error at contact onsets and ends, sliding and frame rotation. */
-static void elastic_tally(const esf_pair_params *pp, const esf_contact_bond *bond,
-                          double un, const double *xi, const double *n, const double *vch,
-                          double dt, double *en, double *et) {
-  double vn = v3_dot(vch, n), fel;
-  /* W(u_n) + f(u_n) (u_{n+1} - u_n)/2: (1/2) k u_n u_{n+1} for a linear spring */
-  *en += pp->law->energy_n(pp, bond, un, &fel) - 0.5 * fel * vn * dt;
-  double vt[3];
-  v3_copy(vt, vch);
-  v3_axpy(vt, -vn, n);
-  *et += 0.5 * pp->kt * (v3_norm2(xi) + dt * v3_dot(xi, vt));
-}
-
-void esf_forces_ledger_pass(esf_sim *s, const double *vbar, const double *wbar,
-                            double dt) {
-  const esf_particles *p = &s->p;
-  const esf_materials *mt = &s->mats;
-  double dn = 0, dtg = 0, ww = 0, en = 0, et = 0;
-  const esf_candidates *c = &s->nb.pp;
-  for (size_t k = 0; k < c->n; k++) {
-    if (!c->touch[k]) continue;
-    uint32_t a = c->a[k], b = c->b[k];
-    const double *L = c->led + ESF_LED_STRIDE * k;
-    const double *n = c->h[k].n;
-    double la = p->radius[a] - 0.5 * L[0], lb = p->radius[b] - 0.5 * L[0];
-    double vc[3], vch[3];
-    esf_law_pair_velocity_s(vbar + 3 * a, vbar + 3 * b, wbar + 3 * a, wbar + 3 * b, la,
-                            lb, n, vc);
-    esf_law_pair_velocity_s(p->v + 3 * a, p->v + 3 * b, p->w + 3 * a, p->w + 3 * b, la,
-                            lb, n, vch);
-    dn += -L[1] * v3_dot(vc, n) * dt; /* fd_n x approach rate */
-    dtg += v3_dot(L + 2, vc) * dt;
-    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
-    elastic_tally(pp, esf_candidates_bond(c, k), L[0], c->h[k].xi, n, vch, dt, &en, &et);
-  }
-  c = &s->nb.pw;
-  for (size_t k = 0; k < c->n; k++) {
-    if (!c->touch[k]) continue;
-    uint32_t a = c->a[k];
-    const double *L = c->led + ESF_LED_STRIDE * k;
-    const double *n = c->h[k].n;
-    const esf_wall_elem *el = &s->walls.e[c->b[k]];
-    const esf_wall_group *g = &s->walls.g[el->group];
-    double la = p->radius[a] - L[0];
-    double q[3], vw[3], vc[3], vch[3];
-    v3_copy(q, p->x + 3 * a);
-    v3_axpy(q, la, n);
-    esf_wall_point_velocity(g, q, vw);
-    contact_velocity(vbar, wbar, a, vw, NULL, la, 0, n, vc);
-    contact_velocity(p->v, p->w, a, vw, NULL, la, 0, n, vch);
-    dn += -L[1] * v3_dot(vc, n) * dt;
-    dtg += v3_dot(L + 2, vc) * dt;
-    ww += v3_dot(L + 5, vw) * dt;
-    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
-    elastic_tally(pp, NULL, L[0], c->h[k].xi, n, vch, dt, &en, &et); /* no bond */
-  }
-  s->led.d_normal += dn;
-  s->led.d_tangential += dtg;
-  s->led.w_walls += ww;
-  if (s->drag) s->led.w_fluid += esf_drag_work(s, vbar, dt); /* drag.c */
-  s->led.el_n = en;
-  s->led.el_t = et;
 }

@@ -28,13 +28,14 @@ int esf_forces_overlap_failure(const esf_sim *s, long long ida, long long idb, i
 
 /* The wall contacts of one particle: candidates [k0, k1) of s->nb.pw, all of one
  * particle (the list is sorted by particle). Adds their forces and torques to f and t
- * (3 each), counts the contacts carrying force into *nt and, when led is not NULL, the
- * ledger scratch and slip work into *slip. Touches only the candidates' own entries
- * (history, flags, the wall scratch of nb), so distinct particles may run in parallel.
- */
+ * (3 each), counts the contacts carrying force into *nt and, when rows is not NULL,
+ * their ledger rows into rows (the particle's ESF_LR, ledger.h), when slip is not NULL,
+ * their slip work into *slip. Touches only the
+ * candidates' own entries (history, flags, the wall scratch of nb), so distinct
+ * particles may run in parallel. */
 int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
                              const double *v, const double *w, double dt, int commit,
-                             double *led, double *slip, size_t *nt, double *f, double *t,
+                             double *rows, double *slip, size_t *nt, double *f, double *t,
                              esf_error *err);
 
 /* Which of one particle's wall hits carry force (forces.c's rule: faces first, edges
@@ -44,13 +45,5 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
 void esf_forces_select_wall_hits(const esf_walls *walls, const uint32_t *elem,
                                  const esf_wall_hit *hits, const double *un, size_t m,
                                  double r, unsigned char *keep);
-
-/* After a leapfrog kick (before the drift): accumulates the dashpot dissipation and the
- * work of walls over the step with the mid-step velocities vbar, wbar (the average of
- * the half steps), using the dashpot forces the last COMMIT evaluation stored, and
- * sets the elastic energies in the leapfrog's measure (forces.c). Requires the ledger;
- * s->p.v, s->p.w hold the new half-step velocities. */
-void esf_forces_ledger_pass(esf_sim *s, const double *vbar, const double *wbar,
-                            double dt);
 
 #endif

@@ -138,4 +138,8 @@ void esf_sim_release(esf_sim *s) {
   esf_neighbor_release(&s->nb);
   esf_events_free(&s->events);
   esf_drag_free(&s->drag);
+  free(s->led_rows);
+  free(s->led_blocks);
+  s->led_rows = s->led_blocks = NULL;
+  s->led_cap = 0;
 }
