@@ -152,7 +152,7 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   }
   const int ledger = s->led.on, tally = ledger || s->cfg.autod.on;
   if (tally) { /* the step's ledger rows and blocks, zeroed (ledger.h) */
-    rc = esf_sim_ledger_room(s, err);
+    rc = esf_sim_ledger_room(s, 1, err);
     if (rc) return rc;
   }
   rc = esf_forces_eval(s, p->x, p->v, p->w, s->dt, ESF_FORCES_COMMIT, &touching, err);

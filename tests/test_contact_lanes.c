@@ -159,7 +159,7 @@ static void batched(const esf_fused_kernels *K, cases *c, const esf_materials *m
   for (size_t q0 = 0, nl = 1; q0 < NP; q0 += nl, nl = nl % ESF_BATCH + 1) {
     if (q0 + nl > NP) nl = NP - q0;
     unsigned apart = 0;
-    const unsigned fail = K->batch(&ctx, ord + q0, (int)nl, out, &apart);
+    const unsigned fail = K->batch(&ctx, ord + q0, (int)nl, out, NULL, &apart);
     for (size_t l = 0; l < nl; l++) {
       const size_t k = ord[q0 + l];
       result *r = &res[k];

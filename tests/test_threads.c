@@ -69,13 +69,15 @@ typedef struct snapshot {
   double contacts_mean; /* touching contacts per step, averaged over the run */
   long calls;           /* calls of the scheme's step */
   int fused;            /* the fused step ran it (esf_fused_eligible) */
+  esf_ledger led;       /* the energy ledger at the end (ledger_) */
 } snapshot;
 
 /* 1500 steps with the floor oscillating or still, `burst` steps at most per call of
  * the scheme (s->burst, as the driver sets it: more than one only with static walls). */
 /* The fused step's kernels for run(): "" for the CPU's widest, or base, avx2, avx512
- * (fused_isa.h). */
+ * (fused_isa.h); and whether the energy ledger is on (a row every 1e-5 s). */
 static const char *isa_ = "";
+static int ledger_ = 0;
 
 static int run(int threads, int fused, const char *tframe, int moving, long burst,
                snapshot *out) {
@@ -83,9 +85,9 @@ static int run(int threads, int fused, const char *tframe, int moving, long burs
   snprintf(s_fu, sizeof s_fu, "integrator.fused=%s", fused ? "true" : "false");
   snprintf(s_tf, sizeof s_tf, "contact.tangential_frame=%s", tframe);
   snprintf(scene, sizeof scene, scene_fmt, moving ? oscillate : "");
-  const char *sets[] = {s_fu, s_tf};
+  const char *sets[] = {s_fu, s_tf, "output.energy_every=1.0e-5"};
   simtest T;
-  int rc = simtest_open(&T, scene, sets, 2);
+  int rc = simtest_open(&T, scene, sets, ledger_ ? 3 : 2);
   if (rc) return rc;
   T.s.cfg.threads = threads;
   T.s.cfg.range_work = 1; /* one range per thread, however small the scene */
@@ -115,6 +117,7 @@ static int run(int threads, int fused, const char *tframe, int moving, long burs
     out->contacts_mean = T.s.contacts_sum / (double)T.s.step;
     out->calls = calls;
     out->fused = on;
+    out->led = T.s.led;
   }
   simtest_close(&T);
   return rc;
@@ -132,6 +135,9 @@ static void check_same(const snapshot *a, const snapshot *ref, const char *what)
   CHECK(a->contacts_mean == ref->contacts_mean && a->builds == ref->builds,
         "%s: %.6f contacts per step, %ld builds (reference %.6f, %ld)", what,
         a->contacts_mean, a->builds, ref->contacts_mean, ref->builds);
+  CHECK(memcmp(&a->led, &ref->led, sizeof a->led) == 0,
+        "%s: energy ledger differs (dissipated normal %.17g, reference %.17g)", what,
+        a->led.d_normal, ref->led.d_normal);
 }
 
 /* Two clouds of spheres meeting head on, no walls in reach: the first overlaps beyond
@@ -275,6 +281,43 @@ static void check_leave(void) {
   }
 }
 
+/* With the energy ledger on (every column booked each step from per-particle rows and
+ * fixed blocks, core/ledger.h): the fused step on 1, 2 and 3 threads, in bursts of 32
+ * steps with the floor still and of 1 with it moving, gives the general path's state
+ * and ledger, bit for bit. */
+static void check_ledger(void) {
+  ledger_ = 1;
+  for (int moving = 0; moving < 2; moving++) {
+    snapshot gen, b;
+    const long burst = moving ? 1 : 32;
+    if (run(1, 0, "rotate", moving, 1, &gen) != 0) {
+      CHECK(0, "ledger: general path");
+      break;
+    }
+    CHECK(gen.led.on && gen.led.d_normal > 0 && gen.led.d_friction > 0 &&
+              gen.led.d_global > 0 && gen.led.el_n > 0,
+          "ledger: every path books energy");
+    printf("ledger, floor %s: dissipated normal %.6g J, tangential %.6g J, friction %.6g "
+           "J, global %.6g J, local %.6g J; walls' work %.6g J\n",
+           moving ? "oscillating" : "still", gen.led.d_normal, gen.led.d_tangential,
+           gen.led.d_friction, gen.led.d_global, gen.led.d_local, gen.led.w_walls);
+    for (int t = 1; t <= 3; t++) {
+      char what[96];
+      snprintf(what, sizeof what, "ledger, floor %s, %d threads",
+               moving ? "oscillating" : "still", t);
+      CHECK(run(t, 1, "rotate", moving, burst, &b) == 0, "%s", what);
+      if (check_failures_) break;
+#ifndef ESF_MINIMAL
+      CHECK(b.fused, "%s: the fused step must run it", what);
+#endif
+      check_same(&b, &gen, what);
+      release(&b);
+    }
+    release(&gen);
+  }
+  ledger_ = 0;
+}
+
 /* Every instruction set's kernels (fused_isa.h) that this CPU runs give the base
  * kernels' state bit for bit, on 2 threads. */
 static void check_isas(void) {
@@ -346,6 +389,7 @@ int main(void) {
     release(&ref);
   }
   check_isas();
+  check_ledger();
   check_failure();
   check_leave();
   return check_finish("threads");

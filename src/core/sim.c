@@ -102,7 +102,7 @@ int esf_sim_remove_escaped(esf_sim *s, esf_error *err) {
   return ESF_OK;
 }
 
-int esf_sim_ledger_room(esf_sim *s, esf_error *err) {
+int esf_sim_ledger_room(esf_sim *s, int zero, esf_error *err) {
   const size_t n = s->p.n;
   if (n > s->led_cap || !s->led_rows) {
     const size_t cap = n > 64 ? n + n / 4 : 64;
@@ -114,6 +114,7 @@ int esf_sim_ledger_room(esf_sim *s, esf_error *err) {
     s->led_blocks = b;
     s->led_cap = cap;
   }
+  if (!zero) return ESF_OK;
   memset(s->led_rows, 0, n * ESF_LR * sizeof(double));
   memset(s->led_blocks, 0, esf_ledger_nblocks(n) * ESF_LB_N * sizeof(double));
   return ESF_OK;

@@ -152,9 +152,9 @@ void esf_sim_log(const esf_sim *s, const char *fmt, ...)
 /* Critical-step estimates for the sim's particles, materials and damping. */
 void esf_dt_estimate_compute(const esf_sim *s, esf_dt_estimate *e);
 
-/* Room in led_rows and led_blocks for the current particles, rows zeroed (the
- * leapfrog's ledger, ledger.h). */
-int esf_sim_ledger_room(esf_sim *s, esf_error *err);
+/* Room in led_rows and led_blocks for the current particles, zeroed when zero is 1
+ * (the leapfrog's ledger, ledger.h). */
+int esf_sim_ledger_room(esf_sim *s, int zero, esf_error *err);
 
 /* Blocks of the ledger's sums for n particles. */
 static inline size_t esf_ledger_nblocks(size_t n) {

@@ -86,6 +86,8 @@ void esf_fused_free(esf_fused **f) {
   free(q->bk);
   free(q->slot);
   free(q->slot_a);
+  free(q->lslot);
+  free(q->lslot_a);
   free(q->bout);
   free(q->bin);
   free(q->binstart);
@@ -107,7 +109,7 @@ static int minimal_ok(const esf_sim *s) {
 
 const char *esf_fused_refusal(const esf_sim *s) {
   if (!s->cfg.fused) return "integrator.fused: false";
-  if (s->led.on) return "the energy ledger is on: output.energy_every > 0";
+  if (s->led.on && !ESF_FUSED_FEATURES) return "the energy ledger (a minimal build)";
   if (s->cfg.autod.on) return "adaptive damping";
   if (s->tally || s->nb.pp.vc0 || s->nb.pp.xs || s->nb.pw.xs)
     return "the integrator's own tallies or history";
@@ -211,6 +213,11 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
     if (rc) return rc;
   }
   const int nth = f->nth; /* the ranges worth running (fused_ranges.c) */
+  const int ledger = s->led.on; /* per-particle rows and blocks (core/ledger.h) */
+  if (ledger) {
+    rc = esf_sim_ledger_room(s, 0, err);
+    if (rc) return rc;
+  }
   const size_t T = (size_t)nth;
   const double dt = s->dt, h = 0.5 * dt;
   const esf_candidates *cp = &s->nb.pp;
@@ -231,7 +238,8 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
       .dt = dt,
       .max_overlap = s->cfg.max_overlap,
       .rotate = !ESF_FUSED_FEATURES || s->cfg.tframe == ESF_TFRAME_ROTATE,
-      .cohesion = ESF_FUSED_FEATURES && s->mats.any_cohesion};
+      .cohesion = ESF_FUSED_FEATURES && s->mats.any_cohesion,
+      .rows = ledger ? s->led_rows : NULL};
   const double cr0 = 1.0 - s->alpha_r * h, cr1 = 1.0 / (1.0 + s->alpha_r * h),
                ct0 = 1.0 - s->alpha_t * h, ct1 = 1.0 / (1.0 + s->alpha_t * h);
   const esf_fused_kick K = {.dt = dt,
@@ -242,12 +250,19 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
                             .lc = s->cfg.local_coef,
                             .dim2 = s->cfg.dim == 2,
                             .plain = cr0 == 1.0 && cr1 == 1.0 && ct0 == 1.0 &&
-                                     ct1 == 1.0 && !s->local && s->cfg.dim == 3,
+                                     ct1 == 1.0 && !s->local && s->cfg.dim == 3 &&
+                                     !ledger,
                             .wall_pass = esf_wall_pass_select(s),
                             .loc = s->local,
                             .xref = s->nb.xref,
                             .dom_lo = s->nb.dom_lo,
-                            .dom_hi = s->nb.dom_hi};
+                            .dom_hi = s->nb.dom_hi,
+                            .rows = ledger ? s->led_rows : NULL,
+                            .blocks = ledger ? s->led_blocks : NULL,
+                            .lk = {.dt = dt,
+                                   .alpha_r = s->alpha_r,
+                                   .alpha_t = s->alpha_t,
+                                   .g = s->cfg.gravity}};
   /* more than one step only when the lists' check between steps needs nothing but
      the displacements (esf_neighbor_check) and nothing else happens between them */
   const int many = s->nb.xref && s->nb.nref == p->n && !s->walls.moving && !s->events;
@@ -255,7 +270,9 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
                              .K = &K,
                              .e0 = f->epoch + 1,
                              .steps = many && nmax > 1 ? nmax : 1,
-                             .lim2 = esf_neighbor_limit2(&s->nb)};
+                             .lim2 = esf_neighbor_limit2(&s->nb),
+                             .led = ledger ? &s->led : NULL,
+                             .nblocks = esf_ledger_nblocks(p->n)};
   f->nt_sum = 0;
   f->taken = 0;
   f->decided = 0;
@@ -287,6 +304,7 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
   const int fail = esf_fused_gather(f, &r);
   if (!f->decided) {
     if (!fail) f->nt_sum += r.nt;
+    if (!fail && ledger && n > 0) esf_ledger_step(&s->led, s->led_blocks, B.nblocks);
     esf_fused_balance(f, T);
   }
   const long ok = fail ? n - 1 : n; /* steps completed without failure */
@@ -315,6 +333,7 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
                                   ESF_FORCES_TRIAL, NULL, NULL, &nt, fi, ti, err);
     return rc ? rc : esf_fail(err, ESF_EINTERNAL, "wall contact failure not reproduced");
   }
+  if (ledger) s->led_time = (double)(s->step - 1) * s->dt; /* the last step's t_n */
   s->nb.max_disp2 = r.max2;
   s->nb.escaped = r.escaped;
   s->nb.disp_valid = K.xref && !r.nonfinite;

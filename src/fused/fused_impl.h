@@ -37,6 +37,8 @@
  * `slot_a`, which stays in a's core. Four doubles each, the last zero. */
 #define ESF_FUSED_SLOT   8 /* per pair in slot: force on A, torque on B */
 #define ESF_FUSED_SLOT_A 8 /* per pair in slot_a: force on A, torque on A */
+#define ESF_FUSED_LSLOT  24 /* with the ledger, per pair in lslot (B's) and lslot_a (A's):
+                               six ledger rows (core/ledger.h) */
 
 /* One range's results of a step. */
 typedef struct esf_fused_out {
@@ -70,7 +72,8 @@ typedef struct esf_fused_kernels {
   void (*kick_range)(esf_sim *s, const esf_fused *f, const struct esf_fused_kick *K,
                      size_t lo, size_t hi, esf_fused_out *o, size_t *nt_pw);
   unsigned (*batch)(const esf_pair_batch_ctx *ctx, const uint32_t *k, int nl,
-                    double out[ESF_BATCH][ESF_BATCH_OUT], unsigned *apart); /* tests */
+                    double out[ESF_BATCH][ESF_BATCH_OUT],
+                    double lout[ESF_BATCH][ESF_BATCH_LOUT], unsigned *apart); /* tests */
 } esf_fused_kernels;
 
 extern const esf_fused_kernels esf_fused_kernels_base;
@@ -99,6 +102,9 @@ struct esf_fused {
   double *slot;      /* ESF_FUSED_SLOT per boundary pair, zero when not touching;
                         line-aligned */
   double *slot_a;    /* ESF_FUSED_SLOT_A per boundary pair, zero when not touching */
+  double *lslot, *lslot_a; /* with the ledger: ESF_FUSED_LSLOT per boundary pair, B's and
+                              A's ledger rows, zero when not touching; else NULL */
+  size_t cap_lb;           /* boundary pairs they have room for */
   size_t *bout;      /* nth+1: bk[bout[t] .. bout[t+1]) have a in range t */
   uint32_t *bin;     /* boundary ordinals by the range of b, ascending within */
   size_t *binstart;  /* nth+1 */
@@ -124,6 +130,24 @@ struct esf_fused {
   _Atomic long bfail;
 };
 
+/* Boundary pair j's slots when it does not touch: what adding (or, for the force on A
+ * in `slot`, subtracting) leaves every double as it was, -0 and +0 (a zero slot must
+ * not turn a -0 into +0, which the general path, adding nothing, keeps). */
+static inline void esf_fused_slot_clear(esf_fused *f, size_t j) {
+  double *s = f->slot + ESF_FUSED_SLOT * j, *sa = f->slot_a + ESF_FUSED_SLOT_A * j;
+  for (int q = 0; q < 4; q++) {
+    s[q] = 0.0;      /* subtracted from B's force */
+    s[4 + q] = -0.0; /* added to B's torque */
+    sa[q] = -0.0;
+    sa[4 + q] = -0.0;
+  }
+  if (f->lslot)
+    for (int q = 0; q < ESF_FUSED_LSLOT; q++) {
+      f->lslot[ESF_FUSED_LSLOT * j + q] = -0.0;
+      f->lslot_a[ESF_FUSED_LSLOT * j + q] = -0.0;
+    }
+}
+
 /* What the particle pass needs: walls, 2D, local damping, kick, drift (fused_kick.c). */
 typedef struct esf_fused_kick {
   double dt, cr0, cr1, ct0, ct1, lc; /* s; (1 -+ alpha h) factors; local coefficient */
@@ -133,6 +157,9 @@ typedef struct esf_fused_kick {
   const esf_local_damping *loc;
   const double *xref;            /* positions at the lists' build, or NULL */
   const double *dom_lo, *dom_hi; /* the domain, or NULL */
+  /* the ledger (core/ledger.h), or rows NULL: the particles' rows, their blocks */
+  double *rows, *blocks;
+  esf_ledger_kick lk;
 } esf_fused_kick;
 
 /* What every range's steps share in one call (fused.c). */
@@ -142,6 +169,8 @@ typedef struct esf_fused_burst {
   long e0;     /* the epoch of the call's first step */
   long steps;  /* steps at most */
   double lim2; /* the lists need a rebuild past this squared displacement, m^2 */
+  esf_ledger *led; /* the ledger, booked step by step from K->blocks; NULL: off */
+  size_t nblocks;  /* its blocks */
 } esf_fused_burst;
 
 /* A range's interior pairs as two lists, contacts and idle candidates (fused_lists.c

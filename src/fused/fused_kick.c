@@ -13,6 +13,8 @@
 #include "fused/fused_impl.h"
 
 #include <math.h>
+
+#include "model/forces.h"
 #include <string.h>
 
 /* The wall contacts of range [lo, hi), particle by particle in ascending order
@@ -27,7 +29,13 @@ static int walls_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *K, 
     const size_t i = pw->a[k];
     k1 = f->wstart[i + 1];
     double *fi = f->acc + ESF_FUSED_ACC * i;
-    if (wall_pass(s, k, k1, K->dt, nt_pw, fi, fi + 4)) {
+    const esf_particles *p = &s->p;
+    const int rc = K->rows ? /* the ledger's rows: the general wall code fills them */
+                       esf_forces_wall_particle(s, k, k1, p->x, p->v, p->w, K->dt,
+                                                ESF_FORCES_COMMIT, K->rows + ESF_LR * i,
+                                                NULL, nt_pw, fi, fi + 4, NULL)
+                           : wall_pass(s, k, k1, K->dt, nt_pw, fi, fi + 4);
+    if (rc) {
       if (i < *bad_part) *bad_part = i;
       fail = 1;
     }
@@ -100,14 +108,20 @@ static inline void kick_one(esf_particles *p, const esf_fused_kick *K, size_t i,
   double fk[3], tk[3]; /* fi, ti stay: F_n, M_n for p.f, p.t (s->ft_lazy) */
   v3_copy(fk, fi);
   v3_copy(tk, ti);
+  double fl[3] = {0, 0, 0}, ml[3] = {0, 0, 0}; /* local damping */
   if (ESF_FUSED_FEATURES && K->loc) {
-    double fd[3], md[3];
-    K->loc->force(K->lc, fk, v, fd);
-    K->loc->force(K->lc, tk, w, md);
-    v3_add(fk, fk, fd);
-    v3_add(tk, tk, md);
+    K->loc->force(K->lc, fk, v, fl);
+    K->loc->force(K->lc, tk, w, ml);
+    v3_add(fk, fk, fl);
+    v3_add(tk, tk, ml);
   }
   const double im = p->inv_mass[i] * dt, ii = p->inv_inertia[i] * dt;
+  double x0[3], v0[3], w0[3];
+  if (K->rows) { /* the ledger: the state before the kick and drift */
+    v3_copy(x0, x);
+    v3_copy(v0, v);
+    v3_copy(w0, w);
+  }
   double d2 = 0.0;
   for (int q = 0; q < 3; q++) {
     if (ESF_FUSED_FEATURES) {
@@ -130,6 +144,14 @@ static inline void kick_one(esf_particles *p, const esf_fused_kick *K, size_t i,
       *nonfinite = 1; /* NaN */
   }
   if (K->dom_lo) *escaped |= v3_outside(x, K->dom_lo, K->dom_hi); /* as sim.c's */
+  if (K->rows) { /* as the general path's kick (esf_ledger_kick_particle) */
+    double *blk = K->blocks + ESF_LB_N * (i / ESF_LEDGER_BLOCK);
+    if (i % ESF_LEDGER_BLOCK == 0) memset(blk, 0, ESF_LB_N * sizeof(double));
+    esf_ledger_kick_particle(&K->lk, p->mass[i], p->inertia[i], x0, v0, v, w0, w,
+                             ESF_FUSED_FEATURES && K->loc ? fl : NULL,
+                             ESF_FUSED_FEATURES && K->loc ? ml : NULL, NULL,
+                             K->rows + ESF_LR * i, blk);
+  }
 }
 
 /* The particle pass of range [lo, hi): the wall contacts of every particle first,

@@ -40,7 +40,7 @@ static size_t work_of(const esf_fused *f, const esf_candidates *c, size_t i) {
  * work of steps 1-2 (wt, per particle) is shared equally, so threads finish together
  * although a bed's bottom has more contacts than its surface. Any cut gives the same
  * results. */
-static void cut_once(esf_fused *f, const size_t *wt, size_t n, size_t T) {
+static void cut_once(esf_fused *f, const size_t *wt, size_t n, size_t T, size_t align) {
   size_t total = 0;
   for (size_t i = 0; i < n; i++) total += wt[i];
   size_t i = 0, acc = 0;
@@ -48,7 +48,9 @@ static void cut_once(esf_fused *f, const size_t *wt, size_t n, size_t T) {
   for (size_t t = 1; t < T; t++) {
     const size_t goal = total / T * t + total % T * t / T;
     while (i < n && acc < goal) acc += wt[i++];
-    f->rlo[t] = i;
+    size_t cut = (i + align / 2) / align * align; /* the ledger's blocks stay whole */
+    if (cut < f->rlo[t - 1]) cut = f->rlo[t - 1];
+    f->rlo[t] = cut < n ? cut : n;
   }
   f->rlo[T] = n;
 }
@@ -57,7 +59,7 @@ static void cut_once(esf_fused *f, const size_t *wt, size_t n, size_t T) {
  * work is scaled by its old range's measured seconds per unit (rounded to 1/64).
  * wt: 2n of scratch, the weights cut by, then each particle's unscaled work. */
 static void cut_ranges(esf_fused *f, const esf_candidates *c, size_t *wt, size_t n,
-                       size_t T) {
+                       size_t T, size_t align) {
   size_t *base = wt + n;
   for (size_t i = 0; i < n; i++) wt[i] = base[i] = work_of(f, c, i);
   if (f->recut) {
@@ -68,7 +70,7 @@ static void cut_ranges(esf_fused *f, const esf_candidates *c, size_t *wt, size_t
       for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++) wt[i] *= q;
     }
   }
-  cut_once(f, wt, n, T);
+  cut_once(f, wt, n, T, align);
   for (size_t t = 0; t < T; t++) { /* unscaled: the next rates are the ranges' own */
     f->work[t] = 0.0;
     for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++) f->work[t] += (double)base[i];
@@ -141,7 +143,8 @@ static int ranges_for(const esf_sim *s, const esf_fused *f, size_t n, int want) 
       s->cfg.range_work > 0 ? (size_t)s->cfg.range_work : ESF_FUSED_MIN_WORK;
   size_t total = 0;
   for (size_t i = 0; i < n; i++) total += work_of(f, c, i);
-  const size_t r = total / least;
+  size_t r = total / least;
+  if (s->led.on && r > esf_ledger_nblocks(n)) r = esf_ledger_nblocks(n); /* whole blocks */
   return r < 1 ? 1 : r < (size_t)want ? (int)r : want;
 }
 
@@ -194,7 +197,8 @@ int esf_fused_index(esf_sim *s, esf_fused *f, int want, esf_error *err) {
   f->epoch = 0;
   size_t *wt = calloc(n ? 2 * n : 1, sizeof *wt); /* cut_ranges' weights and work */
   if (!wt) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particle ranges", n);
-  cut_ranges(f, c, wt, n, T);
+  const size_t align = s->led.on && ESF_FUSED_FEATURES ? ESF_LEDGER_BLOCK : 1;
+  cut_ranges(f, c, wt, n, T, align);
   free(wt);
   /* boundary pairs: a in range t, b in a higher range (b > a) */
   size_t nb = 0;
@@ -240,10 +244,22 @@ int esf_fused_index(esf_sim *s, esf_fused *f, int want, esf_error *err) {
     f->bin[cu[tb]++] = (uint32_t)j;
   }
   if (cu != cur) free(cu);
-  if (nb) { /* zero unless touching */
-    memset(f->slot, 0, nb * ESF_FUSED_SLOT * sizeof(double));
-    memset(f->slot_a, 0, nb * ESF_FUSED_SLOT_A * sizeof(double));
+  const int led = s->led.on && ESF_FUSED_FEATURES;
+  if (led && nb > f->cap_lb) {
+    double *l0 = esf_lines_realloc(f->lslot, 0, nb * ESF_FUSED_LSLOT * sizeof(double));
+    if (l0) f->lslot = l0;
+    double *l1 = l0 ? esf_lines_realloc(f->lslot_a, 0, nb * ESF_FUSED_LSLOT * sizeof(double))
+                    : NULL;
+    if (l1) f->lslot_a = l1;
+    if (!l1) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu boundary pairs", nb);
+    f->cap_lb = nb;
+  } else if (!led) {
+    free(f->lslot);
+    free(f->lslot_a);
+    f->lslot = f->lslot_a = NULL;
+    f->cap_lb = 0;
   }
+  for (size_t j = 0; j < nb; j++) esf_fused_slot_clear(f, j); /* zero unless touching */
   f->built = s->nb.builds;
   f->np = n;
   f->nth = nth;

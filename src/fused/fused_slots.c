@@ -63,15 +63,14 @@ size_t esf_fused_boundary(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc
   uint32_t kb[ESF_BATCH];
   size_t jb[ESF_BATCH], bad = SIZE_MAX;
   int m = 0;
-  double out[ESF_BATCH][ESF_BATCH_OUT];
+  double out[ESF_BATCH][ESF_BATCH_OUT], lout[ESF_BATCH][ESF_BATCH_LOUT];
   for (size_t j = j0; j < j1 || m > 0;) {
     if (j < j1) {
       const size_t k = f->bk[j], a = c->a[k], b = c->b[k];
       if (!esf_fused_overlap(p->x, p->radius, a, b)) {
         if (c->touch[k]) {
           c->touch[k] = 0;
-          memset(f->slot + ESF_FUSED_SLOT * j, 0, ESF_FUSED_SLOT * sizeof(double));
-          memset(f->slot_a + ESF_FUSED_SLOT_A * j, 0, ESF_FUSED_SLOT_A * sizeof(double));
+          esf_fused_slot_clear(f, j);
         }
         j++;
         continue;
@@ -82,7 +81,8 @@ size_t esf_fused_boundary(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc
       if (m < ESF_BATCH) continue;
     }
     unsigned apart; /* none: screened above by the same test */
-    const unsigned fail = esf_pair_batch_linear(bc, kb, m, out, &apart);
+    const unsigned fail = esf_pair_batch_linear(bc, kb, m, out, lout, &apart);
+    if (m > ESF_BATCH) __builtin_unreachable(); /* kb, jb hold ESF_BATCH */
     for (int l = 0; l < m; l++) {
       if (fail >> l & 1u) {
         if (kb[l] < bad) bad = kb[l];
@@ -91,6 +91,12 @@ size_t esf_fused_boundary(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc
       slot_put(f->slot + ESF_FUSED_SLOT * jb[l], out[l]);
       memcpy(f->slot_a + ESF_FUSED_SLOT_A * jb[l], out[l],
              ESF_FUSED_SLOT_A * sizeof(double));
+      if (bc->rows) { /* the ledger's rows: A's, B's */
+        memcpy(f->lslot_a + ESF_FUSED_LSLOT * jb[l], lout[l],
+               ESF_FUSED_LSLOT * sizeof(double));
+        memcpy(f->lslot + ESF_FUSED_LSLOT * jb[l], lout[l] + ESF_FUSED_LSLOT,
+               ESF_FUSED_LSLOT * sizeof(double));
+      }
     }
     m = 0;
   }

@@ -90,6 +90,7 @@ int esf_fused_decide(esf_fused *f, const esf_fused_burst *B, long e, double *wai
   esf_fused_out r;
   const int fail = esf_fused_gather(f, &r);
   if (!fail) f->nt_sum += r.nt;
+  if (!fail && B->led) esf_ledger_step(B->led, B->K->blocks, B->nblocks); /* step e-1 */
   esf_fused_balance(f, T);
   const int stop = fail || r.nonfinite || r.escaped || r.max2 > B->lim2 || f->recut;
   atomic_store_explicit(&f->go, 2 * e + stop, memory_order_release);

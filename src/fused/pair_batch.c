@@ -197,6 +197,57 @@ static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
 
 static inline vd dot(const vd a[3], const vd b[3]) { return esf_law_dot_v(a, b); }
 
+/* The ledger's rows of the batch's lanes (esf_ledger_pair_rows's operations, per lane):
+ * A's [-fd n | slip], [-fel n | W], [fdt | e_t], [lA n x fdt | -0], [ket | -0],
+ * [lA n x ket | -0] with ket = kt xi, and B's the opposite forces and its own torques
+ * (lB), each with -0 in its fourth lane (the one value whose addition leaves every
+ * double as it was). Added to the rows of the lanes not in skip, in lane order, or
+ * written to lout. */
+static void ledger_rows(const esf_pair_batch_ctx *c, vd kn, vd kt, vd un, vd fd,
+                        const vd n[3], vd la, vd lb, const esf_law_tout_v *T,
+                        const size_t *ia, const size_t *ib, int nl, unsigned skip,
+                        double lout[ESF_BATCH][ESF_BATCH_LOUT]) {
+  const vd mz = {-0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0};
+  const vd fel = kn * un, e_n = 0.5 * kn * un * un;
+  vd ket[3], md[3], me[3];
+  for (int q = 0; q < 3; q++) ket[q] = kt * T->xi[q];
+  esf_law_cross_v(md, n, T->fdt);
+  esf_law_cross_v(me, n, ket);
+  vd col[12][4];
+  for (int q = 0; q < 3; q++) {
+    col[0][q] = -fd * n[q];
+    col[1][q] = -fel * n[q];
+    col[2][q] = T->fdt[q];
+    col[3][q] = la * md[q];
+    col[4][q] = ket[q];
+    col[5][q] = la * me[q];
+    col[6][q] = -col[0][q];
+    col[7][q] = -col[1][q];
+    col[8][q] = -col[2][q];
+    col[9][q] = lb * md[q];
+    col[10][q] = -col[4][q];
+    col[11][q] = lb * me[q];
+  }
+  col[0][3] = T->slip;
+  col[1][3] = e_n;
+  col[2][3] = T->e_el;
+  for (int j = 3; j < 12; j++) col[j][3] = mz;
+  v4 r[12][ESF_BATCH];
+  for (int j = 0; j < 12; j++) rows_of(col[j], r[j]);
+  for (int l = 0; l < nl; l++) {
+    if (skip >> l & 1u) continue;
+    if (lout) {
+      for (int j = 0; j < 12; j++) v4_st(lout[l] + 4 * j, r[j][l]);
+      continue;
+    }
+    double *ra = c->rows + ESF_LR * ia[l], *rb = c->rows + ESF_LR * ib[l];
+    for (int j = 0; j < 6; j++) {
+      v4_st(ra + 4 * j, v4_ld(ra + 4 * j) + r[j][l]);
+      v4_st(rb + 4 * j, v4_ld(rb + 4 * j) + r[6 + j][l]);
+    }
+  }
+}
+
 /* The batch; its results to out (acc NULL) or added to acc. In order: gather the lanes'
  * positions, radii, velocities, spins, history and pair parameters; compute everything
  * lane-wise with the same instructions for every lane (the Coulomb cap as a select, its
@@ -208,7 +259,8 @@ static inline vd dot(const vd a[3], const vd b[3]) { return esf_law_dot_v(a, b);
  * below (GCC keeps it out of line; two copies, each inlined and specialised for its
  * output, were slower: docs/performance.md#tried-and-not-kept). */
 static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
-                             double out[ESF_BATCH][ESF_BATCH_OUT], double *acc,
+                             double out[ESF_BATCH][ESF_BATCH_OUT],
+                             double lout[ESF_BATCH][ESF_BATCH_LOUT], double *acc,
                              unsigned *apart) {
   size_t kk[ESF_BATCH], ia[ESF_BATCH], ib[ESF_BATCH], a3[ESF_BATCH], b3[ESF_BATCH];
   size_t hk[ESF_BATCH]; /* byte offsets of the histories */
@@ -281,7 +333,7 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
                             .tl = zero,
                             .rotate = c->rotate,
                             .tension = 0, /* fn >= 0: the linear law does not pull */
-                            .ledger = 0,
+                            .ledger = c->rows != NULL,
                             .vi = NULL};
   esf_law_tout_v T;
   esf_law_tangential_v(&P, zero + c->dt, n, spin, vc, vn, fn, hx, hn, tch, &T);
@@ -327,16 +379,19 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
       if ((badmask | gone) >> l & 1u) continue;
       esf_pair_batch_acc_add(acc, ia[l], ib[l], rf[l], rta[l], rtb[l]);
     }
+  if (c->rows) ledger_rows(c, kn, kt, un, fd, n, la, lb, &T, ia, ib, nl, badmask | gone,
+                           acc ? NULL : lout);
   *apart = gone;
   return badmask;
 }
 
 unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
-                               double out[ESF_BATCH][ESF_BATCH_OUT], unsigned *apart) {
-  return batch(c, k, nl, out, NULL, apart);
+                               double out[ESF_BATCH][ESF_BATCH_OUT],
+                               double lout[ESF_BATCH][ESF_BATCH_LOUT], unsigned *apart) {
+  return batch(c, k, nl, out, lout, NULL, apart);
 }
 
 unsigned esf_pair_batch_linear_add(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
                                    double *acc, unsigned *apart) {
-  return batch(c, k, nl, NULL, acc, apart);
+  return batch(c, k, nl, NULL, NULL, acc, apart);
 }

@@ -17,10 +17,14 @@
 #include "contact/contact_law.h"
 #include "fused/fused_isa.h"
 #include "contact/material.h"
+#include "core/ledger.h"
 #include "util/vec4.h"
 
 #define ESF_BATCH     8
 #define ESF_BATCH_OUT 12 /* force on A, torque on A, torque on B: 3 + a zero each */
+/* with the ledger: A's ledger rows (ESF_LR_MET + 4 of core/ledger.h: six rows of
+ * four), then B's, ready to add */
+#define ESF_BATCH_LOUT 48
 
 /* What the batch reads and commits: the particles, the candidate pairs' ends and
  * history, the reduced masses the dashpots' coefficients come from, and the step's
@@ -42,18 +46,33 @@ typedef struct esf_pair_batch_ctx {
   int rotate;                 /* 1: xi rotated into the new plane (000 3-17, 3-18);
                                  0: projected and rescaled */
   int cohesion;               /* 1: the Coulomb cap includes the pair's cohesion */
+  double *rows;               /* the ledger's rows (core/ledger.h, ESF_LR a particle;
+                                 line-aligned), or NULL: no ledger */
 } esf_pair_batch_ctx;
 
 /* The contacts of pairs k[0 .. nl) (1 <= nl <= ESF_BATCH). A pair whose spheres do
  * not overlap (the fused step's screening test: |x_b - x_a|^2 < (r_a + r_b)^2, the
  * same operations) is apart: its touch flag is cleared, nothing else is written, and
  * its lane's bit is set in *apart. For the others, writes out[lane][0 ..
- * ESF_BATCH_OUT) and commits each pair's history and touch flag. Returns a bit mask of
- * the lanes whose overlap exceeds the limit: nothing is committed for those. The
- * particle arrays x, v, w are read four doubles at a time, so one double past the last
- * w must be readable (esf_particles' y has it). */
+ * ESF_BATCH_OUT) and, with the ledger (ctx->rows), lout[lane][0 .. ESF_BATCH_LOUT),
+ * and commits each pair's history and touch flag. Returns a bit mask of the lanes whose
+ * overlap exceeds the limit: nothing is committed for those. The particle arrays x, v,
+ * w are read four doubles at a time, so one double past the last w must be readable
+ * (esf_particles' y has it). */
 unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *ctx, const uint32_t *k, int nl,
-                               double out[ESF_BATCH][ESF_BATCH_OUT], unsigned *apart);
+                               double out[ESF_BATCH][ESF_BATCH_OUT],
+                               double lout[ESF_BATCH][ESF_BATCH_LOUT], unsigned *apart);
+
+/* Adds one pair's ledger rows lout (esf_pair_batch_linear's, A's then B's) to the rows
+ * of its particles a and b (ESF_LR a particle). */
+static inline void esf_pair_batch_led_add(double *rows, size_t a, size_t b,
+                                          const double *lout) {
+  double *ra = rows + ESF_LR * a, *rb = rows + ESF_LR * b;
+  for (int j = 0; j < 24; j += 4) {
+    v4_st(ra + j, v4_ld(ra + j) + v4_ld(lout + j));
+    v4_st(rb + j, v4_ld(rb + j) + v4_ld(lout + 24 + j));
+  }
+}
 
 /* The accumulators esf_pair_batch_linear_add adds into: per particle i, at
  * acc + ESF_BATCH_ACC * i, the force (x, y, z, unused) then the torque (x, y, z,
@@ -75,8 +94,8 @@ static inline void esf_pair_batch_acc_add(double *acc, size_t a, size_t b, esf_v
 /* As esf_pair_batch_linear, but instead of writing out, adds each lane's results to
  * its particles' accumulators, lane by lane in lane order, as a caller's scatter of out
  * would: force on A to A's force, its opposite to B's, the torques to A's and B's
- * torques. Nothing is added for the lanes whose bit the returned mask sets, nor for
- * the lanes apart. */
+ * torques, and with the ledger each lane's rows to its particles' rows. Nothing is
+ * added for the lanes whose bit the returned mask sets, nor for the lanes apart. */
 unsigned esf_pair_batch_linear_add(const esf_pair_batch_ctx *ctx, const uint32_t *k,
                                    int nl, double *acc, unsigned *apart);
 
