@@ -189,7 +189,7 @@ static void eval_pass(esf_sim *s, int fast, size_t k0, size_t k1, const double *
   memcpy(r->t, t0, sizeof r->t);
   r->nt = 5;
   if (fast)
-    r->rc = esf_wall_fast_particle(s, k0, k1, s->dt, &r->nt, r->f, r->t);
+    r->rc = esf_wall_fast_particle(s, k0, k1, s->dt, &r->nt, r->f, r->t, NULL);
   else
     r->rc =
         esf_forces_wall_particle(s, k0, k1, s->p.x, s->p.v, s->p.w, s->dt,

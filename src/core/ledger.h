@@ -185,8 +185,31 @@ static inline void esf_ledger_wall_rows(double *r, const double n[3], double la,
  * wo: v_{n-1/2}) and after the kick (vn, wn), step dt. Adds to its block's channels
  * blk the dashpots' dissipation -(F . vbar + M . wbar) dt, the springs' energies less
  * (1/2) (F . v_{n+1/2} + M . w_{n+1/2}) dt, and the scalars (slip, wall work, bonds). */
-void esf_ledger_particle(const double *r, const double vo[3], const double vn[3],
-                         const double wo[3], const double wn[3], double dt, double *blk);
+static inline void esf_ledger_particle(const double *r, const double vo[3],
+                                       const double vn[3], const double wo[3],
+                                       const double wn[3], double dt, double *blk) {
+  double vb[3], wb[3];
+  for (int q = 0; q < 3; q++) {
+    vb[q] = 0.5 * (vo[q] + vn[q]);
+    wb[q] = 0.5 * (wo[q] + wn[q]);
+  }
+  const double *dn = r + ESF_LR_DN, *en = r + ESF_LR_EN, *dtg = r + ESF_LR_DT,
+               *mdt = r + ESF_LR_MDT, *et = r + ESF_LR_ET, *met = r + ESF_LR_MET;
+  double pdn = 0, pdt = 0, pen = 0, pet = 0;
+  for (int q = 0; q < 3; q++) {
+    pdn += dn[q] * vb[q];
+    pdt += dtg[q] * vb[q] + mdt[q] * wb[q];
+    pen += en[q] * vn[q];
+    pet += et[q] * vn[q] + met[q] * wn[q];
+  }
+  blk[ESF_LB_DN] -= (pdn - r[ESF_LR_W]) * dt;
+  blk[ESF_LB_DT] -= (pdt - r[ESF_LR_W + 1]) * dt;
+  blk[ESF_LB_EN] += en[3] - 0.5 * pen * dt;
+  blk[ESF_LB_ET] += dtg[3] - 0.5 * pet * dt;
+  blk[ESF_LB_SL] += dn[3];
+  blk[ESF_LB_WW] += mdt[3] * dt;
+  blk[ESF_LB_BD] += et[3];
+}
 
 /* One particle's kick in the ledger's blocks: its kinetic energies at v_{n+1/2} (v, w)
  * and v_{n-1/2} (v0, w0), gravity at x_n +- (dt/2) v (x: x_n), global damping
@@ -197,11 +220,39 @@ typedef struct esf_ledger_kick {
   double dt, alpha_r, alpha_t; /* s, 1/s */
   const double *g;             /* gravity, m/s^2 */
 } esf_ledger_kick;
-void esf_ledger_kick_particle(const esf_ledger_kick *k, double m, double I,
-                              const double x[3], const double v0[3], const double v[3],
-                              const double w0[3], const double w[3], const double *fl,
-                              const double *ml, const double *ff, const double *r,
-                              double *blk);
+static inline void esf_ledger_kick_particle(const esf_ledger_kick *k, double m, double I,
+                                            const double x[3], const double v0[3],
+                                            const double v[3], const double w0[3],
+                                            const double w[3], const double *fl,
+                                            const double *ml, const double *ff,
+                                            const double *r, double *blk) {
+  const double h = 0.5 * k->dt;
+  double vb[3], wb[3], g0 = 0, g1 = 0, vo2 = 0, wo2 = 0, v2 = 0, w2 = 0, vb2 = 0, wb2 = 0;
+  for (int q = 0; q < 3; q++) {
+    vb[q] = 0.5 * (v0[q] + v[q]);
+    wb[q] = 0.5 * (w0[q] + w[q]);
+    g0 += k->g[q] * (x[q] - h * v0[q]);
+    g1 += k->g[q] * (x[q] + h * v[q]);
+    vo2 += v0[q] * v0[q];
+    wo2 += w0[q] * w0[q];
+    v2 += v[q] * v[q];
+    w2 += w[q] * w[q];
+    vb2 += vb[q] * vb[q];
+    wb2 += wb[q] * wb[q];
+  }
+  blk[ESF_LB_KO] += 0.5 * m * vo2 + 0.5 * I * wo2;
+  blk[ESF_LB_KT] += 0.5 * m * v2;
+  blk[ESF_LB_KR] += 0.5 * I * w2;
+  blk[ESF_LB_PO] -= m * g0;
+  blk[ESF_LB_PE] -= m * g1;
+  blk[ESF_LB_DG] += (k->alpha_r * m * vb2 + k->alpha_t * I * wb2) * k->dt;
+  if (fl)
+    blk[ESF_LB_DL] -= (fl[0] * vb[0] + fl[1] * vb[1] + fl[2] * vb[2] + ml[0] * wb[0] +
+                       ml[1] * wb[1] + ml[2] * wb[2]) *
+                      k->dt;
+  if (ff) blk[ESF_LB_WF] += (ff[0] * vb[0] + ff[1] * vb[1] + ff[2] * vb[2]) * k->dt;
+  if (r) esf_ledger_particle(r, v0, v, w0, w, k->dt, blk);
+}
 
 /* Sums the nb blocks' channels (ESF_LB_N each) in order and books the step: stored
  * energies set, dissipation and work added; the first booked step also sets e0. */

@@ -212,7 +212,7 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
     rc = esf_fused_index(s, f, want, err);
     if (rc) return rc;
   }
-  const int nth = f->nth; /* the ranges worth running (fused_ranges.c) */
+  const int nth = f->nth;       /* the ranges worth running (fused_ranges.c) */
   const int ledger = s->led.on; /* per-particle rows and blocks (core/ledger.h) */
   if (ledger) {
     rc = esf_sim_ledger_room(s, 0, err);
@@ -242,27 +242,25 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
       .rows = ledger ? s->led_rows : NULL};
   const double cr0 = 1.0 - s->alpha_r * h, cr1 = 1.0 / (1.0 + s->alpha_r * h),
                ct0 = 1.0 - s->alpha_t * h, ct1 = 1.0 / (1.0 + s->alpha_t * h);
-  const esf_fused_kick K = {.dt = dt,
-                            .cr0 = cr0,
-                            .cr1 = cr1,
-                            .ct0 = ct0,
-                            .ct1 = ct1,
-                            .lc = s->cfg.local_coef,
-                            .dim2 = s->cfg.dim == 2,
-                            .plain = cr0 == 1.0 && cr1 == 1.0 && ct0 == 1.0 &&
-                                     ct1 == 1.0 && !s->local && s->cfg.dim == 3 &&
-                                     !ledger,
-                            .wall_pass = esf_wall_pass_select(s),
-                            .loc = s->local,
-                            .xref = s->nb.xref,
-                            .dom_lo = s->nb.dom_lo,
-                            .dom_hi = s->nb.dom_hi,
-                            .rows = ledger ? s->led_rows : NULL,
-                            .blocks = ledger ? s->led_blocks : NULL,
-                            .lk = {.dt = dt,
-                                   .alpha_r = s->alpha_r,
-                                   .alpha_t = s->alpha_t,
-                                   .g = s->cfg.gravity}};
+  const esf_fused_kick K = {
+      .dt = dt,
+      .cr0 = cr0,
+      .cr1 = cr1,
+      .ct0 = ct0,
+      .ct1 = ct1,
+      .lc = s->cfg.local_coef,
+      .dim2 = s->cfg.dim == 2,
+      .plain = cr0 == 1.0 && cr1 == 1.0 && ct0 == 1.0 && ct1 == 1.0 && !s->local &&
+               s->cfg.dim == 3 && !ledger,
+      .wall_pass = esf_wall_pass_select(s),
+      .loc = s->local,
+      .xref = s->nb.xref,
+      .dom_lo = s->nb.dom_lo,
+      .dom_hi = s->nb.dom_hi,
+      .rows = ledger ? s->led_rows : NULL,
+      .blocks = ledger ? s->led_blocks : NULL,
+      .lk = {
+          .dt = dt, .alpha_r = s->alpha_r, .alpha_t = s->alpha_t, .g = s->cfg.gravity}};
   /* more than one step only when the lists' check between steps needs nothing but
      the displacements (esf_neighbor_check) and nothing else happens between them */
   const int many = s->nb.xref && s->nb.nref == p->n && !s->walls.moving && !s->events;

@@ -37,8 +37,9 @@
  * `slot_a`, which stays in a's core. Four doubles each, the last zero. */
 #define ESF_FUSED_SLOT   8 /* per pair in slot: force on A, torque on B */
 #define ESF_FUSED_SLOT_A 8 /* per pair in slot_a: force on A, torque on A */
-#define ESF_FUSED_LSLOT  24 /* with the ledger, per pair in lslot (B's) and lslot_a (A's):
-                               six ledger rows (core/ledger.h) */
+#define ESF_FUSED_LSLOT                                                                  \
+  24 /* with the ledger, per pair in lslot (B's) and lslot_a (A's):                      \
+        six ledger rows (core/ledger.h) */
 
 /* One range's results of a step. */
 typedef struct esf_fused_out {
@@ -105,11 +106,11 @@ struct esf_fused {
   double *lslot, *lslot_a; /* with the ledger: ESF_FUSED_LSLOT per boundary pair, B's and
                               A's ledger rows, zero when not touching; else NULL */
   size_t cap_lb;           /* boundary pairs they have room for */
-  size_t *bout;      /* nth+1: bk[bout[t] .. bout[t+1]) have a in range t */
-  uint32_t *bin;     /* boundary ordinals by the range of b, ascending within */
-  size_t *binstart;  /* nth+1 */
-  size_t *rlo;       /* nth+1: the particle ranges (fused_ranges.c) */
-  int32_t m0;        /* the material every particle has, or -1 (pair_batch.h's one) */
+  size_t *bout;            /* nth+1: bk[bout[t] .. bout[t+1]) have a in range t */
+  uint32_t *bin;           /* boundary ordinals by the range of b, ascending within */
+  size_t *binstart;        /* nth+1 */
+  size_t *rlo;             /* nth+1: the particle ranges (fused_ranges.c) */
+  int32_t m0; /* the material every particle has, or -1 (pair_batch.h's one) */
   /* balance (esf_fused_balance): the pair and kick pass's seconds per range since the
    * cut, the estimated work of each range, and, when a re-cut is due, seconds per unit
    * of work */
@@ -166,9 +167,9 @@ typedef struct esf_fused_kick {
 typedef struct esf_fused_burst {
   const esf_pair_batch_ctx *bc;
   const esf_fused_kick *K;
-  long e0;     /* the epoch of the call's first step */
-  long steps;  /* steps at most */
-  double lim2; /* the lists need a rebuild past this squared displacement, m^2 */
+  long e0;         /* the epoch of the call's first step */
+  long steps;      /* steps at most */
+  double lim2;     /* the lists need a rebuild past this squared displacement, m^2 */
   esf_ledger *led; /* the ledger, booked step by step from K->blocks; NULL: off */
   size_t nblocks;  /* its blocks */
 } esf_fused_burst;

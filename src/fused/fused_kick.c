@@ -13,8 +13,6 @@
 #include "fused/fused_impl.h"
 
 #include <math.h>
-
-#include "model/forces.h"
 #include <string.h>
 
 /* The wall contacts of range [lo, hi), particle by particle in ascending order
@@ -29,13 +27,8 @@ static int walls_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *K, 
     const size_t i = pw->a[k];
     k1 = f->wstart[i + 1];
     double *fi = f->acc + ESF_FUSED_ACC * i;
-    const esf_particles *p = &s->p;
-    const int rc = K->rows ? /* the ledger's rows: the general wall code fills them */
-                       esf_forces_wall_particle(s, k, k1, p->x, p->v, p->w, K->dt,
-                                                ESF_FORCES_COMMIT, K->rows + ESF_LR * i,
-                                                NULL, nt_pw, fi, fi + 4, NULL)
-                           : wall_pass(s, k, k1, K->dt, nt_pw, fi, fi + 4);
-    if (rc) {
+    if (wall_pass(s, k, k1, K->dt, nt_pw, fi, fi + 4,
+                  K->rows ? K->rows + ESF_LR * i : NULL)) {
       if (i < *bad_part) *bad_part = i;
       fail = 1;
     }

@@ -26,7 +26,8 @@ static inline void outgoing(const esf_fused *f, const esf_candidates *c, size_t 
   const double *sl = f->slot_a + ESF_FUSED_SLOT_A * j;
   v4_acc(fa, sl);
   v4_acc(fa + 4, sl + 4);
-  if (rows) add_rows(rows + ESF_LR * a, f->lslot_a + ESF_FUSED_LSLOT * j, ESF_FUSED_LSLOT);
+  if (rows)
+    add_rows(rows + ESF_LR * a, f->lslot_a + ESF_FUSED_LSLOT * j, ESF_FUSED_LSLOT);
 }
 
 /* Sets the accumulators of particles [from, to) to f = m g, t = 0, and their ledger rows
@@ -92,7 +93,8 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
     const double *sl = f->slot + ESF_FUSED_SLOT * j;
     v4_dec(ab, sl);
     v4_acc(ab + 4, sl + 4);
-    if (rows) add_rows(rows + ESF_LR * b, f->lslot + ESF_FUSED_LSLOT * j, ESF_FUSED_LSLOT);
+    if (rows)
+      add_rows(rows + ESF_LR * b, f->lslot + ESF_FUSED_LSLOT * j, ESF_FUSED_LSLOT);
   }
   size_t jo = f->bout[t];
   const size_t jo1 = f->bout[t + 1];

@@ -144,7 +144,8 @@ static int ranges_for(const esf_sim *s, const esf_fused *f, size_t n, int want) 
   size_t total = 0;
   for (size_t i = 0; i < n; i++) total += work_of(f, c, i);
   size_t r = total / least;
-  if (s->led.on && r > esf_ledger_nblocks(n)) r = esf_ledger_nblocks(n); /* whole blocks */
+  if (s->led.on && r > esf_ledger_nblocks(n))
+    r = esf_ledger_nblocks(n); /* whole blocks */
   return r < 1 ? 1 : r < (size_t)want ? (int)r : want;
 }
 
@@ -248,8 +249,9 @@ int esf_fused_index(esf_sim *s, esf_fused *f, int want, esf_error *err) {
   if (led && nb > f->cap_lb) {
     double *l0 = esf_lines_realloc(f->lslot, 0, nb * ESF_FUSED_LSLOT * sizeof(double));
     if (l0) f->lslot = l0;
-    double *l1 = l0 ? esf_lines_realloc(f->lslot_a, 0, nb * ESF_FUSED_LSLOT * sizeof(double))
-                    : NULL;
+    double *l1 =
+        l0 ? esf_lines_realloc(f->lslot_a, 0, nb * ESF_FUSED_LSLOT * sizeof(double))
+           : NULL;
     if (l1) f->lslot_a = l1;
     if (!l1) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu boundary pairs", nb);
     f->cap_lb = nb;

@@ -379,8 +379,9 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
       if ((badmask | gone) >> l & 1u) continue;
       esf_pair_batch_acc_add(acc, ia[l], ib[l], rf[l], rta[l], rtb[l]);
     }
-  if (c->rows) ledger_rows(c, kn, kt, un, fd, n, la, lb, &T, ia, ib, nl, badmask | gone,
-                           acc ? NULL : lout);
+  if (c->rows)
+    ledger_rows(c, kn, kt, un, fd, n, la, lb, &T, ia, ib, nl, badmask | gone,
+                acc ? NULL : lout);
   *apart = gone;
   return badmask;
 }

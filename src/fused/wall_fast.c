@@ -78,7 +78,8 @@ static inline double wall_overlap(const esf_wall_elem *e, const double *x, doubl
  * zero vel and omega, and the spin (wA.n + 0.n)/2; f += force, t += lA n x ft. */
 static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
                                 const esf_wall_hit *hit, double un, size_t a, size_t k,
-                                double dt, size_t *nt, double *f, double *t) {
+                                double dt, size_t *nt, double *f, double *t,
+                                double *rows) {
   const esf_particles *p = &s->p;
   esf_candidates *c = &s->nb.pw;
   const double *v = p->v + 3 * a, *w = p->w + 3 * a;
@@ -108,10 +109,16 @@ static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
   double m[3];
   v3_cross(m, in.n, out.ft);
   v3_axpy(t, la, m);
+  if (rows) { /* the ledger, as forces.c's (a static wall: its point velocity +0) */
+    double ket[3];
+    for (int q = 0; q < 3; q++) ket[q] = pp->kt * c->h[k].xi[q];
+    esf_ledger_wall_rows(rows, in.n, la, out.fd_n, out.fel, out.fd_t, ket, out.slip_work,
+                         out.e_el_n, out.e_el_t, out.f, zero3, dt);
+  }
 }
 
 int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
-                           double *f, double *t) {
+                           double *f, double *t, double *rows) {
   const esf_particles *p = &s->p;
   esf_candidates *c = &s->nb.pw;
   const esf_wall_elem *E = s->walls.e;
@@ -149,21 +156,21 @@ int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *
       continue;
     }
     if (un[j] > lim) return 1; /* esf_forces_wall_particle words the failure */
-    wall_contact(s, &E[c->b[k]], &hits[j], un[j], a, k, dt, nt, f, t);
+    wall_contact(s, &E[c->b[k]], &hits[j], un[j], a, k, dt, nt, f, t, rows);
   }
   return 0;
 }
 
 int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
-                              double *f, double *t) {
+                              double *f, double *t, double *rows) {
   const esf_particles *p = &s->p;
   return esf_forces_wall_particle(s, k0, k1, p->x, p->v, p->w, dt, ESF_FORCES_COMMIT,
-                                  NULL, NULL, nt, f, t, NULL);
+                                  rows, NULL, nt, f, t, NULL);
 }
 
 esf_wall_pass_fn esf_wall_pass_select(const esf_sim *s) {
   /* all pairs: wall materials may pair by a law the particles' pairs do not use */
-  const int fast = s->mats.all_linear && !s->walls.moving && !s->led.on && !s->tally &&
+  const int fast = s->mats.all_linear && !s->walls.moving && !s->tally &&
                    !s->walls.gforce && !s->nb.pw.xs && !s->nb.pw.vc0;
   return fast ? esf_wall_fast_particle : esf_wall_general_particle;
 }

@@ -10,20 +10,21 @@
 
 /* The wall contacts of one particle, candidates [k0, k1) of s->nb.pw, at the state
  * s->p.x, v, w over step dt, history committed: adds the forces and torques to f and t
- * (3 each) and the contacts carrying force to *nt. Returns nonzero when an overlap
- * exceeds cfg.max_overlap (esf_forces_wall_particle then gives the message). */
+ * (3 each), the contacts carrying force to *nt and, when rows is not NULL, their ledger
+ * rows to rows (the particle's, core/ledger.h). Returns nonzero when an overlap exceeds
+ * cfg.max_overlap (esf_forces_wall_particle then gives the message). */
 typedef int (*esf_wall_pass_fn)(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
-                                double *f, double *t);
+                                double *f, double *t, double *rows);
 
 /* The fast pass: the same bits as esf_forces_wall_particle(..., ESF_FORCES_COMMIT,
  * NULL, NULL, ...) when every wall is static, every material pair has the linear law
- * and neither ledger, tally, servo walls nor history as ODE state are on. */
+ * and neither tally, servo walls nor history as ODE state are on. */
 int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
-                           double *f, double *t);
+                           double *f, double *t, double *rows);
 
-/* esf_forces_wall_particle committing, without ledger and error message. */
+/* esf_forces_wall_particle committing, without an error message. */
 int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
-                              double *f, double *t);
+                              double *f, double *t, double *rows);
 
 /* The fast pass when s qualifies (above), else the general one. */
 esf_wall_pass_fn esf_wall_pass_select(const esf_sim *s);
