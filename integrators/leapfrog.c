@@ -111,17 +111,6 @@ static void kick(esf_sim *s, double *blk) {
   }
 }
 
-/* The kinetic energies before and after the step's kick, from the blocks in order. */
-static void kinetic(const double *blk, size_t nb, double *ke_old, double *ke_new) {
-  double ko = 0, kn = 0;
-  for (size_t b = 0; b < nb; b++) {
-    ko += blk[ESF_LB_N * b + ESF_LB_KO];
-    kn += blk[ESF_LB_N * b + ESF_LB_KT] + blk[ESF_LB_N * b + ESF_LB_KR];
-  }
-  *ke_old = ko;
-  *ke_new = kn;
-}
-
 static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   (void)t_stop;
   leapfrog *lf = state;
@@ -170,14 +159,7 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     esf_ledger_step(&s->led, blk, nb);
     s->led_time = s->t;
   }
-  if (s->cfg.autod.on) {
-    double ke_old, ke_new;
-    kinetic(blk, nb, &ke_old, &ke_new);
-    double a = esf_auto_damping_update(&s->cfg.autod, s->alpha_r, ke_old, ke_new, s->dt);
-    double ratio = s->alpha_r > 0 ? a / s->alpha_r : 1.0;
-    s->alpha_r = a;
-    s->alpha_t *= ratio;
-  }
+  if (s->cfg.autod.on) esf_sim_adapt_damping(s, blk, nb);
   for (size_t j = 0; j < 3 * p->n; j++) p->x[j] += p->v[j] * s->dt;
   lf->started = 1;
   s->step++;

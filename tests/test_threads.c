@@ -78,6 +78,7 @@ typedef struct snapshot {
  * (fused_isa.h); and whether the energy ledger is on (a row every 1e-5 s). */
 static const char *isa_ = "";
 static int ledger_ = 0;
+static const char *extra_ = NULL; /* one more override, or NULL */
 
 static int run(int threads, int fused, const char *tframe, int moving, long burst,
                snapshot *out) {
@@ -85,9 +86,9 @@ static int run(int threads, int fused, const char *tframe, int moving, long burs
   snprintf(s_fu, sizeof s_fu, "integrator.fused=%s", fused ? "true" : "false");
   snprintf(s_tf, sizeof s_tf, "contact.tangential_frame=%s", tframe);
   snprintf(scene, sizeof scene, scene_fmt, moving ? oscillate : "");
-  const char *sets[] = {s_fu, s_tf, "output.energy_every=1.0e-5"};
+  const char *sets[] = {s_fu, s_tf, extra_ ? extra_ : s_fu, "output.energy_every=1.0e-5"};
   simtest T;
-  int rc = simtest_open(&T, scene, sets, ledger_ ? 3 : 2);
+  int rc = simtest_open(&T, scene, sets, ledger_ ? 4 : 3);
   if (rc) return rc;
   T.s.cfg.threads = threads;
   T.s.cfg.range_work = 1; /* one range per thread, however small the scene */
@@ -287,9 +288,13 @@ static void check_leave(void) {
  * and ledger, bit for bit. */
 static void check_ledger(void) {
   ledger_ = 1;
-  for (int moving = 0; moving < 2; moving++) {
+  for (int round = 0; round < 3; round++) {
     snapshot gen, b;
+    const int moving = round == 1;
     const long burst = moving ? 1 : 32;
+    /* the third round: adaptive global damping (alpha after every step, from the
+       ledger's blocks) */
+    extra_ = round == 2 ? "damping.global={translation: 5, auto: true}" : NULL;
     if (run(1, 0, "rotate", moving, 1, &gen) != 0) {
       CHECK(0, "ledger: general path");
       break;
@@ -297,14 +302,15 @@ static void check_ledger(void) {
     CHECK(gen.led.on && gen.led.d_normal > 0 && gen.led.d_friction > 0 &&
               gen.led.d_global > 0 && gen.led.el_n > 0,
           "ledger: every path books energy");
-    printf("ledger, floor %s: dissipated normal %.6g J, tangential %.6g J, friction %.6g "
-           "J, global %.6g J, local %.6g J; walls' work %.6g J\n",
-           moving ? "oscillating" : "still", gen.led.d_normal, gen.led.d_tangential,
-           gen.led.d_friction, gen.led.d_global, gen.led.d_local, gen.led.w_walls);
+    printf("ledger, floor %s%s: dissipated normal %.6g J, tangential %.6g J, friction "
+           "%.6g J, global %.6g J, local %.6g J; walls' work %.6g J\n",
+           moving ? "oscillating" : "still", extra_ ? ", adaptive damping" : "",
+           gen.led.d_normal, gen.led.d_tangential, gen.led.d_friction, gen.led.d_global,
+           gen.led.d_local, gen.led.w_walls);
     for (int t = 1; t <= 3; t++) {
       char what[96];
-      snprintf(what, sizeof what, "ledger, floor %s, %d threads",
-               moving ? "oscillating" : "still", t);
+      snprintf(what, sizeof what, "ledger, floor %s%s, %d threads",
+               moving ? "oscillating" : "still", extra_ ? ", adaptive damping" : "", t);
       CHECK(run(t, 1, "rotate", moving, burst, &b) == 0, "%s", what);
       if (check_failures_) break;
 #ifndef ESF_MINIMAL
@@ -316,6 +322,7 @@ static void check_ledger(void) {
     release(&gen);
   }
   ledger_ = 0;
+  extra_ = NULL;
 }
 
 /* Every instruction set's kernels (fused_isa.h) that this CPU runs give the base

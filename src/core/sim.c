@@ -119,3 +119,16 @@ int esf_sim_ledger_room(esf_sim *s, int zero, esf_error *err) {
   memset(s->led_blocks, 0, esf_ledger_nblocks(n) * ESF_LB_N * sizeof(double));
   return ESF_OK;
 }
+
+void esf_sim_adapt_damping(esf_sim *s, const double *blocks, size_t nb) {
+  double ke_old = 0, ke_new = 0;
+  for (size_t b = 0; b < nb; b++) {
+    ke_old += blocks[ESF_LB_N * b + ESF_LB_KO];
+    ke_new += blocks[ESF_LB_N * b + ESF_LB_KT] + blocks[ESF_LB_N * b + ESF_LB_KR];
+  }
+  const double a =
+      esf_auto_damping_update(&s->cfg.autod, s->alpha_r, ke_old, ke_new, s->dt);
+  const double ratio = s->alpha_r > 0 ? a / s->alpha_r : 1.0;
+  s->alpha_r = a;
+  s->alpha_t *= ratio;
+}

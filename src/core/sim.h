@@ -156,6 +156,11 @@ void esf_dt_estimate_compute(const esf_sim *s, esf_dt_estimate *e);
  * (the leapfrog's ledger, ledger.h). */
 int esf_sim_ledger_room(esf_sim *s, int zero, esf_error *err);
 
+/* Adaptive global damping after a leapfrog step (damping.h): alpha_r from the kinetic
+ * energies either side of the kick, summed from the nb ledger blocks in order, alpha_t
+ * scaled alike. */
+void esf_sim_adapt_damping(esf_sim *s, const double *blocks, size_t nb);
+
 /* Blocks of the ledger's sums for n particles. */
 static inline size_t esf_ledger_nblocks(size_t n) {
   return (n + ESF_LEDGER_BLOCK - 1) / ESF_LEDGER_BLOCK;

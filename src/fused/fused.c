@@ -110,7 +110,6 @@ static int minimal_ok(const esf_sim *s) {
 const char *esf_fused_refusal(const esf_sim *s) {
   if (!s->cfg.fused) return "integrator.fused: false";
   if (s->led.on && !ESF_FUSED_FEATURES) return "the energy ledger (a minimal build)";
-  if (s->cfg.autod.on) return "adaptive damping";
   if (s->tally || s->nb.pp.vc0 || s->nb.pp.xs || s->nb.pw.xs)
     return "the integrator's own tallies or history";
   if (!s->mats.particles_linear) return "a contact law other than the linear one";
@@ -212,9 +211,10 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
     rc = esf_fused_index(s, f, want, err);
     if (rc) return rc;
   }
-  const int nth = f->nth;       /* the ranges worth running (fused_ranges.c) */
-  const int ledger = s->led.on; /* per-particle rows and blocks (core/ledger.h) */
-  if (ledger) {
+  const int nth = f->nth;            /* the ranges worth running (fused_ranges.c) */
+  const int ledger = s->led.on;      /* per-particle rows and blocks (core/ledger.h) */
+  const int autod = s->cfg.autod.on; /* adaptive damping: the blocks' kinetic energies */
+  if (ledger || autod) {
     rc = esf_sim_ledger_room(s, 0, err);
     if (rc) return rc;
   }
@@ -251,19 +251,20 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
       .lc = s->cfg.local_coef,
       .dim2 = s->cfg.dim == 2,
       .plain = cr0 == 1.0 && cr1 == 1.0 && ct0 == 1.0 && ct1 == 1.0 && !s->local &&
-               s->cfg.dim == 3 && !ledger,
+               s->cfg.dim == 3 && !ledger && !autod,
       .wall_pass = esf_wall_pass_select(s),
       .loc = s->local,
       .xref = s->nb.xref,
       .dom_lo = s->nb.dom_lo,
       .dom_hi = s->nb.dom_hi,
       .rows = ledger ? s->led_rows : NULL,
-      .blocks = ledger ? s->led_blocks : NULL,
+      .blocks = ledger || autod ? s->led_blocks : NULL,
       .lk = {
           .dt = dt, .alpha_r = s->alpha_r, .alpha_t = s->alpha_t, .g = s->cfg.gravity}};
   /* more than one step only when the lists' check between steps needs nothing but
      the displacements (esf_neighbor_check) and nothing else happens between them */
-  const int many = s->nb.xref && s->nb.nref == p->n && !s->walls.moving && !s->events;
+  const int many = s->nb.xref && s->nb.nref == p->n && !s->walls.moving && !s->events &&
+                   !autod; /* adaptive damping: alpha changes after every step */
   const esf_fused_burst B = {.bc = &bc,
                              .K = &K,
                              .e0 = f->epoch + 1,
@@ -332,6 +333,7 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
     return rc ? rc : esf_fail(err, ESF_EINTERNAL, "wall contact failure not reproduced");
   }
   if (ledger) s->led_time = (double)(s->step - 1) * s->dt; /* the last step's t_n */
+  if (autod && n > 0) esf_sim_adapt_damping(s, s->led_blocks, B.nblocks);
   s->nb.max_disp2 = r.max2;
   s->nb.escaped = r.escaped;
   s->nb.disp_valid = K.xref && !r.nonfinite;

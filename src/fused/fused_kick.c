@@ -110,7 +110,7 @@ static inline void kick_one(esf_particles *p, const esf_fused_kick *K, size_t i,
   }
   const double im = p->inv_mass[i] * dt, ii = p->inv_inertia[i] * dt;
   double x0[3], v0[3], w0[3];
-  if (K->rows) { /* the ledger: the state before the kick and drift */
+  if (K->blocks) { /* the ledger's blocks: the state before the kick and drift */
     v3_copy(x0, x);
     v3_copy(v0, v);
     v3_copy(w0, w);
@@ -137,13 +137,13 @@ static inline void kick_one(esf_particles *p, const esf_fused_kick *K, size_t i,
       *nonfinite = 1; /* NaN */
   }
   if (K->dom_lo) *escaped |= v3_outside(x, K->dom_lo, K->dom_hi); /* as sim.c's */
-  if (K->rows) { /* as the general path's kick (esf_ledger_kick_particle) */
+  if (K->blocks) { /* as the general path's kick (esf_ledger_kick_particle) */
     double *blk = K->blocks + ESF_LB_N * (i / ESF_LEDGER_BLOCK);
     if (i % ESF_LEDGER_BLOCK == 0) memset(blk, 0, ESF_LB_N * sizeof(double));
     esf_ledger_kick_particle(&K->lk, p->mass[i], p->inertia[i], x0, v0, v, w0, w,
                              ESF_FUSED_FEATURES && K->loc ? fl : NULL,
                              ESF_FUSED_FEATURES && K->loc ? ml : NULL, NULL,
-                             K->rows + ESF_LR * i, blk);
+                             K->rows ? K->rows + ESF_LR * i : NULL, blk);
   }
 }
 
