@@ -34,5 +34,6 @@ void esf_walls_release(esf_walls *w) {
   free(w->e0);
   free(w->g);
   free(w->gforce);
+  free(w->gforce_blk);
   memset(w, 0, sizeof *w);
 }

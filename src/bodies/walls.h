@@ -57,13 +57,16 @@ typedef struct esf_walls {
   esf_wall_elem *e; /* the elements */
   int ngroups;
   esf_wall_group *g;
-  int moving;        /* some group moves */
-  esf_wall_elem *e0; /* the elements at t = 0 (moving walls only), else NULL */
-  double t;          /* time the elements are placed at, s */
-  double *gforce;    /* 4 per group: spring force the group exerts on particles (N, xyz;
-                        contact force less dashpots) and its touching contacts, summed at
-                        each committed evaluation;
-                        NULL unless a servo wall exists (servo.c) */
+  int moving;         /* some group moves */
+  esf_wall_elem *e0;  /* the elements at t = 0 (moving walls only), else NULL */
+  double t;           /* time the elements are placed at, s */
+  double *gforce;     /* 4 per group: spring force the group exerts on particles (N, xyz;
+                         contact force less dashpots) and its touching contacts, summed at
+                         each committed evaluation;
+                         NULL unless a servo wall exists (servo.c) */
+  double *gforce_blk; /* the same per block of ESF_LEDGER_BLOCK particles, 4 ngroups a
+                         block, summed in order into gforce (servo.c) */
+  size_t gforce_nb;   /* blocks it has room for */
 } esf_walls;
 
 /* Adds a group; returns its index. */

@@ -25,6 +25,8 @@
 #include <omp.h>
 #endif
 
+#include "loads/drag.h"
+#include "loads/servo.h"
 #include "model/forces.h"
 
 /* idle candidates range 0 screens between looks at the others */
@@ -113,8 +115,8 @@ const char *esf_fused_refusal(const esf_sim *s) {
   if (s->tally || s->nb.pp.vc0 || s->nb.pp.xs || s->nb.pw.xs)
     return "the integrator's own tallies or history";
   if (!s->mats.particles_linear) return "a contact law other than the linear one";
-  if (s->walls.gforce) return "servo walls";
-  if (s->drag) return "the fluid force";
+  if ((s->walls.gforce || s->drag) && !ESF_FUSED_FEATURES)
+    return "servo walls or the fluid force (a minimal build)";
   if (!ESF_FUSED_FEATURES && !minimal_ok(s)) return "a feature of a minimal build";
   return NULL;
 }
@@ -214,6 +216,16 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
   const int nth = f->nth;            /* the ranges worth running (fused_ranges.c) */
   const int ledger = s->led.on;      /* per-particle rows and blocks (core/ledger.h) */
   const int autod = s->cfg.autod.on; /* adaptive damping: the blocks' kinetic energies */
+  int drag_on = 0;
+  if (s->drag) { /* the fluid force: its set-up at x_n (porosity grid), then per particle
+                  */
+    rc = esf_drag_prepare(s, p->x, &drag_on, err);
+    if (rc) return rc;
+  }
+  if (s->walls.gforce) { /* servo walls: per-block sums of their contacts (servo.h) */
+    rc = esf_servo_blocks(s, 0, err);
+    if (rc) return rc;
+  }
   if (ledger || autod) {
     rc = esf_sim_ledger_room(s, 0, err);
     if (rc) return rc;
@@ -251,7 +263,7 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
       .lc = s->cfg.local_coef,
       .dim2 = s->cfg.dim == 2,
       .plain = cr0 == 1.0 && cr1 == 1.0 && ct0 == 1.0 && ct1 == 1.0 && !s->local &&
-               s->cfg.dim == 3 && !ledger && !autod,
+               s->cfg.dim == 3 && !ledger && !autod && !s->drag,
       .wall_pass = esf_wall_pass_select(s),
       .loc = s->local,
       .xref = s->nb.xref,
@@ -259,12 +271,14 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
       .dom_hi = s->nb.dom_hi,
       .rows = ledger ? s->led_rows : NULL,
       .blocks = ledger || autod ? s->led_blocks : NULL,
+      .drag = s->drag,
+      .drag_on = drag_on,
       .lk = {
           .dt = dt, .alpha_r = s->alpha_r, .alpha_t = s->alpha_t, .g = s->cfg.gravity}};
   /* more than one step only when the lists' check between steps needs nothing but
      the displacements (esf_neighbor_check) and nothing else happens between them */
   const int many = s->nb.xref && s->nb.nref == p->n && !s->walls.moving && !s->events &&
-                   !autod; /* adaptive damping: alpha changes after every step */
+                   !autod && !s->drag; /* alpha, the porosity: updated after every step */
   const esf_fused_burst B = {.bc = &bc,
                              .K = &K,
                              .e0 = f->epoch + 1,
@@ -334,6 +348,7 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
   }
   if (ledger) s->led_time = (double)(s->step - 1) * s->dt; /* the last step's t_n */
   if (autod && n > 0) esf_sim_adapt_damping(s, s->led_blocks, B.nblocks);
+  if (s->walls.gforce && n > 0) esf_servo_update(s); /* the walls' velocities */
   s->nb.max_disp2 = r.max2;
   s->nb.escaped = r.escaped;
   s->nb.disp_valid = K.xref && !r.nonfinite;

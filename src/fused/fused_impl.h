@@ -161,6 +161,8 @@ typedef struct esf_fused_kick {
   /* the ledger (core/ledger.h), or rows NULL: the particles' rows, their blocks */
   double *rows, *blocks;
   esf_ledger_kick lk;
+  struct esf_drag *drag; /* the fluid force (loads/drag.h), or NULL */
+  int drag_on;           /* it acts at this step's time */
 } esf_fused_kick;
 
 /* What every range's steps share in one call (fused.c). */

@@ -15,6 +15,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "loads/drag.h"
+
 /* The wall contacts of range [lo, hi), particle by particle in ascending order
  * (each adds to its own particle's accumulator only, at the state before any kick).
  * Returns 1 when an overlap exceeds the limit (*bad_part: the first such particle). */
@@ -23,6 +25,11 @@ static int walls_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *K, 
   const esf_candidates *pw = &s->nb.pw;
   const esf_wall_pass_fn wall_pass = K->wall_pass;
   int fail = 0;
+  if (s->walls.gforce && hi > lo) { /* servo walls: this range's blocks (whole) zeroed */
+    const size_t per = 4 * (size_t)s->walls.ngroups;
+    const size_t b0 = lo / ESF_LEDGER_BLOCK, b1 = (hi - 1) / ESF_LEDGER_BLOCK + 1;
+    memset(s->walls.gforce_blk + per * b0, 0, (b1 - b0) * per * sizeof(double));
+  }
   for (size_t k = f->wstart[lo], k1; k < f->wstart[hi]; k = k1) {
     const size_t i = pw->a[k];
     k1 = f->wstart[i + 1];
@@ -88,10 +95,15 @@ static void kick_plain_loop(size_t lo, size_t hi, double dt, double *restrict x,
 /* The kick and drift of particle i from its totals fi, ti (F_n, M_n; left as they
  * are), with the damping forms and 2D: the displacement since the lists' build and
  * the domain check. */
-static inline void kick_one(esf_particles *p, const esf_fused_kick *K, size_t i,
-                            double *fi, double *ti, double *max2, int *nonfinite,
-                            int *escaped) {
+static inline void kick_one(const esf_sim *s, esf_particles *p, const esf_fused_kick *K,
+                            size_t i, double *fi, double *ti, double *max2,
+                            int *nonfinite, int *escaped) {
   const double dt = K->dt;
+  if (ESF_FUSED_FEATURES && K->drag) { /* the fluid force, after the walls (forces.c) */
+    double *F = K->drag->f + 3 * i;
+    esf_drag_particle(s, K->drag_on, i, p->x + 3 * i, p->v + 3 * i, F);
+    v3_add(fi, fi, F);
+  }
   if (ESF_FUSED_FEATURES && K->dim2) {
     fi[1] = 0.0;
     ti[0] = 0.0;
@@ -142,7 +154,8 @@ static inline void kick_one(esf_particles *p, const esf_fused_kick *K, size_t i,
     if (i % ESF_LEDGER_BLOCK == 0) memset(blk, 0, ESF_LB_N * sizeof(double));
     esf_ledger_kick_particle(&K->lk, p->mass[i], p->inertia[i], x0, v0, v, w0, w,
                              ESF_FUSED_FEATURES && K->loc ? fl : NULL,
-                             ESF_FUSED_FEATURES && K->loc ? ml : NULL, NULL,
+                             ESF_FUSED_FEATURES && K->loc ? ml : NULL,
+                             ESF_FUSED_FEATURES && K->drag ? K->drag->f + 3 * i : NULL,
                              K->rows ? K->rows + ESF_LR * i : NULL, blk);
   }
 }
@@ -166,6 +179,6 @@ void esf_fused_kick_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *
   }
   for (size_t i = lo; i < hi; i++) {
     double *fi = f->acc + ESF_FUSED_ACC * i;
-    kick_one(&s->p, K, i, fi, fi + 4, &o->max2, &o->nonfinite, &o->escaped);
+    kick_one(s, &s->p, K, i, fi, fi + 4, &o->max2, &o->nonfinite, &o->escaped);
   }
 }

@@ -144,7 +144,7 @@ static int ranges_for(const esf_sim *s, const esf_fused *f, size_t n, int want) 
   size_t total = 0;
   for (size_t i = 0; i < n; i++) total += work_of(f, c, i);
   size_t r = total / least;
-  if ((s->led.on || s->cfg.autod.on) && r > esf_ledger_nblocks(n))
+  if ((s->led.on || s->cfg.autod.on || s->walls.gforce) && r > esf_ledger_nblocks(n))
     r = esf_ledger_nblocks(n); /* whole blocks */
   return r < 1 ? 1 : r < (size_t)want ? (int)r : want;
 }
@@ -199,7 +199,9 @@ int esf_fused_index(esf_sim *s, esf_fused *f, int want, esf_error *err) {
   size_t *wt = calloc(n ? 2 * n : 1, sizeof *wt); /* cut_ranges' weights and work */
   if (!wt) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particle ranges", n);
   const size_t align =
-      (s->led.on || s->cfg.autod.on) && ESF_FUSED_FEATURES ? ESF_LEDGER_BLOCK : 1;
+      (s->led.on || s->cfg.autod.on || s->walls.gforce) && ESF_FUSED_FEATURES
+          ? ESF_LEDGER_BLOCK
+          : 1;
   cut_ranges(f, c, wt, n, T, align);
   free(wt);
   /* boundary pairs: a in range t, b in a higher range (b > a) */

@@ -98,7 +98,7 @@ int esf_drag_setup(esf_sim *s, esf_error *err) {
   return ESF_OK;
 }
 
-int esf_drag_apply(esf_sim *s, const double *x, const double *v, esf_error *err) {
+int esf_drag_prepare(esf_sim *s, const double *x, int *on_, esf_error *err) {
   esf_drag *d = s->drag;
   esf_particles *p = &s->p;
   if (d->cap < p->n) {
@@ -132,21 +132,37 @@ int esf_drag_apply(esf_sim *s, const double *x, const double *v, esf_error *err)
     int rc = esf_porosity_update(&d->pg, p, x, s->cfg.dim, s->cfg.disk_thickness, err);
     if (rc) return rc;
   }
+  *on_ = on;
+  return ESF_OK;
+}
+
+void esf_drag_particle(const esf_sim *s, int on, size_t i, const double x[3],
+                       const double v[3], double F[3]) {
+  const esf_drag *d = s->drag;
+  v3_set(F, 0, 0, 0);
+  double pr, gp[3], u[3];
+  if (!on || !esf_drag_field(d, x, &pr, gp, u)) return;
+  const double r = s->p.radius[i];
+  const double vol = s->cfg.dim == 2 ? ESF_PI * r * r * s->cfg.disk_thickness
+                                     : 4.0 / 3.0 * ESF_PI * r * r * r;
+  double w[3];
+  v3_sub(w, u, v);
+  const double e = d->grid ? esf_porosity_at(&d->pg, x) : d->porosity;
+  const double c = vol * esf_drag_beta(d, e, 2.0 * r, v3_norm(w)) / (1.0 - e);
+  v3_scale(F, c, w);
+  v3_axpy(F, -vol, gp);
+}
+
+int esf_drag_apply(esf_sim *s, const double *x, const double *v, esf_error *err) {
+  int on;
+  const int rc = esf_drag_prepare(s, x, &on, err);
+  if (rc) return rc;
+  esf_drag *d = s->drag;
+  esf_particles *p = &s->p;
   double power = 0.0;
   for (size_t i = 0; i < p->n; i++) {
     double *F = d->f + 3 * i;
-    v3_set(F, 0, 0, 0);
-    double pr, gp[3], u[3];
-    if (!on || !esf_drag_field(d, x + 3 * i, &pr, gp, u)) continue;
-    double r = p->radius[i];
-    double vol = s->cfg.dim == 2 ? ESF_PI * r * r * s->cfg.disk_thickness
-                                 : 4.0 / 3.0 * ESF_PI * r * r * r;
-    double w[3];
-    v3_sub(w, u, v + 3 * i);
-    double e = d->grid ? esf_porosity_at(&d->pg, x + 3 * i) : d->porosity;
-    double c = vol * esf_drag_beta(d, e, 2.0 * r, v3_norm(w)) / (1.0 - e);
-    v3_scale(F, c, w);
-    v3_axpy(F, -vol, gp);
+    esf_drag_particle(s, on, i, x + 3 * i, v + 3 * i, F);
     v3_add(p->f + 3 * i, p->f + 3 * i, F);
     power += v3_dot(F, v + 3 * i);
   }

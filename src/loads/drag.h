@@ -55,6 +55,14 @@ int esf_drag_setup(esf_sim *s, esf_error *err);
  * ledger, and its power into s->tally (p_fluid) when set. */
 int esf_drag_apply(esf_sim *s, const double *x, const double *v, esf_error *err);
 
+/* esf_drag_apply in two parts, for a caller that adds the forces particle by particle
+ * (the fused step): the evaluation's set-up at positions x (room for d->f, the log, the
+ * porosity grid), *on whether the field acts now; then particle i's fluid force F at x,
+ * v (zero when off or outside the field), which the caller stores in d->f. */
+int esf_drag_prepare(esf_sim *s, const double *x, int *on, esf_error *err);
+void esf_drag_particle(const esf_sim *s, int on, size_t i, const double x[3],
+                       const double v[3], double F[3]);
+
 void esf_drag_free(esf_drag **d);
 
 #endif

@@ -93,8 +93,26 @@ int esf_servo_setup(esf_sim *s, esf_error *err) {
  * N_c = 0 (no contact yet) uses N_c = 1, so the wall approaches at vmax. A fixed gain
  * (m/(s Pa)) may be given instead. kn is the largest normal stiffness between the
  * wall's materials and those of the particles (esf_servo_setup). */
+int esf_servo_blocks(esf_sim *s, int zero, esf_error *err) {
+  esf_walls *w = &s->walls;
+  const size_t nb = esf_ledger_nblocks(s->p.n), per = 4 * (size_t)w->ngroups;
+  if (nb > w->gforce_nb || !w->gforce_blk) {
+    const size_t cap = nb + nb / 4 + 1;
+    double *b = realloc(w->gforce_blk, cap * per * sizeof *b);
+    if (!b) return esf_fail(err, ESF_ENOMEM, "out of memory for the servo walls");
+    w->gforce_blk = b;
+    w->gforce_nb = cap;
+  }
+  if (zero) memset(w->gforce_blk, 0, nb * per * sizeof(double));
+  return ESF_OK;
+}
+
 void esf_servo_update(esf_sim *s) {
   esf_walls *w = &s->walls;
+  const size_t nb = esf_ledger_nblocks(s->p.n), per = 4 * (size_t)w->ngroups;
+  memset(w->gforce, 0, per * sizeof(double));
+  for (size_t b = 0; b < nb; b++)
+    for (size_t q = 0; q < per; q++) w->gforce[q] += w->gforce_blk[per * b + q];
   for (int k = 0; k < w->ngroups; k++) {
     esf_wall_group *g = &w->g[k];
     esf_wall_motion *mo = &g->motion;

@@ -13,8 +13,19 @@
  * without an area, and 2D scenes without an area. Nothing when no wall is a servo. */
 int esf_servo_setup(esf_sim *s, esf_error *err);
 
-/* After a committed evaluation filled s->walls.gforce: measured stress
- * sigma = (F . dir)/A, velocity v = G (stress - sigma) dir limited to vmax. */
+/* Room for the per-block accumulators of the current particles, zeroed when zero is 1
+ * (the fused step zeroes each range's own). */
+int esf_servo_blocks(esf_sim *s, int zero, esf_error *err);
+
+/* The accumulator of particle i's contacts with group g: per block of particles, so
+ * that the sums do not depend on how particles are shared among threads. */
+static inline double *esf_servo_slot(esf_walls *w, size_t i, int g) {
+  return w->gforce_blk + 4 * ((i / ESF_LEDGER_BLOCK) * (size_t)w->ngroups + (size_t)g);
+}
+
+/* After a committed evaluation filled the blocks of n particles: s->walls.gforce their
+ * sum in block order, measured stress sigma = (F . dir)/A, velocity
+ * v = G (stress - sigma) dir limited to vmax. */
 void esf_servo_update(esf_sim *s);
 
 /* Adds one wall contact's spring force on the particle (the total less the dashpot

@@ -273,8 +273,8 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
     }
     if (slip) *slip += out.slip_work;
     if (s->tally) s->tally->p_walls += v3_dot(out.f, vw);
-    if (commit && s->walls.gforce) /* servo walls (servo.c); general path only */
-      esf_servo_add(s->walls.gforce + 4 * el->group, &out, in.n);
+    if (commit && s->walls.gforce) /* servo walls (servo.c) */
+      esf_servo_add(esf_servo_slot(&s->walls, a, el->group), &out, in.n);
     v3_add(f, f, out.f);
     double m[3];
     v3_cross(m, in.n, out.ft);
@@ -319,8 +319,10 @@ int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *
   if (s->tally) memset(s->tally, 0, sizeof *s->tally);
   size_t nt = 0;
   int commit = mode == ESF_FORCES_COMMIT;
-  if (commit && s->walls.gforce) /* servo walls: per-group forces (servo.c) */
-    memset(s->walls.gforce, 0, 4 * (size_t)s->walls.ngroups * sizeof(double));
+  if (commit && s->walls.gforce) { /* servo walls: per-group forces (servo.c) */
+    int rc = esf_servo_blocks(s, 1, err);
+    if (rc) return rc;
+  }
   int rc = pair_forces(s, x, v, w, dt, commit, &nt, err);
   if (!rc) rc = wall_forces(s, x, v, w, dt, commit, &nt, err);
   if (!rc && s->drag) rc = esf_drag_apply(s, x, v, err); /* fluid drag (drag.c) */

@@ -1,0 +1,131 @@
+/* test_fused_loads.c — the fused step takes servo walls, a drilling event, the fluid
+ * force (radial flow, porosity from a grid) and the energy ledger, and gives the
+ * general path's results bit for bit on 1 and 2 threads (one range each): particle state,
+ * contact histories, the ledger (memcmp of esf_ledger), the servo lid's displacement,
+ * velocity and measured stress, and the fluid forces of the last step. The servo walls'
+ * contact sums and the ledger go through per-block sums (loads/servo.h, core/ledger.h),
+ * so the threads' ranges do not change them; the fluid force is per particle. */
+#include <stdlib.h>
+
+#include "fused/fused.h"
+#include "loads/drag.h"
+#include "loads/events.h"
+#include "simtest.h"
+
+/* 200 spheres of 1.5-2 mm in a 4 cm box under a servo lid (2e4 Pa) that presses on the
+ * pack by 0.05 s; a well drilled at 0.06 s, the fluid on from 0.07 s; three blocks of
+ * the ledger's 64 particles, so two threads get two ranges. */
+static const char *const scene =
+    "name: fusedloads\n"
+    "gravity: [0, 0, -9.81]\n"
+    "materials: {m: {density: 2500, kn: 1.0e5, restitution: 0.2, friction: 0.3}}\n"
+    "particles:\n"
+    "  - {generate: random, region: {min: [0, 0, 0], max: [0.04, 0.04, 0.028]}, count: "
+    "200, radius: {uniform: [0.0015, 0.002]}, material: m, seed: 11}\n"
+    "walls:\n"
+    "  - {box: {min: [0, 0, 0], max: [0.04, 0.04, 0.2]}, open: [top], material: m}\n"
+    "  - polygon: [[0, 0, 0.03], [0.04, 0, 0.03], [0.04, 0.04, 0.03], [0, 0.04, 0.03]]\n"
+    "    material: m\n"
+    "    motion: {servo: {stress: 2.0e4, direction: [0, 0, -1], max_speed: 0.5}}\n"
+    "events: [{at: 0.06, delete: {cylinder: {center: [0.02, 0.02, 0.01], axis: [0, 1, "
+    "0], radius: 0.006}}}]\n"
+    "fluid:\n"
+    "  start: 0.07\n"
+    "  porosity: {cell: 0.02}\n"
+    "  viscosity: 1.0e-3\n"
+    "  density: 1000\n"
+    "  permeability: 1.0e-10\n"
+    "  radial: {center: [0.02, 0.02, 0.01], axis: [0, 1, 0], well_radius: 0.006, "
+    "drainage_radius: 1, pressure_drop: 3.0e5}\n"
+    "integrator: {method: leapfrog, dt: auto, frac: 0.2}\n"
+    "run: {duration: 0.09}\n"
+    "output: {energy_every: 1.0e-3}\n";
+
+typedef struct result {
+  size_t n, m;
+  double *y, *fluid;
+  esf_contact_hist *h;
+  esf_ledger led;
+  double lid[7]; /* servo lid: displacement (3), velocity (3), measured stress */
+  int fused;
+  long removed;
+} result;
+
+static int run(int threads, int fused, result *r) {
+  const char *sets[] = {fused ? "integrator.fused=true" : "integrator.fused=false"};
+  simtest T;
+  int rc = simtest_open(&T, scene, sets, 1);
+  if (rc) return rc;
+  T.s.cfg.threads = threads;
+  T.s.cfg.range_work = 1; /* one range per thread */
+  r->fused = fused && esf_fused_eligible(&T.s);
+  while (!rc && T.s.t < 0.09 - 0.5 * T.s.dt) rc = simtest_step(&T);
+  if (!rc) {
+    esf_sim_forces_sync(&T.s);
+    r->n = T.s.p.n;
+    r->m = T.s.nb.pp.n;
+    r->y = malloc(9 * r->n * sizeof(double));
+    r->h = malloc((r->m ? r->m : 1) * sizeof *r->h);
+    r->fluid = malloc(3 * r->n * sizeof(double));
+    memcpy(r->y, T.s.p.y, 9 * r->n * sizeof(double));
+    memcpy(r->h, T.s.nb.pp.h, r->m * sizeof *r->h);
+    memcpy(r->fluid, T.s.drag->f, 3 * r->n * sizeof(double));
+    r->led = T.s.led;
+    r->removed = T.s.removed;
+    for (int g = 0; g < T.s.walls.ngroups; g++) {
+      const esf_wall_group *G = &T.s.walls.g[g];
+      if (G->motion.kind != ESF_MOTION_SERVO) continue;
+      memcpy(r->lid, G->disp, 3 * sizeof(double));
+      memcpy(r->lid + 3, G->vel, 3 * sizeof(double));
+      r->lid[6] = G->motion.sigma;
+    }
+  }
+  simtest_close(&T);
+  return rc;
+}
+
+static void same(const result *a, const result *g, const char *what) {
+  CHECK(a->n == g->n && a->m == g->m && a->removed == g->removed, "%s: sizes", what);
+  if (a->n != g->n || a->m != g->m) return;
+  CHECK(memcmp(a->y, g->y, 9 * g->n * sizeof(double)) == 0, "%s: state differs", what);
+  CHECK(memcmp(a->h, g->h, g->m * sizeof *g->h) == 0, "%s: histories differ", what);
+  CHECK(memcmp(a->fluid, g->fluid, 3 * g->n * sizeof(double)) == 0,
+        "%s: fluid forces differ", what);
+  CHECK(memcmp(&a->led, &g->led, sizeof a->led) == 0, "%s: ledger differs", what);
+  CHECK(memcmp(a->lid, g->lid, sizeof a->lid) == 0,
+        "%s: servo lid differs (stress %.17g against %.17g)", what, a->lid[6], g->lid[6]);
+}
+
+static void release(result *r) {
+  free(r->y);
+  free(r->h);
+  free(r->fluid);
+}
+
+int main(void) {
+  result g, f;
+  CHECK(run(1, 0, &g) == 0, "general path");
+  if (check_failures_) return check_finish("fused_loads");
+  double fl = 0;
+  for (size_t i = 0; i < 3 * g.n; i++) fl = fmax(fl, fabs(g.fluid[i]));
+  printf("general path: %zu particles (%ld drilled), lid stress %.6g Pa, velocity %.3g "
+         "m/s, largest fluid force %.3g N, fluid work %.6g J, total error %.3g J of "
+         "%.3g J dissipated\n",
+         g.n, g.removed, g.lid[6], g.lid[5], fl, g.led.w_fluid,
+         esf_ledger_total_error(&g.led), esf_ledger_dissipated(&g.led));
+  CHECK(g.removed > 0 && g.lid[6] > 0 && fl > 0 && g.led.w_fluid != 0,
+        "the drilling, the lid and the fluid all act");
+  for (int t = 1; t <= 2; t++) {
+    char what[64];
+    snprintf(what, sizeof what, "fused, %d threads", t);
+    CHECK(run(t, 1, &f) == 0, "%s", what);
+    if (check_failures_) break;
+#ifndef ESF_MINIMAL
+    CHECK(f.fused, "%s: the fused step must run it", what);
+#endif
+    same(&f, &g, what);
+    release(&f);
+  }
+  release(&g);
+  return check_finish("fused_loads");
+}
