@@ -1,10 +1,13 @@
 /* test_fused_loads.c — the fused step takes servo walls, a drilling event, the fluid
- * force (radial flow, porosity from a grid) and the energy ledger, and gives the
- * general path's results bit for bit on 1 and 2 threads (one range each): particle state,
- * contact histories, the ledger (memcmp of esf_ledger), the servo lid's displacement,
- * velocity and measured stress, and the fluid forces of the last step. The servo walls'
- * contact sums and the ledger go through per-block sums (loads/servo.h, core/ledger.h),
- * so the threads' ranges do not change them; the fluid force is per particle. */
+ * force (radial flow, porosity from a grid), adhesive bonds that break and the energy
+ * ledger, and gives the general path's results bit for bit on 1 and 2 threads (one
+ * range each; the bonded block of scenes/block_impact-quick.yaml on 1-3 threads):
+ * particle state, contact histories, the ledger (memcmp of esf_ledger), the servo lid's
+ * displacement, velocity and measured stress, the fluid forces of the last step, and
+ * the bonds broken (their energy is in the ledger). The
+ * servo walls' contact sums and the ledger go through per-block sums (loads/servo.h,
+ * core/ledger.h), so the threads' ranges do not change them; the fluid force is per
+ * particle. */
 #include <stdlib.h>
 
 #include "fused/fused.h"
@@ -48,18 +51,22 @@ typedef struct result {
   esf_ledger led;
   double lid[7]; /* servo lid: displacement (3), velocity (3), measured stress */
   int fused;
-  long removed;
+  long removed, broken;
 } result;
+
+static const char *root_; /* the source tree: block_impact-quick, or NULL: the box */
 
 static int run(int threads, int fused, result *r) {
   const char *sets[] = {fused ? "integrator.fused=true" : "integrator.fused=false"};
   simtest T;
-  int rc = simtest_open(&T, scene, sets, 1);
+  int rc = root_ ? simtest_open_scene(&T, root_, "block_impact-quick", sets, 1)
+                 : simtest_open(&T, scene, sets, 1);
   if (rc) return rc;
+  const double t_end = root_ ? T.s.cfg.duration : 0.09;
   T.s.cfg.threads = threads;
   T.s.cfg.range_work = 1; /* one range per thread */
   r->fused = fused && esf_fused_eligible(&T.s);
-  while (!rc && T.s.t < 0.09 - 0.5 * T.s.dt) rc = simtest_step(&T);
+  while (!rc && T.s.t < t_end - 0.5 * T.s.dt) rc = simtest_step(&T);
   if (!rc) {
     esf_sim_forces_sync(&T.s);
     r->n = T.s.p.n;
@@ -69,7 +76,11 @@ static int run(int threads, int fused, result *r) {
     r->fluid = malloc(3 * r->n * sizeof(double));
     memcpy(r->y, T.s.p.y, 9 * r->n * sizeof(double));
     memcpy(r->h, T.s.nb.pp.h, r->m * sizeof *r->h);
-    memcpy(r->fluid, T.s.drag->f, 3 * r->n * sizeof(double));
+    if (T.s.drag)
+      memcpy(r->fluid, T.s.drag->f, 3 * r->n * sizeof(double));
+    else
+      memset(r->fluid, 0, 3 * r->n * sizeof(double));
+    r->broken = T.s.bonds.broken;
     r->led = T.s.led;
     r->removed = T.s.removed;
     for (int g = 0; g < T.s.walls.ngroups; g++) {
@@ -85,7 +96,9 @@ static int run(int threads, int fused, result *r) {
 }
 
 static void same(const result *a, const result *g, const char *what) {
-  CHECK(a->n == g->n && a->m == g->m && a->removed == g->removed, "%s: sizes", what);
+  CHECK(a->n == g->n && a->m == g->m && a->removed == g->removed &&
+            a->broken == g->broken,
+        "%s: sizes, bonds broken (%ld against %ld)", what, a->broken, g->broken);
   if (a->n != g->n || a->m != g->m) return;
   CHECK(memcmp(a->y, g->y, 9 * g->n * sizeof(double)) == 0, "%s: state differs", what);
   CHECK(memcmp(a->h, g->h, g->m * sizeof *g->h) == 0, "%s: histories differ", what);
@@ -102,7 +115,37 @@ static void release(result *r) {
   free(r->fluid);
 }
 
-int main(void) {
+/* The bonded block of the source tree's block_impact-quick: the general path against
+ * the fused step on 1, 2 and 3 threads. */
+static void bonded(const char *root) {
+  result g, f;
+  root_ = root;
+  CHECK(run(1, 0, &g) == 0, "bonded block: general path");
+  if (check_failures_) {
+    root_ = NULL;
+    return;
+  }
+  printf("bonded block: %zu particles, %ld bonds broken holding %.6g J, total error "
+         "%.3g J of %.3g J dissipated\n",
+         g.n, g.broken, g.led.d_bonds, esf_ledger_total_error(&g.led),
+         esf_ledger_dissipated(&g.led));
+  CHECK(g.broken > 0 && g.led.d_bonds > 0, "bonds break");
+  for (int t = 1; t <= 3; t++) {
+    char what[64];
+    snprintf(what, sizeof what, "bonded block, fused, %d threads", t);
+    CHECK(run(t, 1, &f) == 0, "%s", what);
+    if (check_failures_) break;
+#ifndef ESF_MINIMAL
+    CHECK(f.fused, "%s: the fused step must run it", what);
+#endif
+    same(&f, &g, what);
+    release(&f);
+  }
+  release(&g);
+  root_ = NULL;
+}
+
+int main(int argc, char **argv) {
   result g, f;
   CHECK(run(1, 0, &g) == 0, "general path");
   if (check_failures_) return check_finish("fused_loads");
@@ -127,5 +170,6 @@ int main(void) {
     release(&f);
   }
   release(&g);
+  if (argc > 1) bonded(argv[1]);
   return check_finish("fused_loads");
 }

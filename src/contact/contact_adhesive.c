@@ -159,7 +159,7 @@ static double adhesive_energy_n(const esf_pair_params *pp, const esf_contact_bon
 
 const esf_contact_law esf_contact_adhesive = {
     .name = "adhesive",
-    .flags = ESF_LAW_HISTORY | ESF_LAW_TENSION,
+    .flags = ESF_LAW_HISTORY | ESF_LAW_TENSION | ESF_LAW_FUSED,
     .eval = adhesive_eval,
     .energy_n = adhesive_energy_n,
 };

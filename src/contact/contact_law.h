@@ -71,7 +71,8 @@ enum {
 
 enum {
   ESF_LAW_HISTORY = 1u << 0, /* carries tangential history */
-  ESF_LAW_TENSION = 1u << 1  /* may pull (adhesive) */
+  ESF_LAW_TENSION = 1u << 1, /* may pull (adhesive) */
+  ESF_LAW_FUSED = 1u << 2 /* the fused step's batches compute it (fused/pair_batch.c) */
 };
 
 typedef struct esf_contact_law {

@@ -34,7 +34,7 @@ static double linear_energy_n(const esf_pair_params *pp, const esf_contact_bond 
 
 const esf_contact_law esf_contact_linear = {
     .name = "linear",
-    .flags = ESF_LAW_HISTORY,
+    .flags = ESF_LAW_HISTORY | ESF_LAW_FUSED,
     .eval = linear_eval,
     .energy_n = linear_energy_n,
 };

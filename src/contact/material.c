@@ -133,7 +133,7 @@ int esf_materials_mix(esf_materials *t, esf_error *err) {
       t->any_cohesion |= p->cohesion != 0.0;
     }
   }
-  t->particles_linear = t->all_linear;
+  t->particles_fused = t->all_linear;
   return ESF_OK;
 }
 

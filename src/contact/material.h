@@ -90,10 +90,10 @@ typedef struct esf_materials {
   double rayleigh_beta; /* > 0: contact dashpots c = beta k (001 3.47) replace the
                            restitution-derived ones */
   /* summaries of the pair table, for the fused step's choices (fused/fused.c) */
-  int all_linear;       /* every pair uses the linear law (esf_materials_mix) */
-  int any_cohesion;     /* some pair has cohesion != 0 (esf_materials_mix) */
-  int particles_linear; /* every pair of two materials that particles use is linear
-                           (esf_materials_mix: all_linear; esf_bonds_setup refines) */
+  int all_linear;      /* every pair uses the linear law (esf_materials_mix) */
+  int any_cohesion;    /* some pair has cohesion != 0 (esf_materials_mix) */
+  int particles_fused; /* every pair of two materials that particles use has a law the
+                          fused step computes (ESF_LAW_FUSED; esf_bonds_setup sets it) */
 } esf_materials;
 
 /* gamma = -ln(eta) / sqrt(pi^2 + ln^2 eta), 004 (2.28); 0 for eta = 1. */

@@ -5,9 +5,9 @@
  * material pairs for the adhesive law and takes the bond reach
  *   reach = max over those pairs of (bond_gap > 0 ? bond_gap + u_eq : 0) - u_rupture,
  * an upper bound of the gap at which any bond ruptures (m). It also records
- * mats.particles_linear (every pair of the particles' materials linear: the fused linear
- * step of fused/fused.c requires it). esf_bonds_form, on entry: the candidate list just
- * built at the initial positions, no force evaluated yet. For each candidate of an
+ * mats.particles_fused (every pair of the particles' materials has a law the fused
+ * step computes: fused/fused.c requires it). esf_bonds_form, on entry: the candidate list
+ * just built at the initial positions, no force evaluated yet. For each candidate of an
  * adhesive pair that meets the rule of bonds.h it sets touch = 1, xi = 0, n = the current
  * normal, and the bond state (nb.pp.bond, which only scenes with bonds allocate: sim.c
  * sets nb.bonds): on = 1 and the offset s. On exit pending = 0 and formed counts the
@@ -28,11 +28,12 @@ int esf_bonds_setup(esf_sim *s, int skin_auto, esf_error *err) {
   unsigned char *used = calloc((size_t)(mt->n ? mt->n : 1), 1);
   if (!used) return esf_fail(err, ESF_ENOMEM, "out of memory");
   for (size_t i = 0; i < s->p.n; i++) used[s->p.material[i]] = 1;
-  mt->particles_linear = 1;
+  mt->particles_fused = 1;
   for (int a = 0; a < mt->n; a++)
     for (int b = 0; b < mt->n; b++) {
       const esf_pair_params *pp = &mt->pair[a * mt->n + b];
-      if (used[a] && used[b]) mt->particles_linear &= pp->law == &esf_contact_linear;
+      if (used[a] && used[b])
+        mt->particles_fused &= (pp->law->flags & ESF_LAW_FUSED) != 0;
       if (!used[a] || !used[b] || !(pp->law->flags & ESF_LAW_TENSION)) continue;
       B->on = 1;
       double G = pp->adh.gap;

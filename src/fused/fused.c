@@ -114,7 +114,8 @@ const char *esf_fused_refusal(const esf_sim *s) {
   if (s->led.on && !ESF_FUSED_FEATURES) return "the energy ledger (a minimal build)";
   if (s->tally || s->nb.pp.vc0 || s->nb.pp.xs || s->nb.pw.xs)
     return "the integrator's own tallies or history";
-  if (!s->mats.particles_linear) return "a contact law other than the linear one";
+  if (!s->mats.particles_fused) return "a contact law the fused step has no kernel for";
+  if (s->bonds.on && !ESF_FUSED_FEATURES) return "bonds (a minimal build)";
   if ((s->walls.gforce || s->drag) && !ESF_FUSED_FEATURES)
     return "servo walls or the fluid force (a minimal build)";
   if (!ESF_FUSED_FEATURES && !minimal_ok(s)) return "a feature of a minimal build";
@@ -251,7 +252,9 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
       .max_overlap = s->cfg.max_overlap,
       .rotate = !ESF_FUSED_FEATURES || s->cfg.tframe == ESF_TFRAME_ROTATE,
       .cohesion = ESF_FUSED_FEATURES && s->mats.any_cohesion,
-      .rows = ledger ? s->led_rows : NULL};
+      .rows = ledger ? s->led_rows : NULL,
+      .bond = s->bonds.on ? cp->bond : NULL,
+      .broken = &f->broken};
   const double cr0 = 1.0 - s->alpha_r * h, cr1 = 1.0 / (1.0 + s->alpha_r * h),
                ct0 = 1.0 - s->alpha_t * h, ct1 = 1.0 / (1.0 + s->alpha_t * h);
   const esf_fused_kick K = {
@@ -287,6 +290,7 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
                              .led = ledger ? &s->led : NULL,
                              .nblocks = esf_ledger_nblocks(p->n)};
   f->nt_sum = 0;
+  atomic_store_explicit(&f->broken, 0, memory_order_relaxed);
   f->taken = 0;
   f->decided = 0;
 
@@ -325,6 +329,7 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
   s->t = (double)s->step * s->dt;
   s->rhs_evals += ok;
   s->contacts_sum += (double)f->nt_sum;
+  s->bonds.broken += atomic_load_explicit(&f->broken, memory_order_relaxed);
   *taken = ok;
   /* the accumulators hold F_n, M_n; on failure they are partly overwritten, and p.f,
    * p.t keep what the last sync left */

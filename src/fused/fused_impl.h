@@ -118,6 +118,7 @@ struct esf_fused {
   long busy_steps;
   esf_fused_range *rr; /* nth, line-aligned */
   long epoch;          /* steps run by esf_fused_run */
+  _Atomic long broken; /* bonds the batches broke (esf_fused_run books them) */
   double t_left;       /* when the last call's threads finished (omp_get_wtime), or 0 */
   double t_step;       /* how long its parallel part took per step, s */
   int recut;

@@ -130,7 +130,10 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
     for (int l = 0; l < nl; l++) {
       const size_t k = list[q0 + l];
       for (; jo < jo1 && f->bk[jo] < k; jo++) outgoing(f, c, jo, rows);
-      if (apart >> l & 1u) continue;
+      if (apart >> l & 1u) { /* nothing, but a broken bond's energy (ledger) */
+        if (rows) esf_pair_batch_led_add(rows, c->a[k], c->b[k], lout[l]);
+        continue;
+      }
       if (fail >> l & 1u) {
         if (k < bad) bad = k;
         continue;

@@ -67,11 +67,14 @@ size_t esf_fused_boundary(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc
   for (size_t j = j0; j < j1 || m > 0;) {
     if (j < j1) {
       const size_t k = f->bk[j], a = c->a[k], b = c->b[k];
-      if (!esf_fused_overlap(p->x, p->radius, a, b)) {
+      if (!esf_fused_overlap(p->x, p->radius, a, b) &&
+          !(c->touch[k] && esf_candidates_bonded(c, k))) { /* bonds pull */
         if (c->touch[k]) {
           c->touch[k] = 0;
           esf_fused_slot_clear(f, j);
         }
+        if (bc->rows) /* a bond that broke last step left its energy here */
+          f->lslot_a[ESF_FUSED_LSLOT * j + ESF_LR_ET + 3] = -0.0;
         j++;
         continue;
       }
@@ -80,12 +83,20 @@ size_t esf_fused_boundary(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc
       jb[m++] = j++;
       if (m < ESF_BATCH) continue;
     }
-    unsigned apart; /* none: screened above by the same test */
+    unsigned apart; /* only broken bonds: screened above by the same test */
     const unsigned fail = esf_pair_batch_linear(bc, kb, m, out, lout, &apart);
     if (m > ESF_BATCH) __builtin_unreachable(); /* kb, jb hold ESF_BATCH */
     for (int l = 0; l < m; l++) {
       if (fail >> l & 1u) {
         if (kb[l] < bad) bad = kb[l];
+        continue;
+      }
+      if (apart >> l & 1u) { /* a bond broke: no force, its energy in the ledger */
+        (*nt)--;
+        esf_fused_slot_clear(f, jb[l]);
+        if (bc->rows)
+          memcpy(f->lslot_a + ESF_FUSED_LSLOT * jb[l], lout[l],
+                 ESF_FUSED_LSLOT * sizeof(double));
         continue;
       }
       slot_put(f->slot + ESF_FUSED_SLOT * jb[l], out[l]);

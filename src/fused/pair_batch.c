@@ -22,6 +22,7 @@
 #include "util/vec4.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stddef.h>
 #include <string.h>
 
@@ -201,14 +202,14 @@ static inline vd dot(const vd a[3], const vd b[3]) { return esf_law_dot_v(a, b);
  * A's [-fd n | slip], [-fel n | W], [fdt | e_t], [lA n x fdt | -0], [ket | -0],
  * [lA n x ket | -0] with ket = kt xi, and B's the opposite forces and its own torques
  * (lB), each with -0 in its fourth lane (the one value whose addition leaves every
- * double as it was). Added to the rows of the lanes not in skip, in lane order, or
- * written to lout. */
-static void ledger_rows(const esf_pair_batch_ctx *c, vd kn, vd kt, vd un, vd fd,
-                        const vd n[3], vd la, vd lb, const esf_law_tout_v *T,
-                        const size_t *ia, const size_t *ib, int nl, unsigned skip,
-                        double lout[ESF_BATCH][ESF_BATCH_LOUT]) {
+ * double as it was); a lane not in keep (the contact ended) adds -0 everywhere but,
+ * when its bond broke, the bond's energy e_brk in A's fourth lane of [ket]. Added to
+ * the rows of the lanes not in skip, in lane order, or written to lout. */
+static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_n,
+                        const vd n[3], vd la, vd lb, const esf_law_tout_v *T, vm keep,
+                        vm broke, vd e_brk, const size_t *ia, const size_t *ib, int nl,
+                        unsigned skip, double lout[ESF_BATCH][ESF_BATCH_LOUT]) {
   const vd mz = {-0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0};
-  const vd fel = kn * un, e_n = 0.5 * kn * un * un;
   vd ket[3], md[3], me[3];
   for (int q = 0; q < 3; q++) ket[q] = kt * T->xi[q];
   esf_law_cross_v(md, n, T->fdt);
@@ -232,6 +233,9 @@ static void ledger_rows(const esf_pair_batch_ctx *c, vd kn, vd kt, vd un, vd fd,
   col[1][3] = e_n;
   col[2][3] = T->e_el;
   for (int j = 3; j < 12; j++) col[j][3] = mz;
+  for (int j = 0; j < 12; j++) /* a contact that ended adds nothing... */
+    for (int q = 0; q < 4; q++) col[j][q] = sel(keep, col[j][q], mz);
+  col[4][3] = sel(broke, e_brk, mz); /* ...but the energy its bond held */
   v4 r[12][ESF_BATCH];
   for (int j = 0; j < 12; j++) rows_of(col[j], r[j]);
   for (int l = 0; l < nl; l++) {
@@ -275,17 +279,19 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
     tch[l] = -(long long)c->touch[kk[l]];
   }
   const vd zero = {0};
-  vd kn, kt, mu, cnf, ctf, coh = zero;
+  vd kn, kt, mu, cnf, ctf, coh = zero, tl = zero;
+  const esf_pair_params *pp[ESF_BATCH];
   if (c->one) { /* one material: the same parameters in every lane */
+    for (int l = 0; l < ESF_BATCH; l++) pp[l] = c->one;
     kn = zero + c->one->kn;
     kt = zero + c->one->kt;
     mu = zero + c->one->mu;
     cnf = zero + c->one->cn_factor;
     ctf = zero + c->one->ct_factor;
     if (c->cohesion) coh += c->one->cohesion;
+    if (c->bond) tl += c->one->tensile_limit;
   } else {
     const esf_materials *mt = c->mt;
-    const esf_pair_params *pp[ESF_BATCH];
     for (int l = 0; l < ESF_BATCH; l++)
       pp[l] = &mt->pair[c->material[ia[l]] * mt->n + c->material[ib[l]]];
     for (int l = 0; l < ESF_BATCH; l++) {
@@ -295,6 +301,7 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
       cnf[l] = pp[l]->cn_factor;
       ctf[l] = pp[l]->ct_factor;
       if (c->cohesion) coh[l] = pp[l]->cohesion;
+      if (c->bond) tl[l] = pp[l]->tensile_limit;
     }
   }
   vd cn, ct; /* the dashpots, N s/m */
@@ -323,20 +330,50 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   esf_law_pair_kinematics_v(d, d2, ra, rb, va, vb, wa, wb, n, &un, &la, &lb, vc);
   const vm bad = un > c->max_overlap * sel(ra < rb, ra, rb);
   const vd vn = dot(vc, n);
-  vd fd;
-  const vd fn = esf_law_linear_normal_v(kn, cn, un, vn, &fd);
+  vd fd, fel = kn * un, e_n = 0.5 * kn * un * un, e_brk = zero;
+  vd fn = esf_law_linear_normal_v(kn, cn, un, vn, &fd);
+  /* Bonds (contact/contact_adhesive.c, 004 2.22-2.25): a bonded contact's normal spring
+   * is the adhesive one at u = un + s, with the dashpot unclipped (it may pull); below
+   * u_rupture the bond breaks: no force, the history restarts, the bond's energy is
+   * booked. The same operations per lane as adhesive_eval's. */
+  vm bonded = {0}, broke = {0};
+  if (c->bond) {
+    for (int l = 0; l < ESF_BATCH; l++)
+      bonded[l] = -(long long)(c->bond[kk[l]].on && c->touch[kk[l]]);
+    if (any(bonded)) {
+      const vd fdv = -cn * vn;
+      for (int l = 0; l < ESF_BATCH; l++) {
+        if (!bonded[l]) continue;
+        const esf_adhesion *A = &pp[l]->adh;
+        const double u = un[l] + c->bond[kk[l]].s;
+        if (u < A->u_rupture) {
+          broke[l] = -1;
+          e_brk[l] =
+              esf_adhesion_energy(kn[l], A, u) +
+              0.5 * kt[l] *
+                  (hx[0][l] * hx[0][l] + hx[1][l] * hx[1][l] + hx[2][l] * hx[2][l]);
+          continue;
+        }
+        fel[l] = esf_adhesion_force(kn[l], A, u);
+        e_n[l] = esf_adhesion_energy(kn[l], A, u);
+      }
+      const vm pull = bonded & ~broke;
+      fn = sel(pull, fel + fdv, fn);
+      fd = sel(pull, fdv, fd);
+    }
+  }
   const vd spin = 0.5 * (dot(wa, n) + dot(wb, n));
   const esf_law_tpar_v P = {.kt = kt,
                             .ct = ct,
                             .mu = mu,
                             .coh = coh,
-                            .tl = zero,
+                            .tl = tl,
                             .rotate = c->rotate,
-                            .tension = 0, /* fn >= 0: the linear law does not pull */
+                            .tension = c->bond != NULL, /* only bonds pull */
                             .ledger = c->rows != NULL,
                             .vi = NULL};
   esf_law_tout_v T;
-  esf_law_tangential_v(&P, zero + c->dt, n, spin, vc, vn, fn, hx, hn, tch, &T);
+  esf_law_tangential_v(&P, zero + c->dt, n, spin, vc, vn, fn, hx, hn, tch & ~broke, &T);
   vd m[3], f[3];
   esf_law_force_v(n, fn, T.ft, f, m);
   const vd *xi = T.xi;
@@ -357,11 +394,19 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   const vd c0[4] = {xi[0], xi[1], xi[2], n[0]};
   double rows[ESF_BATCH][ESF_BATCH_OUT];
   store_rows(c0, rows, 0);
+  const vm keep = (in | bonded) & ~broke; /* the contacts that go on */
   unsigned badmask = 0, gone = 0;
   for (int l = 0; l < nl; l++) {
-    if (!in[l]) { /* apart: the contact ended */
+    if (!keep[l]) { /* apart: the contact ended */
       gone |= 1u << l;
       c->touch[kk[l]] = 0;
+      if (broke[l]) { /* as the linear law at un <= 0 commits: xi = 0, the normal */
+        char *h = (char *)c->h + hk[l];
+        const esf_contact_hist h0 = {{0, 0, 0}, {n[0][l], n[1][l], n[2][l]}};
+        memcpy(h, &h0, sizeof h0);
+        c->bond[kk[l]] = (esf_contact_bond){0};
+        atomic_fetch_add_explicit(c->broken, 1, memory_order_relaxed);
+      }
       continue;
     }
     if (bad[l]) {
@@ -380,8 +425,8 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
       esf_pair_batch_acc_add(acc, ia[l], ib[l], rf[l], rta[l], rtb[l]);
     }
   if (c->rows)
-    ledger_rows(c, kn, kt, un, fd, n, la, lb, &T, ia, ib, nl, badmask | gone,
-                acc ? NULL : lout);
+    ledger_rows(c, kt, fd, fel, e_n, n, la, lb, &T, keep, broke, e_brk, ia, ib, nl,
+                badmask, acc ? NULL : lout);
   *apart = gone;
   return badmask;
 }

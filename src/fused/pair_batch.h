@@ -48,6 +48,8 @@ typedef struct esf_pair_batch_ctx {
   int cohesion;               /* 1: the Coulomb cap includes the pair's cohesion */
   double *rows;               /* the ledger's rows (core/ledger.h, ESF_LR a particle;
                                  line-aligned), or NULL: no ledger */
+  esf_contact_bond *bond;     /* per pair: the bond state, or NULL: no bonds */
+  _Atomic long *broken;       /* bonds broken (with bond) */
 } esf_pair_batch_ctx;
 
 /* The contacts of pairs k[0 .. nl) (1 <= nl <= ESF_BATCH). A pair whose spheres do
