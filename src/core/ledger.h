@@ -109,6 +109,18 @@ enum {            /* channels of a block's sums */
        ESF_LB_N = 16
 };
 
+/* The torque directions of the tangential dashpot and spring forces on A: n x fdt,
+ * n x ket (the torques are these times the lever arms). */
+static inline void esf_ledger_torques(const double n[3], const double fdt[3],
+                                      const double ket[3], double md[3], double me[3]) {
+  md[0] = n[1] * fdt[2] - n[2] * fdt[1];
+  md[1] = n[2] * fdt[0] - n[0] * fdt[2];
+  md[2] = n[0] * fdt[1] - n[1] * fdt[0];
+  me[0] = n[1] * ket[2] - n[2] * ket[1];
+  me[1] = n[2] * ket[0] - n[0] * ket[2];
+  me[2] = n[0] * ket[1] - n[1] * ket[0];
+}
+
 /* Adds one touching pair contact to the rows of A (ra) and B (rb): n, lever arms la,
  * lb, the normal dashpot fd and spring fel (N, compressive positive), the tangential
  * dashpot fdt and spring ket forces on A (N), the slip work and the springs' energies
@@ -118,12 +130,7 @@ static inline void esf_ledger_pair_rows(double *ra, double *rb, const double n[3
                                         const double fdt[3], const double ket[3],
                                         double slip, double e_n, double e_t) {
   double md[3], me[3], x;
-  md[0] = n[1] * fdt[2] - n[2] * fdt[1];
-  md[1] = n[2] * fdt[0] - n[0] * fdt[2];
-  md[2] = n[0] * fdt[1] - n[1] * fdt[0];
-  me[0] = n[1] * ket[2] - n[2] * ket[1];
-  me[1] = n[2] * ket[0] - n[0] * ket[2];
-  me[2] = n[0] * ket[1] - n[1] * ket[0];
+  esf_ledger_torques(n, fdt, ket, md, me);
   for (int q = 0; q < 3; q++) {
     x = -fd * n[q];
     ra[ESF_LR_DN + q] += x;
@@ -155,12 +162,7 @@ static inline void esf_ledger_wall_rows(double *r, const double n[3], double la,
                                         double e_t, const double f[3], const double vw[3],
                                         double dt) {
   double md[3], me[3], x;
-  md[0] = n[1] * fdt[2] - n[2] * fdt[1];
-  md[1] = n[2] * fdt[0] - n[0] * fdt[2];
-  md[2] = n[0] * fdt[1] - n[1] * fdt[0];
-  me[0] = n[1] * ket[2] - n[2] * ket[1];
-  me[1] = n[2] * ket[0] - n[0] * ket[2];
-  me[2] = n[0] * ket[1] - n[1] * ket[0];
+  esf_ledger_torques(n, fdt, ket, md, me);
   for (int q = 0; q < 3; q++) {
     x = -fd * n[q];
     r[ESF_LR_DN + q] += x;
