@@ -57,6 +57,7 @@ typedef struct result {
 static const char *root_; /* the source tree: block_impact-quick, or NULL: the box */
 
 static int run(int threads, int fused, result *r) {
+  memset(r, 0, sizeof *r);
   const char *sets[] = {fused ? "integrator.fused=true" : "integrator.fused=false"};
   simtest T;
   int rc = root_ ? simtest_open_scene(&T, root_, "block_impact-quick", sets, 1)
