@@ -95,6 +95,7 @@ void esf_fused_free(esf_fused **f) {
   free(q->binstart);
   free(q->rlo);
   free(q->busy);
+  free(q->waits);
   free(q->work);
   free(q->rate);
   free(q->rr);
@@ -194,7 +195,10 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
     o.nt = nt_pp + nt_pw;
     me->out = o;
 #ifdef _OPENMP
-    f->busy[t] += omp_get_wtime() - t0 - waited; /* range t is this thread's alone */
+    const double spent = omp_get_wtime() - t0;
+    f->busy[t] += spent - waited; /* range t is this thread's alone */
+    f->waits[t] += waited;
+    if (t == 0) f->inside += spent;
 #endif
     atomic_store_explicit(&me->done, e, memory_order_release);
   }
@@ -208,7 +212,13 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
   esf_particles *p = &s->p;
   int rc;
   *taken = 0;
-  const int want = s->cfg.threads > 0 ? s->cfg.threads : 1;
+  int want = s->cfg.threads > 0 ? s->cfg.threads : 1;
+#ifdef _OPENMP
+  if (f->cap > 0 && omp_get_wtime() < f->cap_until)
+    want = f->cap < want ? f->cap : want; /* the threads waited more than they worked */
+  else
+    f->cap = 0;
+#endif
   if (f->built != s->nb.builds || f->np != p->n || f->want != want || f->recut) {
     esf_sim_forces_sync(s); /* acc may move */
     rc = esf_fused_index(s, f, want, err);
@@ -290,6 +300,7 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
                              .led = ledger ? &s->led : NULL,
                              .nblocks = esf_ledger_nblocks(p->n)};
   f->nt_sum = 0;
+  f->inside = 0.0;
   atomic_store_explicit(&f->broken, 0, memory_order_relaxed);
   f->taken = 0;
   f->decided = 0;
@@ -352,6 +363,15 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
     return rc ? rc : esf_fail(err, ESF_EINTERNAL, "wall contact failure not reproduced");
   }
   if (ledger) s->led_time = (double)(s->step - 1) * s->dt; /* the last step's t_n */
+  if (f->cap_logged == 1) {                                /* the first time only */
+    esf_sim_log(s,
+                "t = %.6g s: the fused step's %d threads worked %.0f%% of the time and "
+                "waited the rest (other programs on the cores, or too little work a "
+                "step): one thread fewer for %.0f s at a time when it happens again "
+                "(the results are the same on any thread count)",
+                s->t, f->cap + 1, 100.0 * f->cap_eff, ESF_FUSED_BACKOFF);
+    f->cap_logged = 2;
+  }
   if (autod && n > 0) esf_sim_adapt_damping(s, s->led_blocks, B.nblocks);
   if (s->walls.gforce && n > 0) esf_servo_update(s); /* the walls' velocities */
   s->nb.max_disp2 = r.max2;
@@ -360,6 +380,8 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
 #ifdef _OPENMP
   f->t_left = omp_get_wtime();
   f->t_step = (f->t_left - t_start) / (double)(n > 0 ? n : 1);
+  if (nth > 1 && f->t_left - t_start > f->inside) /* the region's start and end: waits */
+    f->waits[0] += f->t_left - t_start - f->inside;
 #endif
   return ESF_OK;
 }

@@ -29,6 +29,11 @@
  * candidate (fused_ranges.c's work_of): below it a thread's handoffs cost more than
  * its share saves (docs/performance.md#threads-on-small-scenes). */
 #define ESF_FUSED_MIN_WORK 1000
+/* Below this efficiency (time worked over time worked or waited) the step drops a
+ * thread for ESF_FUSED_BACKOFF seconds (esf_fused_balance;
+ * docs/performance.md#threads-on-small-scenes) */
+#define ESF_FUSED_MIN_EFF 0.5
+#define ESF_FUSED_BACKOFF 2.0
 
 /* the accumulators' stride: four-wide force, four-wide torque */
 #define ESF_FUSED_ACC ESF_FT_STRIDE
@@ -116,11 +121,17 @@ struct esf_fused {
    * of work */
   double *busy, *work, *rate;
   long busy_steps;
-  esf_fused_range *rr; /* nth, line-aligned */
-  long epoch;          /* steps run by esf_fused_run */
-  _Atomic long broken; /* bonds the batches broke (esf_fused_run books them) */
-  double t_left;       /* when the last call's threads finished (omp_get_wtime), or 0 */
-  double t_step;       /* how long its parallel part took per step, s */
+  double *waits;             /* per range: seconds waited for the others */
+  double inside;             /* a call's seconds range 0 spent in its steps */
+  double backoff;            /* s: the next cap's length (doubles while it lasts) */
+  int cap;                   /* > 0: at most this many ranges until cap_until */
+  double cap_until, cap_eff; /* s (omp_get_wtime); the efficiency that set it */
+  int cap_logged;            /* 1: a cap to log, 2: logged */
+  esf_fused_range *rr;       /* nth, line-aligned */
+  long epoch;                /* steps run by esf_fused_run */
+  _Atomic long broken;       /* bonds the batches broke (esf_fused_run books them) */
+  double t_left; /* when the last call's threads finished (omp_get_wtime), or 0 */
+  double t_step; /* how long its parallel part took per step, s */
   int recut;
   /* a burst's outcome, written by range 0 (esf_fused_decide) */
   long taken;    /* steps completed */

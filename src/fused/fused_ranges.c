@@ -17,6 +17,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 static int grow(void **p, size_t n, size_t size) {
   void *q = realloc(*p, (n ? n : 1) * size);
   if (!q) return 0;
@@ -74,7 +78,7 @@ static void cut_ranges(esf_fused *f, const esf_candidates *c, size_t *wt, size_t
   for (size_t t = 0; t < T; t++) { /* unscaled: the next rates are the ranges' own */
     f->work[t] = 0.0;
     for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++) f->work[t] += (double)base[i];
-    f->busy[t] = 0.0;
+    f->busy[t] = f->waits[t] = 0.0;
   }
   f->busy_steps = 0;
   f->recut = 0;
@@ -91,13 +95,35 @@ void esf_fused_balance(esf_fused *f, size_t T) {
     mean += f->busy[t] / (double)T;
     worst = f->busy[t] > worst ? f->busy[t] : worst;
   }
+  /* The threads' efficiency over the window: the time they worked against the time
+   * they worked or waited for each other. Below ESF_FUSED_MIN_EFF they waited more than
+   * they worked (other programs on the cores): one thread fewer for ESF_FUSED_BACKOFF
+   * seconds, then all again (the results do not change). */
+  double busy = 0.0, waited = 0.0;
+  for (size_t t = 0; t < T; t++) {
+    busy += f->busy[t];
+    waited += f->waits[t];
+  }
+  if (busy + waited > 0 && busy / (busy + waited) < ESF_FUSED_MIN_EFF) {
+#ifdef _OPENMP
+    if (!(f->backoff >= ESF_FUSED_BACKOFF)) f->backoff = ESF_FUSED_BACKOFF;
+    f->cap = (int)T - 1;
+    f->cap_until = omp_get_wtime() + f->backoff;
+    f->backoff = f->backoff < 64.0 ? 2.0 * f->backoff : 64.0; /* the load persists */
+#endif
+    f->cap_eff = busy / (busy + waited);
+    f->recut = 1;
+    if (!f->cap_logged) f->cap_logged = 1;
+    return;
+  }
   if (worst > 1.02 * mean && mean > 0) {
     for (size_t t = 0; t < T; t++)
       f->rate[t] = f->work[t] > 0 ? f->busy[t] / f->work[t] : 0.0;
     f->recut = 1;
   } else {
-    for (size_t t = 0; t < T; t++) f->busy[t] = 0.0;
+    for (size_t t = 0; t < T; t++) f->busy[t] = f->waits[t] = 0.0;
     f->busy_steps = 0;
+    if (f->nth == f->want) f->backoff = ESF_FUSED_BACKOFF; /* all threads work well */
   }
 }
 
@@ -181,6 +207,7 @@ int esf_fused_index(esf_sim *s, esf_fused *f, int want, esf_error *err) {
       !grow((void **)&f->binstart, T + 1, sizeof(size_t)) ||
       !grow((void **)&f->rlo, T + 1, sizeof(size_t)) ||
       !grow((void **)&f->busy, T, sizeof(double)) ||
+      !grow((void **)&f->waits, T, sizeof(double)) ||
       !grow((void **)&f->work, T, sizeof(double)) ||
       !grow((void **)&f->rate, T, sizeof(double)))
     return esf_fail(err, ESF_ENOMEM, "out of memory");
