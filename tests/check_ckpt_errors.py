@@ -148,7 +148,8 @@ def main():
 
         # bad checkpoint files
         ck = os.path.join(ref, "checkpoint.esf")
-        run_ok(exe, "run", scene, "--out", ref, "--quiet", "--checkpoint-every", "0.02")
+        run_ok(exe, "run", scene, "--out", ref, "--quiet", "--overwrite",
+               "--checkpoint-every", "0.02")
         data = open(ck, "rb").read()
         bad = os.path.join(tmp, "bad")
         os.makedirs(bad)
