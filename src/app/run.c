@@ -13,6 +13,7 @@
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
@@ -281,6 +282,20 @@ static int check_out_dir(const char *dir, int overwrite, esf_error *err) {
                   ckpt ? dir : "", ckpt ? " (its checkpoint)" : "");
 }
 
+/* Creates out_dir (and parents) and opens its log.txt (mode "w" or "a") line-buffered:
+ * each line reaches the file as it is logged. */
+static int open_log(const char *out_dir, const char *mode, FILE **logf, esf_error *err) {
+  int rc = esf_mkdirs(out_dir, err);
+  if (rc) return rc;
+  char path[1200];
+  snprintf(path, sizeof path, "%s/log.txt", out_dir);
+  *logf = fopen(path, mode);
+  if (!*logf)
+    return esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
+  setvbuf(*logf, NULL, _IOLBF, 1 << 14);
+  return ESF_OK;
+}
+
 int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err) {
   memset(st, 0, sizeof *st);
   const esf_integrator_type *it = esf_integrator_find(s->cfg.method);
@@ -289,23 +304,46 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   long nsteps = 0;
   double t_end = 0;
   int rc = plan(s, adaptive, &nsteps, &t_end, err);
-  if (!rc) rc = esf_mkdirs(o->out_dir, err);
+  if (!rc && o->scene && s->cfg.ckpt_every > 0 && !it->save)
+    rc = esf_fail(err, ESF_EINPUT,
+                  "%s: output.checkpoint_every: integrator %s cannot write checkpoints "
+                  "(leapfrog and erk: methods can)",
+                  esf_config_where(&s->cfg, "output.checkpoint_every"), s->cfg.method);
   if (!rc && !o->resume) rc = check_out_dir(o->out_dir, o->overwrite, err);
   if (rc) return rc;
   char path[1200];
-  snprintf(path, sizeof path, "%s/log.txt", o->out_dir);
-  FILE *logf = fopen(path, o->resume ? "a" : "w");
-  if (!logf)
-    return esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
-  setvbuf(logf, NULL, _IOLBF, 1 << 14); /* each line reaches the file as it is logged */
-  s->log = logf;
-  FILE *ef = NULL;
+  FILE *logf = NULL, *ef = NULL;
   esf_frames *fr = NULL;
   esf_contact_net net = {0};
   void *ist = NULL;
-  log_setup(s, it);
   esf_ckpt_run cr = {0};
+  if (!o->resume) { /* a new run: the scheme is set up before any file is written, so
+                       that bad input leaves nothing behind; its log waits in memory */
+    char *early = NULL;
+    size_t len = 0;
+    FILE *mem = open_memstream(&early, &len);
+    if (!mem) return esf_fail(err, ESF_ENOMEM, "out of memory for the log");
+    s->log = mem;
+    log_setup(s, it);
+    rc = it->create(s, &ist, err);
+    s->log = NULL;
+    fclose(mem);
+    if (!rc) rc = open_log(o->out_dir, "w", &logf, err);
+    if (!rc && fwrite(early, 1, len, logf) != len)
+      rc = esf_fail(err, ESF_EIO, "cannot write log.txt: %s", strerror(errno));
+    free(early);
+    if (rc && !logf) {
+      if (ist) it->destroy(&ist);
+      return rc;
+    }
+  } else {
+    rc = open_log(o->out_dir, "a", &logf, err);
+    if (rc) return rc;
+  }
+  s->log = logf;
+  if (rc) goto done;
   if (o->resume) { /* the state, then the outputs cut back to the checkpoint's */
+    log_setup(s, it);
     rc = it->create(s, &ist, err);
     if (!rc) rc = esf_ckpt_restore(o->resume, s, it, ist, &cr, err);
     if (!rc) rc = esf_run_ckpt_reopen(o->out_dir, s, &cr, &ef, &fr, err);
@@ -314,29 +352,23 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                 "resumed from checkpoint %ld at step %ld, t = %.9g s (%ld frames, %ld "
                 "energy rows kept)",
                 cr.count, s->step, s->t, cr.frames, cr.erows);
-  } else if (s->led.on) {
-    snprintf(path, sizeof path, "%s/energy.csv", o->out_dir);
-    ef = fopen(path, "w");
-    if (!ef) {
-      rc = esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
-      goto done;
-    }
-    setvbuf(ef, NULL, _IOLBF, 1 << 14); /* one write() per whole row: a reader (or a
-                                           kill) never meets half a row */
-    esf_ledger_header(ef);
-  }
-  if (!o->resume) {
+  } else {
     esf_run_ckpt_forget(o->out_dir); /* a new run: an old checkpoint no longer fits */
+    if (s->led.on) {
+      snprintf(path, sizeof path, "%s/energy.csv", o->out_dir);
+      ef = fopen(path, "w");
+      if (!ef) {
+        rc = esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
+        goto done;
+      }
+      setvbuf(ef, NULL, _IOLBF, 1 << 14); /* one write() per whole row: a reader (or a
+                                             kill) never meets half a row */
+      esf_ledger_header(ef);
+    }
     snprintf(path, sizeof path, "%s/frames.h5", o->out_dir);
     rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, &fr, err);
-    if (!rc) rc = it->create(s, &ist, err);
     if (!rc) rc = write_frame(s, fr, &net, err);
   }
-  if (!rc && o->scene && s->cfg.ckpt_every > 0 && !it->save)
-    rc = esf_fail(err, ESF_EINPUT,
-                  "%s: output.checkpoint_every: integrator %s cannot write checkpoints "
-                  "(leapfrog and erk: methods can)",
-                  esf_config_where(&s->cfg, "output.checkpoint_every"), s->cfg.method);
   if (rc) goto done;
 
   long every_e = steps_in(s->cfg.energy_every, s->dt);
