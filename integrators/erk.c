@@ -472,10 +472,25 @@ static int erk_restore(esf_sim *s, void *state, esf_blob_in *in, esf_error *err)
                     "%s: the saved ODE state has %lld entries, the restored lists need "
                     "%zu",
                     e->name, (long long)v.len, len);
+  const double tv[] = {v.h, v.t_save, v.t_event, v.t_commit, v.el_t0};
+  int ok = v.h > 0 && v.retries >= 0 && v.resizes >= 0 && v.events >= 0 &&
+           (v.roots_off == 0 || v.roots_off == 1) && v.nrhs >= 0 && v.ncommit >= 0 &&
+           v.nfail >= 0;
+  for (int k = 0; k < 5; k++) ok = ok && isfinite(tv[k]);
+  for (int k = 0; k < 6; k++) ok = ok && v.base[k] >= 0;
+  if (!ok)
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: the saved step, times or counters are out of range", e->name);
   N_VDestroy(e->y);
   e->y = N_VNew_Serial((sunindextype)len, e->ctx);
   if (!e->y) return esf_fail(err, ESF_ENOMEM, "out of memory");
   esf_blob_get(in, N_VGetArrayPointer(e->y), len * sizeof(double));
+  const double *y = N_VGetArrayPointer(e->y);
+  for (size_t j = 0; j < len && ok; j++) ok = isfinite(y[j]);
+  if (!ok || memcmp(y, s->p.y, 9 * s->p.n * sizeof(double)) != 0)
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: the saved ODE state is not finite or not the particles' state",
+                    e->name);
   if (e->atol) {
     N_VDestroy(e->atol);
     N_VDestroy(e->ysave);
@@ -483,6 +498,11 @@ static int erk_restore(esf_sim *s, void *state, esf_blob_in *in, esf_error *err)
     e->ysave = N_VClone(e->y);
     if (!e->atol || !e->ysave) return esf_fail(err, ESF_ENOMEM, "out of memory");
     esf_blob_get(in, N_VGetArrayPointer(e->atol), len * sizeof(double));
+    const double *a = N_VGetArrayPointer(e->atol);
+    for (size_t j = 0; j < len; j++)
+      if (!(a[j] > 0) || !isfinite(a[j]))
+        return esf_fail(err, ESF_EINPUT, "%s: a saved tolerance is not positive",
+                        e->name);
   }
   e->t_save = v.t_save;
   e->t_event = v.t_event;

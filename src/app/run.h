@@ -22,10 +22,6 @@ typedef struct esf_run_opts {
   int overwrite; /* a new run may replace another run's results in out_dir */
 } esf_run_opts;
 
-/* The most steps one run takes (run.steps, or run.duration / dt): beyond it a count
- * would not end in any useful time (and soon not fit a long). */
-#define ESF_STEPS_MAX 1e12
-
 typedef struct esf_run_stats {
   long steps;             /* the step count at the end (since the run's start) */
   double wall_s;          /* wall time of this invocation's time-stepping loop, s */

@@ -93,6 +93,11 @@ typedef struct esf_config {
 
 void esf_config_default(esf_config *c);
 
+/* The most steps one run takes (run.steps, or run.duration / dt; checked by the run
+ * driver and by checkpoint restores): beyond it a count would not end in any useful
+ * time (and soon not fit a long). */
+#define ESF_STEPS_MAX 1e12
+
 /* The place of key (dotted path, "integrator.dt") in the scene: its own when the scene
  * gave it, else that of its nearest given parent ("integrator"), else of the document,
  * else cfg.source; never NULL. */
