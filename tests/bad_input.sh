@@ -241,5 +241,23 @@ only "rerun into a folder with results" 2 "^esfera: the output folder '.*o0' hol
 expect "rerun with --overwrite" 0 "^$" -- run "$tmp/ok.yaml" --out "$tmp/o0" --quiet --overwrite
 expect "--overwrite with --resume" 2 "--resume DIR continues a run" -- run --resume "$tmp/o0" --overwrite
 
+# initial overlaps are bad input with their own message (not the first step's failure)
+good "  - {material: glass, radius: 0.005, position: [0.1, 0, 0.003]}" "" > "$tmp/s50.yaml"
+only "sphere pressed into a wall" 2 "^esfera: .*s50.yaml:6:[0-9]+ \(particles.1\): particle id 1 at \(0.1, 0, 0.003\) m, radius 0.005 m, starts overlapping wall element 0 of walls.0 \('plane 0' at .*s50.yaml:8:[0-9]+\) by 0.002 m, 40% of its radius .*allow_initial_overlap" \
+  -- run "$tmp/s50.yaml" --out "$tmp/o50"
+expect "pressed in, allowed" 0 "^$" -- run "$tmp/s50.yaml" --out "$tmp/o51" --quiet \
+  --set contact.allow_initial_overlap=true
+only "deep in a wall, allowed or not" 2 "^esfera: .*particle id 1 .* by 0.004 m, 80% of its radius \(limit 50%\), more than contact.max_overlap allows" \
+  -- run "$tmp/s50.yaml" --out "$tmp/o52" --set contact.allow_initial_overlap=true \
+  --set 'particles.1.position=[0.1,0,0.001]'
+printf 'x,y,z,radius\n0.3,0,0.001,0.005\n0.5,0,0.01,0.005\n0.7,0,0.01,0.005\n' > "$tmp/deep.csv"
+good "  - {file: deep.csv, material: glass}" "" > "$tmp/s53.yaml"
+only "a packing's sphere deep in a wall" 2 "^esfera: .*s53.yaml:6:[0-9]+ \(particles.1, a row of its file\): particle id 1 .* by 0.004 m, 80%" \
+  -- run "$tmp/s53.yaml" --out "$tmp/o53"
+printf 'x,y,z,radius\n0.3,0,0.01,0.005\n0.5,0,0.01,0.005\n0.5,0,0.012,0.005\n' > "$tmp/deep2.csv"
+sed 's/deep.csv/deep2.csv/' "$tmp/s53.yaml" > "$tmp/s54.yaml"
+only "two packed spheres deep in each other" 2 "^esfera: .*s54.yaml:6:[0-9]+ \(particles.1, a row of its file\): particle id 2 and particle id 3 .* start overlapping by 0.008 m, 160% of the smaller radius" \
+  -- run "$tmp/s54.yaml" --out "$tmp/o54"
+
 echo "bad_input: $pass passed, $fail failed"
 [ "$fail" = 0 ]

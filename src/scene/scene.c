@@ -8,6 +8,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "scene/scene_loads.h"
@@ -415,9 +416,13 @@ int esf_scene_read(esf_ydoc *doc, esf_sim *s, esf_error *err) {
   if (!rc) {
     const esf_ynode *ps = esf_ymap_get(root, "particles");
     if (!ps) return esf_ynode_fail(root, err, "missing key 'particles'");
-    rc = esf_scene_particles(ps, esf_ydoc_dir(doc), s, err);
+    uint32_t *entry = NULL;
+    rc = esf_scene_particles(ps, esf_ydoc_dir(doc), s, &entry, err);
+    if (!rc) rc = check_densities(root, s, err);
+    if (!rc)
+      rc = esf_scene_check_overlaps(ps, esf_ymap_get(root, "walls"), s, entry, err);
+    free(entry);
   }
-  if (!rc) rc = check_densities(root, s, err);
   if (rc) return rc;
   if (c->energy_every < 0) { /* not given: about 1000 rows over the run */
     double span = c->duration > 0 ? c->duration : 0.0;
