@@ -1,12 +1,16 @@
 /* run.c — the time loop of `esfera run`.
  *
- * Schedule: frames at t = 0, every cfg.out_every (rounded to whole steps) and at the
- * end; energy rows every cfg.energy_every (whole steps). After each ledger row the
- * balance is checked: energy appearing from nothing beyond a quarter of the run's energy
- * budget (the stored energy at the start plus everything dissipated, the change of
- * potential energy, the wall and fluid work) means the integration is unstable, and the
- * run stops with the step, the dt and the critical dt. Wall time is measured around the
- * loop alone (set-up excluded), as LAMMPS's "Loop time". */
+ * Before any file is written: the step count (at most ESF_STEPS_MAX), the output
+ * folder (another run's results only with --overwrite) and the scheme's set-up, so bad
+ * input leaves nothing behind. Schedule: frames at t = 0, every cfg.out_every (rounded
+ * to whole steps) and at the end; energy rows every cfg.energy_every (whole steps;
+ * adaptive runs: at the first step past each time, however small the interval). After
+ * each ledger row the balance is checked: energy appearing from nothing beyond a quarter
+ * of the run's energy budget (the stored energy at the start plus everything dissipated,
+ * the change of potential energy, the wall and fluid work) means the integration is
+ * unstable, and the run stops with the step, the dt and the critical dt. log.txt and
+ * energy.csv are line-buffered: whole lines reach them. Wall time is measured around
+ * the loop alone (set-up excluded), as LAMMPS's "Loop time". */
 #include "app/run.h"
 #include "util/clock.h"
 

@@ -1,7 +1,8 @@
-/* sim.c — the simulation object's own operations: the configuration's defaults, the
- * run's log, syncing the fused step's forces into p.f and p.t, and removing the
- * particles that left the domain (their energy booked as removed). Setting a sim up
- * from a filled scene and tearing it down is model/setup.c's. */
+/* sim.c — the simulation object's own operations: the configuration's defaults and the
+ * places of its keys in the scene (for located messages), the run's log, syncing the
+ * fused step's forces into p.f and p.t, and removing the particles that left the domain
+ * (their energy booked as removed). Setting a sim up from a filled scene and tearing it
+ * down is model/setup.c's. */
 #include "core/sim.h"
 
 #include <math.h>
