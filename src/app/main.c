@@ -1,13 +1,14 @@
 /* main.c — the esfera command line (docs/usage.md#commands, #exit-status):
  *   esfera run SCENE.yaml [--out DIR] [--overwrite] [--set KEY=VALUE]... [--threads N]
  *              [--quiet] [--checkpoint-every T]
- *   esfera run --resume DIR [--checkpoint-every T] [--quiet]
+ *   esfera run --resume DIR [--checkpoint-every T] [--threads N] [--quiet]
  *   esfera info FILE.h5
  *   esfera modes SCENE.yaml [--set KEY=VALUE]...   (highest contact frequency)
  *   esfera generate SCENE.yaml --out PACKING.csv [--set KEY=VALUE]... (generate_copies.h)
  *   esfera --help | --version
  * Exit status: 0 success, 1 the simulation failed, 2 bad input; a run stopped by
- * SIGINT or SIGTERM writes a checkpoint and exits with 128 + the signal's number.
+ * SIGINT or SIGTERM writes a checkpoint (when its integrator can) and exits with 128 +
+ * the signal's number.
  * Signals: the handlers only set `stop_signal`, which the run polls once per step
  * (esf_run_opts.stop); a second SIGINT or SIGTERM ends the process at once (the default
  * action). SIGXFSZ is ignored so that a file-size limit reaches the writers as EFBIG, a
@@ -34,16 +35,14 @@ static void usage(FILE *f) {
   fprintf(f,
           "usage: esfera run SCENE.yaml [--out DIR] [--overwrite] [--set KEY=VALUE]...\n"
           "                  [--threads N] [--quiet] [--checkpoint-every T]\n"
-          "       esfera run --resume DIR [--checkpoint-every T] [--quiet]\n"
+          "       esfera run --resume DIR [--checkpoint-every T] [--threads N] "
+          "[--quiet]\n"
           "       esfera info FILE.h5|DIR/checkpoint.esf\n"
           "       esfera modes SCENE.yaml [--set KEY=VALUE]...\n"
           "       esfera generate SCENE.yaml --out PACKING.csv [--set KEY=VALUE]...\n"
           "       esfera --help | --version\n\n"
           "  run       integrate a scene; writes log.txt, energy.csv and frames.h5 into\n"
           "            DIR (default: output.dir of the scene, else out/<scene name>)\n"
-          "  --overwrite  replace the results of an earlier run in DIR (without it a\n"
-          "            run refuses a folder that holds frames.h5, energy.csv, log.txt\n"
-          "            or checkpoint.esf)\n"
           "  generate  settle the scene's particles in generate.box, copy them\n"
           "            generate.copies times, settle again, write a packing CSV\n"
           "  --set     override a scene key by its dotted path, e.g.\n"
@@ -51,6 +50,9 @@ static void usage(FILE *f) {
           "  --threads worker threads (default: all available cores; results do not\n"
           "            depend on it)\n"
           "  --quiet   no progress display\n"
+          "  --overwrite  replace the results of an earlier run in DIR (without it a\n"
+          "            run refuses a folder that holds frames.h5, energy.csv, log.txt\n"
+          "            or checkpoint.esf)\n"
           "  --checkpoint-every T  write DIR/checkpoint.esf every T seconds of\n"
           "            simulated time (= --set output.checkpoint_every=T); SIGINT or\n"
           "            SIGTERM also writes one, then stops\n"
