@@ -86,7 +86,8 @@ def outside(exe, tmp):
         r = run(exe, path, "--out", out, *sets)
         s = summary(r) if r else {}
         err = abs(float(s.get("energy_error", "nan")))
-        log = open(os.path.join(out, "log.txt")).read() if r else ""
+        lp = os.path.join(out, "log.txt")
+        log = open(lp).read() if os.path.exists(lp) else ""
         ok = (r is not None and r.returncode == 0 and s.get("removed") == "1" and
               s.get("particles") == "1" and err < 1e-9 and
               "particle id 1 left the domain" in log)
