@@ -97,8 +97,9 @@ static int cv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   rc = esf_sim_refresh(s, NULL, err);
   if (!rc && s->p.n != n_before)
     rc = esf_fail(err, ESF_EINPUT,
-                  "cvode-adams: particles left the domain; removal is "
-                  "supported by the leapfrog only in this version");
+                  "%s: cvode-adams: particles left the domain at t = %.6g s; removal "
+                  "is supported by the leapfrog only in this version",
+                  esf_config_where(&s->cfg, "integrator.method"), s->t);
   return rc;
 }
 

@@ -24,6 +24,7 @@ void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s) {
 
 size_t esf_dem_ode_layout(esf_dem_ode *o) {
   const esf_neighbor *nb = &o->s->nb;
+  o->n = o->s->p.n; /* the refresh before the first build may have removed some */
   o->nxi = o->state ? 3 * (nb->pp.n + nb->pw.n) : 0;
   o->len = 9 * o->n + ESF_ODE_NQ + o->nxi;
   return o->len;
@@ -111,16 +112,16 @@ int esf_dem_ode_check(const esf_sim *s, const char *name, int state_ok, int root
                       esf_error *err) {
   if (s->cfg.history == ESF_HIST_STATE && !state_ok)
     return esf_fail(err, ESF_EINPUT,
-                    "integrator.history: state (contact history as ODE state) is "
+                    "%s: integrator.history: state (contact history as ODE state) is "
                     "available with the erk: methods only, not %s (CVODE cannot follow "
                     "a state whose length changes at every list rebuild; the leapfrog "
                     "and Verlet commit history every step)",
-                    name);
+                    esf_config_where(&s->cfg, "integrator.history"), name);
   if (s->cfg.roots && !roots_ok)
     return esf_fail(err, ESF_EINPUT,
-                    "integrator.roots: rootfinding at contact onset and separation is "
-                    "available with the adaptive erk: methods only (rtol > 0), not %s",
-                    name);
+                    "%s: integrator.roots: rootfinding at contact onset and separation "
+                    "is available with the adaptive erk: methods only (rtol > 0), not %s",
+                    esf_config_where(&s->cfg, "integrator.roots"), name);
   return ESF_OK;
 }
 

@@ -62,8 +62,9 @@ typedef struct esf_dem_ode {
 /* Prepares the ODE view of the sim; call before the first candidate-list build. */
 void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s);
 
-/* Sets o->nxi and o->len for the current candidate lists (after each build); returns
- * o->len. */
+/* Sets o->n, o->nxi and o->len for the current particles and candidate lists (after
+ * each build: the first may have removed particles that start outside the domain);
+ * returns o->len. */
 size_t esf_dem_ode_layout(esf_dem_ode *o);
 
 /* Writes y (length o->len): x, v, w from the particles, the quadratures from q

@@ -85,6 +85,32 @@ static int erk_stab(N_Vector y, realtype t, realtype *hstab, void *data) {
   return 0;
 }
 
+/* SUNDIALS 6.4's explicit tables by name (ARKodeButcherTable_LoadERKByName prints its
+ * own error to stderr for an unknown name, so names are looked up here). */
+#define TABLE(id)                                                                        \
+  { #id, id }
+static const struct {
+  const char *name;
+  ARKODE_ERKTableID id;
+} erk_tables[] = {
+    TABLE(ARKODE_HEUN_EULER_2_1_2),      TABLE(ARKODE_BOGACKI_SHAMPINE_4_2_3),
+    TABLE(ARKODE_ARK324L2SA_ERK_4_2_3),  TABLE(ARKODE_ZONNEVELD_5_3_4),
+    TABLE(ARKODE_ARK436L2SA_ERK_6_3_4),  TABLE(ARKODE_SAYFY_ABURUB_6_3_4),
+    TABLE(ARKODE_CASH_KARP_6_4_5),       TABLE(ARKODE_FEHLBERG_6_4_5),
+    TABLE(ARKODE_DORMAND_PRINCE_7_4_5),  TABLE(ARKODE_ARK548L2SA_ERK_8_4_5),
+    TABLE(ARKODE_VERNER_8_5_6),          TABLE(ARKODE_FEHLBERG_13_7_8),
+    TABLE(ARKODE_KNOTH_WOLKE_3_3),       TABLE(ARKODE_ARK437L2SA_ERK_7_3_4),
+    TABLE(ARKODE_ARK548L2SAb_ERK_8_4_5),
+};
+#undef TABLE
+
+static ARKodeButcherTable load_table(const char *name) {
+  for (size_t k = 0; k < sizeof erk_tables / sizeof erk_tables[0]; k++)
+    if (strcmp(erk_tables[k].name, name) == 0)
+      return ARKodeButcherTable_LoadERK(erk_tables[k].id);
+  return NULL;
+}
+
 /* the classical RK4 */
 static ARKodeButcherTable rk4_table(void) {
   realtype c[4] = {0, 0.5, 0.5, 1};
@@ -217,19 +243,25 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   if (strcmp(tname, "rk4") == 0)
     e->table = rk4_table();
   else
-    e->table = ARKodeButcherTable_LoadERKByName(tname);
+    e->table = load_table(tname);
   if (e->table) e->table = fix_fsal(e->table);
-  if (!e->table)
+  if (!e->table) {
+    char list[1024] = "";
+    for (size_t k = 0; k < sizeof erk_tables / sizeof erk_tables[0]; k++) {
+      size_t l = strlen(list);
+      snprintf(list + l, sizeof list - l, "%s%s", k ? ", " : "", erk_tables[k].name + 7);
+    }
     return esf_fail(err, ESF_EINPUT,
-                    "integrator.method: '%s' is not an explicit Runge-Kutta table of "
-                    "SUNDIALS 6.4 (e.g. erk:ARKODE_DORMAND_PRINCE_7_4_5, or rk4)",
-                    c->method);
+                    "%s: integrator.method: '%s' is not an explicit Runge-Kutta table "
+                    "of SUNDIALS 6.4: give rk4 or erk:ARKODE_<NAME>, NAME one of %s",
+                    esf_config_where(c, "integrator.method"), c->method, list);
+  }
   int adaptive = c->rtol > 0;
   if (adaptive && !e->table->d)
     return esf_fail(err, ESF_EINPUT,
-                    "%s has no embedded error estimate: it runs with a fixed step only "
-                    "(set integrator.rtol: 0 and give dt or frac)",
-                    c->method);
+                    "%s: integrator.method: %s has no embedded error estimate: it runs "
+                    "with a fixed step only (set integrator.rtol: 0 and give dt or frac)",
+                    esf_config_where(c, "integrator.method"), c->method);
   esf_dem_ode_init(&e->ode, s);
   int rc = esf_sim_refresh(s, NULL, err);
   if (rc) return rc;
@@ -361,9 +393,9 @@ static int erk_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   rc = esf_sim_refresh(s, &rebuilt, err);
   if (!rc && s->p.n != n_before)
     rc = esf_fail(err, ESF_EINPUT,
-                  "%s: particles left the domain; removal is supported "
-                  "by the leapfrog only in this version",
-                  e->name);
+                  "%s: %s: particles left the domain at t = %.6g s; removal is "
+                  "supported by the leapfrog only in this version",
+                  esf_config_where(&s->cfg, "integrator.method"), e->name, s->t);
   if (!rc && e->ode.state) rc = erk_sync(e, &restarted, err);
   if (!rc && s->cfg.roots && erk_roots_init(e, rebuilt || events_back, restarted))
     rc = esf_fail(err, ESF_EINTERNAL, "%s: ERKStepRootInit failed", e->name);
@@ -440,10 +472,25 @@ static int erk_restore(esf_sim *s, void *state, esf_blob_in *in, esf_error *err)
                     "%s: the saved ODE state has %lld entries, the restored lists need "
                     "%zu",
                     e->name, (long long)v.len, len);
+  const double tv[] = {v.h, v.t_save, v.t_event, v.t_commit, v.el_t0};
+  int ok = v.h > 0 && v.retries >= 0 && v.resizes >= 0 && v.events >= 0 &&
+           (v.roots_off == 0 || v.roots_off == 1) && v.nrhs >= 0 && v.ncommit >= 0 &&
+           v.nfail >= 0;
+  for (int k = 0; k < 5; k++) ok = ok && isfinite(tv[k]);
+  for (int k = 0; k < 6; k++) ok = ok && v.base[k] >= 0;
+  if (!ok)
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: the saved step, times or counters are out of range", e->name);
   N_VDestroy(e->y);
   e->y = N_VNew_Serial((sunindextype)len, e->ctx);
   if (!e->y) return esf_fail(err, ESF_ENOMEM, "out of memory");
   esf_blob_get(in, N_VGetArrayPointer(e->y), len * sizeof(double));
+  const double *y = N_VGetArrayPointer(e->y);
+  for (size_t j = 0; j < len && ok; j++) ok = isfinite(y[j]);
+  if (!ok || memcmp(y, s->p.y, 9 * s->p.n * sizeof(double)) != 0)
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: the saved ODE state is not finite or not the particles' state",
+                    e->name);
   if (e->atol) {
     N_VDestroy(e->atol);
     N_VDestroy(e->ysave);
@@ -451,6 +498,11 @@ static int erk_restore(esf_sim *s, void *state, esf_blob_in *in, esf_error *err)
     e->ysave = N_VClone(e->y);
     if (!e->atol || !e->ysave) return esf_fail(err, ESF_ENOMEM, "out of memory");
     esf_blob_get(in, N_VGetArrayPointer(e->atol), len * sizeof(double));
+    const double *a = N_VGetArrayPointer(e->atol);
+    for (size_t j = 0; j < len; j++)
+      if (!(a[j] > 0) || !isfinite(a[j]))
+        return esf_fail(err, ESF_EINPUT, "%s: a saved tolerance is not positive",
+                        e->name);
   }
   e->t_save = v.t_save;
   e->t_event = v.t_event;

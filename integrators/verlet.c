@@ -132,8 +132,9 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   rc = esf_sim_refresh(s, NULL, err);
   if (!rc && p->n != n_before)
     rc = esf_fail(err, ESF_EINPUT,
-                  "the verlet integrator does not support particles "
-                  "leaving the domain yet; use leapfrog");
+                  "%s: verlet: particles left the domain at t = %.6g s; removal is "
+                  "supported by the leapfrog only in this version",
+                  esf_config_where(&s->cfg, "integrator.method"), s->t);
   if (!rc) rc = evaluate(s, vv, dt, pw, err);
   if (rc) return rc;
   /* the second half kick treats global damping implicitly (trapezoidal over the step:

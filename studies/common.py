@@ -5,7 +5,8 @@ contact closed forms.
     to_yaml(scene), write_scene(path, scene)   scene dicts as YAML (esfera wants `auto`,
                                                not "auto")
     run(esfera, scene, out, sets, timeout)     `esfera run SCENE --out OUT --quiet
-                                               [--set K=V]...` -> Run (summary parsed)
+                                               --overwrite [--set K=V]...` -> Run
+                                               (summary parsed)
     parse_line(stdout, prefix)                 the last `prefix k=v ...` line as a dict
     energy(out), kinetic(e), frames(out), last_frame(out), write_particles_csv(...)
     write_csv(path, rows), read_csv(path)      rows are dicts: column -> value
@@ -92,8 +93,9 @@ class Run:
 
 
 def run(esfera, scene, out, sets=(), timeout=None):
-    """Runs `esfera run scene --out out --quiet --set s...` (elapsed: wall seconds)."""
-    cmd = [esfera, "run", scene, "--out", out, "--quiet"]
+    """Runs `esfera run scene --out out --quiet --overwrite --set s...` (elapsed: wall
+    seconds)."""
+    cmd = [esfera, "run", scene, "--out", out, "--quiet", "--overwrite"]  # reruns reuse out
     for s in sets:
         cmd += ["--set", s]
     t0 = time.monotonic()

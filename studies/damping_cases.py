@@ -194,6 +194,7 @@ def resting_scene(case, frac, periods):
         "walls": [{"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]},
                    "material": "floor"}],
         "integrator": {"method": "leapfrog", "dt": "auto", "dt_rule": "hart", "frac": frac},
+        "contact": {"allow_initial_overlap": True},  # it starts pressed in, at rest
         "run": {"duration": periods * 2 * math.pi / w},
         "output": {"every": 0, "energy_every": 1e-12},
     }

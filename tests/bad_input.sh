@@ -29,7 +29,7 @@ expect() {  # expect NAME STATUS PATTERN -- esfera arguments...
   local name=$1 status=$2 pattern=$3
   shift 4
   local out
-  out=$("$esfera" "$@" 2>&1 >/dev/null)
+  out=$(timeout -k 5 60 "$esfera" "$@" 2>&1 >/dev/null) # a hang fails too
   local rc=$?
   if [ "$rc" = "$status" ] && printf '%s\n' "$out" | grep -Eq -- "$pattern"; then
     pass=$((pass + 1))
@@ -88,7 +88,7 @@ expect "YAML syntax" 2 "s11.yaml:[0-9]+:[0-9]+: YAML syntax error" -- run "$tmp/
 expect "missing scene file" 2 "nothere.yaml.*(cannot open|No such file)" -- run "$tmp/nothere.yaml"
 
 good "" "integrator: {method: rk99}" > "$tmp/s13.yaml"
-expect "unknown integrator" 2 "unknown method 'rk99' \(available: leapfrog" -- run "$tmp/s13.yaml"
+expect "unknown integrator" 2 "s13.yaml:11:[0-9]+: integrator.method: unknown method 'rk99' \(available: leapfrog" -- run "$tmp/s13.yaml"
 
 expect "unknown option" 2 "unknown or incomplete option '--frobnicate'" -- run "$tmp/ok.yaml" --frobnicate
 
@@ -191,6 +191,73 @@ expect "events refused by an ODE method" 2 "events \(deleting particles\) are su
 sed 's|- {plane: {point: \[0, 0, 0\], normal: \[0, 0, 1\]}, material: glass}|- {box: {min: [-1, -1, 0], max: [1, 1, 1]}, material: glass, motion: {servo: {stress: 1, direction: [0, 0, 1], max_speed: 1}}}|' "$tmp/ok.yaml" > "$tmp/s37.yaml"
 expect "servo box refused" 2 "s37.yaml:8:[0-9]+: .*make the servo-controlled face a polygon" \
   -- run "$tmp/s37.yaml" --out "$tmp/o37"
+
+# issue 27: every exit-2 message names its place; no message of a library before
+# esfera's own; --out and the output folder
+only() {  # only NAME STATUS PATTERN -- args: the whole of stderr is one line matching
+  local name=$1 status=$2 pattern=$3
+  shift 4
+  local out rc
+  out=$(timeout -k 5 60 "$esfera" "$@" 2>&1 >/dev/null) # a hang fails too
+  rc=$?
+  if [ "$rc" = "$status" ] && [ "$(printf '%s\n' "$out" | wc -l)" = 1 ] &&
+    printf '%s\n' "$out" | grep -Eq -- "$pattern"; then
+    pass=$((pass + 1))
+  else
+    fail=$((fail + 1))
+    printf 'FAIL %s: exit %s (want %s), message (want one line /%s/):\n%s\n' "$name" \
+      "$rc" "$status" "$pattern" "$out"
+  fi
+}
+good "" "integrator: {dt: 1.0e-300}" | sed 's/run: {steps: 10}/run: {duration: 0.01}/' \
+  > "$tmp/s40.yaml"
+only "dt too small for the duration" 2 "^esfera: .*s40.yaml:9:[0-9]+: run.duration = 0.01 s at dt = 1e-300 s is 1e\+298 steps" \
+  -- run "$tmp/s40.yaml" --out "$tmp/o40"
+[ -e "$tmp/o40" ] && { fail=$((fail + 1)); echo "FAIL a refused step count wrote output"; }
+only "too many steps" 2 "^esfera: --set run.steps=2000000000000: run.steps: 2000000000000 steps is more than" \
+  -- run "$tmp/ok.yaml" --out "$tmp/o41" --set run.steps=2000000000000
+sed 's/density: 2500, //' "$tmp/ok.yaml" > "$tmp/s42.yaml"
+only "no density" 2 "^esfera: .*s42.yaml:3:[0-9]+: materials.glass: material 'glass' is used by particle id 0 and needs a positive density" \
+  -- run "$tmp/s42.yaml" --out "$tmp/o42"
+only "density 0" 2 "^esfera: --set materials.glass.density=0: materials.glass.density: .*needs a positive density" \
+  -- run "$tmp/ok.yaml" --out "$tmp/o43" --set materials.glass.density=0
+only "step rounded to 0" 2 "^esfera: --set integrator.frac=1e-320: integrator.frac: the time step must be a positive .* got 0 s" \
+  -- run "$tmp/ok.yaml" --out "$tmp/o44" --set integrator.frac=1e-320
+good "" "integrator: {method: \"erk:NOPE\"}" > "$tmp/s45.yaml"
+only "unknown ERK table, esfera's message alone" 2 "^esfera: .*s45.yaml:11:[0-9]+: integrator.method: 'erk:NOPE' is not an explicit Runge-Kutta table" \
+  -- run "$tmp/s45.yaml" --out "$tmp/o45"
+[ -e "$tmp/o45" ] && { fail=$((fail + 1)); echo "FAIL a scheme refused at set-up wrote output"; }
+only "unknown method, located" 2 "^esfera: .*s13.yaml:11:[0-9]+: integrator.method: unknown method" \
+  -- run "$tmp/s13.yaml" --out "$tmp/o46"
+only "dt above critical, located" 2 "^esfera: .*s10.yaml:11:[0-9]+: integrator.dt = 1 s is above" \
+  -- run "$tmp/s10.yaml" --out "$tmp/o47"
+only "checkpoints by a method without them, located" 2 "^esfera: --set output.checkpoint_every=0.1: output.checkpoint_every: integrator cvode-adams cannot" \
+  -- run "$tmp/ok.yaml" --out "$tmp/o48" --set integrator.method=cvode-adams --checkpoint-every 0.1
+: > "$tmp/plain"
+only "--out names a regular file" 2 "^esfera: .*plain' is not a directory" \
+  -- run "$tmp/ok.yaml" --out "$tmp/plain"
+only "rerun into a folder with results" 2 "^esfera: the output folder '.*o0' holds another run's results \(frames.h5.*log.txt\): give --overwrite" \
+  -- run "$tmp/ok.yaml" --out "$tmp/o0" --quiet
+expect "rerun with --overwrite" 0 "^$" -- run "$tmp/ok.yaml" --out "$tmp/o0" --quiet --overwrite
+expect "--overwrite with --resume" 2 "--resume DIR continues a run" -- run --resume "$tmp/o0" --overwrite
+
+# initial overlaps are bad input with their own message (not the first step's failure)
+good "  - {material: glass, radius: 0.005, position: [0.1, 0, 0.003]}" "" > "$tmp/s50.yaml"
+only "sphere pressed into a wall" 2 "^esfera: .*s50.yaml:6:[0-9]+ \(particles.1\): particle id 1 at \(0.1, 0, 0.003\) m, radius 0.005 m, starts overlapping wall element 0 of walls.0 \('plane 0' at .*s50.yaml:8:[0-9]+\) by 0.002 m, 40% of its radius .*allow_initial_overlap" \
+  -- run "$tmp/s50.yaml" --out "$tmp/o50"
+expect "pressed in, allowed" 0 "^$" -- run "$tmp/s50.yaml" --out "$tmp/o51" --quiet \
+  --set contact.allow_initial_overlap=true
+only "deep in a wall, allowed or not" 2 "^esfera: .*particle id 1 .* by 0.004 m, 80% of its radius \(limit 50%\), more than contact.max_overlap allows" \
+  -- run "$tmp/s50.yaml" --out "$tmp/o52" --set contact.allow_initial_overlap=true \
+  --set 'particles.1.position=[0.1,0,0.001]'
+printf 'x,y,z,radius\n0.3,0,0.001,0.005\n0.5,0,0.01,0.005\n0.7,0,0.01,0.005\n' > "$tmp/deep.csv"
+good "  - {file: deep.csv, material: glass}" "" > "$tmp/s53.yaml"
+only "a packing's sphere deep in a wall" 2 "^esfera: .*s53.yaml:6:[0-9]+ \(particles.1, a row of its file\): particle id 1 .* by 0.004 m, 80%" \
+  -- run "$tmp/s53.yaml" --out "$tmp/o53"
+printf 'x,y,z,radius\n0.3,0,0.01,0.005\n0.5,0,0.01,0.005\n0.5,0,0.012,0.005\n' > "$tmp/deep2.csv"
+sed 's/deep.csv/deep2.csv/' "$tmp/s53.yaml" > "$tmp/s54.yaml"
+only "two packed spheres deep in each other" 2 "^esfera: .*s54.yaml:6:[0-9]+ \(particles.1, a row of its file\): particle id 2 and particle id 3 .* start overlapping by 0.008 m, 160% of the smaller radius" \
+  -- run "$tmp/s54.yaml" --out "$tmp/o54"
 
 echo "bad_input: $pass passed, $fail failed"
 [ "$fail" = 0 ]

@@ -8,7 +8,10 @@ run; a frames.h5 (the index) damaged by hand after its checkpoint is kept as
 frames.h5.damaged (its segments as frames.d.damaged) and the resume still succeeds; a
 segment damaged after the checkpoint is dropped and the resume ends identical; `--resume` with a scene or --set is refused; `--resume` and `esfera info` on a missing, empty, truncated, corrupted, foreign
 (text, HDF5) checkpoint, or one from a build with another esf_contact_hist layout, exit
-2 naming the cause. Usage: check_ckpt_errors.py ESFERA"""
+2 naming the cause; so does `--resume` from a checkpoint that passes its checksums but
+does not fit its scene or itself (issue 27: the ledger flag, counters out of range,
+2^40 frames, t against step x dt, particles' radii and ids, list order, non-finite
+values). Usage: check_ckpt_errors.py ESFERA"""
 import os
 import re
 import resource
@@ -21,12 +24,16 @@ import zlib
 
 import h5py
 
-from ckpt_common import esfera, identical, run_ok, write_scene
+from ckpt_common import ERK, esfera, identical, run_ok, write_scene
 from pycheck import check, finish
 
 
 def expect_fail(exe, args, words, what, **kw):
-    r = esfera(exe, *args, **kw)
+    try:
+        r = esfera(exe, *args, **kw)
+    except subprocess.TimeoutExpired:
+        check(False, f"{what}: did not end within {kw.get('timeout')} s")
+        return None
     ok = r.returncode == 2 and all(w in r.stderr for w in words)
     check(ok, f"{what}: exit {r.returncode}, stderr {r.stderr!r} (wanted {words})")
     print(f"{what}: exit {r.returncode}: {r.stderr.strip().splitlines()[0] if r.stderr else ''}")
@@ -42,6 +49,94 @@ def sections(data):
         out.append((tag, pos + 16, n))
         pos += 16 + n + 4
     return out
+
+
+def patch(data, tag, fn):
+    """data with section tag's payload replaced by fn(bytearray payload), its CRC
+    recomputed: a file that passes its checksums."""
+    for t, off, n in sections(data):
+        if t == tag:
+            new = bytes(fn(bytearray(data[off:off + n])))
+            return (data[:off - 8] + struct.pack("<Q", len(new)) + new +
+                    struct.pack("<I", zlib.crc32(new)) + data[off + n + 4:])
+    raise KeyError(tag)
+
+
+def put(fmt, off, value):
+    def fn(b):
+        struct.pack_into(fmt, b, off, value)
+        return b
+    return fn
+
+
+def swap_contacts(b):
+    """Swaps the first two candidates' a and b (the list's order broken)."""
+    m = struct.unpack_from("<Q", b, 0)[0]
+    for base in (10, 10 + 4 * m):
+        x, y = struct.unpack_from("<II", b, base)
+        struct.pack_into("<II", b, base, y, x)
+    return b
+
+
+def len_part(n):
+    """Bytes of a PART section of n particles."""
+    return 8 + n * (9 + 3 + 3 + 5) * 8 + n * (4 + 8)
+
+
+def misfits(exe, tmp, scene, ref, data):
+    """Checkpoints that pass their checksums but do not fit their scene or themselves
+    (issue 27): exit 2 naming the misfit, never a crash, an endless run or a huge
+    allocation. Offsets: ck_sim (t, dt, led_time, alpha_r, alpha_t, contacts_sum,
+    walls_t, then int64 step, removed, ...), esf_ledger (int on, then doubles),
+    esf_ckpt_run (n, next_e, next_f, next_c, psum, then int64 frames, erows, csv_bytes,
+    count), PART (u64 n, then x, v, w, f, t, radius, ..., material, id)."""
+    n = [struct.unpack_from("<Q", data, o)[0] for t, o, _ in sections(data)
+         if t == "PART"][0]
+    # a ledger-off checkpoint of the same bed, for the ledger flag set on it
+    off = os.path.join(tmp, "ledger_off")
+    run_ok(exe, "run", scene, "--out", off, "--quiet", "--set", "output.energy_every=0",
+           "--checkpoint-every", "0.02")
+    data_off = open(os.path.join(off, "checkpoint.esf"), "rb").read()
+    # and one of adaptive Dormand-Prince (erk_saved: double h first, ... y)
+    erk = os.path.join(tmp, "erk")
+    run_ok(exe, "run", scene, "--out", erk, "--quiet", *ERK, "--checkpoint-every", "0.004")
+    data_erk = open(os.path.join(erk, "checkpoint.esf"), "rb").read()
+    cases = [
+        (off, "LEDGER", put("<i", 0, 1), ["energy ledger is on in it, off"],
+         "ledger flag set on a scene without the ledger"),
+        (ref, "SIM", put("<q", 56, -2**62), ["step -4611686018427387904"],
+         "step counter -2^62"),
+        (ref, "SIM", put("<q", 56, 10**15), ["out of range"], "step counter 1e15"),
+        (ref, "SIM", put("<d", 0, float("nan")), ["not finite"], "t NaN"),
+        (ref, "SIM", put("<d", 0, 0.0123), ["is not step"], "t not step x dt"),
+        (ref, "SIM", put("<q", 64, 7), ["removed do not make"], "removed count"),
+        (ref, "RUN", put("<q", 40, 2**40), ["1099511627776 frames"], "2^40 frames"),
+        (ref, "RUN", put("<q", 48, 2**40), ["1099511627776 energy rows"],
+         "2^40 energy rows"),
+        (ref, "RUN", put("<q", 0, 5), ["loop counter"], "loop counter"),
+        (ref, "RUN", put("<q", 56, -1), ["energy.csv"], "energy.csv size with a ledger"),
+        (ref, "RUN", put("<d", 8, float("nan")), ["not a number"], "NaN schedule"),
+        (ref, "PART", put("<d", 8 + 8 * 15 * n, 1.0), ["another radius"],
+         "a particle's radius"),
+        (ref, "PART", put("<d", 8, float("inf")), ["not finite"], "a position inf"),
+        (ref, "PART", put("<q", len_part(n) - 8, 0), ["unknown to the scene or repeated"],
+         "a repeated particle id"),
+        (ref, "CONTPP", swap_contacts, ["order of its build"], "pair list unsorted"),
+        (ref, "LEDGER", put("<d", 120, float("inf")), ["non-finite"], "ledger e0 inf"),
+        (ref, "WALLS", put("<d", 12, float("nan")), ["placement"], "wall mark NaN"),
+        (erk, "INTEG", put("<d", 0, -1.0), ["saved step, times or counters"],
+         "adaptive ERK: step size -1"),
+        (erk, "INTEG", put("<d", 200, float("nan")), ["ODE state is not finite"],
+         "adaptive ERK: NaN in y"),
+    ]
+    for k, (src, tag, fn, words, what) in enumerate(cases):
+        bad = os.path.join(tmp, f"misfit{k}")  # the whole output: a resume gets past
+        shutil.copytree(src, bad)             # reopening it to the checkpoint itself
+        ck = data_off if src == off else data_erk if src == erk else data
+        with open(os.path.join(bad, "checkpoint.esf"), "wb") as fh:
+            fh.write(patch(ck, tag, fn))
+        expect_fail(exe, ["run", "--resume", bad, "--quiet"], words, "misfit: " + what,
+                    timeout=60)
 
 
 def main():
@@ -148,7 +243,8 @@ def main():
 
         # bad checkpoint files
         ck = os.path.join(ref, "checkpoint.esf")
-        run_ok(exe, "run", scene, "--out", ref, "--quiet", "--checkpoint-every", "0.02")
+        run_ok(exe, "run", scene, "--out", ref, "--quiet", "--overwrite",
+               "--checkpoint-every", "0.02")
         data = open(ck, "rb").read()
         bad = os.path.join(tmp, "bad")
         os.makedirs(bad)
@@ -185,6 +281,7 @@ def main():
                 lay = bytearray(data[:off - 8] + struct.pack("<Q", len(text)) + text +
                                 struct.pack("<I", zlib.crc32(text)) + data[off + n + 4:])
         trial(bytes(lay), ["other record layouts", "other f64[5]"], "other hist layout")
+        misfits(exe, tmp, scene, ref, data)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return finish("ckpt_errors")

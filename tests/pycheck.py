@@ -21,7 +21,8 @@ def finish(name):
 
 def run_scene(esfera, tmp, text, *extra):
     """Writes the scene text into tmp, runs `esfera run` on it into tmp/out with
-    --quiet (and extra arguments); checks the exit status; returns the output dir."""
+    --quiet and --overwrite (tmp/out is reused; and extra arguments); checks the exit
+    status; returns the output dir."""
     import os
     import subprocess
 
@@ -29,19 +30,21 @@ def run_scene(esfera, tmp, text, *extra):
     with open(scene, "w") as fh:
         fh.write(text)
     out = os.path.join(tmp, "out")
-    r = subprocess.run([esfera, "run", scene, "--out", out, "--quiet", *extra],
+    r = subprocess.run([esfera, "run", scene, "--out", out, "--quiet", "--overwrite",
+                        *extra],
                        capture_output=True, text=True)
     check(r.returncode == 0, f"run: exit {r.returncode} {r.stderr}")
     return out
 
 
 def run_sets(esfera, scene, out, *sets, command="run"):
-    """Runs `esfera COMMAND SCENE --out OUT` (with --quiet for run) with each of sets as
-    a --set override; checks the exit status; returns the finished process (stdout
-    holds the summary, or generate's stage lines)."""
+    """Runs `esfera COMMAND SCENE --out OUT` (with --quiet --overwrite for run: callers
+    reuse OUT) with each of sets as a --set override; checks the exit status; returns
+    the finished process (stdout holds the summary, or generate's stage lines)."""
     import subprocess
 
-    args = [esfera, command, scene, "--out", out] + (["--quiet"] if command == "run" else [])
+    args = [esfera, command, scene, "--out", out] + (
+        ["--quiet", "--overwrite"] if command == "run" else [])
     for s in sets:
         args += ["--set", s]
     r = subprocess.run(args, capture_output=True, text=True)

@@ -42,8 +42,11 @@ int main(void) {
   CHECK(rc == 0 && A.s.events->e[0].done, "run A reaches 0.14 s, drilled");
   esf_ckpt_scene sc = {"test.yaml", scene, strlen(scene), NULL, 0};
   esf_ckpt_run run;
-  memset(&run, 0, sizeof run);
-  run.csv_bytes = -1;
+  memset(&run, 0, sizeof run); /* the run driver's record, as it would fill it */
+  run.n = A.s.step;
+  run.frames = 1;
+  run.count = 1;
+  run.csv_bytes = A.s.led.on ? 0 : -1;
   rc = esf_ckpt_write(path, &A.s, A.it, A.ist, &sc, &run, &A.err);
   CHECK(rc == 0, "checkpoint written: %s", A.err.msg);
   double t_end = 0.19;

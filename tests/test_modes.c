@@ -39,7 +39,7 @@ static void on_wall(int dim) {
            "friction: 0.3}}\n"
            "particles:\n  - {material: g, radius: 0.005, position: [0, 0, 0.00499]}\n"
            "walls:\n  - {plane: {point: [0, 0, 0], normal: [0, 0, 1]}, material: g}\n"
-           "run: {steps: 1}\n",
+           "contact: {allow_initial_overlap: true}\nrun: {steps: 1}\n",
            dim, "0.5e5");
   simtest T;
   esf_modes m;

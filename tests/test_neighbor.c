@@ -33,6 +33,7 @@ static const char *const scene_fmt =
     "  - {cylinder: {base: [0.015, 0.015, 0.002], radius: 0.008, height: 0.026,"
     " segments: 40, caps: [top]}, material: m}\n"
     "search: {skin: %g}\n"
+    "contact: {max_overlap: 2.0}\n" /* the random fill ignores the cylinder: lists only */
     "integrator: {dt: 1.0e-6}\n"
     "run: {steps: 1}\n"
     "output: {energy_every: 0}\n";

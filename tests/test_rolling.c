@@ -17,6 +17,7 @@ static const char *scene =
     "walls:\n"
     "  - {plane: {point: [0, 0, 0], normal: [0, 0, 1]}, material: ball}\n"
     "integrator: {dt: auto, frac: 0.05}\n"
+    "contact: {allow_initial_overlap: true}\n" /* pressed in at equilibrium */
     "run: {duration: 1}\n"
     "output: {energy_every: 0}\n";
 

@@ -1,16 +1,18 @@
 /* main.c — the esfera command line (docs/usage.md#commands, #exit-status):
- *   esfera run SCENE.yaml [--out DIR] [--set KEY=VALUE]... [--threads N] [--quiet]
- *              [--checkpoint-every T]
- *   esfera run --resume DIR [--checkpoint-every T] [--quiet]
+ *   esfera run SCENE.yaml [--out DIR] [--overwrite] [--set KEY=VALUE]... [--threads N]
+ *              [--quiet] [--checkpoint-every T]
+ *   esfera run --resume DIR [--checkpoint-every T] [--threads N] [--quiet]
  *   esfera info FILE.h5
  *   esfera modes SCENE.yaml [--set KEY=VALUE]...   (highest contact frequency)
  *   esfera generate SCENE.yaml --out PACKING.csv [--set KEY=VALUE]... (generate_copies.h)
  *   esfera --help | --version
  * Exit status: 0 success, 1 the simulation failed, 2 bad input; a run stopped by
- * SIGINT or SIGTERM writes a checkpoint and exits with 128 + the signal's number.
+ * SIGINT or SIGTERM writes a checkpoint (when its integrator can) and exits with 128 +
+ * the signal's number.
  * Signals: the handlers only set `stop_signal`, which the run polls once per step
- * (esf_run_opts.stop); SIGXFSZ is ignored so that a file-size limit reaches the writers
- * as EFBIG, a clear error, instead of killing the process. */
+ * (esf_run_opts.stop); a second SIGINT or SIGTERM ends the process at once (the default
+ * action). SIGXFSZ is ignored so that a file-size limit reaches the writers as EFBIG, a
+ * clear error, instead of killing the process. */
 #include <limits.h>
 #include <signal.h>
 #include <stdio.h>
@@ -31,10 +33,10 @@
 
 static void usage(FILE *f) {
   fprintf(f,
-          "usage: esfera run SCENE.yaml [--out DIR] [--set KEY=VALUE]... [--threads N] "
+          "usage: esfera run SCENE.yaml [--out DIR] [--overwrite] [--set KEY=VALUE]...\n"
+          "                  [--threads N] [--quiet] [--checkpoint-every T]\n"
+          "       esfera run --resume DIR [--checkpoint-every T] [--threads N] "
           "[--quiet]\n"
-          "                  [--checkpoint-every T]\n"
-          "       esfera run --resume DIR [--checkpoint-every T] [--quiet]\n"
           "       esfera info FILE.h5|DIR/checkpoint.esf\n"
           "       esfera modes SCENE.yaml [--set KEY=VALUE]...\n"
           "       esfera generate SCENE.yaml --out PACKING.csv [--set KEY=VALUE]...\n"
@@ -48,6 +50,9 @@ static void usage(FILE *f) {
           "  --threads worker threads (default: all available cores; results do not\n"
           "            depend on it)\n"
           "  --quiet   no progress display\n"
+          "  --overwrite  replace the results of an earlier run in DIR (without it a\n"
+          "            run refuses a folder that holds frames.h5, energy.csv, log.txt\n"
+          "            or checkpoint.esf)\n"
           "  --checkpoint-every T  write DIR/checkpoint.esf every T seconds of\n"
           "            simulated time (= --set output.checkpoint_every=T); SIGINT or\n"
           "            SIGTERM also writes one, then stops\n"
@@ -69,7 +74,7 @@ static int fail(int code, const char *msg) {
 typedef struct cli_args {
   const char *scene, *out, *resume;
   const char **sets;
-  int nsets, quiet;
+  int nsets, quiet, overwrite;
   int threads;       /* --threads, 0 when not given */
   char ckpt_set[96]; /* --checkpoint-every as an override */
 } cli_args;
@@ -96,6 +101,8 @@ static int parse_args(int argc, char **argv, cli_args *a) {
       a->threads = (int)t;
     } else if (strcmp(o, "--quiet") == 0)
       a->quiet = 1;
+    else if (strcmp(o, "--overwrite") == 0)
+      a->overwrite = 1;
     else if (strcmp(o, "--resume") == 0 && k + 1 < argc)
       a->resume = argv[++k];
     else if (strcmp(o, "--checkpoint-every") == 0 && k + 1 < argc) {
@@ -112,10 +119,13 @@ static int parse_args(int argc, char **argv, cli_args *a) {
       return 2;
     }
   }
-  if (a->resume && (a->scene || a->out || a->nsets > (a->ckpt_set[0] ? 1 : 0)))
+  const char *ow = getenv("ESF_OVERWRITE"); /* --overwrite for scripts (usage.md) */
+  if (ow && strcmp(ow, "1") == 0 && !a->resume) a->overwrite = 1;
+  if (a->resume &&
+      (a->scene || a->out || a->overwrite || a->nsets > (a->ckpt_set[0] ? 1 : 0)))
     return fail(ESF_EINPUT, "--resume DIR continues a run as its checkpoint stored it: "
-                            "give no scene, --out or --set with it (only "
-                            "--checkpoint-every and --quiet)");
+                            "give no scene, --out, --overwrite or --set with it (only "
+                            "--checkpoint-every, --threads and --quiet)");
   if (!a->scene && !a->resume) {
     usage(stderr);
     return 2;
@@ -139,7 +149,7 @@ static int load_scene(const cli_args *a, const esf_ckpt *ck, esf_sim *s, esf_err
     rc = esf_fail(err, ESF_EINPUT,
                   "%s: integrator.method: unknown method '%s' "
                   "(available: %s)",
-                  s->cfg.source, s->cfg.method, list);
+                  esf_config_where(&s->cfg, "integrator.method"), s->cfg.method, list);
   }
   return rc;
 }
@@ -219,7 +229,15 @@ static int cmd_modes(int argc, char **argv) {
 
 static volatile sig_atomic_t stop_signal = 0;
 
-static void on_stop_signal(int sig) { stop_signal = sig; }
+/* The first SIGINT or SIGTERM asks the run to stop (a checkpoint, then exit); a second
+ * one ends the process at once, whatever the run is doing. */
+static void on_stop_signal(int sig) {
+  if (stop_signal) {
+    signal(sig, SIG_DFL);
+    raise(sig);
+  }
+  stop_signal = sig;
+}
 
 static void install_signals(void) {
   struct sigaction sa;
@@ -257,7 +275,68 @@ static int cmd_generate(int argc, char **argv) {
   return status ? status : rc ? fail(rc, err.msg) : 0;
 }
 
-static int cmd_run(int argc, char **argv) {
+/* Writes word to f as one shell word (quoted when it needs to be). */
+static void shell_word(FILE *f, const char *word) {
+  if (word[0] && strspn(word, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                              "0123456789_./-+=:,@%") == strlen(word)) {
+    fputs(word, f);
+    return;
+  }
+  fputc('\'', f);
+  for (const char *c = word; *c; c++)
+    if (*c == '\'')
+      fputs("'\\''", f);
+    else
+      fputc(*c, f);
+  fputc('\'', f);
+}
+
+/* The program's own path, for the commands the messages suggest: /proc/self/exe, else
+ * argv[0] made absolute when it names a file, else argv[0]. */
+static void program_path(const char *argv0, char *buf, size_t size) {
+  ssize_t n = readlink("/proc/self/exe", buf, size - 1);
+  if (n > 0) {
+    buf[n] = '\0';
+    return;
+  }
+  char real[PATH_MAX];
+  snprintf(buf, size, "%s", strchr(argv0, '/') && realpath(argv0, real) ? real : argv0);
+}
+
+/* The lines a finished run ends with: the summary (its key=value format is read by
+ * scripts: new fields go at the end), then where the output is and how to look at it. */
+static void print_summary(const esf_sim *s, const esf_run_stats *st, const char *dir,
+                          const char *prog) {
+  printf("summary: steps=%ld particles=%.0f contacts_mean=%.2f wall_s=%.4f "
+         "particle_steps_per_s=%.6g dt=%.6g rebuilds=%ld rhs_evals=%ld "
+         "energy_error=%.6g dissipated=%.6g removed=%ld method=%s rejected=%ld "
+         "acc_limited=%ld stab_limited=%ld h_last=%.6g events=%ld restarts=%ld "
+         "checkpoints=%ld bonds=%ld bonds_broken=%ld threads=%d resumed_from_step=%ld\n",
+         st->steps, st->particles_mean, st->contacts_mean, st->wall_s, st->rate, s->dt,
+         s->nb.builds, st->integ.rhs_evals, st->energy_error, st->dissipated, s->removed,
+         s->cfg.method, st->integ.rejected, st->integ.acc_limited, st->integ.stab_limited,
+         st->integ.h_last, st->integ.events, st->integ.restarts, st->checkpoints_total,
+         s->bonds.formed, s->bonds.broken, s->cfg.threads, st->resumed_step);
+  if (st->resumed_step)
+    printf("resumed at step %ld: wall_s and particle_steps_per_s cover steps %ld to %ld; "
+           "checkpoints=%ld counts every checkpoint since the run's start (%ld written "
+           "now)\n",
+           st->resumed_step, st->resumed_step, st->steps, st->checkpoints_total,
+           st->checkpoints);
+  fputs("output: ", stdout);
+  shell_word(stdout, dir);
+  fputs(" (summary: ", stdout);
+  shell_word(stdout, prog);
+  fputs(" info ", stdout);
+  shell_word(stdout, dir);
+  fputs("/frames.h5; ParaView: ", stdout);
+  shell_word(stdout, dir);
+  fputs("/frames.xdmf; log: ", stdout);
+  shell_word(stdout, dir);
+  fputs("/log.txt)\n", stdout);
+}
+
+static int cmd_run(int argc, char **argv, const char *argv0) {
   cli_args a;
   esf_sim s;
   esf_ckpt *ck = NULL;
@@ -269,9 +348,13 @@ static int cmd_run(int argc, char **argv) {
   if (s.cfg.duration <= 0 && s.cfg.steps <= 0) { /* a generate scene has no run */
     free(a.sets);
     esf_ckpt_free(&ck);
+    esf_error e;
+    esf_fail(&e, ESF_EINPUT,
+             "%s: the scene has no 'run' section (a generate scene: use esfera generate "
+             "SCENE --out PACKING.csv)",
+             esf_config_where(&s.cfg, ""));
     esf_sim_release(&s);
-    return fail(ESF_EINPUT, "the scene has no 'run' section (a generate scene: use "
-                            "esfera generate SCENE --out PACKING.csv)");
+    return fail(ESF_EINPUT, e.msg);
   }
   esf_error err;
   esf_error_clear(&err);
@@ -302,37 +385,51 @@ static int cmd_run(int argc, char **argv) {
     snprintf(dir, sizeof dir, "%s", a.out ? a.out : s.cfg.out_dir);
   }
   install_signals();
-  esf_run_opts o = {dir, a.quiet, isatty(STDOUT_FILENO), &sc, ck, &stop_signal};
-  esf_run_stats st;
+  esf_run_opts o = {.out_dir = dir,
+                    .quiet = a.quiet,
+                    .progress = isatty(STDOUT_FILENO),
+                    .scene = &sc,
+                    .resume = ck,
+                    .stop = &stop_signal,
+                    .overwrite = a.overwrite};
+  esf_run_stats st = {0};
   if (!rc) rc = esf_run(&s, &o, &st, &err);
   free(text);
   free(sets);
   free(a.sets);
   esf_ckpt_free(&ck);
+  char prog[PATH_MAX];
+  program_path(argv0, prog, sizeof prog);
   if (rc) {
     status = fail(rc, err.msg);
-    fprintf(stderr, "esfera: output so far is in %s\n", o.out_dir);
+    if (st.stepping) fprintf(stderr, "esfera: output so far is in %s\n", o.out_dir);
     esf_sim_release(&s);
     return status;
   }
   if (st.interrupted) {
-    fprintf(stderr,
-            "esfera: stopped by signal %d at step %ld, t = %.9g s; checkpoint written to "
-            "%s/%s\nesfera: resume with: esfera run --resume %s\n",
-            (int)stop_signal, s.step, s.t, dir, ESF_CKPT_NAME, dir);
+    fflush(stdout);
+    /* on a terminal the message starts its own line: the ^C the terminal echoed and
+       any progress are cleared first */
+    if (isatty(STDERR_FILENO)) fputs("\r\033[K", stderr);
+    fprintf(stderr, "esfera: stopped by signal %d at step %ld, t = %.9g s; ",
+            (int)stop_signal, s.step, s.t);
+    if (st.stop_checkpoint) {
+      fprintf(stderr, "checkpoint written to %s/%s\nesfera: resume with: ", dir,
+              ESF_CKPT_NAME);
+      shell_word(stderr, prog);
+      fputs(" run --resume ", stderr);
+      shell_word(stderr, dir);
+      fputc('\n', stderr);
+    } else {
+      fprintf(stderr,
+              "%s cannot write checkpoints, so this run cannot be resumed; its output "
+              "up to here (the last frame included) is in %s\n",
+              s.cfg.method, dir);
+    }
     esf_sim_release(&s);
     return 128 + (int)stop_signal;
   }
-  printf("summary: steps=%ld particles=%.0f contacts_mean=%.2f wall_s=%.4f "
-         "particle_steps_per_s=%.6g dt=%.6g rebuilds=%ld rhs_evals=%ld "
-         "energy_error=%.6g dissipated=%.6g removed=%ld method=%s rejected=%ld "
-         "acc_limited=%ld stab_limited=%ld h_last=%.6g events=%ld restarts=%ld "
-         "checkpoints=%ld bonds=%ld bonds_broken=%ld threads=%d\n",
-         st.steps, st.particles_mean, st.contacts_mean, st.wall_s, st.rate, s.dt,
-         s.nb.builds, st.integ.rhs_evals, st.energy_error, st.dissipated, s.removed,
-         s.cfg.method, st.integ.rejected, st.integ.acc_limited, st.integ.stab_limited,
-         st.integ.h_last, st.integ.events, st.integ.restarts, st.checkpoints,
-         s.bonds.formed, s.bonds.broken, s.cfg.threads);
+  print_summary(&s, &st, dir, prog);
   esf_sim_release(&s);
   return 0;
 }
@@ -350,7 +447,7 @@ int main(int argc, char **argv) {
     printf("esfera %s\n", ESF_VERSION);
     return 0;
   }
-  if (strcmp(argv[1], "run") == 0) return cmd_run(argc - 2, argv + 2);
+  if (strcmp(argv[1], "run") == 0) return cmd_run(argc - 2, argv + 2, argv[0]);
   if (strcmp(argv[1], "modes") == 0) return cmd_modes(argc - 2, argv + 2);
   if (strcmp(argv[1], "generate") == 0) return cmd_generate(argc - 2, argv + 2);
   if (strcmp(argv[1], "info") == 0) {

@@ -1,18 +1,23 @@
 /* run.c — the time loop of `esfera run`.
  *
- * Schedule: frames at t = 0, every cfg.out_every (rounded to whole steps) and at the
- * end; energy rows every cfg.energy_every (whole steps). After each ledger row the
- * balance is checked: energy appearing from nothing beyond a quarter of the run's energy
- * budget (the stored energy at the start plus everything dissipated, the change of
- * potential energy, the wall and fluid work) means the integration is unstable, and the
- * run stops with the step, the dt and the critical dt. Wall time is measured around the
- * loop alone (set-up excluded), as LAMMPS's "Loop time". */
+ * Before any file is written: the step count (at most ESF_STEPS_MAX), the output
+ * folder (another run's results only with --overwrite) and the scheme's set-up, so bad
+ * input leaves nothing behind. Schedule: frames at t = 0, every cfg.out_every (rounded
+ * to whole steps) and at the end; energy rows every cfg.energy_every (whole steps;
+ * adaptive runs: at the first step past each time, however small the interval). After
+ * each ledger row the balance is checked: energy appearing from nothing beyond a quarter
+ * of the run's energy budget (the stored energy at the start plus everything dissipated,
+ * the change of potential energy, the wall and fluid work) means the integration is
+ * unstable, and the run stops with the step, the dt and the critical dt. log.txt and
+ * energy.csv are line-buffered: whole lines reach them. Wall time is measured around
+ * the loop alone (set-up excluded), as LAMMPS's "Loop time". */
 #include "app/run.h"
 #include "util/clock.h"
 
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
@@ -154,15 +159,37 @@ static int energy_row(const esf_sim *s, FILE *ef, esf_frames *fr, esf_error *err
   double row[ESF_LEDGER_NCOLS];
   esf_ledger_values(s->led_time, &s->led, s->alpha_r, row);
   esf_ledger_row(ef, s->led_time, &s->led, s->alpha_r);
+  if (ef && ferror(ef)) /* line-buffered: the row's write() failed just now */
+    return esf_fail(err, ESF_EIO, "cannot write energy.csv: %s", strerror(errno));
   return esf_frames_append_energy(fr, ESF_LEDGER_NCOLS, esf_ledger_columns, row, err);
 }
 
-static void progress(const esf_sim *s, double t_end, double t0, double ps) {
-  double el = esf_now_s() - t0;
+/* The progress line: rates over the last few seconds (an exponential average with a
+ * 5 s time constant), so that the ETA follows the run's current speed (a bed that
+ * settles, particles that leave), and a resumed run's does not count the time before. */
+typedef struct prog {
+  double wall, t, psum;  /* at the last update */
+  double rate_t, rate_p; /* simulated s and particle-steps per wall s; < 0: none yet */
+} prog;
+
+static void progress(const esf_sim *s, double t_end, double now, double psum, prog *g) {
+  const double dw = now - g->wall;
+  if (dw > 0) {
+    const double a = 1.0 - exp(-dw / 5.0), rt = (s->t - g->t) / dw,
+                 rp = (psum - g->psum) / dw;
+    g->rate_t = g->rate_t < 0 ? rt : g->rate_t + a * (rt - g->rate_t);
+    g->rate_p = g->rate_p < 0 ? rp : g->rate_p + a * (rp - g->rate_p);
+  }
+  g->wall = now;
+  g->t = s->t;
+  g->psum = psum;
   double frac = t_end > 0 ? s->t / t_end : 1.0;
-  double eta = frac > 0 ? el * (1.0 - frac) / frac : 0.0;
-  fprintf(stdout, "\r  t = %.4g s  %5.1f%%  %.3g particle-steps/s  ETA %.0f s   ", s->t,
-          100.0 * frac, el > 0 ? ps / el : 0.0, eta);
+  fprintf(stdout, "\r  t = %.4g s  %5.1f%%  %.3g particle-steps/s  ", s->t, 100.0 * frac,
+          g->rate_p > 0 ? g->rate_p : 0.0);
+  if (g->rate_t > 0)
+    fprintf(stdout, "ETA %.0f s   ", (t_end - s->t) / g->rate_t);
+  else
+    fputs("ETA ?   ", stdout);
   fflush(stdout);
 }
 
@@ -172,6 +199,20 @@ typedef struct sched {
   long nsteps, every_e, every_f, every_c;
   int progress;
 } sched;
+
+/* The first time of the schedule next, next + every, ... past t (adaptive runs). Steps
+ * over many intervals at once, and past t itself when every is below the resolution of
+ * t (an interval of 1e-300 s: a row every step), so that it always ends. */
+static double schedule_next(double next, double every, double t) {
+  for (int k = 0; next <= t && k < 64; k++) {
+    const double nn = next + every;
+    if (!(nn > next)) break; /* every is lost in next's rounding */
+    next = nn;
+  }
+  if (next > t) return next;
+  next = every * (floor(t / every) + 1.0);
+  return next > t && isfinite(next) ? next : nextafter(t, INFINITY);
+}
 
 #define BURST_MAX 32 /* steps in one call at most: bounds the wait for a stop signal */
 
@@ -189,25 +230,124 @@ static long steps_to_event(const sched *c, long n) {
   return j - n + 1;
 }
 
+/* Whole steps in an interval of t seconds at the step dt (0: none asked): at least 1,
+ * at most ESF_STEPS_MAX (a count beyond the run's is never reached). */
+static long steps_in(double t, double dt) {
+  if (!(t > 0)) return 0;
+  const double k = floor(t / dt + 0.5);
+  return k < 1 ? 1 : k < ESF_STEPS_MAX ? (long)k : (long)ESF_STEPS_MAX;
+}
+
+/* The run's length: *nsteps fixed steps to *t_end, or adaptive steps to *t_end.
+ * ESF_EINPUT, located, when the step count cannot be represented or would not end. */
+static int plan(const esf_sim *s, int adaptive, long *nsteps, double *t_end,
+                esf_error *err) {
+  const esf_config *c = &s->cfg;
+  if (c->steps > ESF_STEPS_MAX)
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: run.steps: %ld steps is more than one run takes (%.0e); split "
+                    "the run",
+                    esf_config_where(c, "run.steps"), c->steps, ESF_STEPS_MAX);
+  const double x = c->steps > 0 ? (double)c->steps : c->duration / s->dt - 1e-9;
+  if (!adaptive && !(x <= ESF_STEPS_MAX))
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: run.duration = %.6g s at dt = %.6g s is %.3g steps, more than "
+                    "one run takes (%.0e) and more than it could finish: raise dt "
+                    "(integrator.dt or frac) or shorten the run",
+                    esf_config_where(c, "run.duration"), c->duration, s->dt, x,
+                    ESF_STEPS_MAX);
+  *nsteps = c->steps > 0 ? c->steps : adaptive ? 0 : (long)ceil(x);
+  if (*nsteps < 1 && !adaptive) *nsteps = 1; /* a duration below one step: one step */
+  *t_end = adaptive && c->duration > 0 ? c->duration : (double)*nsteps * s->dt;
+  return ESF_OK;
+}
+
+/* A new run refuses a folder holding another run's results unless told to overwrite
+ * them (--overwrite); --resume continues the run they belong to. */
+static int check_out_dir(const char *dir, int overwrite, esf_error *err) {
+  static const char *const names[] = {"frames.h5",  "frames.d", "frames.xdmf",
+                                      "energy.csv", "log.txt",  ESF_CKPT_NAME,
+                                      NULL};
+  char found[256] = "", path[1200];
+  struct stat sb;
+  int ckpt = 0;
+  for (int k = 0; names[k]; k++) {
+    snprintf(path, sizeof path, "%s/%s", dir, names[k]);
+    if (stat(path, &sb) != 0) continue;
+    size_t l = strlen(found);
+    snprintf(found + l, sizeof found - l, "%s%s", l ? ", " : "", names[k]);
+    ckpt |= strcmp(names[k], ESF_CKPT_NAME) == 0;
+  }
+  if (!found[0] || overwrite) return ESF_OK;
+  return esf_fail(err, ESF_EINPUT,
+                  "the output folder '%s' holds another run's results (%s): give "
+                  "--overwrite to replace them or --out with another folder%s%s%s",
+                  dir, found, ckpt ? ", or continue that run with --resume " : "",
+                  ckpt ? dir : "", ckpt ? " (its checkpoint)" : "");
+}
+
+/* Creates out_dir (and parents) and opens its log.txt (mode "w" or "a") line-buffered:
+ * each line reaches the file as it is logged. */
+static int open_log(const char *out_dir, const char *mode, FILE **logf, esf_error *err) {
+  int rc = esf_mkdirs(out_dir, err);
+  if (rc) return rc;
+  char path[1200];
+  snprintf(path, sizeof path, "%s/log.txt", out_dir);
+  *logf = fopen(path, mode);
+  if (!*logf)
+    return esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
+  setvbuf(*logf, NULL, _IOLBF, 1 << 14);
+  return ESF_OK;
+}
+
 int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err) {
   memset(st, 0, sizeof *st);
   const esf_integrator_type *it = esf_integrator_find(s->cfg.method);
   if (!it) return esf_fail(err, ESF_EINPUT, "unknown integrator '%s'", s->cfg.method);
-  int rc = esf_mkdirs(o->out_dir, err);
+  const int adaptive = (it->flags & ESF_INTEG_ADAPTIVE) && s->cfg.rtol > 0;
+  long nsteps = 0;
+  double t_end = 0;
+  int rc = plan(s, adaptive, &nsteps, &t_end, err);
+  if (!rc && o->scene && s->cfg.ckpt_every > 0 && !it->save)
+    rc = esf_fail(err, ESF_EINPUT,
+                  "%s: output.checkpoint_every: integrator %s cannot write checkpoints "
+                  "(leapfrog and erk: methods can)",
+                  esf_config_where(&s->cfg, "output.checkpoint_every"), s->cfg.method);
+  if (!rc && !o->resume) rc = check_out_dir(o->out_dir, o->overwrite, err);
   if (rc) return rc;
   char path[1200];
-  snprintf(path, sizeof path, "%s/log.txt", o->out_dir);
-  FILE *logf = fopen(path, o->resume ? "a" : "w");
-  if (!logf)
-    return esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
-  s->log = logf;
-  FILE *ef = NULL;
+  FILE *logf = NULL, *ef = NULL;
   esf_frames *fr = NULL;
   esf_contact_net net = {0};
   void *ist = NULL;
-  log_setup(s, it);
   esf_ckpt_run cr = {0};
+  if (!o->resume) { /* a new run: the scheme is set up before any file is written, so
+                       that bad input leaves nothing behind; its log waits in memory */
+    char *early = NULL;
+    size_t len = 0;
+    FILE *mem = open_memstream(&early, &len);
+    if (!mem) return esf_fail(err, ESF_ENOMEM, "out of memory for the log");
+    s->log = mem;
+    log_setup(s, it);
+    rc = it->create(s, &ist, err);
+    s->log = NULL;
+    fclose(mem);
+    if (!rc) rc = open_log(o->out_dir, "w", &logf, err);
+    if (!rc && fwrite(early, 1, len, logf) != len)
+      rc = esf_fail(err, ESF_EIO, "cannot write log.txt: %s", strerror(errno));
+    free(early);
+    if (rc && !logf) {
+      if (ist) it->destroy(&ist);
+      return rc;
+    }
+  } else {
+    rc = open_log(o->out_dir, "a", &logf, err);
+    if (rc) return rc;
+  }
+  s->log = logf;
+  if (rc) goto done;
   if (o->resume) { /* the state, then the outputs cut back to the checkpoint's */
+    log_setup(s, it);
     rc = it->create(s, &ist, err);
     if (!rc) rc = esf_ckpt_restore(o->resume, s, it, ist, &cr, err);
     if (!rc) rc = esf_run_ckpt_reopen(o->out_dir, s, &cr, &ef, &fr, err);
@@ -216,38 +356,27 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                 "resumed from checkpoint %ld at step %ld, t = %.9g s (%ld frames, %ld "
                 "energy rows kept)",
                 cr.count, s->step, s->t, cr.frames, cr.erows);
-  } else if (s->led.on) {
-    snprintf(path, sizeof path, "%s/energy.csv", o->out_dir);
-    ef = fopen(path, "w");
-    if (!ef) {
-      rc = esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
-      goto done;
-    }
-    esf_ledger_header(ef);
-  }
-  if (!o->resume) {
+  } else {
     esf_run_ckpt_forget(o->out_dir); /* a new run: an old checkpoint no longer fits */
+    if (s->led.on) {
+      snprintf(path, sizeof path, "%s/energy.csv", o->out_dir);
+      ef = fopen(path, "w");
+      if (!ef) {
+        rc = esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(errno));
+        goto done;
+      }
+      setvbuf(ef, NULL, _IOLBF, 1 << 14); /* one write() per whole row: a reader (or a
+                                             kill) never meets half a row */
+      esf_ledger_header(ef);
+    }
     snprintf(path, sizeof path, "%s/frames.h5", o->out_dir);
     rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, &fr, err);
-    if (!rc) rc = it->create(s, &ist, err);
     if (!rc) rc = write_frame(s, fr, &net, err);
   }
-  if (!rc && o->scene && s->cfg.ckpt_every > 0 && !it->save)
-    rc = esf_fail(err, ESF_EINPUT,
-                  "output.checkpoint_every: integrator %s cannot write checkpoints "
-                  "(leapfrog and erk: methods can)",
-                  s->cfg.method);
   if (rc) goto done;
 
-  int adaptive = (it->flags & ESF_INTEG_ADAPTIVE) && s->cfg.rtol > 0;
-  long nsteps =
-      s->cfg.steps > 0 ? s->cfg.steps : (long)ceil(s->cfg.duration / s->dt - 1e-9);
-  double t_end = adaptive && s->cfg.duration > 0 ? s->cfg.duration : nsteps * s->dt;
-  long every_e = s->cfg.energy_every > 0
-                     ? (long)fmax(1.0, floor(s->cfg.energy_every / s->dt + 0.5))
-                     : 0;
-  long every_f =
-      s->cfg.out_every > 0 ? (long)fmax(1.0, floor(s->cfg.out_every / s->dt + 0.5)) : 0;
+  long every_e = steps_in(s->cfg.energy_every, s->dt);
+  long every_f = steps_in(s->cfg.out_every, s->dt);
   if (adaptive)
     esf_sim_log(s,
                 "run: adaptive steps to t = %.6g s; frames every %.6g s, energy rows "
@@ -258,14 +387,13 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                 "run: %ld steps to t = %.6g s; frames every %ld steps, energy rows "
                 "every %ld steps",
                 nsteps, t_end, every_f, every_e);
-  double t0 = esf_now_s(), next_prog = t0 + 0.5, psum = cr.psum;
   /* adaptive methods are not forced onto the output times (that would cap their
      steps): rows and frames are written at the first step at or past each time */
   double te = s->cfg.energy_every, tf = s->cfg.out_every;
   double next_e = te > 0 ? te : INFINITY, next_f = tf > 0 ? tf : INFINITY;
   /* checkpoints: like frames, every_c whole steps or at the first step past next_c */
   double tc = o->scene ? s->cfg.ckpt_every : 0.0, next_c = tc > 0 ? tc : INFINITY;
-  long every_c = tc > 0 ? (long)fmax(1.0, floor(tc / s->dt + 0.5)) : 0;
+  long every_c = steps_in(tc, s->dt);
   long n0 = 0;
   if (o->resume) {
     n0 = cr.n;
@@ -276,6 +404,11 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   }
   const sched sc = {nsteps, every_e, every_f, every_c,
                     o->progress && !o->quiet && !adaptive};
+  const long step0 = s->step;
+  double t0 = esf_now_s(), next_prog = t0 + 0.5, psum = cr.psum;
+  const double psum0 = psum;
+  prog pg = {t0, s->t, psum, -1.0, -1.0};
+  st->stepping = 1;
   for (long n = n0; adaptive ? s->t < t_end * (1 - 1e-12) : n < nsteps; n++) {
     long step_before = s->step;
     s->burst = adaptive ? 1 : steps_to_event(&sc, n);
@@ -293,8 +426,8 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       double tol = 1e-9 * t_end;
       row = te > 0 && (s->t >= next_e - tol || s->t >= t_end * (1 - 1e-12));
       frame = tf > 0 && s->t >= next_f - tol && s->t < t_end * (1 - 1e-12);
-      while (te > 0 && next_e <= s->t + tol) next_e += te;
-      while (tf > 0 && next_f <= s->t + tol) next_f += tf;
+      if (te > 0) next_e = schedule_next(next_e, te, s->t + tol);
+      if (tf > 0) next_f = schedule_next(next_f, tf, s->t + tol);
     } else {
       row = every_e && (n % every_e == 0 || n == nsteps - 1);
       frame = every_f && (n + 1) % every_f == 0 && n + 1 < nsteps;
@@ -309,15 +442,15 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       if (rc) break;
     }
     int last = adaptive ? s->t >= t_end * (1 - 1e-12) : n + 1 >= nsteps;
-    int ckpt = 0, stop = o->stop && *o->stop && !last && o->scene;
+    int ckpt = 0, stop = o->stop && *o->stop && !last;
     if (tc > 0 && adaptive) {
       double tol = 1e-9 * t_end;
       ckpt = s->t >= next_c - tol && !last;
-      while (next_c <= s->t + tol) next_c += tc;
+      next_c = schedule_next(next_c, tc, s->t + tol);
     } else if (tc > 0) {
       ckpt = (n + 1) % every_c == 0 && !last;
     }
-    if (ckpt || stop) {
+    if (ckpt || (stop && o->scene && it->save)) {
       cr.n = n + 1;
       cr.next_e = next_e;
       cr.next_f = next_f;
@@ -326,6 +459,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       rc = esf_run_ckpt_save(o->out_dir, s, it, ist, o->scene, &cr, ef, fr, err);
       if (rc) break;
       st->checkpoints++;
+      st->stop_checkpoint = stop;
     }
     if (stop) {
       st->interrupted = 1;
@@ -334,18 +468,28 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     if (o->progress && !o->quiet && (n & 63) == 0) {
       double tn = esf_now_s();
       if (tn >= next_prog) {
-        progress(s, t_end, t0, psum);
+        progress(s, t_end, tn, psum, &pg);
         next_prog = tn + 0.25;
       }
     }
   }
   double wall = esf_now_s() - t0;
-  if (o->progress && !o->quiet) fputs("\r\033[K", stdout);
+  if (o->progress && !o->quiet) {
+    fputs("\r\033[K", stdout); /* before any message on stderr: flushed */
+    fflush(stdout);
+  }
+  if (!rc && !st->interrupted && s->step == step0)
+    rc = esf_fail(err, ESF_EINTERNAL,
+                  "the run ended after 0 steps at t = %.9g s (end: t = %.9g s, %ld "
+                  "steps of %.6g s asked)",
+                  s->t, t_end, nsteps, s->dt);
   st->steps = s->step;
+  st->resumed_step = o->resume ? step0 : 0;
   st->wall_s = wall;
   st->particles_mean = s->step ? psum / (double)s->step : (double)s->p.n;
   st->contacts_mean = s->step ? s->contacts_sum / (double)s->step : 0.0;
-  st->rate = wall > 0 ? psum / wall : 0.0;
+  st->rate = wall > 0 ? (psum - psum0) / wall : 0.0;
+  st->checkpoints_total = cr.count;
   memset(&st->integ, 0, sizeof st->integ);
   if (ist && it->stats)
     it->stats(s, ist, &st->integ);
@@ -356,11 +500,16 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   }
   st->energy_error = s->led.on ? esf_ledger_total_error(&s->led) : 0.0;
   st->dissipated = s->led.on ? esf_ledger_dissipated(&s->led) : 0.0;
-  if (!rc && !st->interrupted) rc = write_frame(s, fr, &net, err);
-  if (!rc && st->interrupted)
+  if (!rc && !st->stop_checkpoint) rc = write_frame(s, fr, &net, err);
+  if (!rc && st->interrupted && st->stop_checkpoint)
     esf_sim_log(s, "interrupted at step %ld, t = %.9g s: checkpoint %ld written", s->step,
                 s->t, cr.count);
-  else if (!rc)
+  else if (!rc && st->interrupted)
+    esf_sim_log(s,
+                "interrupted at step %ld, t = %.9g s: no checkpoint (%s cannot write "
+                "them), the final frame written",
+                s->step, s->t, s->cfg.method);
+  if (!rc)
     esf_sim_log(s,
                 "output: %ld frames, %ld energy rows in frames.h5; %.3f s writing them",
                 esf_frames_count(fr), esf_frames_energy_rows(fr), esf_frames_seconds(fr));
@@ -369,9 +518,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                 "bonds: %ld at the start, %ld broken, %ld intact; %.6g J released by "
                 "ruptures",
                 s->bonds.formed, s->bonds.broken, esf_bonds_alive(s), s->led.d_bonds);
-  if (rc)
-    esf_sim_log(s, "FAILED: %s", err->msg);
-  else
+  if (!rc)
     esf_sim_log(s,
                 "done: %ld steps, %.3f s of loop, %.4g particle-steps/s, %ld list "
                 "builds, %ld force evaluations, %ld particles removed; integrator: %ld "
@@ -382,6 +529,11 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                 st->integ.steps, st->integ.attempts, st->integ.rejected,
                 st->integ.rhs_evals, st->integ.acc_limited, st->integ.stab_limited,
                 st->integ.h_last, st->integ.events, st->integ.restarts);
+  if (!rc && o->resume)
+    esf_sim_log(s,
+                "this invocation: steps %ld to %ld (the loop time and rate above cover "
+                "these); %ld checkpoints since the run's start, %ld of them now",
+                step0, s->step, cr.count, st->checkpoints);
 done:
   if (ist) it->destroy(&ist);
   {
@@ -394,10 +546,11 @@ done:
     }
   }
   esf_contact_net_release(&net);
-  if (ef && fclose(ef) != 0 && !rc)
+  if (ef && (ferror(ef) | fclose(ef)) != 0 && !rc)
     rc = esf_fail(err, ESF_EIO, "cannot finish energy.csv: %s", strerror(errno));
+  if (rc) esf_sim_log(s, "FAILED: %s", err->msg);
   s->log = NULL;
-  if (fclose(logf) != 0 && !rc)
+  if ((ferror(logf) | fclose(logf)) != 0 && !rc)
     rc = esf_fail(err, ESF_EIO, "cannot finish log.txt: %s", strerror(errno));
   return rc;
 }

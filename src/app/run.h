@@ -17,20 +17,28 @@ typedef struct esf_run_opts {
   const esf_ckpt *resume;      /* continue from it (the sim set up from its scene) */
   volatile sig_atomic_t *stop; /* set (by a signal handler): finish the step (the fused
                                   leapfrog's steps in hand, 32 at most), write a
-                                  checkpoint and return with stats.interrupted */
+                                  checkpoint (when the scheme can) and return with
+                                  stats.interrupted */
+  int overwrite; /* a new run may replace another run's results in out_dir */
 } esf_run_opts;
 
 typedef struct esf_run_stats {
-  long steps;
-  double wall_s;         /* wall time of the time-stepping loop, s */
-  double particles_mean; /* mean particle count */
-  double contacts_mean;  /* mean touching contacts */
-  double rate;           /* particle-steps per second */
-  double energy_error;   /* final total_error, J (0 without ledger) */
-  double dissipated;     /* final dissipated energy, J */
-  esf_integ_stats integ; /* the integrator's cost accounting */
-  int interrupted;       /* stopped on *stop after writing a checkpoint */
-  long checkpoints;      /* checkpoints written by this run */
+  long steps;             /* the step count at the end (since the run's start) */
+  double wall_s;          /* wall time of this invocation's time-stepping loop, s */
+  double particles_mean;  /* mean particle count */
+  double contacts_mean;   /* mean touching contacts */
+  double rate;            /* particle-steps per second of this invocation's loop */
+  double energy_error;    /* final total_error, J (0 without ledger) */
+  double dissipated;      /* final dissipated energy, J */
+  esf_integ_stats integ;  /* the integrator's cost accounting */
+  int interrupted;        /* stopped on *stop */
+  int stop_checkpoint;    /* ... and wrote a checkpoint there (else the scheme cannot) */
+  int stepping;           /* the time loop began (output so far is worth a look) */
+  long checkpoints;       /* checkpoints written by this invocation */
+  long checkpoints_total; /* checkpoints since the run's start (a resumed run: those
+                             before the resume included) */
+  long resumed_step;      /* the step this invocation resumed at (0: not resumed); wall_s
+                             and rate cover the steps from there on */
 } esf_run_stats;
 
 /* Creates out_dir (and parents), writes log.txt, energy.csv and frames.h5 while

@@ -12,8 +12,13 @@
  * (which sizes every derived scratch array) and overwritten with the saved lists, xref
  * and build count; last the integrator's own state (integrator.h restore). Every count
  * read from the file is checked against its section's size and every index against what
- * it indexes, so a file that passed its checksums but does not fit fails cleanly. */
+ * it indexes, and every value against the scene and the other sections (the counters'
+ * ranges, t against step x dt, the particles' radii, masses and materials against their
+ * ids', finite numbers, sorted lists) before use, so that a file that passed its
+ * checksums but does not fit fails cleanly (ESF_EINPUT). */
 #include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -44,6 +49,155 @@ static int mismatch(const esf_ckpt *c, esf_error *err, const char *what) {
                   c->path, what);
 }
 
+static int invalid(const esf_ckpt *c, esf_error *err, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static int invalid(const esf_ckpt *c, esf_error *err, const char *fmt, ...) {
+  char what[400];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(what, sizeof what, fmt, ap);
+  va_end(ap);
+  return esf_fail(err, ESF_EINPUT,
+                  "%s does not fit its scene or itself: %s (the file passed its "
+                  "checksums: changed by hand or written by another build?); cannot "
+                  "resume",
+                  c->path, what);
+}
+
+static int all_finite(const double *v, size_t n) {
+  for (size_t k = 0; k < n; k++)
+    if (!isfinite(v[k])) return 0;
+  return 1;
+}
+
+/* The sim's scalars against the scene: n particles saved of the scene's n_scene. */
+static int check_sim(const esf_ckpt *c, const esf_sim *s, const esf_integrator_type *it,
+                     const ck_sim *cs, uint64_t n, size_t n_scene, esf_error *err) {
+  const double v[] = {cs->t,       cs->led_time,     cs->alpha_r,
+                      cs->alpha_t, cs->contacts_sum, cs->walls_t};
+  if (!all_finite(v, sizeof v / sizeof *v))
+    return invalid(c, err, "a time or rate in the SIM section is not finite");
+  if (!(cs->step >= 1 && (double)cs->step <= ESF_STEPS_MAX))
+    return invalid(c, err, "step %lld is out of range (1 to %.0e)", (long long)cs->step,
+                   ESF_STEPS_MAX);
+  const esf_config *cf = &s->cfg;
+  const int adaptive = (it->flags & ESF_INTEG_ADAPTIVE) && cf->rtol > 0;
+  const double nsteps =
+      cf->steps > 0 ? (double)cf->steps : ceil(cf->duration / s->dt - 1e-9);
+  const double t_end = adaptive && cf->duration > 0 ? cf->duration : nsteps * s->dt;
+  if (!adaptive && cs->t != (double)cs->step * s->dt)
+    return invalid(c, err, "t = %.17g s is not step %lld x dt %.17g s", cs->t,
+                   (long long)cs->step, s->dt);
+  if (!adaptive && (double)cs->step >= nsteps)
+    return invalid(c, err, "step %lld is at or past the run's end (%.0f steps)",
+                   (long long)cs->step, nsteps);
+  if (!(cs->t > 0 && cs->t < t_end))
+    return invalid(c, err, "t = %.17g s is not within the run (0 to %.17g s)", cs->t,
+                   t_end);
+  if (cs->removed < 0 || n + (uint64_t)cs->removed != n_scene)
+    return invalid(c, err, "%llu particles and %lld removed do not make the scene's %zu",
+                   (unsigned long long)n, (long long)cs->removed, n_scene);
+  if (cs->rhs_evals < 0 || cs->builds < 0 || cs->bonds_formed < 0 ||
+      cs->bonds_broken < 0 || cs->bonds_broken > cs->bonds_formed)
+    return invalid(c, err,
+                   "a counter of the SIM section is negative (or more bonds "
+                   "broken than formed)");
+  if (!(cs->alpha_r >= 0 && cs->alpha_t >= 0 && cs->contacts_sum >= 0 &&
+        cs->led_time >= 0))
+    return invalid(c, err, "negative global damping, contact sum or ledger time");
+  return ESF_OK;
+}
+
+/* The particles read (p) against the scene's (sc; ids 0 to n_ids - 1, those that
+ * started outside the domain already removed): every id once, each particle's radius,
+ * mass, inertia and material its id's; finite state. */
+static int check_particles(const esf_ckpt *c, const esf_particles *p,
+                           const esf_particles *sc, size_t n_ids, esf_error *err) {
+  if (!all_finite(p->y, 9 * p->n) || !all_finite(p->f, 3 * p->n) ||
+      !all_finite(p->t, 3 * p->n))
+    return invalid(c, err,
+                   "a particle's position, velocity, spin, force or torque is "
+                   "not finite");
+  size_t *at = malloc((n_ids ? n_ids : 1) * sizeof *at); /* id -> scene index + 1 */
+  if (!at) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  memset(at, 0, (n_ids ? n_ids : 1) * sizeof *at);
+  for (size_t j = 0; j < sc->n; j++)
+    if (sc->id[j] >= 0 && (uint64_t)sc->id[j] < n_ids) at[sc->id[j]] = j + 1;
+  int rc = ESF_OK;
+  for (size_t i = 0; i < p->n && !rc; i++) {
+    const int64_t id = p->id[i];
+    if (id < 0 || (uint64_t)id >= n_ids || !at[id]) {
+      rc = invalid(c, err, "particle id %lld is unknown to the scene or repeated",
+                   (long long)id);
+      break;
+    }
+    const size_t j = at[id] - 1;
+    at[id] = 0; /* seen */
+    if (p->radius[i] != sc->radius[j] || p->mass[i] != sc->mass[j] ||
+        p->inv_mass[i] != sc->inv_mass[j] || p->inertia[i] != sc->inertia[j] ||
+        p->inv_inertia[i] != sc->inv_inertia[j] || p->material[i] != sc->material[j])
+      rc = invalid(c, err,
+                   "particle id %lld has another radius, mass, inertia or material "
+                   "than in the scene",
+                   (long long)id);
+  }
+  free(at);
+  return rc;
+}
+
+static int check_ledger(const esf_ckpt *c, const esf_sim *s, const esf_ledger *L,
+                        esf_error *err) {
+  if (L->on != s->led.on)
+    return invalid(c, err, "the energy ledger is %s in it, %s in its scene",
+                   L->on ? "on" : "off", s->led.on ? "on" : "off");
+  const double v[] = {
+      L->kin_t,    L->kin_r,        L->pot_g,      L->el_n,     L->el_t,
+      L->d_normal, L->d_tangential, L->d_friction, L->d_global, L->d_local,
+      L->w_walls,  L->e_removed,    L->d_bonds,    L->w_fluid,  L->e0};
+  if ((L->started != 0 && L->started != 1) || !all_finite(v, sizeof v / sizeof *v))
+    return invalid(c, err, "the energy ledger holds a non-finite value or flag");
+  return ESF_OK;
+}
+
+/* The run loop's state against the step it was saved at. */
+static int check_run(const esf_ckpt *c, const esf_sim *s, const esf_ckpt_run *r,
+                     const ck_sim *cs, esf_error *err) {
+  const long long step = (long long)cs->step;
+  if (r->n != cs->step)
+    return invalid(c, err, "its loop counter %ld is not its step %lld", r->n, step);
+  if (isnan(r->next_e) || isnan(r->next_f) || isnan(r->next_c) || !isfinite(r->psum) ||
+      r->psum < 0)
+    return invalid(c, err, "the output schedule holds a value that is not a number");
+  if (r->frames < 1 || r->frames > step + 1 || r->erows < 0 || r->erows > step + 1)
+    return invalid(c, err,
+                   "it counts %ld frames and %ld energy rows at step %lld (a run "
+                   "writes at most one frame and one row a step)",
+                   r->frames, r->erows, step);
+  if ((r->csv_bytes >= 0) != (s->led.on != 0) || r->csv_bytes < -1)
+    return invalid(c, err, "its size of energy.csv (%ld) does not fit the ledger (%s)",
+                   r->csv_bytes, s->led.on ? "on" : "off");
+  if (r->count < 1 || r->count > step)
+    return invalid(c, err, "checkpoint number %ld at step %lld", r->count, step);
+  return ESF_OK;
+}
+
+/* A list saved in the order the builder keeps (neighbor.c): by (a, b), each pair
+ * once, a < b for particle pairs; finite histories, flags 0 or 1. */
+static int check_contacts(const esf_ckpt *c, const esf_candidates *l, size_t m, int pairs,
+                          esf_error *err) {
+  for (size_t k = 0; k < m; k++) {
+    const int order = k == 0 || l->a[k] > l->a[k - 1] ||
+                      (l->a[k] == l->a[k - 1] && l->b[k] > l->b[k - 1]);
+    if (!order || (pairs && l->a[k] >= l->b[k]))
+      return invalid(c, err, "a contact list is not in the order of its build");
+    if (l->touch[k] > 1 || !all_finite(l->h[k].xi, 3) || !all_finite(l->h[k].n, 3) ||
+        (l->vc0 && !all_finite(l->vc0 + 3 * k, 3)) ||
+        (l->bond && (!isfinite(l->bond[k].s) || (uint32_t)l->bond[k].on > 1)))
+      return invalid(c, err, "a contact's history or flags are not valid");
+  }
+  return ESF_OK;
+}
+
 static int get_contacts(const esf_ckpt *c, const char *tag, esf_candidates *dst,
                         size_t np, size_t nb_other, esf_error *err) {
   esf_blob_in in = esf_ckpt_sec(c, tag);
@@ -66,8 +220,9 @@ static int get_contacts(const esf_ckpt *c, const char *tag, esf_candidates *dst,
   for (uint64_t k = 0; k < m; k++)
     if (dst->a[k] >= np || dst->b[k] >= nb_other)
       return mismatch(c, err, "a contact names a particle or wall that does not exist");
-  dst->n = (size_t)m;
-  return ESF_OK;
+  int rc = check_contacts(c, dst, (size_t)m, nb_other == np, err);
+  dst->n = rc ? 0 : (size_t)m;
+  return rc;
 }
 
 int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *it,
@@ -109,6 +264,8 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
   for (int g = 0; g < ng; g++) {
     esf_blob_get(&in, s->walls.g[g].disp_mark, 3 * sizeof(double));
     esf_blob_get(&in, &s->walls.g[g].angle_mark, sizeof(double));
+    if (!all_finite(s->walls.g[g].disp_mark, 3) || !isfinite(s->walls.g[g].angle_mark))
+      return invalid(c, err, "a wall's placement at the last build is not finite");
   }
   if (in.short_read || in.pos != in.n)
     return mismatch(c, err, "the WALLS section's size");
@@ -121,10 +278,17 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
                 (size_t)n * (sizeof(int32_t) + sizeof(int64_t));
   if (in.short_read || n > in.n || in.n - in.pos != need)
     return mismatch(c, err, "the particle section's size");
-  esf_particles *p = &s->p;
-  esf_particles_release(p);
-  int rc = esf_particles_alloc(p, (size_t)n, err);
+  /* the scene's particles, less those the scheme's set-up found outside the domain */
+  const size_t n_ids = s->p.n + (size_t)s->removed;
+  int rc = check_sim(c, s, it, &cs, n, n_ids, err);
   if (rc) return rc;
+  esf_particles *p = &s->p, scene = *p; /* the scene's, to check the saved ones by */
+  memset(p, 0, sizeof *p);
+  rc = esf_particles_alloc(p, (size_t)n, err);
+  if (rc) {
+    esf_particles_release(&scene);
+    return rc;
+  }
   esf_blob_get(&in, p->y, 9 * n * sizeof(double));
   s->ft_lazy = NULL;
   esf_blob_get(&in, p->f, 3 * n * sizeof(double));
@@ -133,9 +297,9 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
   for (int k = 0; k < 5; k++) esf_blob_get(&in, cols[k], n * sizeof(double));
   esf_blob_get(&in, p->material, n * sizeof *p->material);
   esf_blob_get(&in, p->id, n * sizeof *p->id);
-  for (size_t i = 0; i < p->n; i++)
-    if (p->material[i] < 0 || p->material[i] >= s->mats.n)
-      return mismatch(c, err, "a particle's material index");
+  rc = check_particles(c, p, &scene, n_ids, err);
+  esf_particles_release(&scene);
+  if (rc) return rc;
 
   /* scalars, rng, ledger, walls at the saved time */
   s->t = cs.t;
@@ -151,8 +315,12 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
   s->bonds.broken = cs.bonds_broken;
   s->bonds.pending = 0;
   in = esf_ckpt_sec(c, "LEDGER");
-  if (esf_blob_get(&in, &s->led, sizeof s->led) || in.pos != in.n)
+  esf_ledger led;
+  if (esf_blob_get(&in, &led, sizeof led) || in.pos != in.n)
     return mismatch(c, err, "the LEDGER section's size");
+  rc = check_ledger(c, s, &led, err);
+  if (rc) return rc;
+  s->led = led;
   in = esf_ckpt_sec(c, "SAND"); /* servo walls, events, fluid (loads_ckpt.c) */
   if (esf_loads_ckpt_restore(s, &in))
     return mismatch(c, err, "the servo walls, events or fluid force (SAND section)");
@@ -186,12 +354,15 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
     if (!s->nb.xref) return esf_fail(err, ESF_ENOMEM, "out of memory");
     esf_blob_get(&in, s->nb.xref, 3 * nref * sizeof(double));
     s->nb.nref = (size_t)nref;
+    if (!all_finite(s->nb.xref, 3 * nref))
+      return invalid(c, err, "a reference position of the lists is not finite");
   }
   s->nb.builds = cs.builds;
   in = esf_ckpt_sec(c, "NBSKIN"); /* absent from older checkpoints: the skin stays */
   if (!in.short_read) {
     double sk[2];
-    if (esf_blob_get(&in, sk, sizeof sk) || in.pos != in.n || !(sk[0] > 0))
+    if (esf_blob_get(&in, sk, sizeof sk) || in.pos != in.n || !(sk[0] > 0) ||
+        !isfinite(sk[0]) || !(sk[1] >= 0 && sk[1] <= (double)cs.step))
       return mismatch(c, err, "the NBSKIN section");
     s->nb.skin = sk[0];
     s->nb.built_step = (long)sk[1];
@@ -201,6 +372,8 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
   in = esf_ckpt_sec(c, "RUN");
   if (esf_blob_get(&in, run, sizeof *run) || in.pos != in.n)
     return mismatch(c, err, "the RUN section's size");
+  rc = check_run(c, s, run, &cs, err);
+  if (rc) return rc;
   in = esf_ckpt_sec(c, "INTEG");
   rc = it->restore(s, ist, &in, err);
   if (rc) esf_error_prefix(err, "%s: ", c->path);

@@ -4,6 +4,7 @@
  * deleted, double t_done (s); int32 fluid present, int32 its log state. */
 #include "ckpt/loads_ckpt.h"
 
+#include <math.h>
 #include <stdint.h>
 
 #include "loads/drag.h"
@@ -52,6 +53,10 @@ int esf_loads_ckpt_restore(esf_sim *s, esf_blob_in *in) {
     esf_blob_get(in, w->g[g].disp, 3 * sizeof(double));
     esf_blob_get(in, w->g[g].vel, 3 * sizeof(double));
     esf_blob_get(in, &w->g[g].motion.sigma, sizeof(double));
+    const esf_wall_group *gr = &w->g[g];
+    for (int q = 0; q < 3; q++)
+      if (!isfinite(gr->disp[q]) || !isfinite(gr->vel[q])) return -1;
+    if (!isfinite(gr->motion.sigma)) return -1;
   }
   int32_t ne = -1;
   esf_blob_get(in, &ne, 4);
@@ -63,6 +68,7 @@ int esf_loads_ckpt_restore(esf_sim *s, esf_blob_in *in) {
     esf_blob_get(in, &done, 4);
     esf_blob_get(in, &del, 8);
     esf_blob_get(in, &ev->t_done, sizeof(double));
+    if ((done != 0 && done != 1) || del < 0 || !isfinite(ev->t_done)) return -1;
     ev->done = done;
     ev->deleted = (long)del;
   }

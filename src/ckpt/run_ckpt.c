@@ -62,6 +62,7 @@ static int reopen_csv(const char *out_dir, long bytes, FILE **ef, esf_error *err
   snprintf(path, sizeof path, "%s/energy.csv", out_dir);
   FILE *f = fopen(path, "r+");
   if (!f) return esf_fail(err, ESF_EIO, "cannot reopen '%s': %s", path, strerror(errno));
+  setvbuf(f, NULL, _IOLBF, 1 << 14); /* whole rows only reach the file (run.c) */
   struct stat sb;
   if (fstat(fileno(f), &sb) != 0 || sb.st_size < bytes) {
     fclose(f);

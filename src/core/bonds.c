@@ -48,12 +48,13 @@ int esf_bonds_setup(esf_sim *s, int skin_auto, esf_error *err) {
     return ESF_OK;
   }
   return esf_fail(err, ESF_EINPUT,
-                  "search.skin = %.6g m does not exceed the bond reach %.6g m (the "
+                  "%s: search.skin = %.6g m does not exceed the bond reach %.6g m (the "
                   "largest bond_gap plus the rest overlap and rupture opening of the "
                   "adhesive law): bonded pairs opening in tension would drop out of the "
                   "contact candidates. Set search.skin above %.6g m, or leave it "
                   "automatic",
-                  s->cfg.skin, B->reach, B->reach);
+                  esf_config_where(&s->cfg, "search.skin"), s->cfg.skin, B->reach,
+                  B->reach);
 }
 
 int esf_bonds_form(esf_sim *s, esf_error *err) {

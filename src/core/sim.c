@@ -1,7 +1,8 @@
-/* sim.c — the simulation object's own operations: the configuration's defaults, the
- * run's log, syncing the fused step's forces into p.f and p.t, and removing the
- * particles that left the domain (their energy booked as removed). Setting a sim up
- * from a filled scene and tearing it down is model/setup.c's. */
+/* sim.c — the simulation object's own operations: the configuration's defaults and the
+ * places of its keys in the scene (for located messages), the run's log, syncing the
+ * fused step's forces into p.f and p.t, and removing the particles that left the domain
+ * (their energy booked as removed). Setting a sim up from a filled scene and tearing it
+ * down is model/setup.c's. */
 #include "core/sim.h"
 
 #include <math.h>
@@ -42,6 +43,32 @@ void esf_config_default(esf_config *c) {
   c->reorder = 1;
   c->out_every = 0;
   c->energy_every = 0;
+}
+
+const char *esf_config_where(const esf_config *c, const char *key) {
+  const char *best = NULL;
+  size_t best_len = 0;
+  for (int k = 0; k < c->nwhere; k++) {
+    const char *w = c->where[k].key;
+    size_t l = strlen(w);
+    int match = strcmp(w, key) == 0;
+    int parent = l == 0 || (strncmp(w, key, l) == 0 && key[l] == '.');
+    if (match) return c->where[k].place;
+    if (parent && (!best || l >= best_len)) {
+      best = c->where[k].place;
+      best_len = l;
+    }
+  }
+  return best ? best : c->source[0] ? c->source : "the scene";
+}
+
+void esf_config_set_where(esf_config *c, const char *key, const char *place) {
+  int k = 0;
+  while (k < c->nwhere && strcmp(c->where[k].key, key) != 0) k++;
+  if (k == ESF_WHERE_N) return;
+  if (k == c->nwhere) c->nwhere++;
+  snprintf(c->where[k].key, sizeof c->where[k].key, "%s", key);
+  snprintf(c->where[k].place, sizeof c->where[k].place, "%s", place);
 }
 
 void esf_sim_log(const esf_sim *s, const char *fmt, ...) {
@@ -86,7 +113,7 @@ int esf_sim_remove_escaped(esf_sim *s, esf_error *err) {
       const double *v = p->v + 3 * i, *w = p->w + 3 * i;
       double ek = 0.5 * p->mass[i] * v3_norm2(v) + 0.5 * p->inertia[i] * v3_norm2(w);
       double ep = -p->mass[i] * v3_dot(s->cfg.gravity, x);
-      s->led.e_removed += ek + ep;
+      if (s->led.started) s->led.e_removed += ek + ep; /* else not in e0 either */
       esf_sim_log(s,
                   "t = %.6g s: particle id %lld left the domain at (%g, %g, %g); removed",
                   s->t, (long long)p->id[i], x[0], x[1], x[2]);

@@ -26,6 +26,14 @@ extern const char *const esf_history_names[]; /* "frozen", "state", NULL */
 
 enum { ESF_LOCAL_OFF = 0, ESF_LOCAL_COMPONENT = 1, ESF_LOCAL_VECTOR = 2 };
 
+/* The place in the scene of a key that set-up, the integrators and the run driver check
+ * after reading ("scene.yaml:12:5", or "--set KEY=VALUE"), for located messages. */
+#define ESF_WHERE_N 32
+typedef struct esf_where {
+  char key[40];
+  char place[280];
+} esf_where;
+
 /* Everything a scene sets, with SI units. esf_config_default gives the defaults. */
 typedef struct esf_config {
   char name[128];
@@ -78,9 +86,26 @@ typedef struct esf_config {
                        tests set 1 for one range per thread; ESF_RANGE_WORK) */
   char isa[16];     /* fused step: the kernels' instruction set, "" for the CPU's
                        widest (base, avx2, avx512; ESF_ISA) */
+  esf_where where[ESF_WHERE_N]; /* places of keys, set by the scene reader (key "" is
+                                   the document itself) */
+  int nwhere;
 } esf_config;
 
 void esf_config_default(esf_config *c);
+
+/* The most steps one run takes (run.steps, or run.duration / dt; checked by the run
+ * driver and by checkpoint restores): beyond it a count would not end in any useful
+ * time (and soon not fit a long). */
+#define ESF_STEPS_MAX 1e12
+
+/* The place of key (dotted path, "integrator.dt") in the scene: its own when the scene
+ * gave it, else that of its nearest given parent ("integrator"), else of the document,
+ * else cfg.source; never NULL. */
+const char *esf_config_where(const esf_config *c, const char *key);
+
+/* Records the place of key (esf_config_where); later entries for the same key win.
+ * Silently ignores keys beyond ESF_WHERE_N. */
+void esf_config_set_where(esf_config *c, const char *key, const char *place);
 
 /* Critical-step estimates (timestep.c). */
 typedef struct esf_dt_estimate {
@@ -166,7 +191,9 @@ static inline size_t esf_ledger_nblocks(size_t n) {
   return (n + ESF_LEDGER_BLOCK - 1) / ESF_LEDGER_BLOCK;
 }
 
-/* Removes the particles outside the domain (if one is set) and logs them. */
+/* Removes the particles outside the domain (if one is set) and logs them. Their energy
+ * is booked as removed once the ledger's balance has started (before, e0 leaves them
+ * out: particles that start outside the domain never enter the balance). */
 int esf_sim_remove_escaped(esf_sim *s, esf_error *err);
 
 #endif

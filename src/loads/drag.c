@@ -89,12 +89,13 @@ int esf_drag_setup(esf_sim *s, esf_error *err) {
   }
   d->tau = tau;
   if (s->dt > tau && !s->cfg.allow_unstable)
-    return esf_fail(err, ESF_EINPUT,
-                    "dt = %.6g s exceeds the shortest drag relaxation time m (1 - eps) / "
-                    "(V beta) = %.6g s: the explicit drag would be inaccurate, and "
-                    "unstable above twice that. Lower dt, or check the fluid viscosity "
-                    "and porosity",
-                    s->dt, tau);
+    return esf_fail(
+        err, ESF_EINPUT,
+        "%s: dt = %.6g s exceeds the shortest drag relaxation time m (1 - eps) / "
+        "(V beta) = %.6g s: the explicit drag would be inaccurate, and "
+        "unstable above twice that. Lower dt, or check the fluid viscosity "
+        "and porosity",
+        esf_config_where(&s->cfg, "fluid"), s->dt, tau);
   return ESF_OK;
 }
 

@@ -39,9 +39,10 @@ int esf_events_setup(esf_sim *s, esf_error *err) {
   if (!s->events || s->events->n == 0) return ESF_OK;
   if (strcmp(s->cfg.method, "leapfrog") != 0)
     return esf_fail(err, ESF_EINPUT,
-                    "events (deleting particles) are supported by the leapfrog only: "
-                    "the ODE methods cannot change the particle count within a run; use "
-                    "integrator.method: leapfrog");
+                    "%s: events (deleting particles) are supported by the leapfrog "
+                    "only: the ODE methods cannot change the particle count within a "
+                    "run; use integrator.method: leapfrog",
+                    esf_config_where(&s->cfg, "integrator.method"));
   return ESF_OK;
 }
 
@@ -101,7 +102,8 @@ static int apply_one(esf_sim *s, esf_event *ev, esf_error *err) {
   }
   int rc = ESF_OK;
   if (out) {
-    if (s->led.on) s->led.e_removed += e_gone + removed_elastic(s, keep);
+    if (s->led.started) /* before the balance starts, e0 leaves them out too */
+      s->led.e_removed += e_gone + removed_elastic(s, keep);
     esf_sim_forces_sync(s); /* compaction carries p.f, p.t along */
     rc = esf_particles_compact(p, keep, remap, err);
     if (!rc) esf_neighbor_remap(&s->nb, remap, n_old);

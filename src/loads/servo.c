@@ -43,9 +43,11 @@ int esf_servo_setup(esf_sim *s, esf_error *err) {
   if (!any) return ESF_OK;
   if (strcmp(s->cfg.method, "leapfrog") != 0)
     return esf_fail(err, ESF_EINPUT,
-                    "servo walls are supported by the leapfrog only (their velocity is "
-                    "set by feedback after each committed step, which an ODE method's "
-                    "trial stages cannot follow); use integrator.method: leapfrog");
+                    "%s: servo walls are supported by the leapfrog only (their velocity "
+                    "is set by feedback after each committed step, which an ODE "
+                    "method's trial stages cannot follow); use integrator.method: "
+                    "leapfrog",
+                    esf_config_where(&s->cfg, "integrator.method"));
   const esf_materials *m = &s->mats;
   for (int k = 0; k < w->ngroups; k++) {
     esf_wall_motion *mo = &w->g[k].motion;
@@ -66,14 +68,14 @@ int esf_servo_setup(esf_sim *s, esf_error *err) {
     if (!(mo->area > 0)) {
       if (plane || s->cfg.dim == 2)
         return esf_fail(
-            err, ESF_EINPUT, "servo wall '%s': give motion.servo.area (m^2) for %s",
-            w->g[k].label,
+            err, ESF_EINPUT, "%s: servo wall '%s': give motion.servo.area (m^2) for %s",
+            esf_config_where(&s->cfg, "walls"), w->g[k].label,
             plane ? "an infinite plane" : "a 2D scene (wall length x disk_thickness)");
       if (!(area > 0))
         return esf_fail(err, ESF_EINPUT,
-                        "servo wall '%s' has no area across its direction; give "
+                        "%s: servo wall '%s' has no area across its direction; give "
                         "motion.servo.area or a direction normal to the wall",
-                        w->g[k].label);
+                        esf_config_where(&s->cfg, "walls"), w->g[k].label);
       mo->area = area;
     }
     if (!(mo->kn > 0)) mo->kn = 1.0; /* no particles: any gain, nothing to push */

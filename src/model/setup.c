@@ -26,8 +26,9 @@ static int set_masses(esf_sim *s, esf_error *err) {
     double r = p->radius[i];
     if (!(m->density > 0))
       return esf_fail(err, ESF_EINPUT,
-                      "material '%s' of particle id %lld needs a positive density",
-                      m->name, (long long)p->id[i]);
+                      "%s: material '%s' of particle id %lld needs a positive density",
+                      esf_config_where(&s->cfg, "materials"), m->name,
+                      (long long)p->id[i]);
     if (s->cfg.dim == 2) {
       p->mass[i] = ESF_PI * r * r * s->cfg.disk_thickness * m->density;
       p->inertia[i] = 0.5 * p->mass[i] * r * r;
@@ -35,9 +36,9 @@ static int set_masses(esf_sim *s, esf_error *err) {
           p->w[3 * i + 2] != 0.0)
         return esf_fail(
             err, ESF_EINPUT,
-            "particle id %lld: a 2D scene moves disks in the x-z plane, so y, "
+            "%s: particle id %lld: a 2D scene moves disks in the x-z plane, so y, "
             "vy, wx and wz must be 0",
-            (long long)p->id[i]);
+            esf_config_where(&s->cfg, "particles"), (long long)p->id[i]);
     } else {
       p->mass[i] = 4.0 / 3.0 * ESF_PI * r * r * r * m->density;
       p->inertia[i] = 0.4 * p->mass[i] * r * r;
@@ -71,22 +72,29 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
   if (c->dt_auto) {
     if (!isfinite(crit))
       return esf_fail(err, ESF_EINPUT,
-                      "integrator.dt is auto but the scene has no particles or no "
-                      "stiffness to take a critical step from; give dt in seconds");
+                      "%s: integrator.dt is auto but the scene has no particles or no "
+                      "stiffness to take a critical step from; give dt in seconds",
+                      esf_config_where(c, "integrator.dt"));
     s->dt = c->frac * crit;
   } else {
     s->dt = c->dt;
     if (s->dt > crit && !c->allow_unstable)
       return esf_fail(err, ESF_EINPUT,
-                      "integrator.dt = %.6g s is above the critical step of the '%s' "
-                      "rule, %.6g s (m_min = %.4g kg, k_max = %.4g N/m): the run would "
-                      "be unstable. Use dt: auto with frac <= 1 (seeds: 0.1), a smaller "
-                      "dt, or set integrator.allow_unstable: true for stability studies",
-                      s->dt, esf_dt_rule_names[c->dt_rule], crit, s->dte.m_min,
-                      s->dte.k_max);
+                      "%s: integrator.dt = %.6g s is above the critical step of the "
+                      "'%s' rule, %.6g s (m_min = %.4g kg, k_max = %.4g N/m): the run "
+                      "would be unstable. Use dt: auto with frac <= 1 (seeds: 0.1), a "
+                      "smaller dt, or set integrator.allow_unstable: true for stability "
+                      "studies",
+                      esf_config_where(c, "integrator.dt"), s->dt,
+                      esf_dt_rule_names[c->dt_rule], crit, s->dte.m_min, s->dte.k_max);
   }
   if (!(s->dt > 0) || !isfinite(s->dt))
-    return esf_fail(err, ESF_EINPUT, "the time step must be positive, got %g", s->dt);
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: %s: the time step must be a positive finite number of seconds, "
+                    "got %g s%s",
+                    esf_config_where(c, c->dt_auto ? "integrator.frac" : "integrator.dt"),
+                    c->dt_auto ? "integrator.frac" : "integrator.dt", s->dt,
+                    c->dt_auto ? " (frac x the critical step)" : "");
 
   double omega = s->dte.k_max > 0 ? sqrt(s->dte.k_max / s->dte.m_min) : 1.0;
   if (c->autod.alpha_min < 0) c->autod.alpha_min = 1e-4 * omega;

@@ -467,7 +467,15 @@ int esf_frames_resume(const char *path, const char *scene_name, const char *vers
                       esf_frames **out, esf_error *err) {
   *out = NULL;
   esf_frames *fr = NULL;
-  int rc = create(path, scene_name, version, &fr, err);
+  long have_f = 0, have_r = 0; /* allocate by what the index holds, not by the caller */
+  int rc = esf_frames_index_counts(path, &have_f, &have_r, err);
+  if (!rc && (nframes < 0 || nrows < 0 || nframes > have_f || nrows > have_r))
+    rc = esf_fail(err, ESF_EIO,
+                  "'%s' names %ld frames and %ld energy rows, fewer than the %ld and %ld "
+                  "to resume from",
+                  path, have_f, have_r, nframes, nrows);
+  if (rc) return rc;
+  rc = create(path, scene_name, version, &fr, err);
   if (rc) return rc;
   size_t cap = nframes > 64 ? (size_t)nframes : 64;
   fr->xf = malloc(cap * sizeof *fr->xf);

@@ -123,6 +123,30 @@ static int read_column(hid_t f, const char *col, long nrows, double *out) {
   return ok ? 0 : -1;
 }
 
+int esf_frames_index_counts(const char *path, long *nframes, long *nrows,
+                            esf_error *err) {
+  esf_h5_quiet q;
+  esf_h5_quiet_begin(&q);
+  *nframes = *nrows = 0;
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t g = f >= 0 ? H5Gopen2(f, "frames", H5P_DEFAULT) : -1;
+  H5G_info_t info;
+  int rc = g >= 0 && H5Gget_info(g, &info) >= 0
+               ? ESF_OK
+               : esf_h5_fail(err, "cannot read the frames of", path);
+  if (!rc) *nframes = (long)info.nlinks;
+  size_t rows = 0;
+  if (!rc && H5Lexists(f, "energy", H5P_DEFAULT) > 0 &&
+      H5Lexists(f, "energy/time", H5P_DEFAULT) > 0 && dims_of(f, "energy/time", &rows))
+    rc = esf_h5_fail(err, "cannot read the energy rows of", path);
+  *nrows = (long)rows;
+  if (g >= 0) H5Gclose(g);
+  if (f >= 0) H5Fclose(f);
+  H5Eclear2(H5E_DEFAULT);
+  esf_h5_quiet_end(&q);
+  return rc;
+}
+
 int esf_frames_index_read(const char *path, long nframes, long *seg, esf_xdmf_frame *xf,
                           long nrows, int ncols, const char *const *names, double *rows,
                           esf_error *err) {

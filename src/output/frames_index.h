@@ -34,6 +34,10 @@ typedef struct esf_frames_index {
 int esf_frames_index_write(const char *path, const esf_frames_index *ix, int durable,
                            esf_error *err);
 
+/* The frames and energy rows the index at path names (before reading them: a count
+ * to allocate by). ESF_EIO naming the path when it cannot be read. */
+int esf_frames_index_counts(const char *path, long *nframes, long *nrows, esf_error *err);
+
 /* Reads back from the index at path the first nframes frames (seg[k], and the XDMF
  * records xf[k], from the frames themselves through their links) and the first nrows
  * energy rows of columns names (rows: nrows x ncols, row-major). ESF_EIO naming the

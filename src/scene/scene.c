@@ -8,6 +8,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "scene/scene_loads.h"
@@ -362,9 +363,49 @@ static int read_top(const esf_ynode *root, esf_config *c, esf_error *err) {
   return rc;
 }
 
+/* Every material a particle is made of needs a density (walls' materials do not). */
+static int check_densities(const esf_ynode *root, const esf_sim *s, esf_error *err) {
+  for (size_t i = 0; i < s->p.n; i++) {
+    const esf_material *m = &s->mats.m[s->p.material[i]];
+    if (m->density > 0) continue;
+    const esf_ynode *mn = esf_ymap_get(esf_ymap_get(root, "materials"), m->name);
+    const esf_ynode *dn = esf_ymap_get(mn, "density");
+    return esf_ynode_fail(dn ? dn : mn, err,
+                          "material '%s' is used by particle id %lld and needs a "
+                          "positive density (kg/m^3)%s",
+                          m->name, (long long)s->p.id[i], dn ? "" : ": add density");
+  }
+  return ESF_OK;
+}
+
+/* The places of the keys checked after reading (esf_config_where). */
+static void record_places(const esf_ynode *root, esf_config *c) {
+  /* clang-format off */
+  static const char *const keys[] = {
+      "", "materials", "particles", "walls", "events", "fluid", "damping", "integrator",
+      "integrator.method", "integrator.dt", "integrator.frac", "integrator.history",
+      "integrator.roots", "integrator.rtol", "run", "run.duration", "run.steps",
+      "output", "output.every", "output.energy_every", "output.checkpoint_every",
+      "search", "search.skin", NULL};
+  /* clang-format on */
+  char buf[sizeof c->where[0].place], path[64];
+  for (int k = 0; keys[k]; k++) {
+    const esf_ynode *n = root;
+    snprintf(path, sizeof path, "%s", keys[k]);
+    for (char *tok = path; n && *tok;) {
+      char *dot = strchr(tok, '.');
+      if (dot) *dot = '\0';
+      n = esf_ymap_get(n, tok);
+      tok = dot ? dot + 1 : tok + strlen(tok);
+    }
+    if (n) esf_config_set_where(c, keys[k], esf_ynode_where(n, buf, sizeof buf));
+  }
+}
+
 int esf_scene_read(esf_ydoc *doc, esf_sim *s, esf_error *err) {
   esf_ynode *root = esf_ydoc_root(doc);
   esf_config *c = &s->cfg;
+  record_places(root, c);
   int rc = read_top(root, c, err);
   if (!rc) rc = read_materials(root, s, err);
   if (!rc) rc = read_integrator(root, c, err);
@@ -375,7 +416,12 @@ int esf_scene_read(esf_ydoc *doc, esf_sim *s, esf_error *err) {
   if (!rc) {
     const esf_ynode *ps = esf_ymap_get(root, "particles");
     if (!ps) return esf_ynode_fail(root, err, "missing key 'particles'");
-    rc = esf_scene_particles(ps, esf_ydoc_dir(doc), s, err);
+    uint32_t *entry = NULL;
+    rc = esf_scene_particles(ps, esf_ydoc_dir(doc), s, &entry, err);
+    if (!rc) rc = check_densities(root, s, err);
+    if (!rc)
+      rc = esf_scene_check_overlaps(ps, esf_ymap_get(root, "walls"), s, entry, err);
+    free(entry);
   }
   if (rc) return rc;
   if (c->energy_every < 0) { /* not given: about 1000 rows over the run */

@@ -244,15 +244,17 @@ static int check_explicit_overlap(const esf_particle_defs *defs, const size_t *f
 }
 
 int esf_scene_particles(const esf_ynode *seq, const char *dir, esf_sim *s,
-                        esf_error *err) {
+                        uint32_t **entry, esf_error *err) {
+  *entry = NULL;
   int rc = esf_ynode_require_seq(seq, err);
   if (rc) return rc;
   esf_particle_defs defs = {0};
   size_t *first = calloc(seq->n + 1, sizeof *first);
+  size_t *end = calloc(seq->n + 1, sizeof *end); /* defs.n after entry k */
   const esf_ynode **src = calloc(seq->n + 1, sizeof *src);
   size_t nexp = 0;
-  if (!first || !src) rc = esf_fail(err, ESF_ENOMEM, "out of memory");
-  for (size_t k = 0; k < seq->n && !rc; k++) {
+  if (!first || !end || !src) rc = esf_fail(err, ESF_ENOMEM, "out of memory");
+  for (size_t k = 0; k < seq->n && !rc; end[k++] = defs.n) {
     const esf_ynode *e = seq->items[k];
     rc = esf_ynode_require_map(e, err);
     if (rc) break;
@@ -270,7 +272,11 @@ int esf_scene_particles(const esf_ynode *seq, const char *dir, esf_sim *s,
     rc = check_explicit_overlap(&defs, first, src, nexp, err);
   if (!rc && defs.n == 0) rc = esf_ynode_fail(seq, err, "the scene defines no particles");
   if (!rc) rc = esf_particles_alloc(&s->p, defs.n, err);
-  for (size_t i = 0; i < defs.n && !rc; i++) {
+  if (!rc && !(*entry = malloc((defs.n ? defs.n : 1) * sizeof **entry)))
+    rc = esf_fail(err, ESF_ENOMEM, "out of memory");
+  for (size_t i = 0, k = 0; i < defs.n && !rc; i++) {
+    while (end[k] <= i) k++;
+    (*entry)[i] = (uint32_t)k;
     const esf_particle_def *d = &defs.d[i];
     memcpy(s->p.x + 3 * i, d->x, sizeof d->x);
     memcpy(s->p.v + 3 * i, d->v, sizeof d->v);
@@ -280,6 +286,7 @@ int esf_scene_particles(const esf_ynode *seq, const char *dir, esf_sim *s,
     s->p.id[i] = (int64_t)i;
   }
   free(first);
+  free(end);
   free(src);
   esf_particle_defs_release(&defs);
   return rc;

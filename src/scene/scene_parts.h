@@ -7,9 +7,10 @@
 #include "core/sim.h"
 #include "formats/yaml_tree.h"
 
-/* Parts (scene_particles.c, scene_walls.c). */
+/* Parts (scene_particles.c, scene_walls.c). esf_scene_particles sets *entry (malloc'd,
+ * the caller frees it) to the index in seq of the entry each particle came from. */
 int esf_scene_particles(const esf_ynode *seq, const char *dir, esf_sim *s,
-                        esf_error *err);
+                        uint32_t **entry, esf_error *err);
 int esf_scene_walls(const esf_ynode *seq, const char *dir, esf_sim *s, esf_error *err);
 /* Mesh walls (scene_meshes.c): entry e's `mesh`, `cylinder` or `screw` into group. */
 int esf_scene_wall_stl(const esf_ynode *e, const char *dir, esf_sim *s, int group,
@@ -18,6 +19,14 @@ int esf_scene_wall_cylinder(const esf_ynode *e, esf_sim *s, int group, int32_t m
                             esf_error *err);
 int esf_scene_wall_screw(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
                          esf_error *err);
+
+/* Initial overlaps (scene_overlap.c), after the particles (entry: as above) and
+ * walls are read: a particle overlapping a wall at the start is an error unless
+ * contact.allow_initial_overlap, and any overlap (wall or particle) beyond
+ * contact.max_overlap of the radius is one always; the message names the particle,
+ * the wall element or the other particle, the overlap and their scene entries. */
+int esf_scene_check_overlaps(const esf_ynode *seq, const esf_ynode *walls,
+                             const esf_sim *s, const uint32_t *entry, esf_error *err);
 
 /* Helpers shared by the readers (scene_util.c). */
 /* Re-raises err's message (set by a geometry builder) at node n's position. */

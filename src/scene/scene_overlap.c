@@ -1,0 +1,144 @@
+/* scene_overlap.c — overlaps at the start (scene_parts.h): a particle that starts inside
+ * a wall, or two particles that start overlapping by more than the contact law's limit,
+ * is bad input, told with the particle's id, the wall element or other particle, the
+ * overlap and where the scene defines them (file:line:column), instead of a failure of
+ * the first step. Overlaps with walls are measured as the force evaluation does
+ * (model/forces.c): un = r - dist to the element's nearest point (a plane's distance is
+ * signed), against the walls placed at t = 0 (moving walls frozen on a copy); the
+ * element candidates come from the wall index (bodies/wall_index.h), the particle pairs
+ * from the cell search (search/cells.h). Particles outside the domain are skipped (the
+ * first list build removes them). Units: m. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bodies/wall_index.h"
+#include "scene/scene_parts.h"
+#include "search/cells.h"
+#include "util/vec3.h"
+
+/* Where particle i comes from: its entry of the particles list, and for a file the
+ * file's own key. */
+static void particle_place(const esf_ynode *seq, const uint32_t *entry, size_t i,
+                           char *buf, size_t len) {
+  const esf_ynode *e = seq->items[entry[i]];
+  const esf_ynode *f = esf_ymap_get(e, "file");
+  char w[600];
+  esf_ynode_where(f ? f : e, w, sizeof w);
+  snprintf(buf, len, "%s (particles.%u%s)", w, entry[i],
+           f                             ? ", a row of its file"
+           : esf_ymap_get(e, "generate") ? ", generated"
+                                         : "");
+}
+
+/* A copy of the walls placed at t = 0 (a moving wall's phase may displace it). */
+static int walls_at_start(const esf_walls *w, esf_walls *c, esf_error *err) {
+  memset(c, 0, sizeof *c);
+  c->g = malloc((w->ngroups ? (size_t)w->ngroups : 1) * sizeof *c->g);
+  c->e = malloc((w->n ? w->n : 1) * sizeof *c->e);
+  if (!c->g || !c->e) {
+    esf_walls_release(c);
+    return esf_fail(err, ESF_ENOMEM, "out of memory");
+  }
+  memcpy(c->g, w->g, (size_t)w->ngroups * sizeof *c->g);
+  memcpy(c->e, w->e, w->n * sizeof *c->e);
+  c->ngroups = w->ngroups;
+  c->n = c->cap = w->n;
+  int rc = esf_walls_freeze(c, 0.0, err);
+  if (rc) esf_walls_release(c);
+  return rc;
+}
+
+static int outside(const esf_sim *s, const double *x) {
+  return s->cfg.has_domain && v3_outside(x, s->cfg.domain_min, s->cfg.domain_max);
+}
+
+static int check_walls(const esf_ynode *seq, const esf_ynode *walls, const esf_sim *s,
+                       const uint32_t *entry, esf_error *err) {
+  esf_walls w;
+  int rc = walls_at_start(&s->walls, &w, err);
+  if (rc) return rc;
+  esf_wall_index *idx = NULL;
+  rc = esf_wall_index_sync(&idx, &w, err);
+  uint32_t *scratch = rc ? NULL : malloc(esf_wall_index_scratch(idx) * sizeof *scratch);
+  if (!rc && !scratch) rc = esf_fail(err, ESF_ENOMEM, "out of memory");
+  const esf_particles *p = &s->p;
+  const double lim = s->cfg.max_overlap;
+  for (size_t i = 0; i < p->n && !rc; i++) {
+    const double *x = p->x + 3 * i, r = p->radius[i];
+    if (outside(s, x)) continue;
+    const esf_ynode *e = seq->items[entry[i]];
+    const int explicit_ = !esf_ymap_get(e, "file") && !esf_ymap_get(e, "generate");
+    const uint32_t *el = NULL;
+    size_t ne = 0;
+    esf_wall_index_query(idx, &w, x, r, scratch, &el, &ne);
+    for (size_t q = 0; q < ne && !rc; q++) {
+      esf_wall_hit hit;
+      esf_wall_nearest(&w.e[el[q]], x, &hit);
+      const double un = r - hit.dist;
+      const int beyond = un > lim * r;
+      if (!(un > 0) || (!beyond && (!explicit_ || s->cfg.allow_initial_overlap)))
+        continue;
+      const int g = w.e[el[q]].group;
+      char pp[700], wp[600] = "";
+      particle_place(seq, entry, i, pp, sizeof pp);
+      if (walls && g < (int)walls->n) esf_ynode_where(walls->items[g], wp, sizeof wp);
+      rc = esf_fail(err, ESF_EINPUT,
+                    "%s: particle id %lld at (%g, %g, %g) m, radius %g m, starts "
+                    "overlapping wall element %u of walls.%d ('%s' at %s) by %.4g m, "
+                    "%.3g%% of its radius (limit %.3g%%)%s. Move the particle or the "
+                    "wall%s",
+                    pp, (long long)p->id[i], x[0], x[1], x[2], r, el[q], g, w.g[g].label,
+                    wp, un, 100.0 * un / r, 100.0 * lim,
+                    beyond ? ", more than contact.max_overlap allows (the first step "
+                             "would fail)"
+                           : "",
+                    beyond ? "" : ", or set contact.allow_initial_overlap: true");
+    }
+  }
+  free(scratch);
+  esf_wall_index_free(&idx);
+  esf_walls_release(&w);
+  return rc;
+}
+
+static int check_pairs(const esf_ynode *seq, const esf_sim *s, const uint32_t *entry,
+                       esf_error *err) {
+  const esf_particles *p = &s->p;
+  esf_cells *cells = NULL;
+  esf_pairbuf pb = {0};
+  int rc = esf_cells_create(&cells, err);
+  if (!rc) rc = esf_cells_pairs(cells, p->n, p->x, p->radius, 0.0, &pb, err);
+  for (size_t k = 0; k < pb.n && !rc; k++) {
+    const uint32_t a = pb.i[k], b = pb.j[k];
+    const double rmin = p->radius[a] < p->radius[b] ? p->radius[a] : p->radius[b];
+    double dx[3];
+    v3_sub(dx, p->x + 3 * b, p->x + 3 * a);
+    const double d = v3_norm(dx);
+    const double un = p->radius[a] + p->radius[b] - d;
+    if (!(un > s->cfg.max_overlap * rmin) || outside(s, p->x + 3 * a) ||
+        outside(s, p->x + 3 * b))
+      continue;
+    char pa[700], pbp[700];
+    particle_place(seq, entry, a, pa, sizeof pa);
+    particle_place(seq, entry, b, pbp, sizeof pbp);
+    rc = esf_fail(err, ESF_EINPUT,
+                  "%s: particle id %lld and particle id %lld (%s) start overlapping by "
+                  "%.4g m, %.3g%% of the smaller radius, more than contact.max_overlap "
+                  "(%.3g%%) allows: the first step would fail. Move them apart",
+                  pa, (long long)p->id[a], (long long)p->id[b],
+                  strcmp(pa, pbp) ? pbp : "the same entry", un, 100.0 * un / rmin,
+                  100.0 * s->cfg.max_overlap);
+  }
+  esf_pairbuf_release(&pb);
+  esf_cells_free(&cells);
+  return rc;
+}
+
+int esf_scene_check_overlaps(const esf_ynode *seq, const esf_ynode *walls,
+                             const esf_sim *s, const uint32_t *entry, esf_error *err) {
+  int rc = s->walls.n ? check_walls(seq, walls, s, entry, err) : ESF_OK;
+  if (!rc) rc = check_pairs(seq, s, entry, err);
+  return rc;
+}
