@@ -27,6 +27,7 @@
 #include "loads/drag.h"
 #include "model/forces.h"
 #include "model/model.h"
+#include "model/stability.h"
 #include "util/vec3.h"
 
 typedef struct leapfrog {
@@ -118,6 +119,8 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   esf_walls_set_time(&s->walls, s->t); /* moving walls at x_n's time */
   int rc = esf_sim_refresh(s, NULL, err);
   if (rc) return rc;
+  rc = esf_stability_guard(s, 0, err); /* at every stability_every-th step */
+  if (rc) return rc;
   if (!lf->started) {
     rc = start(s, err);
     if (rc) return rc;
@@ -134,8 +137,10 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     lf->logged = why ? 2 : 1;
   }
   if (!why) {       /* steps 2-4 and 7 fused and threaded, s->burst of */
-    long taken = 0; /* them at most in one go */
-    rc = esf_fused_run(s, lf->fast, s->burst, &taken, err);
+    long taken = 0; /* them at most in one go, up to the next stability check */
+    long burst = esf_stability_steps_left(s);
+    if (s->burst < burst) burst = s->burst;
+    rc = esf_fused_run(s, lf->fast, burst, &taken, err);
     if (taken > 0) lf->started = 1;
     return rc;
   }
@@ -193,7 +198,8 @@ const esf_integrator_type esf_integrator_leapfrog = {
     .summary = "central differences (leapfrog), velocities at half steps, with global "
                "(1 -+ alpha dt/2) and local damping; the production scheme",
     .order = 2,
-    .flags = ESF_INTEG_FIXED_STEP | ESF_INTEG_HALF_STEP_V | ESF_INTEG_HISTORY_INCREMENTAL,
+    .flags = ESF_INTEG_FIXED_STEP | ESF_INTEG_HALF_STEP_V | ESF_INTEG_HISTORY_INCREMENTAL |
+             ESF_INTEG_STABILITY_CHECK,
     .create = lf_create,
     .step = lf_step,
     .destroy = lf_destroy,

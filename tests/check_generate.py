@@ -43,7 +43,7 @@ generate:
   material: glass
   settle: {ke_fraction: 1.0e-4, max_time: 0.3, check_every: 0.005}
   resettle: {max_time: 0.15}
-integrator: {method: leapfrog, dt: auto, frac: 0.3}
+integrator: {method: leapfrog, dt: auto, frac: 0.08}
 """
 
 
@@ -140,7 +140,7 @@ particles:
   - {{file: {out}}}
 walls:
   - {{box: {{min: [0, 0, 0], max: [0.024, 0.024, 0.04]}}, open: [top], material: glass}}
-integrator: {{method: leapfrog, dt: auto, frac: 0.3}}
+integrator: {{method: leapfrog, dt: auto, frac: 0.08}}
 run: {{steps: 20}}
 output: {{energy_every: 0}}
 """)

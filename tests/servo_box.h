@@ -25,6 +25,6 @@
   "  permeability: 1.0e-10\n"                                                            \
   "  radial: {center: [0.02, 0.02, 0.02], axis: [0, 1, 0], well_radius: 0.008, "         \
   "drainage_radius: 1, pressure_drop: 3.0e5}\n"                                          \
-  "integrator: {method: leapfrog, dt: auto, frac: 0.2}\n"
+  "integrator: {method: leapfrog, dt: auto, frac: 0.1}\n"
 
 #endif

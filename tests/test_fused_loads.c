@@ -40,7 +40,7 @@ static const char *const scene =
     "  permeability: 1.0e-10\n"
     "  radial: {center: [0.02, 0.02, 0.01], axis: [0, 1, 0], well_radius: 0.006, "
     "drainage_radius: 1, pressure_drop: 3.0e5}\n"
-    "integrator: {method: leapfrog, dt: auto, frac: 0.2}\n"
+    "integrator: {method: leapfrog, dt: auto, frac: 0.1}\n"
     "run: {duration: 0.09}\n"
     "output: {energy_every: 1.0e-3}\n";
 

@@ -219,10 +219,12 @@ static int cmd_modes(int argc, char **argv) {
   }
   printf("modes: particles=%zu dofs=%zu contacts=%zu omega_max=%.10g xi_max=%.6g "
          "dt_2_over_omega=%.10g dt_damped=%.10g cundall=%.10g hart=%.10g damped=%.10g "
-         "argmax_particle=%zu xi_mode=%.6g dt_mode=%.10g\n",
+         "argmax_particle=%zu xi_mode=%.6g dt_mode=%.10g dt=%.10g lambda=%.10g "
+         "lambda_live=%.10g dt_live=%.10g\n",
          s.p.n, m.dofs, m.contacts, m.omega_max, m.xi_max, m.dt_undamped, m.dt_damped,
          s.dte.crit[ESF_DT_CUNDALL], s.dte.crit[ESF_DT_HART], s.dte.crit[ESF_DT_DAMPED],
-         m.dofs ? m.argmax_dof / (m.dofs / s.p.n) : 0, m.xi_mode, m.dt_mode);
+         m.dofs ? m.argmax_dof / (m.dofs / s.p.n) : 0, m.xi_mode, m.dt_mode, s.dt, m.lambda,
+         m.lambda_live, m.dt_live);
   esf_sim_release(&s);
   return 0;
 }
@@ -311,12 +313,14 @@ static void print_summary(const esf_sim *s, const esf_run_stats *st, const char 
          "particle_steps_per_s=%.6g dt=%.6g rebuilds=%ld rhs_evals=%ld "
          "energy_error=%.6g dissipated=%.6g removed=%ld method=%s rejected=%ld "
          "acc_limited=%ld stab_limited=%ld h_last=%.6g events=%ld restarts=%ld "
-         "checkpoints=%ld bonds=%ld bonds_broken=%ld threads=%d resumed_from_step=%ld\n",
+         "checkpoints=%ld bonds=%ld bonds_broken=%ld threads=%d resumed_from_step=%ld "
+         "stability=%.4g stability_checks=%ld\n",
          st->steps, st->particles_mean, st->contacts_mean, st->wall_s, st->rate, s->dt,
          s->nb.builds, st->integ.rhs_evals, st->energy_error, st->dissipated, s->removed,
          s->cfg.method, st->integ.rejected, st->integ.acc_limited, st->integ.stab_limited,
          st->integ.h_last, st->integ.events, st->integ.restarts, st->checkpoints_total,
-         s->bonds.formed, s->bonds.broken, s->cfg.threads, st->resumed_step);
+         s->bonds.formed, s->bonds.broken, s->cfg.threads, st->resumed_step,
+         s->stab.worst, s->stab.checks);
   if (st->resumed_step)
     printf("resumed at step %ld: wall_s and particle_steps_per_s cover steps %ld to %ld; "
            "checkpoints=%ld counts every checkpoint since the run's start (%ld written "

@@ -26,6 +26,7 @@
 
 #include "model/forces.h"
 #include "model/model.h"
+#include "model/stability.h"
 #include "util/vec3.h"
 
 /* global dof index of particle i's local dof j (0-2 translation, 3-5 rotation), or -1 */
@@ -35,15 +36,27 @@ static long dof_index(int dim, size_t i, int j) {
   return map2[j] < 0 ? -1 : (long)(3 * i + (size_t)map2[j]);
 }
 
-static void cross_matrix(double m[3][3], const double *n) {
-  m[0][0] = 0, m[0][1] = -n[2], m[0][2] = n[1];
-  m[1][0] = n[2], m[1][1] = 0, m[1][2] = -n[0];
-  m[2][0] = -n[1], m[2][1] = n[0], m[2][2] = 0;
-}
-
-/* Adds G^T S G for one contact: bodies[0] = A (sign -1 on dxA), bodies[1] = B or none. */
+/* Adds G^T S G for one contact to K (stability.c's esf_stab_contact_apply on the 12
+ * local unit vectors: the one source of a contact's stiffness): bodies A and B (b >= 0)
+ * or A and a fixed wall (b < 0). */
 static void add_contact(gsl_matrix *K, int dim, const double *n, double kn, double kt,
-                        size_t a, double la, long b, double lb);
+                        size_t a, double la, long b, double lb) {
+  int nloc = b >= 0 ? 12 : 6;
+  long idx[12];
+  for (int j = 0; j < 6; j++) {
+    idx[j] = dof_index(dim, a, j);
+    idx[6 + j] = b >= 0 ? dof_index(dim, (size_t)b, j) : -1;
+  }
+  for (int q = 0; q < nloc; q++) {
+    if (idx[q] < 0) continue;
+    double x[12] = {0}, y[12] = {0};
+    x[q] = 1.0;
+    esf_stab_contact_apply(n, la, lb, kn, kt, x, b >= 0 ? x + 6 : NULL, y,
+                           b >= 0 ? y + 6 : NULL);
+    for (int p = 0; p < nloc; p++)
+      if (idx[p] >= 0) *gsl_matrix_ptr(K, (size_t)idx[p], (size_t)idx[q]) += y[p];
+  }
+}
 
 /* Adds one contact to the stiffness K and the damping C (the dashpots cn, ct in the
  * same geometry): C's top-mode quadratic form gives that mode's damping ratio. */
@@ -53,53 +66,9 @@ static void add_contact_kc(gsl_matrix *K, gsl_matrix *C, int dim, const double *
   add_contact(C, dim, n, kc[2], kc[3], a, la, b, lb);
 }
 
-static void add_contact(gsl_matrix *K, int dim, const double *n, double kn, double kt,
-                        size_t a, double la, long b, double lb) {
-  double S[3][3], N[3][3];
-  for (int r = 0; r < 3; r++)
-    for (int c = 0; c < 3; c++) S[r][c] = (kn - kt) * n[r] * n[c] + (r == c ? kt : 0.0);
-  cross_matrix(N, n);
-  /* G columns: 12 local dofs, G[:, k] = dc / dq_k */
-  double G[3][12] = {{0}};
-  for (int r = 0; r < 3; r++) {
-    G[r][r] = -1.0;
-    G[r][6 + r] = 1.0;
-    for (int c = 0; c < 3; c++) {
-      G[r][3 + c] = la * N[r][c];
-      G[r][9 + c] = lb * N[r][c];
-    }
-  }
-  int nloc = b >= 0 ? 12 : 6;
-  long idx[12];
-  for (int j = 0; j < 6; j++) {
-    idx[j] = dof_index(dim, a, j);
-    idx[6 + j] = b >= 0 ? dof_index(dim, (size_t)b, j) : -1;
-  }
-  double SG[3][12];
-  for (int r = 0; r < 3; r++)
-    for (int k = 0; k < nloc; k++)
-      SG[r][k] = S[r][0] * G[0][k] + S[r][1] * G[1][k] + S[r][2] * G[2][k];
-  for (int p = 0; p < nloc; p++) {
-    if (idx[p] < 0) continue;
-    for (int q = 0; q < nloc; q++) {
-      if (idx[q] < 0) continue;
-      double v = G[0][p] * SG[0][q] + G[1][p] * SG[1][q] + G[2][p] * SG[2][q];
-      *gsl_matrix_ptr(K, (size_t)idx[p], (size_t)idx[q]) += v;
-    }
-  }
-}
-
 static double damping_ratio(const esf_pair_params *pp, double beta, double mstar) {
   if (beta > 0) return 0.5 * beta * sqrt(pp->kn / mstar); /* c = beta k */
   return pp->gamma_n;
-}
-
-/* kn, kt, cn, ct of a contact with reduced mass mstar (contact_linear.c's dashpots) */
-static void springs(const esf_pair_params *pp, double beta, double mstar, double kc[4]) {
-  kc[0] = pp->kn;
-  kc[1] = pp->kt;
-  kc[2] = beta > 0 ? beta * pp->kn : pp->cn_factor * sqrt(mstar);
-  kc[3] = beta > 0 ? beta * pp->kt : pp->ct_factor * sqrt(mstar);
 }
 
 int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
@@ -137,7 +106,7 @@ int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
     double dist = v3_norm(d), un = p->radius[a] + p->radius[b] - dist;
     v3_scale(d, 1.0 / dist, d);
     double ms = p->mass[a] * p->mass[b] / (p->mass[a] + p->mass[b]);
-    springs(pp, s->beta, ms, kc);
+    esf_stab_springs(pp, s->beta, ms, kc);
     add_contact_kc(K, C, dim, d, kc, a, p->radius[a] - 0.5 * un, (long)b,
                    p->radius[b] - 0.5 * un);
     out->xi_max = fmax(out->xi_max, damping_ratio(pp, s->beta, ms));
@@ -151,7 +120,7 @@ int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
     esf_wall_hit hit;
     esf_wall_nearest(el, p->x + 3 * a, &hit);
-    springs(pp, s->beta, p->mass[a], kc);
+    esf_stab_springs(pp, s->beta, p->mass[a], kc);
     add_contact_kc(K, C, dim, hit.n, kc, a, hit.dist, -1, 0.0);
     out->xi_max = fmax(out->xi_max, damping_ratio(pp, s->beta, p->mass[a]));
     out->contacts++;
@@ -176,6 +145,20 @@ int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
       *gsl_matrix_ptr(C, r, q) *= dscale[r] * dscale[q];
     }
   if (nd && out->contacts) {
+    /* dt^2 A + 2 dt B at the scene's dt, dense, for the live check's Lanczos */
+    double dt = s->dt;
+    gsl_matrix *L = gsl_matrix_alloc(nd, nd);
+    if (!L) {
+      rc = esf_fail(err, ESF_ENOMEM, "modes: out of memory for %zu dofs", nd);
+      goto done;
+    }
+    for (size_t r = 0; r < nd; r++)
+      for (size_t q = 0; q < nd; q++)
+        gsl_matrix_set(L, r, q,
+                       dt * dt * gsl_matrix_get(K, r, q) + 2 * dt * gsl_matrix_get(C, r, q));
+    gsl_eigen_symmv(L, eval, evec, ws);
+    out->lambda = gsl_vector_max(eval);
+    gsl_matrix_free(L);
     gsl_eigen_symmv(K, eval, evec, ws);
     size_t imax = gsl_vector_max_index(eval);
     double lam = gsl_vector_get(eval, imax);
@@ -198,6 +181,12 @@ int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
     out->dt_damped = out->dt_undamped * (sqrt(1 + x * x) - x);
     x = out->xi_mode;
     out->dt_mode = out->dt_undamped * (sqrt(1 + x * x) - x);
+  }
+  if (!rc) {
+    esf_stability st;
+    rc = esf_stability_estimate(s, s->dt, 0, &st, err);
+    out->lambda_live = st.lambda;
+    if (!rc) rc = esf_stability_limit(s, &out->dt_live, &st, err);
   }
 done:
   if (ws) gsl_eigen_symmv_free(ws);

@@ -17,6 +17,10 @@ typedef struct esf_modes {
   double xi_mode;     /* the top mode's own damping ratio (the dashpots in its shape) */
   double dt_mode;     /* 2 / omega_max (sqrt(1 + xi^2) - xi) with xi_mode, s */
   size_t argmax_dof;  /* the degree of freedom with the largest share in that mode */
+  double lambda;      /* largest eigenvalue of dt^2 A + 2 dt B at the scene's dt, dense
+                         (model/stability.h: the leapfrog is stable below 4) */
+  double lambda_live; /* the same from the live check's Lanczos (stability.c) */
+  double dt_live;     /* the live check's limit: the dt where lambda reaches 4, s */
 } esf_modes;
 
 /* Largest dense problem accepted (degrees of freedom): the eigenproblem is O(dofs^3). */

@@ -24,6 +24,7 @@
 #include <unistd.h>
 
 #include "ckpt/run_ckpt.h"
+#include "model/stability.h"
 #include "output/contact_net.h"
 #include "output/frames.h"
 #include "util/vec3.h"
@@ -84,7 +85,10 @@ static void log_setup(const esf_sim *s, const esf_integrator_type *it) {
               s->dt / s->dte.crit[c->dt_rule], esf_dt_rule_names[c->dt_rule],
               s->dte.crit[c->dt_rule], c->dt_auto ? " (dt: auto)" : "");
   if (s->dt > s->dte.crit[c->dt_rule])
-    esf_sim_log(s, "WARNING: dt exceeds the critical step (allow_unstable: true)");
+    esf_sim_log(s,
+                "WARNING: dt is %.4g x the '%s' rule's critical step, allowed by "
+                "integrator.allow_unstable: true",
+                s->dt / s->dte.crit[c->dt_rule], esf_dt_rule_names[c->dt_rule]);
   esf_sim_log(s,
               "damping: global alpha_r %.6g 1/s, alpha_t %.6g 1/s%s; local %s %.4g; "
               "Rayleigh beta %.6g s",
@@ -483,6 +487,11 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                   "the run ended after 0 steps at t = %.9g s (end: t = %.9g s, %ld "
                   "steps of %.6g s asked)",
                   s->t, t_end, nsteps, s->dt);
+  if (!rc && !st->interrupted && (it->flags & ESF_INTEG_STABILITY_CHECK))
+    rc = esf_stability_guard(s, 1, err); /* the final state is checked too */
+  if (s->stab.checks)
+    esf_sim_log(s, "stability: %ld checks, largest lambda / 4 = %.4g, %.3f s", s->stab.checks,
+                s->stab.worst, s->stab.seconds);
   st->steps = s->step;
   st->resumed_step = o->resume ? step0 : 0;
   st->wall_s = wall;

@@ -28,6 +28,8 @@ void esf_config_default(esf_config *c) {
   c->dt_auto = 1;
   c->dt_rule = ESF_DT_HART;
   c->frac = 0.1;
+  c->stability = ESF_STAB_AUTO;
+  c->stability_every = ESF_STAB_EVERY;
   c->local_form = ESF_LOCAL_OFF;
   c->autod.a_fac = 0.95;
   c->autod.a_mul = 1.1;

@@ -24,6 +24,12 @@ extern const char *const esf_dt_rule_names[]; /* "cundall", "hart", "damped", NU
 enum { ESF_HIST_FROZEN = 0, ESF_HIST_STATE = 1 };
 extern const char *const esf_history_names[]; /* "frozen", "state", NULL */
 
+/* The leapfrog's live stability check (model/stability.h): AUTO is stop, or warn with
+ * allow_unstable. */
+enum { ESF_STAB_AUTO = 0, ESF_STAB_STOP = 1, ESF_STAB_WARN = 2, ESF_STAB_OFF = 3 };
+extern const char *const esf_stab_names[]; /* "auto", "stop", "warn", "off", NULL */
+#define ESF_STAB_EVERY 2000 /* default steps between checks */
+
 enum { ESF_LOCAL_OFF = 0, ESF_LOCAL_COMPONENT = 1, ESF_LOCAL_VECTOR = 2 };
 
 /* The place in the scene of a key that set-up, the integrators and the run driver check
@@ -50,6 +56,8 @@ typedef struct esf_config {
   int dt_rule;        /* ESF_DT_* */
   double frac;        /* dt = frac x critical (auto) */
   int allow_unstable; /* accept dt above the rule's critical value */
+  int stability;      /* the live stability check: ESF_STAB_* (set-up resolves AUTO) */
+  long stability_every; /* steps between its checks (> 0) */
 
   double rtol, atol; /* adaptive ODE methods: tolerances (rtol 0: fixed step) */
   int history;       /* ODE methods: ESF_HIST_FROZEN or ESF_HIST_STATE */
@@ -132,6 +140,13 @@ typedef struct esf_sim {
   long burst; /* steps the next call of a fixed-step scheme may take at once (the
                  driver's budget to its next output; <= 1: one) */
   esf_dt_estimate dte;
+  struct {
+    long checks;     /* live stability checks done (model/stability.h) */
+    double worst;    /* largest lambda / 4 they found */
+    double dt_limit; /* the first check's limit of the top mode, s (INFINITY: none) */
+    double seconds;  /* wall time they took, s */
+    int warned;      /* stability: warn logged its warning */
+  } stab;
   esf_rng rng;
   /* counters */
   long removed;                  /* particles removed (left the domain, or deleted by

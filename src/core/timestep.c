@@ -16,6 +16,7 @@
 #include "core/sim.h"
 
 const char *const esf_dt_rule_names[] = {"cundall", "hart", "damped", NULL};
+const char *const esf_stab_names[] = {"auto", "stop", "warn", "off", NULL};
 
 void esf_dt_estimate_compute(const esf_sim *s, esf_dt_estimate *e) {
   const esf_particles *p = &s->p;

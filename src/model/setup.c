@@ -76,6 +76,14 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
                       "stiffness to take a critical step from; give dt in seconds",
                       esf_config_where(c, "integrator.dt"));
     s->dt = c->frac * crit;
+    if (c->frac > 1 && !c->allow_unstable)
+      return esf_fail(err, ESF_EINPUT,
+                      "%s: integrator.frac = %.4g is above 1: dt would be %.4g x the "
+                      "critical step of the '%s' rule, %.6g s, and the run unstable. Use "
+                      "frac <= 1 (seeds: 0.1), or set integrator.allow_unstable: true for "
+                      "stability studies",
+                      esf_config_where(c, "integrator.frac"), c->frac, c->frac,
+                      esf_dt_rule_names[c->dt_rule], crit);
   } else {
     s->dt = c->dt;
     if (s->dt > crit && !c->allow_unstable)
@@ -95,6 +103,10 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
                     esf_config_where(c, c->dt_auto ? "integrator.frac" : "integrator.dt"),
                     c->dt_auto ? "integrator.frac" : "integrator.dt", s->dt,
                     c->dt_auto ? " (frac x the critical step)" : "");
+
+  if (c->stability == ESF_STAB_AUTO)
+    c->stability = c->allow_unstable ? ESF_STAB_WARN : ESF_STAB_STOP;
+  s->stab.dt_limit = INFINITY;
 
   double omega = s->dte.k_max > 0 ? sqrt(s->dte.k_max / s->dte.m_min) : 1.0;
   if (c->autod.alpha_min < 0) c->autod.alpha_min = 1e-4 * omega;

@@ -161,7 +161,8 @@ static int read_materials(const esf_ynode *root, esf_sim *s, esf_error *err) {
 static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err) {
   static const char *const keys[] = {"method",         "dt",    "dt_rule", "frac",
                                      "allow_unstable", "rtol",  "atol",    "history",
-                                     "max_steps",      "roots", "fused",   NULL};
+                                     "max_steps",      "roots", "fused",   "stability",
+                                     "stability_every", NULL};
   const esf_ynode *in = esf_ymap_get(root, "integrator");
   if (!in) return ESF_OK;
   int rc = esf_ynode_require_map(in, err);
@@ -195,6 +196,11 @@ static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err)
     return esf_ynode_fail(esf_ymap_get(in, "max_steps"), err, "must be positive");
   if (!rc) rc = esf_yget_bool(in, "roots", 0, &c->roots, err);
   if (!rc) rc = esf_yget_bool(in, "fused", 0, &c->fused, err);
+  if (!rc) rc = esf_yget_choice(in, "stability", 0, esf_stab_names, &c->stability, err);
+  if (!rc) rc = esf_yget_long(in, "stability_every", 0, &c->stability_every, err);
+  if (!rc && c->stability_every <= 0)
+    return esf_ynode_fail(esf_ymap_get(in, "stability_every"), err,
+                          "must be a positive number of steps");
   return rc;
 }
 

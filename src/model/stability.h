@@ -1,0 +1,62 @@
+/* stability.h — the live stability check of the leapfrog (docs/physics.md#live-stability
+ * check): the largest eigenvalue of dt^2 A + 2 dt B over the current contact network,
+ * A = M^{-1/2} K M^{-1/2} (springs) and B = M^{-1/2} C M^{-1/2} (dashpots), which the
+ * leapfrog keeps below 4 exactly when it is stable; and the one source of a contact's
+ * stiffness G^T S G that `esfera modes` assembles densely. */
+#ifndef ESF_STABILITY_H
+#define ESF_STABILITY_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/sim.h"
+#include "util/esf_error.h"
+
+/* y += G^T S G x for one contact with unit normal n (from A toward B or the wall), lever
+ * arms la, lb from the centres to the contact point and S = kn n n^T + kt (I - n n^T).
+ * x and y hold a body's 6 local coordinates (translation, rotation); xb, yb NULL for a
+ * wall (fixed). */
+void esf_stab_contact_apply(const double n[3], double la, double lb, double kn, double kt,
+                            const double *xa, const double *xb, double *ya, double *yb);
+
+/* kn, kt, cn, ct of a contact of material pair pp with reduced mass mstar (the linear
+ * law's dashpots, contact_linear.c; an adhesive pair's largest bonded tangent
+ * stiffness); beta > 0: Rayleigh dashpots c = beta k. */
+void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar,
+                      double kc[4]);
+
+/* One estimate at step dt. */
+typedef struct esf_stability {
+  double lambda;   /* largest eigenvalue of dt^2 A + 2 dt B (the leapfrog needs < 4) */
+  double omega;    /* sqrt(phi.A.phi) of the top mode phi, rad/s (with_mode) */
+  double xi;       /* its damping ratio phi.B.phi / (2 omega) (with_mode) */
+  double dt_limit; /* the step at which that mode reaches 4, s (with_mode; an upper
+                      bound of the limit, exact where phi does not change with dt) */
+  size_t contacts; /* touching contacts in the network */
+  int iters;       /* Lanczos steps */
+  int64_t id;      /* id of the particle with the largest share of the mode (with_mode) */
+  int64_t other;   /* id of its partner in the mode's stiffest contact, -1 for a wall,
+                      -2 none (with_mode) */
+} esf_stability;
+
+/* Estimates lambda at step dt (Lanczos, matrix-free, serial and deterministic; the
+ * state is not changed); with_mode: also the top mode (a second Lanczos pass). Errors:
+ * ESF_ENOMEM. */
+int esf_stability_estimate(esf_sim *s, double dt, int with_mode, esf_stability *out,
+                           esf_error *err);
+
+/* The step at which lambda reaches 4 for the current network (fixed-point iterations of
+ * esf_stability_estimate's dt_limit, to 1e-6), s; INFINITY without contacts. */
+int esf_stability_limit(esf_sim *s, double *dt_limit, esf_stability *top,
+                        esf_error *err);
+
+/* The leapfrog's guard, called before its steps: at every cfg.stability_every-th step
+ * (and when final is 1) estimates lambda; above 4 stops the run (ESF_ENUMERIC, naming
+ * the step, the mode's particles, dt, the limit and what to change) or, with
+ * stability: warn, logs a warning once. Logs the first estimate. */
+int esf_stability_guard(esf_sim *s, int final, esf_error *err);
+
+/* Steps the leapfrog may take before its next check (for its bursts), >= 1. */
+long esf_stability_steps_left(const esf_sim *s);
+
+#endif

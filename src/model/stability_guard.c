@@ -1,0 +1,85 @@
+/* stability_guard.c — when the leapfrog checks its stability, and what it says
+ * (stability.h, docs/physics.md#live-stability-check).
+ *
+ * A check at every cfg.stability_every-th step (step 0 included) and at the run's end;
+ * the estimate is stability.c's lambda of dt^2 A + 2 dt B, stable below 4. Above it the
+ * run stops (ESF_ENUMERIC) naming the step, the top mode's particles, dt and the step
+ * at which that mode would be stable, with what to change; with `stability: warn` the
+ * log gets one warning and the run goes on; `off` never checks. The first check logs
+ * lambda, the top mode and its limit; the summary reports the largest lambda / 4. The
+ * checks read the state and change nothing, so results do not depend on them. */
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+
+#include "model/stability.h"
+#include "util/clock.h"
+
+long esf_stability_steps_left(const esf_sim *s) {
+  if (s->cfg.stability == ESF_STAB_OFF) return LONG_MAX;
+  long e = s->cfg.stability_every, r = s->step % e;
+  return r == 0 ? e : e - r;
+}
+
+static void describe(char *buf, size_t n, const esf_stability *st) {
+  if (st->other >= 0)
+    snprintf(buf, n, "particle id %lld against particle id %lld", (long long)st->id,
+             (long long)st->other);
+  else if (st->other == -1)
+    snprintf(buf, n, "particle id %lld against a wall", (long long)st->id);
+  else
+    snprintf(buf, n, "particle id %lld", (long long)st->id);
+}
+
+int esf_stability_guard(esf_sim *s, int final, esf_error *err) {
+  const esf_config *c = &s->cfg;
+  if (c->stability == ESF_STAB_OFF || s->p.n == 0) return ESF_OK;
+  if (!final && s->step % c->stability_every != 0) return ESF_OK;
+  double t0 = esf_now_s();
+  esf_stability st;
+  int first = s->stab.checks == 0;
+  int rc = esf_stability_estimate(s, s->dt, first, &st, err);
+  if (!rc && st.lambda >= 4 && !first) rc = esf_stability_estimate(s, s->dt, 1, &st, err);
+  if (rc) return rc;
+  s->stab.checks++;
+  s->stab.worst = fmax(s->stab.worst, st.lambda / 4);
+  s->stab.seconds += esf_now_s() - t0;
+  char who[128];
+  describe(who, sizeof who, &st);
+  if (first) {
+    s->stab.dt_limit = st.dt_limit;
+    if (st.contacts)
+      esf_sim_log(s,
+                  "stability check at step %ld: lambda %.4g of 4 (%zu contacts, %d "
+                  "Lanczos steps); top mode %.6g rad/s, damping ratio %.3g, stable below "
+                  "dt = %.6g s (%.3g x dt; %s); every %ld steps",
+                  s->step, st.lambda, st.contacts, st.iters, st.omega, st.xi,
+                  st.dt_limit, st.dt_limit / s->dt, who, c->stability_every);
+    else
+      esf_sim_log(s, "stability check at step %ld: no contacts yet; every %ld steps",
+                  s->step, c->stability_every);
+  }
+  if (!(st.lambda >= 4)) return ESF_OK;
+  double crit = s->dte.crit[c->dt_rule];
+  if (c->stability == ESF_STAB_WARN) {
+    if (!s->stab.warned)
+      esf_sim_log(s,
+                  "WARNING: step %ld (t = %.6g s): the leapfrog is unstable at dt = %.6g "
+                  "s: the contact network's fastest mode (%s; %.6g rad/s, damping ratio "
+                  "%.3g) needs dt < %.6g s (lambda %.4g >= 4); going on "
+                  "(integrator.stability: warn). Further instability is not logged",
+                  s->step, s->t, s->dt, who, st.omega, st.xi, st.dt_limit, st.lambda);
+    s->stab.warned = 1;
+    return ESF_OK;
+  }
+  return esf_fail(err, ESF_ENUMERIC,
+                  "step %ld (t = %.6g s): the leapfrog is unstable at dt = %.6g s: the "
+                  "contact network's fastest mode (%s; %.6g rad/s, damping ratio %.3g, "
+                  "rotations and dashpots included) needs dt < %.6g s (lambda %.4g >= 4; "
+                  "docs/physics.md#live-stability-check). The '%s' rule's critical dt is "
+                  "%.6g s: use integrator.frac <= %.3g with it (or dt <= %.4g s). "
+                  "integrator.stability: warn runs on regardless",
+                  s->step, s->t, s->dt, who, st.omega, st.xi, st.dt_limit, st.lambda,
+                  esf_dt_rule_names[c->dt_rule], crit, 0.9 * st.dt_limit / crit,
+                  0.9 * st.dt_limit);
+}
