@@ -33,11 +33,12 @@ FULL = dict(etas=[1.0, 0.9, 0.7, 0.5, 0.3, 0.1, 1e-2, 1e-3, 1e-7],
 QUICK = dict(etas=[1.0, 1e-7], kts=[1.0], pack_kts=[1.0], pack_n=60, pack_box=0.03,
              periods=150, sweep_etas=[1.0], sweep_points=7)
 SWEEP_SPAN = (0.5, 2.0)
-RULES = ["cundall", "hart", "damped", "modes", "modes_damped", "bound"]
+RULES = ["cundall", "hart", "damped", "modes", "modes_damped", "bound", "live"]
 RULE_LABEL = {"cundall": "Cundall sqrt(m/k)", "hart": "Hart 2 sqrt(m/2k)",
               "damped": "damped 2 sqrt(m/k) f(xi)", "modes": "2/omega_max",
               "modes_damped": "(2/omega_max) f(xi_max)",
-              "bound": "(2/omega_max) f(xi_b)"}
+              "bound": "(2/omega_max) f(xi_b)",
+              "live": "live check: lambda(dt^2 A + 2 dt B) = 4"}
 
 
 # ----------------------------------------------------------------------------- physics
@@ -74,7 +75,8 @@ def base_scene(name, gravity, materials, particles, walls):
     return {"name": name, "gravity": gravity, "materials": materials,
             "particles": particles, "walls": walls,
             "contact": {"allow_initial_overlap": True},
-            "integrator": {"method": "leapfrog", "dt": 1e-6, "allow_unstable": True},
+            "integrator": {"method": "leapfrog", "dt": 1e-6, "allow_unstable": True,
+                           "stability": "warn"},
             "run": {"steps": 1}}
 
 
@@ -286,6 +288,13 @@ class Prober:
         self.run_dir = os.path.join(work, f"{case['key']}_run")
         self.omega, self.periods, self.rules = omega_max, periods, rules
         self.rows = []
+        self.live = []  # (dt, the live check's limit in that run's log)
+
+    def live_at(self, limit):
+        """The live check's limit logged by the run nearest the measured limit."""
+        if not self.live:
+            return float("nan")
+        return min(self.live, key=lambda p: abs(math.log(p[0] / limit)))[1]
 
     def steps(self, dt):
         n = math.ceil(self.periods * 2.0 * math.pi / (self.omega * dt))
@@ -299,8 +308,14 @@ class Prober:
         growth = math.inf
         if rc == 0:
             growth = window_growth(kinetic(energy(self.run_dir)), self.case["kick"])
+        live = live_limit(self.run_dir)
+        if live:
+            self.live.append((dt, live))
         shutil.rmtree(self.run_dir, ignore_errors=True)
         unstable = rc != 0 or not growth <= GROWTH
+        # the live check (stability: warn) found lambda >= 4: with `stability: stop`
+        # (the default without allow_unstable) the same run would have ended with exit 1
+        flagged = r.summary.get("stability", 0.0) >= 1.0
         self.rows.append({"case": self.case["name"], "eta": self.case["eta"],
                           "xi": self.case["xi"], "purpose": purpose, "dt": dt,
                           "tau": dt / self.rules["cundall"],
@@ -309,8 +324,21 @@ class Prober:
                           "frac_damped": dt / self.rules["damped"],
                           "steps": n, "exit": rc,
                           "growth": growth, "unstable": int(unstable),
+                          "check": int(flagged), "exit_stop": 1 if flagged else rc,
                           "message": first_line(r.stderr.strip()) if rc else ""})
         return unstable
+
+
+def live_limit(run_dir):
+    """The step below which the first live check found the run stable (log.txt)."""
+    try:
+        with open(os.path.join(run_dir, "log.txt")) as fh:
+            for ln in fh:
+                if ln.startswith("stability check at step") and "stable below dt = " in ln:
+                    return float(ln.split("stable below dt = ")[1].split()[0])
+    except OSError:
+        pass
+    return None
 
 
 def first_line(text):
@@ -385,6 +413,7 @@ def run_case(esfera, work, case, modes, cfg, do_sweep):
     limit = math.sqrt(lo * hi)
     if do_sweep:
         sweep(prober, limit, cfg["sweep_points"])
+    rules["live"] = prober.live_at(limit)
     row = {"case": case["name"], "family": case["family"], "kt_over_kn": case["kt_ratio"],
            "eta": case["eta"], "xi": case["xi"], "particles": int(modes["particles"]),
            "contacts": int(modes["contacts"]), "omega_max": modes["omega_max"],
