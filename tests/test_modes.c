@@ -10,6 +10,10 @@
  * and the damped bound (2/omega)(sqrt(1 + xi^2) - xi) with xi the contacts' ratio, and
  * the top mode's own damping ratio (sphere on a wall: the contact's times
  * sqrt(1 + m l^2/I); the chain: sqrt(2) gamma sin((N - 1) pi / (2N))).
+ * The live stability check (model/stability.h) on the same systems: its Lanczos
+ * eigenvalue of dt^2 A + 2 dt B against the dense one (1e-6), and its limit against the
+ * closed form min over modes (2/w)(sqrt(1 + xi^2) - xi) (sphere on a wall: the normal
+ * and the tangential mode; the chain: its damped top mode) within 1e-6.
  * Relative tolerance 1e-9 (a dense symmetric eigensolve of at most 48 dofs). */
 #include "app/modes.h"
 #include "simtest.h"
@@ -24,6 +28,17 @@ static double modes_of(const char *yaml, simtest *T, esf_modes *m) {
   int rc = esf_modes_compute(&T->s, m, &err);
   CHECK(rc == 0, "modes computed: %s", err.msg);
   return rc;
+}
+
+static double fxi(double xi) { return sqrt(1 + xi * xi) - xi; }
+
+static void check_live(const char *what, const esf_modes *m, double dt_closed) {
+  CHECK(fabs(m->lambda_live / m->lambda - 1) < 1e-6, "%s: Lanczos lambda %.12g, dense %.12g",
+        what, m->lambda_live, m->lambda);
+  CHECK(fabs(m->dt_live / dt_closed - 1) < 1e-6, "%s: live limit %.10g s, closed form %.10g s",
+        what, m->dt_live, dt_closed);
+  printf("%-34s live limit %.10g s (closed form %.10g s), lambda %.6g (dense %.6g)\n", what,
+         m->dt_live, dt_closed, m->lambda_live, m->lambda);
 }
 
 static void check_close(const char *what, double got, double want) {
@@ -61,6 +76,10 @@ static void on_wall(int dim) {
           m.xi_mode, xm);
     printf("%-34s xi contact %.6f, xi of the top mode %.6f (closed form %.6f)\n",
            dim == 3 ? "sphere on a wall" : "disk on a wall", m.xi_max, m.xi_mode, xm);
+    /* the normal mode (kn/m, xi) and the tangential one (w2, xm) are independent */
+    double wn = sqrt(1.0e5 / mass), wt = sqrt(0.5e5 * (1 / mass + l * l / I));
+    check_live(dim == 3 ? "sphere on a wall" : "disk on a wall", &m,
+               fmin(2 / wn * fxi(xi), 2 / wt * fxi(xm)));
   }
   simtest_close(&T);
 }
@@ -111,6 +130,9 @@ static void chain(void) {
     CHECK(fabs(m.xi_mode / xm - 1) < 1e-6, "chain's top mode damping ratio %.9g (%.9g)",
           m.xi_mode, xm);
     CHECK(m.contacts == N - 1, "%zu contacts", m.contacts);
+    /* C proportional to K: every mode's ratio grows with its frequency, the top one
+       sets the limit */
+    check_live("free chain of 8", &m, 2 / want * fxi(xm));
   }
   simtest_close(&T);
 }

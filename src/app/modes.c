@@ -156,8 +156,10 @@ int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
       for (size_t q = 0; q < nd; q++)
         gsl_matrix_set(L, r, q,
                        dt * dt * gsl_matrix_get(K, r, q) + 2 * dt * gsl_matrix_get(C, r, q));
-    gsl_eigen_symmv(L, eval, evec, ws);
-    out->lambda = gsl_vector_max(eval);
+    gsl_eigen_symm_workspace *w1 = gsl_eigen_symm_alloc(nd); /* values only */
+    if (w1) gsl_eigen_symm(L, eval, w1);
+    out->lambda = w1 ? gsl_vector_max(eval) : NAN;
+    if (w1) gsl_eigen_symm_free(w1);
     gsl_matrix_free(L);
     gsl_eigen_symmv(K, eval, evec, ws);
     size_t imax = gsl_vector_max_index(eval);
