@@ -523,14 +523,14 @@ def live_counts(results, runs):
     missed = [r for r in unst if int(r["exit_stop"]) == 0]
     alarms = [r for r in stab if int(r["exit_stop"]) != 0]
     lim = {(r["case"], r["eta"]): r for r in results}
-    near = [r for r in alarms
-            if r["dt"] >= lim[(r["case"], r["eta"])]["dt_stable"] * (1 - 1e-12)
-            or r["dt"] > 0.99 * lim[(r["case"], r["eta"])]["dt_live"]]
+    over = [r["dt"] / lim[(r["case"], r["eta"])]["dt_live"] for r in alarms]
     cs = [r for r in results if r["dt_live"] == r["dt_live"]]
     inside = [r for r in cs if r["dt_stable"] <= r["dt_live"] <= r["dt_unstable"]]
     ratio = [r["dt_limit"] / r["dt_live"] for r in cs]
+    below = [r for r in cs if r["dt_live"] < r["dt_stable"]]
     return dict(runs=len(rs), unst=len(unst), stab=len(stab), missed=missed,
-                alarms=alarms, near=near, cases=len(cs), inside=len(inside),
+                alarms=alarms, over=max(over) if over else 1.0, below=below,
+                cases=len(cs), inside=len(inside),
                 rmin=min(ratio) if ratio else float("nan"),
                 rmax=max(ratio) if ratio else float("nan"))
 
@@ -547,12 +547,25 @@ def live_lines(results, runs):
            f"`stability: stop` {c['unst'] - len(c['missed'])} of them exit 1, "
            f"{len(c['missed'])} exit 0.",
            f"- Runs judged stable: {c['stab']}; {c['stab'] - len(c['alarms'])} exit 0, "
-           f"{len(c['alarms'])} exit 1 ({len(c['near'])} of these within 1 % of the "
-           f"limit, where a run's growth over its length stays below the criterion).",
+           f"{len(c['alarms'])} exit 1, all at a dt between the live limit and "
+           f"{c['over']:.3f} times it.",
            f"- The live check's limit (the first check's, in the run nearest the "
            f"measured limit) lies inside the bisected 1 % bracket in {c['inside']} of "
            f"{c['cases']} cases; measured limit / live limit {c['rmin']:.4f} to "
            f"{c['rmax']:.4f}."]
+    bl = c["below"]
+    if bl:
+        out.append(f"- The live limit lies below the bracket in {len(bl)} cases: "
+                   + "; ".join(f"{r['case']} eta {r['eta']:g} (measured / live "
+                               f"{r['dt_limit'] / r['dt_live']:.4f})" for r in bl) +
+                   ". λ_max(dt² A + 2 dt B) < 4 makes the discrete energy positive "
+                   "definite, which is sufficient for stability and exact when the "
+                   "damping is proportional to the stiffness or the modes do not "
+                   "couple (every single contact: there the live limit is the closed "
+                   "form, which the 300-period runs miss by 0.05 % in two cases); in a "
+                   "pack it is not, and the check can stop a run a little below the "
+                   "true limit, never above it by more than the bisection's "
+                   "resolution.")
     for r in c["missed"][:10]:
         out.append(f"  - missed: {r['case']} eta {r['eta']:g} dt {r['dt']:.6g} growth "
                    f"{r['growth']:.3g}")
@@ -570,9 +583,12 @@ def c_live(results, runs):
             f"the largest eigenvalue of dt^2 A + 2 dt B of the contact network, stable "
             f"below 4) turns the silent instabilities into exit 1: of {c['unst']} runs "
             f"judged unstable {c['unst'] - len(c['missed'])} would stop, and of "
-            f"{c['stab']} judged stable {len(c['alarms'])} would. Its limit is the "
-            f"measured one (measured / live {c['rmin']:.4f} to {c['rmax']:.4f}), "
-            f"damping of every mode and rotation included, where every seed rule and "
+            f"{c['stab']} judged stable {len(c['alarms'])} would (at most "
+            f"{c['over']:.3f} x the live limit). Its limit is the measured one within "
+            f"the 1 % bracket in {c['inside']} of {c['cases']} cases (measured / live "
+            f"{c['rmin']:.4f} to {c['rmax']:.4f}: a sufficient condition, conservative "
+            f"only where the damping is not proportional to the stiffness), damping of "
+            f"every mode and rotation included, where every seed rule and "
             f"(2/omega_max) f(xi_max) are unsafe.")
 
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """check_stability.py ESFERA REPO_ROOT — the live stability check (docs/physics.md#live-
-stability-check) on the critical_dt study's settled pack (300 spheres in a 60 mm box,
-studies/results/critical_dt/pack_particles.csv, with its small random kick), kt = kn,
+stability-check) on a settled pack (tests/pack300.csv: 300 spheres in a 60 mm box, settled
+and kicked by the critical_dt study of 2026-11-25, studies/critical_dt_cases.py), kt = kn,
 friction 0.5 and cohesion 1 N (the springs stick), restitution 1 and 0.1:
 
 - `esfera modes` on its lowest 100 spheres: the Lanczos eigenvalue of dt^2 A + 2 dt B
@@ -161,7 +161,7 @@ def dense_against_lanczos(esfera, tmp, csv, eta):
 
 def main():
     esfera, root = sys.argv[1], sys.argv[2]
-    csv = os.path.join(root, "studies", "results", "critical_dt", "pack_particles.csv")
+    csv = os.path.join(root, "tests", "pack300.csv")
     with tempfile.TemporaryDirectory() as tmp:
         for eta in (1.0, 0.1):
             dense_against_lanczos(esfera, tmp, csv, eta)
