@@ -579,7 +579,7 @@ def c_live(results, runs):
     c = live_counts(results, runs)
     if not c["runs"]:
         return ""
-    return (f"**The live check** (esfera's leapfrog, every 2000 steps and at the end: "
+    return (f"**The live check** (esfera's leapfrog, at step 0, every stability_every steps (2000 in these runs) and at the end: "
             f"the largest eigenvalue of dt^2 A + 2 dt B of the contact network, stable "
             f"below 4) turns the silent instabilities into exit 1: of {c['unst']} runs "
             f"judged unstable {c['unst'] - len(c['missed'])} would stop, and of "
