@@ -117,9 +117,10 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   leapfrog *lf = state;
   esf_particles *p = &s->p;
   esf_walls_set_time(&s->walls, s->t); /* moving walls at x_n's time */
-  int rc = esf_sim_refresh(s, NULL, err);
-  if (rc) return rc;
-  rc = esf_stability_guard(s, 0, err); /* at every stability_every-th step */
+  int rebuilt = 0;
+  int rc = esf_sim_refresh(s, &rebuilt, err);
+  if (!rc && rebuilt) rc = esf_stability_runaway(s, err); /* no particle runs away */
+  if (!rc) rc = esf_stability_guard(s, 0, err);             /* every stability_every */
   if (rc) return rc;
   if (!lf->started) {
     rc = start(s, err);

@@ -14,7 +14,9 @@ friction 0.5 and cohesion 1 N (the springs stick), restitution 1 and 0.1:
 - the verdicts are right: with `stability: warn` the run at 1.05 dt_L multiplies its
   kinetic energy by more than 1e4 (measured 3e7 and 4e6), the run at 0.95 dt_L by less
   than 10 (measured 1.2 and 1.0);
-- integrator.frac above 1 without allow_unstable is refused (exit 2, located).
+- integrator.frac above 1 without allow_unstable is refused (exit 2, located);
+- a particle that would travel more than half its radius in a step (500 m/s at dt 16 us,
+  r 5 mm: 1.6 radii) stops the run (exit 1, naming it), at 150 m/s (0.49) it runs.
 """
 import math
 import os
@@ -174,7 +176,27 @@ def main():
         r = run_sets(esfera, bad, os.path.join(tmp, "frac"))
         check(r.returncode == 2 and "frac.yaml:" in r.stderr and "above 1" in r.stderr,
               f"frac 1.5 refused: exit {r.returncode} {r.stderr.strip()[:200]}")
+        for speed, want in ((500.0, 1), (150.0, 0)):
+            fast = os.path.join(tmp, "fast.yaml")
+            with open(fast, "w") as fh:
+                fh.write(FAST.format(v=speed))
+            r = run_sets(esfera, fast, os.path.join(tmp, "fast"))
+            check(r.returncode == want and (want == 0 or "particle id 0 moves" in r.stderr),
+                  f"a particle at {speed} m/s: exit {r.returncode} (want {want}) "
+                  f"{r.stderr.strip()[:200]}")
     return finish("check_stability")
+
+
+FAST = """name: fast
+gravity: [0, 0, 0]
+materials: {{g: {{density: 2500, kn: 1.0e5, restitution: 0.5, friction: 0.3}}}}
+particles:
+  - {{material: g, radius: 0.005, position: [0, 0, 0], velocity: [{v}, 0, 0]}}
+  - {{material: g, radius: 0.005, position: [0.5, 0, 0]}}
+integrator: {{dt: auto, frac: 0.1}}
+run: {{steps: 100}}
+output: {{energy_every: 0}}
+"""
 
 
 if __name__ == "__main__":

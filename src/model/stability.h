@@ -56,6 +56,15 @@ int esf_stability_limit(esf_sim *s, double *dt_limit, esf_stability *top,
  * stability: warn, logs a warning once. Logs the first estimate. */
 int esf_stability_guard(esf_sim *s, int final, esf_error *err);
 
+/* A particle that travels more than this fraction of its radius in one step (or
+ * turns as many radians) has run away: contacts would be skipped. */
+#define ESF_RUNAWAY_TRAVEL 0.5
+
+/* The runaway check, called by the leapfrog at every list rebuild (cheap: one pass over
+ * the particles, serial): ESF_ENUMERIC naming the particle, its speed, dt and the
+ * limits when one moves more than ESF_RUNAWAY_TRAVEL of its radius in a step. */
+int esf_stability_runaway(const esf_sim *s, esf_error *err);
+
 /* Steps the leapfrog may take before its next check (for its bursts), >= 1. */
 long esf_stability_steps_left(const esf_sim *s);
 

@@ -7,13 +7,16 @@
  * at which that mode would be stable, with what to change; with `stability: warn` the
  * log gets one warning and the run goes on; `off` never checks. The first check logs
  * lambda, the top mode and its limit; the summary reports the largest lambda / 4. The
- * checks read the state and change nothing, so results do not depend on them. */
+ * checks read the state and change nothing, so results do not depend on them.
+ * esf_stability_runaway, at every list rebuild: no particle may travel more than
+ * ESF_RUNAWAY_TRAVEL of its radius (or turn as many radians) in one step. */
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 
 #include "model/stability.h"
 #include "util/clock.h"
+#include "util/vec3.h"
 
 long esf_stability_steps_left(const esf_sim *s) {
   if (s->cfg.stability == ESF_STAB_OFF) return LONG_MAX;
@@ -82,4 +85,39 @@ int esf_stability_guard(esf_sim *s, int final, esf_error *err) {
                   s->step, s->t, s->dt, who, st.omega, st.xi, st.dt_limit, st.lambda,
                   esf_dt_rule_names[c->dt_rule], crit, 0.9 * st.dt_limit / crit,
                   0.9 * st.dt_limit);
+}
+
+int esf_stability_runaway(const esf_sim *s, esf_error *err) {
+  const esf_particles *p = &s->p;
+  const double dt = s->dt;
+  size_t worst = SIZE_MAX;
+  double big = ESF_RUNAWAY_TRAVEL, spin = 0;
+  for (size_t i = 0; i < p->n; i++) {
+    double tr = sqrt(v3_norm2(p->v + 3 * i)) * dt / p->radius[i];
+    double an = sqrt(v3_norm2(p->w + 3 * i)) * dt;
+    if (!(tr <= big && an <= big)) { /* NaN too */
+      big = isfinite(fmax(tr, an)) ? fmax(tr, an) : INFINITY;
+      spin = an, worst = i;
+    }
+  }
+  if (worst == SIZE_MAX) return ESF_OK;
+  const double *v = p->v + 3 * worst, *w = p->w + 3 * worst;
+  char what[96], lim[96] = "";
+  if (spin >= big)
+    snprintf(what, sizeof what, "turns %.3g rad", spin);
+  else
+    snprintf(what, sizeof what, "moves %.3g of its radius",
+             sqrt(v3_norm2(v)) * dt / p->radius[worst]);
+  if (isfinite(s->stab.dt_limit))
+    snprintf(lim, sizeof lim, "; the live check's limit at its first check %.4g s",
+             s->stab.dt_limit);
+  return esf_fail(err, ESF_ENUMERIC,
+                  "step %ld (t = %.6g s): particle id %lld %s in one step of dt = %.4g s "
+                  "(speed %.4g m/s, spin %.4g rad/s): contacts would be skipped (the "
+                  "limit is %.2g of a radius, or radian, a step). The run has run away "
+                  "(unstable: the critical dt (%s) is %.4g s%s) or dt is too large for "
+                  "the speeds in the scene. Lower integrator.frac or dt",
+                  s->step, s->t, (long long)p->id[worst], what, dt, sqrt(v3_norm2(v)),
+                  sqrt(v3_norm2(w)), ESF_RUNAWAY_TRAVEL, esf_dt_rule_names[s->cfg.dt_rule],
+                  s->dte.crit[s->cfg.dt_rule], lim);
 }
