@@ -109,15 +109,15 @@ int esf_stability_runaway(const esf_sim *s, esf_error *err) {
     snprintf(what, sizeof what, "moves %.3g of its radius",
              sqrt(v3_norm2(v)) * dt / p->radius[worst]);
   if (isfinite(s->stab.dt_limit))
-    snprintf(lim, sizeof lim, "; the live check's limit at its first check %.4g s",
+    snprintf(lim, sizeof lim, "; the live check's limit at its first check: %.4g s",
              s->stab.dt_limit);
   return esf_fail(err, ESF_ENUMERIC,
-                  "step %ld (t = %.6g s): particle id %lld %s in one step of dt = %.4g s "
-                  "(speed %.4g m/s, spin %.4g rad/s): contacts would be skipped (the "
-                  "limit is %.2g of a radius, or radian, a step). The run has run away "
-                  "(unstable: the critical dt (%s) is %.4g s%s) or dt is too large for "
-                  "the speeds in the scene. Lower integrator.frac or dt",
-                  s->step, s->t, (long long)p->id[worst], what, dt, sqrt(v3_norm2(v)),
-                  sqrt(v3_norm2(w)), ESF_RUNAWAY_TRAVEL, esf_dt_rule_names[s->cfg.dt_rule],
-                  s->dte.crit[s->cfg.dt_rule], lim);
+                  "step %ld (t = %.6g s): particle id %lld %s in one step of dt = %.4g s, "
+                  "critical dt (%s) = %.4g s (speed %.4g m/s, spin %.4g rad/s): contacts "
+                  "would be skipped (the limit is %.2g of a radius, or radian, a step). "
+                  "The run has run away (unstable%s) or dt is too large for the speeds "
+                  "in the scene. Lower integrator.frac or dt",
+                  s->step, s->t, (long long)p->id[worst], what, dt,
+                  esf_dt_rule_names[s->cfg.dt_rule], s->dte.crit[s->cfg.dt_rule],
+                  sqrt(v3_norm2(v)), sqrt(v3_norm2(w)), ESF_RUNAWAY_TRAVEL, lim);
 }
