@@ -28,7 +28,7 @@ extern const char *const esf_history_names[]; /* "frozen", "state", NULL */
  * allow_unstable. */
 enum { ESF_STAB_AUTO = 0, ESF_STAB_STOP = 1, ESF_STAB_WARN = 2, ESF_STAB_OFF = 3 };
 extern const char *const esf_stab_names[]; /* "auto", "stop", "warn", "off", NULL */
-#define ESF_STAB_EVERY 4000 /* default steps between checks */
+#define ESF_STAB_EVERY 8000 /* default steps between checks */
 
 enum { ESF_LOCAL_OFF = 0, ESF_LOCAL_COMPONENT = 1, ESF_LOCAL_VECTOR = 2 };
 

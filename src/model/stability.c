@@ -32,31 +32,6 @@
 #define LZ_EVERY 4    /* steps between tridiagonal solves */
 #define LZ_TOL   1e-3 /* residual bound / Ritz value to stop */
 
-void esf_stab_contact_apply(const double n[3], double la, double lb, double kn, double kt,
-                            const double *xa, const double *xb, double *ya, double *yb) {
-  /* the contact point's relative motion dc = dxB + lb n x dthB - dxA + la n x dthA */
-  double dc[3], c[3];
-  v3_cross(c, n, xa + 3);
-  for (int q = 0; q < 3; q++) dc[q] = la * c[q] - xa[q];
-  if (xb) {
-    v3_cross(c, n, xb + 3);
-    for (int q = 0; q < 3; q++) dc[q] += xb[q] + lb * c[q];
-  }
-  /* f = S dc, then G^T f: -f and la f x n on A, f and lb f x n on B */
-  double dn = v3_dot(n, dc), f[3];
-  for (int q = 0; q < 3; q++) f[q] = kt * dc[q] + (kn - kt) * dn * n[q];
-  v3_cross(c, f, n);
-  for (int q = 0; q < 3; q++) {
-    ya[q] -= f[q];
-    ya[3 + q] += la * c[q];
-  }
-  if (xb)
-    for (int q = 0; q < 3; q++) {
-      yb[q] += f[q];
-      yb[3 + q] += lb * c[q];
-    }
-}
-
 void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar,
                       double kc[4]) {
   double kn = pp->law->flags & ESF_LAW_TENSION ? pp->adh.k_max : pp->kn;
@@ -66,26 +41,16 @@ void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar,
   kc[3] = beta > 0 ? beta * pp->kt : pp->ct_factor * sqrt(mstar);
 }
 
-/* The network: each touching contact's bodies (b = NONE: a wall), unit normal, lever
- * arms, springs and dashpots (stability.h's kn, kt, cn, ct), gathered once per estimate
- * (ESF_STAB_REC doubles each). */
-#define NONE          UINT32_MAX
-#define ESF_STAB_REC  9
-typedef struct net {
-  size_t n;
-  uint32_t *ab; /* 2 per contact */
-  double *g;    /* n[3], la, lb, kn, kt, cn, ct */
-} net;
-
 static int pair_geometry(const esf_sim *s, size_t k, double n[3], double *la,
                          double *lb) {
   const esf_particles *p = &s->p;
   const esf_candidates *c = &s->nb.pp;
   uint32_t a = c->a[k], b = c->b[k];
-  double d[3];
+  double d[3], rs = p->radius[a] + p->radius[b];
   v3_sub(d, p->x + 3 * b, p->x + 3 * a);
-  double dist = v3_norm(d), un = p->radius[a] + p->radius[b] - dist;
-  if (!(un > 0) && !esf_candidates_bonded(c, k)) return 0;
+  double d2 = v3_norm2(d);
+  if (!(d2 < rs * rs) && !esf_candidates_bonded(c, k)) return 0; /* apart */
+  double dist = sqrt(d2), un = rs - dist;
   if (!(dist > 0)) return 0;
   v3_scale(n, 1.0 / dist, d);
   *la = p->radius[a] - 0.5 * un;
@@ -115,77 +80,71 @@ static void sliding(const esf_pair_params *pp, const esf_contact_hist *h, int li
   if (tau <= 0 || pp->kt * xi >= (1 - 1e-9) * tau) kc[1] = kc[3] = 0.0;
 }
 
-static int net_gather(const esf_sim *s, net *N, esf_error *err) {
+/* The operator: y += (sum over touching contacts G^T (ck S_K + cc S_C) G) x on 6
+ * coordinates per particle, the contacts' geometry recomputed from the state at each
+ * application (no storage per contact). Lanczos runs on M^{-1} K' in the M inner
+ * product (the spectrum of M^{-1/2} K' M^{-1/2}, without scaled copies); mass() gives
+ * M's diagonal, 0 on frozen coordinates (2D: y and the rotations about x and z) and for
+ * infinite masses, and minv() its inverse with the same zeros. */
+typedef struct op {
+  esf_sim *s;
+  double ck, cc; /* weights of the springs and the dashpots */
+  size_t contacts;
+} op;
+
+static const int free2[6] = {1, 0, 1, 0, 1, 0};
+
+static inline double minv(const esf_sim *s, size_t i, int j) {
+  if (s->cfg.dim != 3 && !free2[j]) return 0.0;
+  return j < 3 ? s->p.inv_mass[i] : s->p.inv_inertia[i];
+}
+
+static inline double mass(const esf_sim *s, size_t i, int j) {
+  if (!(minv(s, i, j) > 0)) return 0.0;
+  return j < 3 ? s->p.mass[i] : s->p.inertia[i];
+}
+
+static void contact(const op *o, size_t a, long b, const double n[3], double la,
+                    double lb, const double kc[4], const double *x, double *y) {
+  esf_stab_contact_apply(
+      n, la, lb, o->ck * kc[0] + o->cc * kc[2], o->ck * kc[1] + o->cc * kc[3], x + 6 * a,
+      b >= 0 ? x + 6 * (size_t)b : NULL, y + 6 * a, b >= 0 ? y + 6 * (size_t)b : NULL);
+}
+
+static void op_apply(op *o, const double *x, double *y) {
+  const esf_sim *s = o->s;
   const esf_particles *p = &s->p;
   const esf_materials *mt = &s->mats;
   const esf_candidates *pp = &s->nb.pp, *pw = &s->nb.pw;
-  size_t cap = pp->n + pw->n;
-  N->n = 0;
-  N->ab = malloc((cap ? cap : 1) * 2 * sizeof *N->ab);
-  N->g = malloc((cap ? cap : 1) * ESF_STAB_REC * sizeof *N->g);
-  if (!N->ab || !N->g)
-    return esf_fail(err, ESF_ENOMEM, "stability check: out of memory for %zu contacts",
-                    cap);
-  double n[3], la, lb;
+  double n[3], la, lb, kc[4];
+  size_t cnt = 0;
   for (size_t k = 0; k < pp->n; k++) {
     if (!pair_geometry(s, k, n, &la, &lb)) continue;
     uint32_t a = pp->a[k], b = pp->b[k];
-    double *g = N->g + ESF_STAB_REC * N->n;
-    v3_copy(g, n);
-    g[3] = la, g[4] = lb;
     const esf_pair_params *par = &mt->pair[p->material[a] * mt->n + p->material[b]];
     esf_stab_springs(par, s->beta, p->mass[a] * p->mass[b] / (p->mass[a] + p->mass[b]),
-                     g + 5);
-    sliding(par, &pp->h[k], pp->touch[k], p->radius[a] - la + p->radius[b] - lb, g + 5);
-    N->ab[2 * N->n] = a, N->ab[2 * N->n + 1] = b;
-    N->n++;
+                     kc);
+    sliding(par, &pp->h[k], pp->touch[k], p->radius[a] - la + p->radius[b] - lb, kc);
+    contact(o, a, (long)b, n, la, lb, kc, x, y);
+    cnt++;
   }
   for (size_t k = 0; k < pw->n; k++) {
     if (!wall_geometry(s, k, n, &la)) continue;
     uint32_t a = pw->a[k];
-    double *g = N->g + ESF_STAB_REC * N->n;
-    v3_copy(g, n);
-    g[3] = la, g[4] = 0.0;
     const esf_pair_params *par =
         &mt->pair[p->material[a] * mt->n + s->walls.e[pw->b[k]].material];
-    esf_stab_springs(par, s->beta, p->mass[a], g + 5);
-    sliding(par, &pw->h[k], pw->touch[k], p->radius[a] - la, g + 5);
-    N->ab[2 * N->n] = a, N->ab[2 * N->n + 1] = NONE;
-    N->n++;
+    esf_stab_springs(par, s->beta, p->mass[a], kc);
+    sliding(par, &pw->h[k], pw->touch[k], p->radius[a] - la, kc);
+    contact(o, a, -1, n, la, 0.0, kc, x, y);
+    cnt++;
   }
-  return ESF_OK;
+  o->contacts = cnt;
 }
 
-/* The operator y = D (sum over contacts G^T (ck S_K + cc S_C) G) D x, D = M^{-1/2},
- * on 6 coordinates per particle (2D: x, z and the rotation about y only). */
-typedef struct op {
-  const net *N;
-  double ck, cc; /* weights of the springs and the dashpots */
-  double *d;     /* 6 per particle: D's diagonal, 0 on frozen coordinates */
-  double *z;     /* scratch, 6 per particle */
-  size_t nd;
-} op;
-
-static void op_apply(op *o, const double *x, double *y) {
-  const net *N = o->N;
-  size_t nd = o->nd;
-  for (size_t j = 0; j < nd; j++) o->z[j] = o->d[j] * x[j];
-  memset(y, 0, nd * sizeof *y);
-  for (size_t k = 0; k < N->n; k++) {
-    const double *g = N->g + ESF_STAB_REC * k;
-    uint32_t a = N->ab[2 * k], b = N->ab[2 * k + 1];
-    int wall = b == NONE;
-    esf_stab_contact_apply(g, g[3], g[4], o->ck * g[5] + o->cc * g[7],
-                           o->ck * g[6] + o->cc * g[8], o->z + 6 * (size_t)a,
-                           wall ? NULL : o->z + 6 * (size_t)b, y + 6 * (size_t)a,
-                           wall ? NULL : y + 6 * (size_t)b);
-  }
-  for (size_t j = 0; j < nd; j++) y[j] *= o->d[j];
-}
-
-static double dot(const double *a, const double *b, size_t n) {
+/* the M inner product */
+static double dot(const op *o, const double *a, const double *b, size_t nd) {
   double r = 0;
-  for (size_t j = 0; j < n; j++) r += a[j] * b[j];
+  for (size_t j = 0; j < nd; j++) r += mass(o->s, j / 6, (int)(j % 6)) * a[j] * b[j];
   return r;
 }
 
@@ -196,9 +155,9 @@ static void start_vector(const op *o, double *v, size_t nd) {
     h ^= h >> 31;
     h *= 0xBF58476D1CE4E5B9ull;
     h ^= h >> 29;
-    v[j] = o->d[j] != 0 ? (double)(h >> 11) * 0x1p-53 - 0.5 : 0.0;
+    v[j] = minv(o->s, j / 6, (int)(j % 6)) > 0 ? (double)(h >> 11) * 0x1p-53 - 0.5 : 0.0;
   }
-  double nv = sqrt(dot(v, v, nd));
+  double nv = sqrt(dot(o, v, v, nd));
   for (size_t j = 0; j < nd; j++) v[j] = nv > 0 ? v[j] / nv : 0.0;
 }
 
@@ -230,24 +189,28 @@ static int tridiag_top(const double *al, const double *be, int m, double *theta,
   return ok ? ESF_OK : ESF_ENOMEM;
 }
 
-/* Lanczos: the recurrence from v1; when y is not NULL, the second pass that sums the
- * Ritz vector y = sum s_j v_j of the first pass's m steps. */
-static int lanczos(op *o, double *v0, double *v1, double *w, size_t nd, double *al,
-                   double *be, int *m, double *theta, double *s, double *y) {
+/* Lanczos with two vectors (Paige's form: u <- A v - beta u, alpha = u.v, u -= alpha
+ * v, then the two swap roles): the recurrence from the start vector; when y is not
+ * NULL, the second pass that sums the Ritz vector y = sum s_j v_j of the first pass's
+ * m steps. */
+static int lanczos(op *o, double *u, double *v, size_t nd, double *al, double *be, int *m,
+                   double *theta, double *s, double *y) {
   int second = y != NULL, mm = second ? *m : LZ_MAX;
-  double *vp = v0, *vc = v1;
-  memset(vp, 0, nd * sizeof *vp);
-  start_vector(o, vc, nd);
+  memset(u, 0, nd * sizeof *u);
+  start_vector(o, v, nd);
   if (second) memset(y, 0, nd * sizeof *y);
   if (!second) be[0] = 0;
   for (int j = 0; j < mm; j++) {
     if (second)
-      for (size_t q = 0; q < nd; q++) y[q] += s[j] * vc[q];
+      for (size_t q = 0; q < nd; q++) y[q] += s[j] * v[q];
     if (second && j + 1 == mm) break;
-    op_apply(o, vc, w);
-    if (!second) al[j] = dot(w, vc, nd);
-    for (size_t q = 0; q < nd; q++) w[q] -= al[j] * vc[q] + be[j] * vp[q];
-    double b = second ? be[j + 1] : sqrt(dot(w, w, nd));
+    /* u = M^{-1} (K' v - beta_j M u): the contacts add into M times the old term */
+    for (size_t q = 0; q < nd; q++) u[q] *= -be[j] * mass(o->s, q / 6, (int)(q % 6));
+    op_apply(o, v, u);
+    for (size_t q = 0; q < nd; q++) u[q] *= minv(o->s, q / 6, (int)(q % 6));
+    if (!second) al[j] = dot(o, u, v, nd);
+    for (size_t q = 0; q < nd; q++) u[q] -= al[j] * v[q];
+    double b = second ? be[j + 1] : sqrt(dot(o, u, u, nd));
     if (!second) {
       be[j + 1] = b;
       int last = j + 1 == mm || !(b > 1e-14 * fabs(al[j]));
@@ -259,95 +222,88 @@ static int lanczos(op *o, double *v0, double *v1, double *w, size_t nd, double *
       }
     }
     if (!(b > 0)) break;
-    for (size_t q = 0; q < nd; q++) {
-      double t = w[q] / b;
-      vp[q] = vc[q];
-      vc[q] = t;
+    for (size_t q = 0; q < nd; q++) { /* (u, v) <- (v, u / b) */
+      double t = u[q] / b;
+      u[q] = v[q];
+      v[q] = t;
     }
   }
   return ESF_OK;
 }
 
+/* The top mode of the Ritz vector y (unit): frequency, damping ratio, limit, the
+ * particle with the largest share and its strongest touching partner; w is scratch. */
+static void top_mode(op *o, const double *y, double *w, size_t nd, esf_stability *out) {
+  const esf_sim *s = o->s;
+  const esf_particles *p = &s->p;
+  o->ck = 1, o->cc = 0; /* a = y.K.y, b = y.C.y (y of unit M norm) */
+  memset(w, 0, nd * sizeof *w);
+  op_apply(o, y, w);
+  double a = 0, b = 0;
+  for (size_t q = 0; q < nd; q++) a += y[q] * w[q];
+  o->ck = 0, o->cc = 1;
+  memset(w, 0, nd * sizeof *w);
+  op_apply(o, y, w);
+  for (size_t q = 0; q < nd; q++) b += y[q] * w[q];
+  out->omega = a > 0 ? sqrt(a) : 0.0;
+  out->xi = a > 0 ? b / (2 * out->omega) : 0.0;
+  out->dt_limit = a > 0 ? (-b + sqrt(b * b + 4 * a)) / a : INFINITY;
+  size_t best = 0;
+  double big = -1;
+  for (size_t i = 0; i < p->n; i++) {
+    double e = 0;
+    for (int j = 0; j < 6; j++)
+      e += mass(s, i, j) * y[6 * i + (size_t)j] * y[6 * i + (size_t)j];
+    if (e > big) big = e, best = i;
+  }
+  out->id = p->id[best];
+  big = -1;
+  double n[3], la, lb;
+  const esf_candidates *c = &s->nb.pp;
+  for (size_t k = 0; k < c->n; k++) {
+    if ((c->a[k] != best && c->b[k] != best) || !pair_geometry(s, k, n, &la, &lb))
+      continue;
+    size_t q = c->a[k] == best ? c->b[k] : c->a[k];
+    double e = 0;
+    for (int j = 0; j < 6; j++)
+      e += mass(s, q, j) * y[6 * q + (size_t)j] * y[6 * q + (size_t)j];
+    if (e > big) big = e, out->other = p->id[q];
+  }
+  c = &s->nb.pw;
+  for (size_t k = 0; k < c->n && big < 0; k++)
+    if (c->a[k] == best && wall_geometry(s, k, n, &la)) out->other = -1;
+}
+
 int esf_stability_estimate(esf_sim *s, double dt, int with_mode, esf_stability *out,
                            esf_error *err) {
-  const esf_particles *p = &s->p;
-  size_t nd = 6 * p->n;
+  size_t nd = 6 * s->p.n;
   *out = (esf_stability){.id = -1, .other = -2, .dt_limit = INFINITY};
   if (nd == 0) return ESF_OK;
-  double *buf = malloc(5 * nd * sizeof *buf);
-  double *al = malloc(2 * (LZ_MAX + 2) * sizeof *al), *sv = malloc(LZ_MAX * sizeof *sv);
-  if (!buf || !al || !sv) {
-    free(buf), free(al), free(sv);
+  /* two vectors, a third for the top mode's second pass (48 bytes a particle each) */
+  double *buf = malloc((with_mode ? 3 : 2) * nd * sizeof *buf);
+  double *al = malloc((2 * (LZ_MAX + 2) + LZ_MAX) * sizeof *al);
+  if (!buf || !al) {
+    free(buf), free(al);
     return esf_fail(err, ESF_ENOMEM, "stability check: out of memory for %zu particles",
-                    p->n);
+                    s->p.n);
   }
-  double *be = al + LZ_MAX + 2;
-  net N = {0};
-  int rc = net_gather(s, &N, err);
-  op o = {.N = &N, .ck = dt * dt, .cc = 2.0 * dt, .d = buf, .z = buf + nd, .nd = nd};
-  double *v0 = buf + 2 * nd, *v1 = buf + 3 * nd, *w = buf + 4 * nd;
-  static const int free2[6] = {1, 0, 1, 0, 1, 0}; /* 2D: x, z and the rotation about y */
-  for (size_t i = 0; i < p->n; i++)
-    for (int j = 0; j < 6; j++) {
-      double m = j < 3 ? p->inv_mass[i] : p->inv_inertia[i];
-      buf[6 * i + (size_t)j] = (s->cfg.dim == 3 || free2[j]) && m > 0 ? sqrt(m) : 0.0;
-    }
+  double *be = al + LZ_MAX + 2, *sv = be + LZ_MAX + 2, *u = buf, *v = buf + nd;
+  op o = {.s = s, .ck = dt * dt, .cc = 2.0 * dt};
   int m = 0;
   double theta = 0;
-  if (!rc) rc = lanczos(&o, v0, v1, w, nd, al, be, &m, &theta, sv, NULL);
+  int rc = lanczos(&o, u, v, nd, al, be, &m, &theta, sv, NULL);
   out->lambda = theta > 0 ? theta : 0.0;
   out->iters = m;
-  out->contacts = N.n;
-  if (!rc && with_mode && N.n > 0 && m > 0) {
-    double *y = buf + 4 * nd; /* w is done with; the second pass needs its own */
-    double *w2 = malloc(nd * sizeof *w2);
-    if (!w2) rc = esf_fail(err, ESF_ENOMEM, "stability check: out of memory");
-    if (!rc) {
-      /* second pass: regenerate v_j into v0/v1 with w2 as the work vector */
-      rc = lanczos(&o, v0, v1, w2, nd, al, be, &m, &theta, sv, y);
-      double ny = sqrt(dot(y, y, nd));
-      for (size_t q = 0; q < nd && ny > 0; q++) y[q] /= ny;
-      /* a = y.A.y and b = y.B.y, and the particle with the largest share */
-      o.ck = 1, o.cc = 0;
-      op_apply(&o, y, w2);
-      double a = dot(y, w2, nd);
-      o.ck = 0, o.cc = 1;
-      op_apply(&o, y, w2);
-      double b = dot(y, w2, nd);
-      out->omega = a > 0 ? sqrt(a) : 0.0;
-      out->xi = a > 0 ? b / (2 * out->omega) : 0.0;
-      out->dt_limit = a > 0 ? (-b + sqrt(b * b + 4 * a)) / a : INFINITY;
-      size_t best = 0;
-      double big = -1;
-      for (size_t i = 0; i < p->n; i++) {
-        double e = 0;
-        for (int j = 0; j < 6; j++) e += y[6 * i + (size_t)j] * y[6 * i + (size_t)j];
-        if (e > big) big = e, best = i;
-      }
-      out->id = p->id[best];
-      /* its partner: the touching neighbour with the largest share */
-      big = -1;
-      double n[3], la, lb;
-      const esf_candidates *c = &s->nb.pp;
-      for (size_t k = 0; k < c->n; k++) {
-        if ((c->a[k] != best && c->b[k] != best) || !pair_geometry(s, k, n, &la, &lb))
-          continue;
-        size_t q = c->a[k] == best ? c->b[k] : c->a[k];
-        double e = 0;
-        for (int j = 0; j < 6; j++) e += y[6 * q + (size_t)j] * y[6 * q + (size_t)j];
-        if (e > big) big = e, out->other = p->id[q];
-      }
-      c = &s->nb.pw;
-      for (size_t k = 0; k < c->n && big < 0; k++)
-        if (c->a[k] == best && wall_geometry(s, k, n, &la)) out->other = -1;
-    }
-    free(w2);
+  out->contacts = o.contacts;
+  if (!rc && with_mode && o.contacts > 0 && m > 0) {
+    double *y = buf + 2 * nd;
+    rc = lanczos(&o, u, v, nd, al, be, &m, &theta, sv, y); /* regenerates the v_j */
+    double ny = sqrt(dot(&o, y, y, nd));
+    for (size_t q = 0; q < nd && ny > 0; q++) y[q] /= ny;
+    if (!rc) top_mode(&o, y, u, nd, out);
   }
-  free(N.ab);
-  free(N.g);
   free(buf);
   free(al);
-  free(sv);
   return rc;
 }
 

@@ -10,20 +10,43 @@
 #include <stdint.h>
 
 #include "core/sim.h"
+#include "util/vec3.h"
 #include "util/esf_error.h"
 
 /* y += G^T S G x for one contact with unit normal n (from A toward B or the wall), lever
  * arms la, lb from the centres to the contact point and S = kn n n^T + kt (I - n n^T).
  * x and y hold a body's 6 local coordinates (translation, rotation); xb, yb NULL for a
  * wall (fixed). */
-void esf_stab_contact_apply(const double n[3], double la, double lb, double kn, double kt,
-                            const double *xa, const double *xb, double *ya, double *yb);
+static inline void esf_stab_contact_apply(const double n[3], double la, double lb,
+                                          double kn, double kt, const double *xa,
+                                          const double *xb, double *ya, double *yb) {
+  /* the contact point's relative motion dc = dxB + lb n x dthB - dxA + la n x dthA */
+  double dc[3], c[3];
+  v3_cross(c, n, xa + 3);
+  for (int q = 0; q < 3; q++) dc[q] = la * c[q] - xa[q];
+  if (xb) {
+    v3_cross(c, n, xb + 3);
+    for (int q = 0; q < 3; q++) dc[q] += xb[q] + lb * c[q];
+  }
+  /* f = S dc, then G^T f: -f and la f x n on A, f and lb f x n on B */
+  double dn = v3_dot(n, dc), f[3];
+  for (int q = 0; q < 3; q++) f[q] = kt * dc[q] + (kn - kt) * dn * n[q];
+  v3_cross(c, f, n);
+  for (int q = 0; q < 3; q++) {
+    ya[q] -= f[q];
+    ya[3 + q] += la * c[q];
+  }
+  if (xb)
+    for (int q = 0; q < 3; q++) {
+      yb[q] += f[q];
+      yb[3 + q] += lb * c[q];
+    }
+}
 
 /* kn, kt, cn, ct of a contact of material pair pp with reduced mass mstar (the linear
  * law's dashpots, contact_linear.c; an adhesive pair's largest bonded tangent
  * stiffness); beta > 0: Rayleigh dashpots c = beta k. */
-void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar,
-                      double kc[4]);
+void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar, double kc[4]);
 
 /* One estimate at step dt. */
 typedef struct esf_stability {
@@ -47,8 +70,7 @@ int esf_stability_estimate(esf_sim *s, double dt, int with_mode, esf_stability *
 
 /* The step at which lambda reaches 4 for the current network (fixed-point iterations of
  * esf_stability_estimate's dt_limit, to 1e-6), s; INFINITY without contacts. */
-int esf_stability_limit(esf_sim *s, double *dt_limit, esf_stability *top,
-                        esf_error *err);
+int esf_stability_limit(esf_sim *s, double *dt_limit, esf_stability *top, esf_error *err);
 
 /* The leapfrog's guard, called before its steps: at every cfg.stability_every-th step
  * (and when final is 1) estimates lambda; above 4 stops the run (ESF_ENUMERIC, naming
