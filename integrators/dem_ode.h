@@ -32,6 +32,9 @@
 #ifndef ESF_DEM_ODE_H
 #define ESF_DEM_ODE_H
 
+#include <sundials/sundials_context.h>
+#include <sundials/sundials_nvector.h>
+
 #include "core/sim.h"
 
 enum {
@@ -85,6 +88,13 @@ double esf_dem_ode_qtol(const esf_dem_ode *o, double rtol);
 /* Fills the absolute-tolerance vector (length o->len): atol on x, v, w and
  * esf_dem_ode_qtol on the quadratures. */
 void esf_dem_ode_atol(const esf_dem_ode *o, double *a, double rtol, double atol);
+
+/* A serial SUNDIALS vector of length len for the ODE methods' state: fused vector
+ * operations on (one pass for a stage's linear combination instead of one per term)
+ * and a WRMS norm scaled by the largest weight, without the subnormal products of
+ * ARKODE's fixed-step weights (DBL_MIN), vectorised (ARKODE takes the state's norm at
+ * every step, even with a fixed step). NULL when out of memory. Clones keep both. */
+N_Vector esf_dem_ode_vector(size_t len, SUNContext ctx);
 
 /* A SUNDIALS error handler that prints nothing: failures reach the user through
  * esfera's own messages (ARKErrHandlerFn and CVErrHandlerFn have this signature). */

@@ -198,10 +198,10 @@ static int lanczos(op *o, double *u, double *v, size_t nd, double *al, double *b
   int second = y != NULL, mm = second ? *m : LZ_MAX;
   memset(u, 0, nd * sizeof *u);
   start_vector(o, v, nd);
-  if (second) memset(y, 0, nd * sizeof *y);
+  if (y) memset(y, 0, nd * sizeof *y);
   if (!second) be[0] = 0;
   for (int j = 0; j < mm; j++) {
-    if (second)
+    if (y)
       for (size_t q = 0; q < nd; q++) y[q] += s[j] * v[q];
     if (second && j + 1 == mm) break;
     /* u = M^{-1} (K' v - beta_j M u): the contacts add into M times the old term */
