@@ -199,12 +199,16 @@ def picture(name, d, path):
     from matplotlib.collections import EllipseCollection
 
     f = last(d)
-    x, r = f.data["position"], f.data["radius"]
+    x, r = f.data["position"].copy(), f.data["radius"]
+    if name.startswith("debris_chute"):  # into the true frame: gravity down
+        a = math.radians(35.0)
+        h, g = np.array([math.cos(a), 0, math.sin(a)]), np.array([math.sin(a), 0, -math.cos(a)])
+        x = np.c_[x @ h, x[:, 1], -(x @ g)]
     rm = float(np.median(r))
     sl = np.abs(x[:, 1] - np.median(x[:, 1])) < 1.5 * rm
     if np.ptp(x[:, 1]) < 3 * rm or sl.sum() < 10:
         sl = np.ones(len(r), bool)
-    col, label = x[:, 2], "z (m)"
+    col, label = x[:, 2], "height (m)"
     if name == "block_impact":
         col, label = f.data["material"].astype(float), "material"
     if name == "brazil_nut":
@@ -224,9 +228,10 @@ def picture(name, d, path):
         ax.add_patch(plt.Circle((x[i, 0], x[i, 2]), r[i], fill=False, color="red", lw=2))
     ax.set_xlim(x[:, 0].min() - r.max(), x[:, 0].max() + r.max())
     ax.set_ylim(x[:, 2].min() - r.max(), x[:, 2].max() + r.max())
-    ax.set_aspect("equal")
+    flat = np.ptp(x[:, 2]) < 0.15 * np.ptp(x[:, 0])
+    ax.set_aspect(5.0 if flat else "equal")  # a thin deposit: heights exaggerated 5 x
     ax.set_xlabel("x (m)")
-    ax.set_ylabel("z (m)")
+    ax.set_ylabel("z (m)" + (", exaggerated 5 x" if flat else ""))
     ax.set_title(f"{name}, t = {f.time:.3g} s" + (", middle slice" if not sl.all() else ""))
     fig.tight_layout()
     fig.savefig(path, dpi=80)
