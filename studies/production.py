@@ -226,6 +226,12 @@ def picture(name, d, path):
         row = dict(zip(a.data["id"], range(len(a.data["id"]))))
         col = 1e3 * (x[:, 2] - a.data["position"][[row[i] for i in f.data["id"]], 2])
         label = "vertical displacement since 0.6 s (mm)"
+    if name == "sand_production":  # the seed's Figs. 4.12-4.13: the production phase
+        a = [g for g in load_frames(d) if g.time >= 0.02 - 1e-9][0]
+        row = dict(zip(a.data["id"], range(len(a.data["id"]))))
+        x0 = a.data["position"][[row[i] for i in f.data["id"]]]
+        col = 1e3 * np.linalg.norm(x - x0, axis=1)
+        label = "displacement since the fluid's start, 0.02 s (mm)"
     fig, ax = plt.subplots(figsize=(6.5, 5.5))
     ec = EllipseCollection(2 * r[sl], 2 * r[sl], 0, units="xy",
                            offsets=np.c_[x[sl, 0], x[sl, 2]], transOffset=ax.transData,
