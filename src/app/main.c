@@ -308,19 +308,19 @@ static void program_path(const char *argv0, char *buf, size_t size) {
 /* The lines a finished run ends with: the summary (its key=value format is read by
  * scripts: new fields go at the end), then where the output is and how to look at it. */
 static void print_summary(const esf_sim *s, const esf_run_stats *st, const char *dir,
-                          const char *prog) {
+                          const char *prog, int status) {
   printf("summary: steps=%ld particles=%.0f contacts_mean=%.2f wall_s=%.4f "
          "particle_steps_per_s=%.6g dt=%.6g rebuilds=%ld rhs_evals=%ld "
          "energy_error=%.6g dissipated=%.6g removed=%ld method=%s rejected=%ld "
          "acc_limited=%ld stab_limited=%ld h_last=%.6g events=%ld restarts=%ld "
          "checkpoints=%ld bonds=%ld bonds_broken=%ld threads=%d resumed_from_step=%ld "
-         "stability=%.4g stability_checks=%ld\n",
+         "stability=%.4g stability_checks=%ld exit=%d\n",
          st->steps, st->particles_mean, st->contacts_mean, st->wall_s, st->rate, s->dt,
          s->nb.builds, st->integ.rhs_evals, st->energy_error, st->dissipated, s->removed,
          s->cfg.method, st->integ.rejected, st->integ.acc_limited, st->integ.stab_limited,
          st->integ.h_last, st->integ.events, st->integ.restarts, st->checkpoints_total,
          s->bonds.formed, s->bonds.broken, s->cfg.threads, st->resumed_step,
-         s->stab.worst, s->stab.checks);
+         s->stab.worst, s->stab.checks, status);
   if (st->resumed_step)
     printf("resumed at step %ld: wall_s and particle_steps_per_s cover steps %ld to %ld; "
            "checkpoints=%ld counts every checkpoint since the run's start (%ld written "
@@ -407,6 +407,8 @@ static int cmd_run(int argc, char **argv, const char *argv0) {
   if (rc) {
     status = fail(rc, err.msg);
     if (st.stepping) fprintf(stderr, "esfera: output so far is in %s\n", o.out_dir);
+    if (st.stepping && status == 1) /* the counts up to the failure, for scripts */
+      print_summary(&s, &st, dir, prog, status);
     esf_sim_release(&s);
     return status;
   }
@@ -433,7 +435,7 @@ static int cmd_run(int argc, char **argv, const char *argv0) {
     esf_sim_release(&s);
     return 128 + (int)stop_signal;
   }
-  print_summary(&s, &st, dir, prog);
+  print_summary(&s, &st, dir, prog, 0);
   esf_sim_release(&s);
   return 0;
 }
