@@ -9,7 +9,8 @@ friction 0.5 and cohesion 1 N (the springs stick), restitution 1 and 0.1:
 - the live limit dt_L (the check's own, iterated to its fixed point) lies below half of
   Hart's rule (the rule is unsafe here); with restitution 0.1 below 0.6 of the undamped
   one (the dashpots' damping of the fast modes lowers it);
-- at 1.05 dt_L the run stops with exit 1, naming the mode, with the ledger on and off;
+- at 1.05 dt_L the run stops with exit 1, naming the mode, with the ledger on and off,
+  and its summary line says exit=1 with the largest lambda / 4 above 1;
   at 0.95 dt_L it ends with exit 0, its largest lambda / 4 below 1;
 - the verdicts are right: with `stability: warn` the run at 1.05 dt_L multiplies its
   kinetic energy by more than 1e4 (measured 3e7 and 4e6), the run at 0.95 dt_L by less
@@ -117,9 +118,11 @@ def one_pack(esfera, tmp, csv, eta, dt_ref=None):
     for led in ("1.0e-4", "0"):
         r = run_sets(esfera, scene, os.path.join(tmp, "above"),
                      f"integrator.dt={1.05 * dl!r}", f"output.energy_every={led}")
-        check(r.returncode == 1 and "unstable at dt" in r.stderr,
-              f"eta {eta:g}, ledger every {led}: 1.05 x the limit stops: exit "
-              f"{r.returncode} {r.stderr.strip()[:160]}")
+        check(r.returncode == 1 and "unstable at dt" in r.stderr and
+              r.summary.get("exit") == 1 and r.summary.get("stability", 0) >= 1,
+              f"eta {eta:g}, ledger every {led}: 1.05 x the limit stops (exit 1, and "
+              f"the summary says so): exit {r.returncode} {r.summary.get('exit')} "
+              f"{r.stderr.strip()[:160]}")
     growth = {}
     for f in (1.05, 0.95):
         out = os.path.join(tmp, f"warn{f}")
