@@ -13,7 +13,8 @@
  * The live stability check (model/stability.h) on the same systems: its Lanczos
  * eigenvalue of dt^2 A + 2 dt B against the dense one (1e-6), and its limit against the
  * closed form min over modes (2/w)(sqrt(1 + xi^2) - xi) (sphere on a wall: the normal
- * and the tangential mode; the chain: its damped top mode) within 1e-6.
+ * and the tangential mode; the chain: its damped top mode), and with local damping
+ * alpha_c (2/w)(sqrt(xi^2 + 1/(1 + alpha_c)) - xi), within 1e-6.
  * Relative tolerance 1e-9 (a dense symmetric eigensolve of at most 48 dofs). */
 #include "app/modes.h"
 #include "simtest.h"
@@ -33,12 +34,12 @@ static double modes_of(const char *yaml, simtest *T, esf_modes *m) {
 static double fxi(double xi) { return sqrt(1 + xi * xi) - xi; }
 
 static void check_live(const char *what, const esf_modes *m, double dt_closed) {
-  CHECK(fabs(m->lambda_live / m->lambda - 1) < 1e-6, "%s: Lanczos lambda %.12g, dense %.12g",
-        what, m->lambda_live, m->lambda);
-  CHECK(fabs(m->dt_live / dt_closed - 1) < 1e-6, "%s: live limit %.10g s, closed form %.10g s",
-        what, m->dt_live, dt_closed);
-  printf("%-34s live limit %.10g s (closed form %.10g s), lambda %.6g (dense %.6g)\n", what,
-         m->dt_live, dt_closed, m->lambda_live, m->lambda);
+  CHECK(fabs(m->lambda_live / m->lambda - 1) < 1e-6,
+        "%s: Lanczos lambda %.12g, dense %.12g", what, m->lambda_live, m->lambda);
+  CHECK(fabs(m->dt_live / dt_closed - 1) < 1e-6,
+        "%s: live limit %.10g s, closed form %.10g s", what, m->dt_live, dt_closed);
+  printf("%-34s live limit %.10g s (closed form %.10g s), lambda %.6g (dense %.6g)\n",
+         what, m->dt_live, dt_closed, m->lambda_live, m->lambda);
 }
 
 static void check_close(const char *what, double got, double want) {
@@ -80,6 +81,32 @@ static void on_wall(int dim) {
     double wn = sqrt(1.0e5 / mass), wt = sqrt(0.5e5 * (1 / mass + l * l / I));
     check_live(dim == 3 ? "sphere on a wall" : "disk on a wall", &m,
                fmin(2 / wn * fxi(xi), 2 / wt * fxi(xm)));
+  }
+  simtest_close(&T);
+}
+
+/* The sphere on a wall with Cundall's local damping (alpha_c 0.7): its force can add to
+ * the unbalanced one in the period-two mode, so each mode's limit is the root of
+ * (1 + alpha_c)(dt^2 w^2 + 4 xi w dt) = 4, (2/w)(sqrt(xi^2 + 1/(1 + alpha_c)) - xi). */
+static void on_wall_local(void) {
+  const char *yaml = "name: w\ngravity: [0, 0, 0]\n"
+                     "materials: {g: {density: 2500, kn: 1.0e5, kt: 0.5e5, restitution: "
+                     "0.5, friction: 0.3}}\n"
+                     "particles:\n  - {material: g, radius: 0.005, position: [0, 0, "
+                     "0.00499]}\n"
+                     "walls:\n  - {plane: {point: [0, 0, 0], normal: [0, 0, 1]}, "
+                     "material: g}\n"
+                     "damping: {local: {coefficient: 0.7}}\n"
+                     "contact: {allow_initial_overlap: true}\nrun: {steps: 1}\n";
+  simtest T;
+  esf_modes m;
+  if (modes_of(yaml, &T, &m) == 0) {
+    double mass = T.s.p.mass[0], I = T.s.p.inertia[0], l = 0.005 - 1e-5, f = 1.7;
+    double xi = esf_restitution_gamma(0.5), xm = xi * sqrt(1 + mass * l * l / I);
+    double wn = sqrt(1.0e5 / mass), wt = sqrt(0.5e5 * (1 / mass + l * l / I));
+    double dn = 2 / wn * (sqrt(xi * xi + 1 / f) - xi),
+           dtt = 2 / wt * (sqrt(xm * xm + 1 / f) - xm);
+    check_live("sphere on a wall, local damping", &m, fmin(dn, dtt));
   }
   simtest_close(&T);
 }
@@ -140,6 +167,7 @@ static void chain(void) {
 int main(void) {
   on_wall(3);
   on_wall(2);
+  on_wall_local();
   free_pair();
   chain();
   return check_finish("test_modes");

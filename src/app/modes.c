@@ -36,39 +36,45 @@ static long dof_index(int dim, size_t i, int j) {
   return map2[j] < 0 ? -1 : (long)(3 * i + (size_t)map2[j]);
 }
 
-/* Adds G^T S G for one contact to K (stability.c's esf_stab_contact_apply on the 12
- * local unit vectors: the one source of a contact's stiffness): bodies A and B (b >= 0)
- * or A and a fixed wall (b < 0). */
-static void add_contact(gsl_matrix *K, int dim, const double *n, double kn, double kt,
-                        size_t a, double la, long b, double lb) {
-  int nloc = b >= 0 ? 12 : 6;
+/* Adds G^T S G for one contact to M (stability.c's esf_stab_contact_apply on the 12
+ * local unit vectors: the one source of a contact's stiffness), with the springs
+ * (which = 0) or the dashpots (which = 2) of contact c. */
+static void add_contact(gsl_matrix *M, int dim, const esf_stab_contact *c, int which) {
+  const int pair = c->b >= 0, nloc = pair ? 12 : 6;
   long idx[12];
   for (int j = 0; j < 6; j++) {
-    idx[j] = dof_index(dim, a, j);
-    idx[6 + j] = b >= 0 ? dof_index(dim, (size_t)b, j) : -1;
+    idx[j] = dof_index(dim, c->a, j);
+    idx[6 + j] = pair ? dof_index(dim, (size_t)c->b, j) : -1;
   }
   for (int q = 0; q < nloc; q++) {
     if (idx[q] < 0) continue;
     double x[12] = {0}, y[12] = {0};
     x[q] = 1.0;
-    esf_stab_contact_apply(n, la, lb, kn, kt, x, b >= 0 ? x + 6 : NULL, y,
-                           b >= 0 ? y + 6 : NULL);
+    esf_stab_contact_apply(c->n, c->slip ? c->t : NULL, c->la, c->lb, c->kc[which],
+                           c->kc[which + 1], x, pair ? x + 6 : NULL, y,
+                           pair ? y + 6 : NULL);
     for (int p = 0; p < nloc; p++)
-      if (idx[p] >= 0) *gsl_matrix_ptr(K, (size_t)idx[p], (size_t)idx[q]) += y[p];
+      if (idx[p] >= 0) *gsl_matrix_ptr(M, (size_t)idx[p], (size_t)idx[q]) += y[p];
   }
 }
 
-/* Adds one contact to the stiffness K and the damping C (the dashpots cn, ct in the
- * same geometry): C's top-mode quadratic form gives that mode's damping ratio. */
-static void add_contact_kc(gsl_matrix *K, gsl_matrix *C, int dim, const double *n,
-                           const double kc[4], size_t a, double la, long b, double lb) {
-  add_contact(K, dim, n, kc[0], kc[1], a, la, b, lb);
-  add_contact(C, dim, n, kc[2], kc[3], a, la, b, lb);
-}
+/* The network (esf_stab_contacts) into K and C: C's top-mode quadratic form gives that
+ * mode's damping ratio; xi_max the contacts' largest normal ratio cn / (2 sqrt(kn m*)).
+ */
+typedef struct assembly {
+  gsl_matrix *K, *C;
+  const esf_sim *s;
+  double xi_max;
+} assembly;
 
-static double damping_ratio(const esf_pair_params *pp, double beta, double mstar) {
-  if (beta > 0) return 0.5 * beta * sqrt(pp->kn / mstar); /* c = beta k */
-  return pp->gamma_n;
+static void add_one(const esf_stab_contact *c, void *ctx) {
+  assembly *A = ctx;
+  const esf_particles *p = &A->s->p;
+  add_contact(A->K, A->s->cfg.dim, c, 0);
+  add_contact(A->C, A->s->cfg.dim, c, 2);
+  double ms = c->b >= 0 ? p->mass[c->a] * p->mass[c->b] / (p->mass[c->a] + p->mass[c->b])
+                        : p->mass[c->a];
+  if (c->kc[0] > 0) A->xi_max = fmax(A->xi_max, c->kc[2] / (2 * sqrt(c->kc[0] * ms)));
 }
 
 int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
@@ -94,37 +100,9 @@ int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
     gsl_matrix_free(C);
     return esf_fail(err, ESF_ENOMEM, "modes: out of memory for %zu dofs", nd);
   }
-  double kc[4];
-  const esf_materials *mt = &s->mats;
-  const esf_candidates *c = &s->nb.pp;
-  for (size_t k = 0; k < c->n; k++) {
-    if (!c->touch[k]) continue;
-    uint32_t a = c->a[k], b = c->b[k];
-    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
-    double d[3];
-    v3_sub(d, p->x + 3 * b, p->x + 3 * a);
-    double dist = v3_norm(d), un = p->radius[a] + p->radius[b] - dist;
-    v3_scale(d, 1.0 / dist, d);
-    double ms = p->mass[a] * p->mass[b] / (p->mass[a] + p->mass[b]);
-    esf_stab_springs(pp, s->beta, ms, kc);
-    add_contact_kc(K, C, dim, d, kc, a, p->radius[a] - 0.5 * un, (long)b,
-                   p->radius[b] - 0.5 * un);
-    out->xi_max = fmax(out->xi_max, damping_ratio(pp, s->beta, ms));
-    out->contacts++;
-  }
-  c = &s->nb.pw;
-  for (size_t k = 0; k < c->n; k++) {
-    if (!c->touch[k]) continue;
-    uint32_t a = c->a[k];
-    const esf_wall_elem *el = &s->walls.e[c->b[k]];
-    const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
-    esf_wall_hit hit;
-    esf_wall_nearest(el, p->x + 3 * a, &hit);
-    esf_stab_springs(pp, s->beta, p->mass[a], kc);
-    add_contact_kc(K, C, dim, hit.n, kc, a, hit.dist, -1, 0.0);
-    out->xi_max = fmax(out->xi_max, damping_ratio(pp, s->beta, p->mass[a]));
-    out->contacts++;
-  }
+  assembly A = {.K = K, .C = C, .s = s};
+  out->contacts = esf_stab_contacts(s, add_one, &A);
+  out->xi_max = A.xi_max;
   /* D K D with D = M^{-1/2} */
   double *dscale = malloc((nd ? nd : 1) * sizeof *dscale);
   gsl_vector *eval = gsl_vector_alloc(nd ? nd : 1);
@@ -146,7 +124,7 @@ int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
     }
   if (nd && out->contacts) {
     /* dt^2 A + 2 dt B at the scene's dt, dense, for the live check's Lanczos */
-    double dt = s->dt;
+    double dt = s->dt, fl = s->local ? 1.0 + s->cfg.local_coef : 1.0;
     gsl_matrix *L = gsl_matrix_alloc(nd, nd);
     if (!L) {
       rc = esf_fail(err, ESF_ENOMEM, "modes: out of memory for %zu dofs", nd);
@@ -154,8 +132,9 @@ int esf_modes_compute(esf_sim *s, esf_modes *out, esf_error *err) {
     }
     for (size_t r = 0; r < nd; r++)
       for (size_t q = 0; q < nd; q++)
-        gsl_matrix_set(L, r, q,
-                       dt * dt * gsl_matrix_get(K, r, q) + 2 * dt * gsl_matrix_get(C, r, q));
+        gsl_matrix_set(
+            L, r, q,
+            fl * (dt * dt * gsl_matrix_get(K, r, q) + 2 * dt * gsl_matrix_get(C, r, q)));
     gsl_eigen_symm_workspace *w1 = gsl_eigen_symm_alloc(nd); /* values only */
     if (w1) gsl_eigen_symm(L, eval, w1);
     out->lambda = w1 ? gsl_vector_max(eval) : NAN;

@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "bodies/wall_geom.h"
+#include "model/forces.h"
 #include "util/clock.h"
 #include "util/vec3.h"
 
@@ -37,7 +38,7 @@ void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar,
   double kn = pp->law->flags & ESF_LAW_TENSION ? pp->adh.k_max : pp->kn;
   kc[0] = kn;
   kc[1] = pp->kt;
-  kc[2] = beta > 0 ? beta * kn : pp->cn_factor * sqrt(mstar);
+  kc[2] = beta > 0 ? beta * pp->kn : pp->cn_factor * sqrt(mstar); /* as the laws */
   kc[3] = beta > 0 ? beta * pp->kt : pp->ct_factor * sqrt(mstar);
 }
 
@@ -49,7 +50,7 @@ static int pair_geometry(const esf_sim *s, size_t k, double n[3], double *la,
   double d[3], rs = p->radius[a] + p->radius[b];
   v3_sub(d, p->x + 3 * b, p->x + 3 * a);
   double d2 = v3_norm2(d);
-  if (!(d2 < rs * rs) && !esf_candidates_bonded(c, k)) return 0; /* apart */
+  if (!(d2 < rs * rs) && !(c->touch[k] && esf_candidates_bonded(c, k))) return 0;
   double dist = sqrt(d2), un = rs - dist;
   if (!(dist > 0)) return 0;
   v3_scale(n, 1.0 / dist, d);
@@ -58,37 +59,98 @@ static int pair_geometry(const esf_sim *s, size_t k, double n[3], double *la,
   return 1;
 }
 
-static int wall_geometry(const esf_sim *s, size_t k, double n[3], double *la) {
-  const esf_candidates *c = &s->nb.pw;
-  uint32_t a = c->a[k];
-  esf_wall_hit hit;
-  esf_wall_nearest(&s->walls.e[c->b[k]], s->p.x + 3 * a, &hit);
-  if (!(hit.dist < s->p.radius[a])) return 0;
-  v3_copy(n, hit.n);
-  *la = hit.dist;
-  return 1;
-}
-
-/* A linear-law contact at its Coulomb cap (sliding at its last commit: kt |xi| at the
- * cap with the elastic normal force kn u, or a cap of zero) has no tangential spring or
- * dashpot (law_body.h); kc[1] and kc[3] are zeroed. */
-static void sliding(const esf_pair_params *pp, const esf_contact_hist *h, int live,
-                    double un, double kc[4]) {
+/* The tangential terms of a linear-law contact (law_body.h): none when its cap
+ * coh + mu fn is zero or less (frictionless); at the cap at its last commit (kt |xi|
+ * there, with the elastic normal force kn u) sliding, the unit slip direction in *t
+ * (xi brought into the current tangent plane). */
+static void tangential(const esf_pair_params *pp, const esf_contact_hist *h, int live,
+                       double un, const double n[3], esf_stab_contact *c) {
+  c->slip = 0;
   if (pp->law->flags & ESF_LAW_TENSION) return;
   double tau = pp->cohesion + pp->mu * pp->kn * un;
+  if (tau <= 0) {
+    c->kc[1] = c->kc[3] = 0.0;
+    return;
+  }
   double xi = live ? v3_norm(h->xi) : 0.0;
-  if (tau <= 0 || pp->kt * xi >= (1 - 1e-9) * tau) kc[1] = kc[3] = 0.0;
+  if (!(pp->kt * xi >= (1 - 1e-9) * tau)) return;
+  double s = v3_dot(h->xi, n), t[3], m;
+  for (int q = 0; q < 3; q++) t[q] = h->xi[q] - s * n[q];
+  m = v3_norm(t);
+  if (!(m > 0)) return;
+  v3_scale(c->t, 1.0 / m, t);
+  c->slip = 1;
+}
+
+size_t esf_stab_contacts(const esf_sim *s, esf_stab_visit fn, void *ctx) {
+  const esf_particles *p = &s->p;
+  const esf_materials *mt = &s->mats;
+  const esf_candidates *pp = &s->nb.pp, *pw = &s->nb.pw;
+  esf_stab_contact c;
+  size_t cnt = 0;
+  for (size_t k = 0; k < pp->n; k++) {
+    if (!pair_geometry(s, k, c.n, &c.la, &c.lb)) continue;
+    c.a = pp->a[k];
+    c.b = pp->b[k];
+    const esf_pair_params *par = &mt->pair[p->material[c.a] * mt->n + p->material[c.b]];
+    esf_stab_springs(par, s->beta,
+                     p->mass[c.a] * p->mass[c.b] / (p->mass[c.a] + p->mass[c.b]), c.kc);
+    tangential(par, &pp->h[k], pp->touch[k],
+               p->radius[c.a] - c.la + p->radius[c.b] - c.lb, c.n, &c);
+    fn(&c, ctx);
+    cnt++;
+  }
+  /* the wall contacts of one particle at a time, those that carry force (forces.c's
+     choice among hits on shared mesh edges and vertices) */
+  enum { MAXH = 32 };
+  esf_wall_hit hits[MAXH];
+  double un[MAXH];
+  uint32_t elem[MAXH];
+  size_t kk[MAXH];
+  unsigned char keep[MAXH];
+  for (size_t k0 = 0, k1; k0 < pw->n; k0 = k1) {
+    const uint32_t a = pw->a[k0];
+    size_t m = 0;
+    for (k1 = k0; k1 < pw->n && pw->a[k1] == a; k1++) {
+      esf_wall_hit h;
+      esf_wall_nearest(&s->walls.e[pw->b[k1]], p->x + 3 * (size_t)a, &h);
+      if (!(h.dist < p->radius[a]) || m == MAXH) continue; /* beyond MAXH: ignored */
+      hits[m] = h;
+      un[m] = p->radius[a] - h.dist;
+      elem[m] = pw->b[k1];
+      kk[m++] = k1;
+    }
+    if (m == 0) continue;
+    esf_forces_select_wall_hits(&s->walls, elem, hits, un, m, p->radius[a], keep);
+    for (size_t j = 0; j < m; j++) {
+      if (!keep[j]) continue;
+      c.a = a;
+      c.b = -1;
+      v3_copy(c.n, hits[j].n);
+      c.la = hits[j].dist;
+      c.lb = 0.0;
+      const esf_pair_params *par =
+          &mt->pair[p->material[a] * mt->n + s->walls.e[elem[j]].material];
+      esf_stab_springs(par, s->beta, p->mass[a], c.kc);
+      tangential(par, &pw->h[kk[j]], pw->touch[kk[j]], un[j], c.n, &c);
+      fn(&c, ctx);
+      cnt++;
+    }
+  }
+  return cnt;
 }
 
 /* The operator: y += (sum over touching contacts G^T (ck S_K + cc S_C) G) x on 6
- * coordinates per particle, the contacts' geometry recomputed from the state at each
- * application (no storage per contact). Lanczos runs on M^{-1} K' in the M inner
- * product (the spectrum of M^{-1/2} K' M^{-1/2}, without scaled copies); mass() gives
- * M's diagonal, 0 on frozen coordinates (2D: y and the rotations about x and z) and for
- * infinite masses, and minv() its inverse with the same zeros. */
+ * coordinates per particle, the contacts (esf_stab_contacts) recomputed from the state
+ * at each application (no storage per contact). Lanczos runs on M^{-1} K' in the M
+ * inner product (the spectrum of M^{-1/2} K' M^{-1/2}, without scaled copies); mass()
+ * gives M's diagonal, 0 on frozen coordinates (2D: y and the rotations about x and z),
+ * and minv() its inverse with the same zeros. */
 typedef struct op {
   esf_sim *s;
   double ck, cc; /* weights of the springs and the dashpots */
+  const double *x;
+  double *y;
   size_t contacts;
 } op;
 
@@ -104,41 +166,20 @@ static inline double mass(const esf_sim *s, size_t i, int j) {
   return j < 3 ? s->p.mass[i] : s->p.inertia[i];
 }
 
-static void contact(const op *o, size_t a, long b, const double n[3], double la,
-                    double lb, const double kc[4], const double *x, double *y) {
-  esf_stab_contact_apply(
-      n, la, lb, o->ck * kc[0] + o->cc * kc[2], o->ck * kc[1] + o->cc * kc[3], x + 6 * a,
-      b >= 0 ? x + 6 * (size_t)b : NULL, y + 6 * a, b >= 0 ? y + 6 * (size_t)b : NULL);
+static void apply_one(const esf_stab_contact *c, void *ctx) {
+  op *o = ctx;
+  const int wall = c->b < 0;
+  esf_stab_contact_apply(c->n, c->slip ? c->t : NULL, c->la, c->lb,
+                         o->ck * c->kc[0] + o->cc * c->kc[2],
+                         o->ck * c->kc[1] + o->cc * c->kc[3], o->x + 6 * c->a,
+                         wall ? NULL : o->x + 6 * (size_t)c->b, o->y + 6 * c->a,
+                         wall ? NULL : o->y + 6 * (size_t)c->b);
 }
 
 static void op_apply(op *o, const double *x, double *y) {
-  const esf_sim *s = o->s;
-  const esf_particles *p = &s->p;
-  const esf_materials *mt = &s->mats;
-  const esf_candidates *pp = &s->nb.pp, *pw = &s->nb.pw;
-  double n[3], la, lb, kc[4];
-  size_t cnt = 0;
-  for (size_t k = 0; k < pp->n; k++) {
-    if (!pair_geometry(s, k, n, &la, &lb)) continue;
-    uint32_t a = pp->a[k], b = pp->b[k];
-    const esf_pair_params *par = &mt->pair[p->material[a] * mt->n + p->material[b]];
-    esf_stab_springs(par, s->beta, p->mass[a] * p->mass[b] / (p->mass[a] + p->mass[b]),
-                     kc);
-    sliding(par, &pp->h[k], pp->touch[k], p->radius[a] - la + p->radius[b] - lb, kc);
-    contact(o, a, (long)b, n, la, lb, kc, x, y);
-    cnt++;
-  }
-  for (size_t k = 0; k < pw->n; k++) {
-    if (!wall_geometry(s, k, n, &la)) continue;
-    uint32_t a = pw->a[k];
-    const esf_pair_params *par =
-        &mt->pair[p->material[a] * mt->n + s->walls.e[pw->b[k]].material];
-    esf_stab_springs(par, s->beta, p->mass[a], kc);
-    sliding(par, &pw->h[k], pw->touch[k], p->radius[a] - la, kc);
-    contact(o, a, -1, n, la, 0.0, kc, x, y);
-    cnt++;
-  }
-  o->contacts = cnt;
+  o->x = x;
+  o->y = y;
+  o->contacts = esf_stab_contacts(o->s, apply_one, o);
 }
 
 /* the M inner product */
@@ -231,12 +272,32 @@ static int lanczos(op *o, double *u, double *v, size_t nd, double *al, double *b
   return ESF_OK;
 }
 
-/* The top mode of the Ritz vector y (unit): frequency, damping ratio, limit, the
- * particle with the largest share and its strongest touching partner; w is scratch. */
-static void top_mode(op *o, const double *y, double *w, size_t nd, esf_stability *out) {
+/* The energy y.G^T S G.y of each contact in the mode y; the largest names the mode. */
+typedef struct share {
+  const double *y;
+  double best;
+  size_t a;
+  long b;
+} share;
+
+static void share_one(const esf_stab_contact *c, void *ctx) {
+  share *h = ctx;
+  const int wall = c->b < 0;
+  double ya[6] = {0}, yb[6] = {0}, e = 0;
+  const double *xa = h->y + 6 * c->a, *xb = wall ? NULL : h->y + 6 * (size_t)c->b;
+  esf_stab_contact_apply(c->n, c->slip ? c->t : NULL, c->la, c->lb, c->kc[0], c->kc[1],
+                         xa, xb, ya, wall ? NULL : yb);
+  for (int j = 0; j < 6; j++) e += xa[j] * ya[j] + (wall ? 0.0 : xb[j] * yb[j]);
+  if (e > h->best) h->best = e, h->a = c->a, h->b = c->b;
+}
+
+/* The top mode of the Ritz vector y (unit in M): frequency, damping ratio, the step at
+ * which it reaches 4 with the local damping factor fl, and the contact that stores most
+ * of its energy; w is scratch. */
+static void top_mode(op *o, const double *y, double *w, size_t nd, double fl,
+                     esf_stability *out) {
   const esf_sim *s = o->s;
-  const esf_particles *p = &s->p;
-  o->ck = 1, o->cc = 0; /* a = y.K.y, b = y.C.y (y of unit M norm) */
+  o->ck = 1, o->cc = 0; /* a = y.K.y, b = y.C.y */
   memset(w, 0, nd * sizeof *w);
   op_apply(o, y, w);
   double a = 0, b = 0;
@@ -247,31 +308,14 @@ static void top_mode(op *o, const double *y, double *w, size_t nd, esf_stability
   for (size_t q = 0; q < nd; q++) b += y[q] * w[q];
   out->omega = a > 0 ? sqrt(a) : 0.0;
   out->xi = a > 0 ? b / (2 * out->omega) : 0.0;
-  out->dt_limit = a > 0 ? (-b + sqrt(b * b + 4 * a)) / a : INFINITY;
-  size_t best = 0;
-  double big = -1;
-  for (size_t i = 0; i < p->n; i++) {
-    double e = 0;
-    for (int j = 0; j < 6; j++)
-      e += mass(s, i, j) * y[6 * i + (size_t)j] * y[6 * i + (size_t)j];
-    if (e > big) big = e, best = i;
+  /* fl (dt^2 a + 2 dt b) = 4 */
+  out->dt_limit = a > 0 ? (-b + sqrt(b * b + 4 * a / fl)) / a : INFINITY;
+  share h = {.y = y, .best = -1};
+  esf_stab_contacts(s, share_one, &h);
+  if (h.best >= 0) {
+    out->id = s->p.id[h.a];
+    out->other = h.b >= 0 ? s->p.id[h.b] : -1;
   }
-  out->id = p->id[best];
-  big = -1;
-  double n[3], la, lb;
-  const esf_candidates *c = &s->nb.pp;
-  for (size_t k = 0; k < c->n; k++) {
-    if ((c->a[k] != best && c->b[k] != best) || !pair_geometry(s, k, n, &la, &lb))
-      continue;
-    size_t q = c->a[k] == best ? c->b[k] : c->a[k];
-    double e = 0;
-    for (int j = 0; j < 6; j++)
-      e += mass(s, q, j) * y[6 * q + (size_t)j] * y[6 * q + (size_t)j];
-    if (e > big) big = e, out->other = p->id[q];
-  }
-  c = &s->nb.pw;
-  for (size_t k = 0; k < c->n && big < 0; k++)
-    if (c->a[k] == best && wall_geometry(s, k, n, &la)) out->other = -1;
 }
 
 int esf_stability_estimate(esf_sim *s, double dt, int with_mode, esf_stability *out,
@@ -288,7 +332,8 @@ int esf_stability_estimate(esf_sim *s, double dt, int with_mode, esf_stability *
                     s->p.n);
   }
   double *be = al + LZ_MAX + 2, *sv = be + LZ_MAX + 2, *u = buf, *v = buf + nd;
-  op o = {.s = s, .ck = dt * dt, .cc = 2.0 * dt};
+  const double fl = s->local ? 1.0 + s->cfg.local_coef : 1.0;
+  op o = {.s = s, .ck = fl * dt * dt, .cc = fl * 2.0 * dt};
   int m = 0;
   double theta = 0;
   int rc = lanczos(&o, u, v, nd, al, be, &m, &theta, sv, NULL);
@@ -300,7 +345,7 @@ int esf_stability_estimate(esf_sim *s, double dt, int with_mode, esf_stability *
     rc = lanczos(&o, u, v, nd, al, be, &m, &theta, sv, y); /* regenerates the v_j */
     double ny = sqrt(dot(&o, y, y, nd));
     for (size_t q = 0; q < nd && ny > 0; q++) y[q] /= ny;
-    if (!rc) top_mode(&o, y, u, nd, out);
+    if (!rc) top_mode(&o, y, u, nd, fl, out);
   }
   free(buf);
   free(al);

@@ -14,12 +14,15 @@
 #include "util/esf_error.h"
 
 /* y += G^T S G x for one contact with unit normal n (from A toward B or the wall), lever
- * arms la, lb from the centres to the contact point and S = kn n n^T + kt (I - n n^T).
- * x and y hold a body's 6 local coordinates (translation, rotation); xb, yb NULL for a
- * wall (fixed). */
-static inline void esf_stab_contact_apply(const double n[3], double la, double lb,
-                                          double kn, double kt, const double *xa,
-                                          const double *xb, double *ya, double *yb) {
+ * arms la, lb from the centres to the contact point and S = kn n n^T + kt (I - n n^T
+ * - t t^T) with t the unit slip direction of a sliding contact (radial return keeps the
+ * spring across the slip, not along it), or S = kn n n^T + kt (I - n n^T) when t is
+ * NULL. x and y hold a body's 6 local coordinates (translation, rotation); xb, yb NULL
+ * for a wall (fixed). */
+static inline void esf_stab_contact_apply(const double n[3], const double *t, double la,
+                                          double lb, double kn, double kt,
+                                          const double *xa, const double *xb, double *ya,
+                                          double *yb) {
   /* the contact point's relative motion dc = dxB + lb n x dthB - dxA + la n x dthA */
   double dc[3], c[3];
   v3_cross(c, n, xa + 3);
@@ -29,8 +32,9 @@ static inline void esf_stab_contact_apply(const double n[3], double la, double l
     for (int q = 0; q < 3; q++) dc[q] += xb[q] + lb * c[q];
   }
   /* f = S dc, then G^T f: -f and la f x n on A, f and lb f x n on B */
-  double dn = v3_dot(n, dc), f[3];
-  for (int q = 0; q < 3; q++) f[q] = kt * dc[q] + (kn - kt) * dn * n[q];
+  double dn = v3_dot(n, dc), dt = t ? v3_dot(t, dc) : 0.0, f[3];
+  for (int q = 0; q < 3; q++)
+    f[q] = kt * dc[q] + (kn - kt) * dn * n[q] - (t ? kt * dt * t[q] : 0.0);
   v3_cross(c, f, n);
   for (int q = 0; q < 3; q++) {
     ya[q] -= f[q];
@@ -48,6 +52,26 @@ static inline void esf_stab_contact_apply(const double n[3], double la, double l
  * stiffness); beta > 0: Rayleigh dashpots c = beta k. */
 void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar, double kc[4]);
 
+/* One touching contact as the check sees it: bodies a and b (b < 0: a wall), unit
+ * normal n from a, lever arms, kc = kn, kt, cn, ct (esf_stab_springs; kt and ct zero
+ * when frictionless) and, when slip, the unit slip direction t of a contact at its
+ * Coulomb cap. */
+typedef struct esf_stab_contact {
+  size_t a;
+  long b;
+  double n[3], t[3], la, lb, kc[4];
+  int slip;
+} esf_stab_contact;
+
+typedef void (*esf_stab_visit)(const esf_stab_contact *c, void *ctx);
+
+/* Calls fn for every touching contact at the sim's state (pairs overlapping or bonded;
+ * wall contacts that carry force, as forces.c chooses among hits on shared mesh edges
+ * and vertices), pairs first in list order, then walls by particle; returns how many.
+ * The one source of the network that the live check applies and `esfera modes`
+ * assembles. */
+size_t esf_stab_contacts(const esf_sim *s, esf_stab_visit fn, void *ctx);
+
 /* One estimate at step dt. */
 typedef struct esf_stability {
   double lambda;   /* largest eigenvalue of dt^2 A + 2 dt B (the leapfrog needs < 4) */
@@ -58,12 +82,14 @@ typedef struct esf_stability {
   size_t contacts; /* touching contacts in the network */
   int iters;       /* Lanczos steps */
   int64_t id;      /* id of the particle with the largest share of the mode (with_mode) */
-  int64_t other;   /* id of its partner in the mode's stiffest contact, -1 for a wall,
-                      -2 none (with_mode) */
+  int64_t other;   /* id of its partner in the contact that stores most of the mode's
+                      energy, -1 for a wall, -2 none (with_mode) */
 } esf_stability;
 
 /* Estimates lambda at step dt (Lanczos, matrix-free, serial and deterministic; the
- * state is not changed); with_mode: also the top mode (a second Lanczos pass). Errors:
+ * state is not changed), with local damping of coefficient alpha_c scaling the operator
+ * by (1 + alpha_c) (its force can add to the unbalanced one in the unstable
+ * period-two mode); with_mode: also the top mode (a second Lanczos pass). Errors:
  * ESF_ENOMEM. */
 int esf_stability_estimate(esf_sim *s, double dt, int with_mode, esf_stability *out,
                            esf_error *err);

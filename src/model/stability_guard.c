@@ -40,7 +40,7 @@ int esf_stability_guard(esf_sim *s, int final, esf_error *err) {
   if (!final && s->step % c->stability_every != 0) return ESF_OK;
   double t0 = esf_now_s();
   esf_stability st;
-  int first = s->stab.checks == 0;
+  int first = !isfinite(s->stab.dt_limit); /* no check with contacts yet */
   int rc = esf_stability_estimate(s, s->dt, first, &st, err);
   if (!rc && st.lambda >= 4 && !first) rc = esf_stability_estimate(s, s->dt, 1, &st, err);
   if (rc) return rc;
@@ -49,15 +49,15 @@ int esf_stability_guard(esf_sim *s, int final, esf_error *err) {
   s->stab.seconds += esf_now_s() - t0;
   char who[128];
   describe(who, sizeof who, &st);
-  if (first) {
+  if (first && (st.contacts || s->stab.checks == 1)) {
     s->stab.dt_limit = st.dt_limit;
     if (st.contacts)
       esf_sim_log(s,
                   "stability check at step %ld: lambda %.4g of 4 (%zu contacts, %d "
                   "Lanczos steps); top mode %.6g rad/s, damping ratio %.3g, stable below "
                   "dt = %.6g s (%.3g x dt; %s); every %ld steps",
-                  s->step, st.lambda, st.contacts, st.iters, st.omega, st.xi,
-                  st.dt_limit, st.dt_limit / s->dt, who, c->stability_every);
+                  s->step, st.lambda, st.contacts, st.iters, st.omega, st.xi, st.dt_limit,
+                  st.dt_limit / s->dt, who, c->stability_every);
     else
       esf_sim_log(s, "stability check at step %ld: no contacts yet; every %ld steps",
                   s->step, c->stability_every);
@@ -111,13 +111,14 @@ int esf_stability_runaway(const esf_sim *s, esf_error *err) {
   if (isfinite(s->stab.dt_limit))
     snprintf(lim, sizeof lim, "; the live check's limit at its first check: %.4g s",
              s->stab.dt_limit);
-  return esf_fail(err, ESF_ENUMERIC,
-                  "step %ld (t = %.6g s): particle id %lld %s in one step of dt = %.4g s, "
-                  "critical dt (%s) = %.4g s (speed %.4g m/s, spin %.4g rad/s): contacts "
-                  "would be skipped (the limit is %.2g of a radius, or radian, a step). "
-                  "The run has run away (unstable%s) or dt is too large for the speeds "
-                  "in the scene. Lower integrator.frac or dt",
-                  s->step, s->t, (long long)p->id[worst], what, dt,
-                  esf_dt_rule_names[s->cfg.dt_rule], s->dte.crit[s->cfg.dt_rule],
-                  sqrt(v3_norm2(v)), sqrt(v3_norm2(w)), ESF_RUNAWAY_TRAVEL, lim);
+  return esf_fail(
+      err, ESF_ENUMERIC,
+      "step %ld (t = %.6g s): particle id %lld %s in one step of dt = %.4g s, "
+      "critical dt (%s) = %.4g s (speed %.4g m/s, spin %.4g rad/s): contacts "
+      "would be skipped (the limit is %.2g of a radius, or radian, a step). "
+      "The run has run away (unstable%s) or dt is too large for the speeds "
+      "in the scene. Lower integrator.frac or dt",
+      s->step, s->t, (long long)p->id[worst], what, dt, esf_dt_rule_names[s->cfg.dt_rule],
+      s->dte.crit[s->cfg.dt_rule], sqrt(v3_norm2(v)), sqrt(v3_norm2(w)),
+      ESF_RUNAWAY_TRAVEL, lim);
 }
