@@ -10,7 +10,8 @@
 # exits 1 when any failed.
 set -u
 here=$(cd "$(dirname "$0")" && pwd)
-build=${1:?usage: tests/fuzz/run.sh BUILD_DIR [SECONDS] [HARNESS...]}
+[ -d "${1:-}" ] || { echo "usage: tests/fuzz/run.sh BUILD_DIR [SECONDS] [HARNESS...]"; exit 2; }
+build=$(cd "$1" && pwd)
 secs=${2:-45}
 shift $(($# < 2 ? $# : 2))
 harnesses=("$@")
