@@ -42,9 +42,10 @@ struct esf_wall_index {
 
 static const esf_wall_elem *reference(const esf_walls *w) { return w->e0 ? w->e0 : w->e; }
 
+/* clamped before the cast: x may lie any distance from the grid */
 static int cell_of(const grid *g, int q, double x) {
-  int c = (int)floor((x - g->lo[q]) / g->h);
-  return c < 0 ? 0 : c >= g->nc[q] ? g->nc[q] - 1 : c;
+  double c = floor((x - g->lo[q]) / g->h);
+  return !(c >= 0) ? 0 : c >= g->nc[q] ? g->nc[q] - 1 : (int)c;
 }
 
 static int build_grid(esf_wall_index *ix, grid *gr, const uint32_t *el, size_t m,
@@ -63,16 +64,17 @@ static int build_grid(esf_wall_index *ix, grid *gr, const uint32_t *el, size_t m
   }
   double span = fmax(hi[0] - gr->lo[0], fmax(hi[1] - gr->lo[1], hi[2] - gr->lo[2]));
   gr->h = ext > 0 ? ext : span;
-  double ncell;
+  double ncell, c[3];
   for (;;) {
     ncell = 1;
     for (int q = 0; q < 3; q++) {
-      gr->nc[q] = (int)floor((hi[q] - gr->lo[q]) / gr->h) + 1;
-      ncell *= gr->nc[q];
+      c[q] = floor((hi[q] - gr->lo[q]) / gr->h) + 1;
+      ncell *= c[q];
     }
     if (ncell <= 8.0 * (double)m + 64) break;
     gr->h *= 1.25;
   }
+  for (int q = 0; q < 3; q++) gr->nc[q] = (int)c[q]; /* each <= ncell: exact */
   size_t nc = (size_t)ncell, total = 0;
   gr->start = calloc(nc + 1, sizeof *gr->start);
   if (!gr->start) return esf_fail(err, ESF_ENOMEM, "out of memory for the wall index");

@@ -275,19 +275,21 @@ int esf_ckpt_load(const char *path, esf_ckpt **out, esf_error *err) {
       snprintf(m, sizeof m, "truncated at byte %zu of %zu (no end marker)", pos, c->len);
       return bad(c, err, m);
     }
-    char tag[9] = {0};
+    char tag[9] = {0}, shown[9] = {0}; /* shown: the tag as text, for messages */
     memcpy(tag, d + pos, 8);
+    for (int k = 0; k < 8 && tag[k]; k++)
+      shown[k] = tag[k] >= 0x20 && tag[k] < 0x7f ? tag[k] : '?';
     uint64_t len;
     memcpy(&len, d + pos + 8, 8);
     if (len > c->len - pos - 16 || c->len - pos - 16 - len < 4) {
-      snprintf(m, sizeof m, "truncated: section '%.8s' cut short at byte %zu", tag,
+      snprintf(m, sizeof m, "truncated: section '%s' cut short at byte %zu", shown,
                c->len);
       return bad(c, err, m);
     }
     uint32_t crc;
     memcpy(&crc, d + pos + 16 + len, 4);
     if (crc32(d + pos + 16, (size_t)len) != crc) {
-      snprintf(m, sizeof m, "corrupted: section '%.8s' fails its checksum", tag);
+      snprintf(m, sizeof m, "corrupted: section '%s' fails its checksum", shown);
       return bad(c, err, m);
     }
     if (c->nsec == 32) return bad(c, err, "corrupted: too many sections");

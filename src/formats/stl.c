@@ -32,19 +32,31 @@ int esf_stl_check_triangle(const double v[3][3], esf_error *err) {
         return esf_fail(err, ESF_EINPUT,
                         "vertex %d has a non-finite coordinate (%g, %g, %g)", k + 1,
                         v[k][0], v[k][1], v[k][2]);
-  double l2 = 0, e[3], c[3], ab[3], ac[3];
+  /* the edges scaled by a power of two (exact) so that the largest component is in
+     [0.5, 1): squares and products neither overflow nor underflow */
+  double l2 = 0, e[3][3], c[3], m = 0;
   for (int k = 0; k < 3; k++) {
-    v3_sub(e, v[(k + 1) % 3], v[k]);
-    if (v3_norm2(e) > l2) l2 = v3_norm2(e);
+    v3_sub(e[k], v[(k + 1) % 3], v[k]);
+    for (int q = 0; q < 3; q++) m = fmax(m, fabs(e[k][q]));
   }
-  if (!(l2 > 0))
+  if (!isfinite(m))
+    return esf_fail(err, ESF_EINPUT,
+                    "vertices too far apart: an edge of (%g, %g, %g), (%g, %g, %g), "
+                    "(%g, %g, %g) is longer than the largest number",
+                    v[0][0], v[0][1], v[0][2], v[1][0], v[1][1], v[1][2], v[2][0],
+                    v[2][1], v[2][2]);
+  if (!(m > 0))
     return esf_fail(err, ESF_EINPUT,
                     "degenerate triangle (its three vertices coincide at "
                     "(%g, %g, %g))",
                     v[0][0], v[0][1], v[0][2]);
-  v3_sub(ab, v[1], v[0]);
-  v3_sub(ac, v[2], v[0]);
-  v3_cross(c, ab, ac);
+  int ex;
+  frexp(m, &ex);
+  for (int k = 0; k < 3; k++) {
+    v3_scale(e[k], ldexp(1.0, -ex), e[k]);
+    if (v3_norm2(e[k]) > l2) l2 = v3_norm2(e[k]);
+  }
+  v3_cross(c, e[0], e[2]); /* (v1 - v0) x (v0 - v2) = (v1 - v0) x -(v2 - v0) */
   double rel = v3_norm(c) / l2;
   if (!(rel > ESF_STL_SLIVER))
     return esf_fail(

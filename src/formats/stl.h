@@ -28,7 +28,8 @@ typedef struct esf_stl {
 int esf_stl_read(const char *path, esf_stl *out, esf_error *err);
 
 /* Checks one triangle; 0 when sound, else ESF_EINPUT with a message saying why
- * (non-finite coordinate, coincident vertices, zero or near-zero area). */
+ * (non-finite coordinate, coincident vertices, zero or near-zero area, an edge longer
+ * than the largest double), whatever the scale of the coordinates. */
 int esf_stl_check_triangle(const double v[3][3], esf_error *err);
 
 void esf_stl_release(esf_stl *s);

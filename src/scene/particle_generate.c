@@ -61,6 +61,11 @@ static int check_spec(const esf_fill_spec *s, double *rmax, esf_error *err) {
       return esf_fail(err, ESF_EINPUT,
                       "region: min %c (%g) must be less than max %c (%g)", axis[k],
                       s->min[k], axis[k], s->max[k]);
+    if (!isfinite(s->max[k] - s->min[k]))
+      return esf_fail(err, ESF_EINPUT,
+                      "region: its extent in %c, max %g - min %g, is too large to "
+                      "represent",
+                      axis[k], s->max[k], s->min[k]);
   }
   const esf_size_dist *d = &s->size;
   double r = 0.0, sum;
@@ -210,29 +215,29 @@ static void grid_release(grid *g) {
 static int grid_init(grid *g, const esf_fill_spec *s, double rmax, size_t expect,
                      esf_error *err) {
   memset(g, 0, sizeof *g);
-  double len[3], vol = 1.0;
+  double len[3], logvol = 0.0;
   int axes = s->dim;
   for (int k = 0; k < 3; k++) {
     g->lo[k] = s->dim == 2 && k == 1 ? 0.0 : s->min[k];
     len[k] = s->dim == 2 && k == 1 ? 0.0 : s->max[k] - s->min[k];
-    if (len[k] > 0.0) vol *= len[k];
+    if (len[k] > 0.0) logvol += log(len[k]);
   }
-  /* at most ~4 cells per expected sphere (and at least 2 r_max per cell) */
+  /* at most ~4 cells per expected sphere (and at least 2 r_max per cell); the volume
+     in logarithms, as it may overflow */
   double target = 4.0 * (double)expect + 64.0;
-  double h = 2.0 * rmax, hmin = pow(vol / target, 1.0 / axes);
+  double h = 2.0 * rmax, hmin = exp((logvol - log(target)) / axes), total, c[3];
   if (h < hmin) h = hmin;
-  double total;
   for (;;) {
     total = 1.0;
     for (int k = 0; k < 3; k++) {
-      double c = len[k] > 0.0 ? ceil(len[k] / h) : 1.0;
-      if (c < 1.0) c = 1.0;
-      g->nc[k] = (size_t)c;
-      total *= c;
+      c[k] = len[k] > 0.0 ? ceil(len[k] / h) : 1.0;
+      if (c[k] < 1.0) c[k] = 1.0;
+      total *= c[k];
     }
     if (total <= 2.0 * target) break;
     h *= 1.25; /* ceil() rounding can still leave too many cells on thin regions */
   }
+  for (int k = 0; k < 3; k++) g->nc[k] = (size_t)c[k]; /* each <= total: exact */
   g->h = h;
   size_t ncell = (size_t)total;
   g->head = malloc(ncell * sizeof *g->head);
@@ -422,19 +427,20 @@ int esf_generate_lattice(const esf_fill_spec *spec, esf_particle_defs *out,
   /* sites per axis: centres at min + rmax + i s with the sphere inside the region (a
    * relative 1e-9 of slack absorbs rounding in (L - 2 rmax) / s) */
   size_t ns[3];
-  double total = 1.0;
+  double total = 1.0, q[3];
   for (int k = 0; k < 3; k++) {
     if (spec->dim == 2 && k == 1) {
       ns[k] = 1;
       continue;
     }
-    double q = floor((spec->max[k] - spec->min[k] - 2.0 * rmax) / s + 1e-9) + 1.0;
-    ns[k] = (size_t)q;
-    total *= q;
+    q[k] = floor((spec->max[k] - spec->min[k] - 2.0 * rmax) / s + 1e-9) + 1.0;
+    total *= q[k];
   }
   if (total > 1e9)
     return esf_fail(err, ESF_EINPUT, "lattice: %.3g sites is too many (spacing %g)",
                     total, s);
+  for (int k = 0; k < 3; k++) /* each <= total: exact */
+    if (!(spec->dim == 2 && k == 1)) ns[k] = (size_t)q[k];
   size_t nsites = (size_t)total;
   size_t n = spec->count ? spec->count : nsites;
   if (n > nsites)

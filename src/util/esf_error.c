@@ -1,9 +1,17 @@
 /* esf_error.c — the single error-reporting path: a status code plus a message buffer
- * owned by the caller. No global state; nothing here prints or exits. */
+ * owned by the caller. No global state; nothing here prints or exits. Messages quote
+ * input (a CSV field, an STL token, a YAML key), so control characters other than
+ * newline and tab are shown as '?': a message never drives the terminal it is printed
+ * on. */
 #include "util/esf_error.h"
 
 #include <stdio.h>
 #include <string.h>
+
+static void printable(char *s) {
+  for (; *s; s++)
+    if ((unsigned char)*s < 0x20 ? *s != '\n' && *s != '\t' : *s == 0x7f) *s = '?';
+}
 
 void esf_error_clear(esf_error *err) {
   if (!err) return;
@@ -15,6 +23,7 @@ int esf_failv(esf_error *err, int code, const char *fmt, va_list ap) {
   if (err) {
     err->code = code;
     vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+    printable(err->msg);
   }
   return code;
 }
@@ -34,6 +43,7 @@ int esf_error_prefix(esf_error *err, const char *fmt, ...) {
   va_start(ap, fmt);
   vsnprintf(head, sizeof head, fmt, ap);
   va_end(ap);
+  printable(head);
   size_t h = strlen(head), m = strlen(err->msg);
   if (h >= sizeof err->msg) h = sizeof err->msg - 1;
   if (h + m >= sizeof err->msg) m = sizeof err->msg - 1 - h;
