@@ -103,23 +103,43 @@ static int check_walls(const esf_ynode *seq, const esf_ynode *walls, const esf_s
   return rc;
 }
 
+/* Particles outside the domain are left out of the pair search (they are skipped, and
+ * one far away would stretch the search's cell grid over all the space between, making
+ * it slow): in[k] is the particle of search index k, x and r their positions and radii
+ * (p's own arrays when no particle is left out). */
 static int check_pairs(const esf_ynode *seq, const esf_sim *s, const uint32_t *entry,
                        esf_error *err) {
   const esf_particles *p = &s->p;
   esf_cells *cells = NULL;
   esf_pairbuf pb = {0};
-  int rc = esf_cells_create(&cells, err);
-  if (!rc) rc = esf_cells_pairs(cells, p->n, p->x, p->radius, 0.0, &pb, err);
+  size_t m = 0;
+  for (size_t i = 0; i < p->n; i++) m += !outside(s, p->x + 3 * i);
+  const int subset = m < p->n;
+  uint32_t *in = NULL;
+  double *x = p->x, *r = p->radius;
+  int rc = ESF_OK;
+  if (subset) {
+    in = malloc(m * sizeof *in + 1);
+    x = malloc(3 * m * sizeof *x + 1);
+    r = malloc(m * sizeof *r + 1);
+    if (!in || !x || !r) rc = esf_fail(err, ESF_ENOMEM, "out of memory");
+  }
+  for (size_t i = 0, k = 0; subset && !rc && i < p->n; i++) {
+    if (outside(s, p->x + 3 * i)) continue;
+    in[k] = (uint32_t)i;
+    memcpy(x + 3 * k, p->x + 3 * i, 3 * sizeof *x);
+    r[k++] = p->radius[i];
+  }
+  if (!rc) rc = esf_cells_create(&cells, err);
+  if (!rc) rc = esf_cells_pairs(cells, m, x, r, 0.0, &pb, err);
   for (size_t k = 0; k < pb.n && !rc; k++) {
-    const uint32_t a = pb.i[k], b = pb.j[k];
+    const uint32_t a = subset ? in[pb.i[k]] : pb.i[k], b = subset ? in[pb.j[k]] : pb.j[k];
     const double rmin = p->radius[a] < p->radius[b] ? p->radius[a] : p->radius[b];
     double dx[3];
     v3_sub(dx, p->x + 3 * b, p->x + 3 * a);
     const double d = v3_norm(dx);
     const double un = p->radius[a] + p->radius[b] - d;
-    if (!(un > s->cfg.max_overlap * rmin) || outside(s, p->x + 3 * a) ||
-        outside(s, p->x + 3 * b))
-      continue;
+    if (!(un > s->cfg.max_overlap * rmin)) continue;
     char pa[700], pbp[700];
     particle_place(seq, entry, a, pa, sizeof pa);
     particle_place(seq, entry, b, pbp, sizeof pbp);
@@ -133,6 +153,11 @@ static int check_pairs(const esf_ynode *seq, const esf_sim *s, const uint32_t *e
   }
   esf_pairbuf_release(&pb);
   esf_cells_free(&cells);
+  if (subset) {
+    free(in);
+    free(x);
+    free(r);
+  }
   return rc;
 }
 

@@ -7,7 +7,8 @@
 # memory. Prints one line per harness, "fuzz NAME: ok (...)" or "fuzz NAME: FAILED
 # (...)" with the input that failed saved as BUILD_DIR/fuzz/NAME-crash-... (replay it
 # with BUILD_DIR/tests/fuzz/fuzz_NAME FILE, or replay_NAME FILE in any build), and
-# exits 1 when any failed.
+# exits 1 when any failed. FUZZ_SEED: libFuzzer's -seed (default 0, a random one; CI
+# gives one, so that a run's inputs repeat for the same code and machine speed).
 set -u
 here=$(cd "$(dirname "$0")" && pwd)
 [ -d "${1:-}" ] || { echo "usage: tests/fuzz/run.sh BUILD_DIR [SECONDS] [HARNESS...]"; exit 2; }
@@ -36,6 +37,7 @@ for h in "${harnesses[@]}"; do
   mkdir -p "$work/$h"
   log=$work/$h.log
   (cd "$work" && "$exe" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 \
+    -seed="${FUZZ_SEED:-0}" \
     -dict="$dict" -artifact_prefix="$work/$h-" -print_final_stats=1 \
     "$work/$h" "$work/corpus/$h" < /dev/null > "$log" 2>&1)
   rc=$?
