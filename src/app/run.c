@@ -131,6 +131,7 @@ static int check_energy(esf_sim *s, int *warned, esf_error *err) {
                   fabs(L->w_walls) + fabs(L->e_removed) + fabs(L->pot_g) + fabs(L->el_n) +
                   fabs(L->el_t) + fabs(L->d_bonds);
   budget += fabs(L->w_fluid); /* the fluid force (drag.c) */
+  budget += fabs(L->el_r) + fabs(L->d_rolling); /* rolling resistance */
   double r = fabs(err_e), ratio = flow > 0 ? r / flow : INFINITY;
   int from_nothing = err_e > 0.25 * budget && err_e > 1e-30;
   int stop = ratio > ESF_RESID_STOP && r > 1e-2 * budget;

@@ -26,14 +26,18 @@
 #include "util/blob.h"
 #include "util/version.h"
 
-/* Update with every field added to esf_contact_hist or esf_contact_bond
- * (contact_law.h): a checkpoint records it and a resume refuses another. */
-#define HIST_LAYOUT "xi f64[3], n f64[3]; bond: s f64, on i32, spare i32"
+/* Update with every field added to esf_contact_hist, esf_contact_bond or
+ * esf_contact_roll (contact_law.h): a checkpoint records it and a resume refuses
+ * another. */
+#define HIST_LAYOUT                                                                      \
+  "xi f64[3], n f64[3]; bond: s f64, on i32, spare i32; roll: m f64[3], t f64"
 _Static_assert(sizeof(esf_contact_hist) == 6 * sizeof(double) &&
-                   sizeof(esf_contact_bond) == 2 * sizeof(double),
-               "esf_contact_hist or esf_contact_bond changed: update HIST_LAYOUT");
+                   sizeof(esf_contact_bond) == 2 * sizeof(double) &&
+                   sizeof(esf_contact_roll) == 4 * sizeof(double),
+               "esf_contact_hist, _bond or _roll changed: update HIST_LAYOUT");
 
-enum { CK_VERSION = 2, CK_BOM = 0x01020304 }; /* 2: bond states apart */
+/* 2: bond states apart; 3: rolling states apart */
+enum { CK_VERSION = 3, CK_BOM = 0x01020304 };
 static const char ck_magic[8] = "ESFCKPT";
 
 static uint32_t crc32(const unsigned char *p, size_t n) {
@@ -80,10 +84,11 @@ static void put_sec(esf_blob *b, const char *tag, const void *p, size_t n) {
 static void put_contacts(esf_blob *b, const char *tag, const esf_candidates *c) {
   size_t s = sec_begin(b, tag);
   uint64_t n = c->n;
-  uint8_t has_vc0 = c->vc0 != NULL, has_bond = c->bond != NULL;
+  uint8_t has_vc0 = c->vc0 != NULL, has_bond = c->bond != NULL, has_roll = c->roll != NULL;
   esf_blob_put(b, &n, 8);
   esf_blob_put(b, &has_vc0, 1);
   esf_blob_put(b, &has_bond, 1);
+  esf_blob_put(b, &has_roll, 1);
   esf_blob_put(b, c->a, n * sizeof *c->a);
   esf_blob_put(b, c->b, n * sizeof *c->b);
   esf_blob_put(b, c->h, n * sizeof *c->h);
@@ -94,6 +99,7 @@ static void put_contacts(esf_blob *b, const char *tag, const esf_candidates *c) 
   for (uint64_t k = 0; has_vc0 && k < n; k++)
     esf_blob_put(b, c->touch[k] ? c->vc0 + 3 * k : zero, 3 * sizeof *c->vc0);
   if (has_bond) esf_blob_put(b, c->bond, n * sizeof *c->bond);
+  if (has_roll) esf_blob_put(b, c->roll, n * sizeof *c->roll);
   sec_end(b, s);
 }
 

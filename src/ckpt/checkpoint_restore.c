@@ -153,7 +153,8 @@ static int check_ledger(const esf_ckpt *c, const esf_sim *s, const esf_ledger *L
   const double v[] = {
       L->kin_t,    L->kin_r,        L->pot_g,      L->el_n,     L->el_t,
       L->d_normal, L->d_tangential, L->d_friction, L->d_global, L->d_local,
-      L->w_walls,  L->e_removed,    L->d_bonds,    L->w_fluid,  L->e0};
+      L->w_walls,  L->e_removed,    L->d_bonds,    L->w_fluid,  L->e0,
+      L->el_r,     L->d_rolling};
   if ((L->started != 0 && L->started != 1) || !all_finite(v, sizeof v / sizeof *v))
     return invalid(c, err, "the energy ledger holds a non-finite value or flag");
   return ESF_OK;
@@ -192,7 +193,8 @@ static int check_contacts(const esf_ckpt *c, const esf_candidates *l, size_t m, 
       return invalid(c, err, "a contact list is not in the order of its build");
     if (l->touch[k] > 1 || !all_finite(l->h[k].xi, 3) || !all_finite(l->h[k].n, 3) ||
         (l->vc0 && !all_finite(l->vc0 + 3 * k, 3)) ||
-        (l->bond && (!isfinite(l->bond[k].s) || (uint32_t)l->bond[k].on > 1)))
+        (l->bond && (!isfinite(l->bond[k].s) || (uint32_t)l->bond[k].on > 1)) ||
+        (l->roll && (!all_finite(l->roll[k].m, 3) || !isfinite(l->roll[k].t))))
       return invalid(c, err, "a contact's history or flags are not valid");
   }
   return ESF_OK;
@@ -202,13 +204,15 @@ static int get_contacts(const esf_ckpt *c, const char *tag, esf_candidates *dst,
                         size_t np, size_t nb_other, esf_error *err) {
   esf_blob_in in = esf_ckpt_sec(c, tag);
   uint64_t m = 0;
-  uint8_t has_vc0 = 0, has_bond = 0;
+  uint8_t has_vc0 = 0, has_bond = 0, has_roll = 0;
   esf_blob_get(&in, &m, 8);
   esf_blob_get(&in, &has_vc0, 1);
   esf_blob_get(&in, &has_bond, 1);
+  esf_blob_get(&in, &has_roll, 1);
   if (in.short_read || m > in.n ||
       (m > 0 &&
-       ((has_vc0 != 0) != (dst->vc0 != NULL) || (has_bond != 0) != (dst->bond != NULL))))
+       ((has_vc0 != 0) != (dst->vc0 != NULL) || (has_bond != 0) != (dst->bond != NULL) ||
+        (has_roll != 0) != (dst->roll != NULL))))
     return mismatch(c, err, "a contact list's header");
   esf_blob_get(&in, dst->a, m * sizeof *dst->a);
   esf_blob_get(&in, dst->b, m * sizeof *dst->b);
@@ -216,6 +220,7 @@ static int get_contacts(const esf_ckpt *c, const char *tag, esf_candidates *dst,
   esf_blob_get(&in, dst->touch, m * sizeof *dst->touch);
   if (has_vc0 && dst->vc0) esf_blob_get(&in, dst->vc0, 3 * m * sizeof *dst->vc0);
   if (has_bond && dst->bond) esf_blob_get(&in, dst->bond, m * sizeof *dst->bond);
+  if (has_roll && dst->roll) esf_blob_get(&in, dst->roll, m * sizeof *dst->roll);
   if (in.short_read || in.pos != in.n) return mismatch(c, err, "a contact list's size");
   for (uint64_t k = 0; k < m; k++)
     if (dst->a[k] >= np || dst->b[k] >= nb_other)

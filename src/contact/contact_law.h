@@ -46,6 +46,15 @@ typedef struct esf_contact_bond {
   int32_t spare; /* zero: no padding bytes in the record (checkpoints store it raw) */
 } esf_contact_bond;
 
+/* The rolling resistance state of one contact (docs/physics.md#rolling-resistance):
+ * the springs' torques on A of the epsd model. Kept only by scenes where some pair has
+ * rolling or twisting friction (esf_candidates.roll), 32 bytes a candidate, no padding
+ * (checkpoints store it raw). */
+typedef struct esf_contact_roll {
+  double m[3]; /* rolling spring torque on A, in the contact plane, N m */
+  double t;    /* twisting spring torque on A about n, N m */
+} esf_contact_roll;
+
 /* What the law returns. */
 typedef struct esf_contact_out {
   double f[3];      /* total force on A, N */

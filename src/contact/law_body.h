@@ -195,3 +195,101 @@ static inline void LANE_FN(esf_law_force)(const LANE_R n[3], LANE_R fn,
   for (int q = 0; q < 3; q++) f[q] = ft[q] - fn * n[q];
   LANE_FN(esf_law_cross)(m, n, ft);
 }
+
+/* The rolling and twisting resistance parameters of a contact, per lane
+ * (docs/physics.md#rolling-resistance; contact/contact_rolling.h derives them). */
+typedef struct LANE_FN(esf_law_rpar) {
+  LANE_R kr, ktw; /* rolling and twisting springs, N m/rad (epsd) */
+  LANE_R cr, ctw; /* their dashpots, N m s/rad (epsd) */
+  LANE_R mr, mtw; /* the limits mu_r R* fn and mu_tw R* fn, N m */
+  int cdt;        /* 1: the constant directional torque (type A); 0: epsd (type C) */
+} LANE_FN(esf_law_rpar);
+
+/* What the rolling resistance gives. */
+typedef struct LANE_FN(esf_law_rout) {
+  LANE_R md[3]; /* the dissipative torque on A: the dashpots (epsd) or the constant
+                   torques (cdt), N m; B gets -md */
+  LANE_R ms[3]; /* the springs' torque on A (epsd; zero for cdt), N m */
+  LANE_R hm[3]; /* the new rolling spring torque (in the contact plane), N m */
+  LANE_R ht;    /* the new twisting spring torque about n, N m */
+  LANE_R slip;  /* plastic work of this evaluation (epsd), J */
+  LANE_R e_el;  /* the springs' energy |hm|^2/(2 kr) + ht^2/(2 ktw), J */
+} LANE_FN(esf_law_rout);
+
+/* One elastic-plastic spring of the rolling resistance (Ai et al. 2011, type C), for
+ * a torque that is a vector (ncomp 3) or a scalar about n (ncomp 1): trial
+ * h - k dt wr, capped at lim (radial return), and the plastic work
+ * (h + h_new).(h_trial - h_new)/(2 k); returns the mask of full mobilisation. */
+static inline LANE_M LANE_FN(esf_law_roll_spring)(int ncomp, LANE_R k, LANE_R lim,
+                                                  LANE_R dt, const LANE_R *h,
+                                                  const LANE_R *wr, LANE_R *hn,
+                                                  LANE_R *slip) {
+  const LANE_R zero = {0};
+  LANE_R tr[3], m2 = zero;
+  for (int q = 0; q < ncomp; q++) {
+    tr[q] = h[q] - k * dt * wr[q];
+    m2 = m2 + tr[q] * tr[q];
+  }
+  const LANE_M full = m2 > lim * lim;
+  const LANE_R sc = LANE_SEL(full, lim / LANE_SQRT(m2), zero + 1.0);
+  const LANE_R ik = LANE_SEL(k > 0, 0.5 / k, zero);
+  LANE_R w = zero;
+  for (int q = 0; q < ncomp; q++) {
+    hn[q] = tr[q] * sc;
+    w = w + (h[q] + hn[q]) * (tr[q] - hn[q]);
+  }
+  *slip = *slip + LANE_SEL(full, ik * w, zero);
+  return full;
+}
+
+/* Rolling and twisting resistance (docs/physics.md#rolling-resistance): the relative
+ * spin wrel = wA - wB split into its rolling part wr (in the contact plane) and its
+ * twisting part wn = wrel.n. epsd (type C, Ai et al. 2011 eqs. 13-19): the stored
+ * rolling torque hm (from the last commit; live: the contact was touching, else zero)
+ * projected on the current plane and rescaled to keep |hm|, the spring increment
+ * -kr dt wr, the cap mu_r R* fn, and the dashpot -cr wr switched off while the cap
+ * holds; the twisting torque ht about n alike. cdt (type A): -mu_r R* fn wr/|wr|
+ * and -mu_tw R* fn sign(wn), no history. */
+static inline void LANE_FN(esf_law_rolling)(const LANE_FN(esf_law_rpar) * P, LANE_R dt,
+                                            const LANE_R n[3], const LANE_R wrel[3],
+                                            const LANE_R hm[3], LANE_R ht, LANE_M live,
+                                            LANE_FN(esf_law_rout) * o) {
+  const LANE_R zero = {0};
+  const LANE_R wn = LANE_FN(esf_law_dot)(wrel, n);
+  LANE_R wr[3];
+  for (int q = 0; q < 3; q++) wr[q] = wrel[q] - wn * n[q];
+  o->slip = zero;
+  if (P->cdt) {
+    const LANE_R a = LANE_SQRT(LANE_FN(esf_law_dot)(wr, wr));
+    const LANE_R s = LANE_SEL(a > 0, P->mr / a, zero);
+    const LANE_R t = LANE_SEL(wn > 0, -P->mtw, LANE_SEL(wn < 0, P->mtw, zero));
+    for (int q = 0; q < 3; q++) {
+      o->md[q] = -s * wr[q] + t * n[q];
+      o->ms[q] = zero;
+      o->hm[q] = zero;
+    }
+    o->ht = zero;
+    o->e_el = zero;
+    return;
+  }
+  LANE_R hr[3];
+  const LANE_R m0 = LANE_SQRT(LANE_FN(esf_law_dot)(hm, hm));
+  const LANE_R s = LANE_FN(esf_law_dot)(hm, n);
+  for (int q = 0; q < 3; q++) hr[q] = hm[q] - s * n[q];
+  const LANE_R m1 = LANE_SQRT(LANE_FN(esf_law_dot)(hr, hr));
+  const LANE_R r = LANE_SEL(m1 > 0, m0 / m1, zero);
+  for (int q = 0; q < 3; q++) hr[q] = LANE_SEL(live, hr[q] * r, zero);
+  const LANE_R h1 = LANE_SEL(live, ht, zero);
+  const LANE_M fr = LANE_FN(esf_law_roll_spring)(3, P->kr, P->mr, dt, hr, wr, o->hm,
+                                                 &o->slip);
+  const LANE_M ft = LANE_FN(esf_law_roll_spring)(1, P->ktw, P->mtw, dt, &h1, &wn, &o->ht,
+                                                 &o->slip);
+  const LANE_R dtw = LANE_SEL(ft, zero, -P->ctw * wn);
+  for (int q = 0; q < 3; q++) {
+    o->md[q] = LANE_SEL(fr, zero, -P->cr * wr[q]) + dtw * n[q];
+    o->ms[q] = o->hm[q] + o->ht * n[q];
+  }
+  const LANE_R ikr = LANE_SEL(P->kr > 0, 0.5 / P->kr, zero),
+               ikt = LANE_SEL(P->ktw > 0, 0.5 / P->ktw, zero);
+  o->e_el = ikr * LANE_FN(esf_law_dot)(o->hm, o->hm) + ikt * o->ht * o->ht;
+}

@@ -18,6 +18,7 @@
 
 const char *const esf_mix_names[] = {"harmonic", "arithmetic", "geometric",
                                      "min",      "max",        NULL};
+const char *const esf_roll_names[] = {"epsd", "cdt", NULL};
 
 void esf_mixing_default(esf_mixing *m) {
   m->kn = ESF_MIX_HARMONIC;
@@ -30,6 +31,9 @@ void esf_mixing_default(esf_mixing *m) {
   m->adhesion_force = ESF_MIX_MIN;
   m->adhesion_epsilon = ESF_MIX_GEOMETRIC; /* the mean of ln eps */
   m->adhesion_gap = ESF_MIX_MIN;
+  m->rolling_friction = ESF_MIX_MIN; /* like friction */
+  m->rolling_damping = ESF_MIX_MIN;
+  m->twisting_friction = ESF_MIX_MIN;
 }
 
 double esf_mix(int rule, double a, double b) {
@@ -80,6 +84,7 @@ int esf_materials_mix(esf_materials *t, esf_error *err) {
   const esf_mixing *r = &t->mixing;
   t->all_linear = 1;
   t->any_cohesion = 0;
+  t->any_rolling = 0;
   for (int a = 0; a < t->n; a++) {
     for (int b = 0; b < t->n; b++) {
       const esf_material *A = &t->m[a], *B = &t->m[b];
@@ -129,6 +134,10 @@ int esf_materials_mix(esf_materials *t, esf_error *err) {
         p->adh.gap = esf_mix(r->adhesion_gap, A->adhesion_gap, B->adhesion_gap);
         p->law = &esf_contact_adhesive;
       }
+      p->mu_r = esf_mix(r->rolling_friction, A->rolling_friction, B->rolling_friction);
+      p->eta_r = esf_mix(r->rolling_damping, A->rolling_damping, B->rolling_damping);
+      p->mu_tw = esf_mix(r->twisting_friction, A->twisting_friction, B->twisting_friction);
+      t->any_rolling |= p->mu_r > 0 || p->mu_tw > 0;
       t->all_linear &= p->law == &esf_contact_linear;
       t->any_cohesion |= p->cohesion != 0.0;
     }

@@ -28,6 +28,9 @@ typedef struct esf_material {
   double adhesion_force;         /* F of the adhesive law (004 2.23), N; 0: none */
   double adhesion_epsilon;       /* its epsilon, (0, 1) without 1/e */
   double adhesion_gap;           /* bond_gap: pairs this close at the start bond, m */
+  double rolling_friction;       /* mu_r, dimensionless (0: no rolling resistance) */
+  double rolling_damping;        /* eta_r, the rolling dashpot's damping ratio */
+  double twisting_friction;      /* mu_tw, dimensionless (0: no twisting resistance) */
 } esf_material;
 
 /* Mixing rules. For equal values every rule returns that value. */
@@ -41,10 +44,18 @@ enum {
 };
 extern const char *const esf_mix_names[]; /* "harmonic", ..., NULL */
 
+/* Rolling resistance models (contact.rolling; docs/physics.md#rolling-resistance). */
+enum {
+  ESF_ROLL_EPSD = 0, /* elastic-plastic spring-dashpot, Ai et al. 2011 type C */
+  ESF_ROLL_CDT = 1   /* constant directional torque, type A */
+};
+extern const char *const esf_roll_names[]; /* "epsd", "cdt", NULL */
+
 /* One rule per mixed property. */
 typedef struct esf_mixing {
   int kn, kt, restitution, tangential_restitution, friction, cohesion, tensile_limit;
   int adhesion_force, adhesion_epsilon, adhesion_gap; /* min, geometric, min */
+  int rolling_friction, rolling_damping, twisting_friction; /* min, min, min */
 } esf_mixing;
 
 /* The defaults: kn, kt harmonic (001 3.45, series springs); restitution, tangential
@@ -80,6 +91,8 @@ typedef struct esf_pair_params {
   double cohesion;                   /* N */
   double tensile_limit; /* N, >= 0: the shear strength vanishes when f_n < -limit */
   esf_adhesion adh;     /* the adhesive law's parameters (law = adhesive only) */
+  double mu_r, eta_r;   /* rolling friction and damping ratio (contact_rolling.h) */
+  double mu_tw;         /* twisting friction */
 } esf_pair_params;
 
 typedef struct esf_materials {
@@ -89,9 +102,11 @@ typedef struct esf_materials {
   esf_mixing mixing;
   double rayleigh_beta; /* > 0: contact dashpots c = beta k (001 3.47) replace the
                            restitution-derived ones */
+  int rolling_model;    /* ESF_ROLL_EPSD or ESF_ROLL_CDT (contact.rolling) */
   /* summaries of the pair table, for the fused step's choices (fused/fused.c) */
   int all_linear;      /* every pair uses the linear law (esf_materials_mix) */
   int any_cohesion;    /* some pair has cohesion != 0 (esf_materials_mix) */
+  int any_rolling;     /* some pair has mu_r > 0 or mu_tw > 0 (esf_materials_mix) */
   int particles_fused; /* every pair of two materials that particles use has a law the
                           fused step computes (ESF_LAW_FUSED; esf_bonds_setup sets it) */
 } esf_materials;

@@ -24,15 +24,17 @@ const char *const esf_ledger_columns[ESF_LEDGER_NCOLS] = {"time",
                                                           "energy_removed",
                                                           "alpha_global",
                                                           "dissipated_bonds",
-                                                          "work_fluid"};
+                                                          "work_fluid",
+                                                          "elastic_rolling",
+                                                          "dissipated_rolling"};
 
 double esf_ledger_stored(const esf_ledger *l) {
-  return l->kin_t + l->kin_r + l->pot_g + l->el_n + l->el_t;
+  return l->kin_t + l->kin_r + l->pot_g + l->el_n + l->el_t + l->el_r;
 }
 
 double esf_ledger_dissipated(const esf_ledger *l) {
   return l->d_normal + l->d_tangential + l->d_friction + l->d_global + l->d_local +
-         l->d_bonds;
+         l->d_bonds + l->d_rolling;
 }
 
 double esf_ledger_total_error(const esf_ledger *l) {
@@ -61,7 +63,9 @@ void esf_ledger_values(double t, const esf_ledger *l, double alpha,
                                       l->e_removed,
                                       alpha,
                                       l->d_bonds,
-                                      l->w_fluid};
+                                      l->w_fluid,
+                                      l->el_r,
+                                      l->d_rolling};
   for (int k = 0; k < ESF_LEDGER_NCOLS; k++) row[k] = v[k];
 }
 
@@ -96,8 +100,10 @@ void esf_ledger_step(esf_ledger *l, const double *blocks, size_t nb) {
   l->w_walls += t[ESF_LB_WW];
   l->d_bonds += t[ESF_LB_BD];
   l->w_fluid += t[ESF_LB_WF];
+  l->el_r = t[ESF_LB_ER];
+  l->d_rolling += t[ESF_LB_DR];
   if (!l->started) {
-    l->e0 = t[ESF_LB_KO] + t[ESF_LB_PO] + l->el_n + l->el_t;
+    l->e0 = t[ESF_LB_KO] + t[ESF_LB_PO] + l->el_n + l->el_t + l->el_r;
     l->started = 1;
   }
 }

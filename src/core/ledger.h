@@ -26,6 +26,9 @@ typedef struct esf_ledger {
                           deleted by events (with their contacts' elastic energy), J */
   double d_bonds;      /* energy bonds held when they ruptured (adhesive law), J */
   double w_fluid;      /* work done by the fluid force on the particles (drag.c), J */
+  double el_r;         /* elastic, rolling and twisting springs, J */
+  double d_rolling;    /* rolling and twisting resistance: dashpots, plastic rolling,
+                          the constant torques' work, J (cumulative) */
   double e0;           /* stored energy at the start, J */
   int started;         /* e0 set */
 } esf_ledger;
@@ -35,7 +38,7 @@ double esf_ledger_dissipated(const esf_ledger *l);
 double esf_ledger_total_error(const esf_ledger *l);
 
 /* The columns of an energy row (energy.csv and /energy in frames.h5), in order. */
-enum { ESF_LEDGER_NCOLS = 20 };
+enum { ESF_LEDGER_NCOLS = 22 };
 extern const char *const esf_ledger_columns[ESF_LEDGER_NCOLS];
 enum { ESF_LEDGER_ALPHA = 17 }; /* the column of alpha_global */
 
@@ -78,7 +81,7 @@ typedef struct esf_force_tally {
  * in blocks of ESF_LEDGER_BLOCK (channels ESF_LB_*), and the blocks in order
  * (esf_ledger_step): the fused step's ranges hold whole blocks, so no sum depends on
  * how the particles are cut. */
-#define ESF_LR           32 /* ledger rows per particle: eight rows of four */
+#define ESF_LR           40 /* ledger rows per particle: ten rows of four */
 #define ESF_LEDGER_BLOCK 64 /* particles per block of the ledger's sums */
 enum {                      /* row offsets (xyz, then the scalar lane) */
        ESF_LR_DN = 0,       /* normal dashpot force | slip work (J) */
@@ -87,8 +90,10 @@ enum {                      /* row offsets (xyz, then the scalar lane) */
        ESF_LR_MDT = 12, /* tangential dashpot torque | wall work rate F.v_wall (W) */
        ESF_LR_ET = 16,  /* tangential spring force | energy of ruptured bonds (J) */
        ESF_LR_MET = 20, /* tangential spring torque | 0 */
-       ESF_LR_W = 24    /* a moving wall's side of the dashpots' power: normal -fd vw.n,
-                           tangential fdt.vw (W) | 0 | 0 | 0 */
+       ESF_LR_W = 24,   /* a moving wall's side of the dashpots' power: normal -fd vw.n,
+                           tangential fdt.vw (W) | rolling md.omega (W) | 0 */
+       ESF_LR_RD = 28,  /* rolling resistance's dissipative torque | its plastic work */
+       ESF_LR_RE = 32   /* rolling resistance's spring torque | the springs' energy */
 };
 enum {            /* channels of a block's sums */
        ESF_LB_KT, /* kinetic, translational, at v_{n+1/2}, J */
@@ -106,7 +111,9 @@ enum {            /* channels of a block's sums */
        ESF_LB_WW, /* work of the walls */
        ESF_LB_BD, /* ruptured bonds */
        ESF_LB_WF, /* work of the fluid force */
-       ESF_LB_N = 16
+       ESF_LB_ER, /* rolling and twisting springs, J (stored) */
+       ESF_LB_DR, /* rolling resistance's dissipation */
+       ESF_LB_N = 18
 };
 
 /* The torque directions of the tangential dashpot and spring forces on A: n x fdt,
@@ -183,6 +190,37 @@ static inline void esf_ledger_wall_rows(double *r, const double n[3], double la,
   r[ESF_LR_W + 1] += fdt[0] * vw[0] + fdt[1] * vw[1] + fdt[2] * vw[2];
 }
 
+/* Adds one touching contact's rolling resistance (contact_rolling.h) to the rows of A
+ * (ra) and B (rb, or NULL for a wall, whose angular velocity is om): the dissipative
+ * torque md and the springs' torque ms on A (B gets the opposite), the plastic work and
+ * the springs' energy (J). A wall's side, as for the tangential spring and dashpot:
+ * the dissipative torque's power md.om, the springs' extrapolation (dt/2) ms.om, and the
+ * wall's work rate (md + ms).om. */
+static inline void esf_ledger_roll_rows(double *ra, double *rb, const double md[3],
+                                        const double ms[3], double slip, double e,
+                                        const double *om, double dt) {
+  for (int q = 0; q < 3; q++) {
+    ra[ESF_LR_RD + q] += md[q];
+    ra[ESF_LR_RE + q] += ms[q];
+    if (rb) {
+      rb[ESF_LR_RD + q] -= md[q];
+      rb[ESF_LR_RE + q] -= ms[q];
+    }
+  }
+  ra[ESF_LR_RD + 3] += slip;
+  ra[ESF_LR_RE + 3] += e;
+  if (om) {
+    double pd = 0, ps = 0;
+    for (int q = 0; q < 3; q++) {
+      pd += md[q] * om[q];
+      ps += ms[q] * om[q];
+    }
+    ra[ESF_LR_W + 2] += pd;
+    ra[ESF_LR_RE + 3] += 0.5 * dt * ps;
+    ra[ESF_LR_MDT + 3] += pd + ps;
+  }
+}
+
 /* The rows of a step's particle i: rows r (ESF_LR), velocities and spins before (vo,
  * wo: v_{n-1/2}) and after the kick (vn, wn), step dt. Adds to its block's channels
  * blk the dashpots' dissipation -(F . vbar + M . wbar) dt, the springs' energies less
@@ -211,6 +249,14 @@ static inline void esf_ledger_particle(const double *r, const double vo[3],
   blk[ESF_LB_SL] += dn[3];
   blk[ESF_LB_WW] += mdt[3] * dt;
   blk[ESF_LB_BD] += et[3];
+  const double *rd = r + ESF_LR_RD, *re = r + ESF_LR_RE; /* rolling (zero without) */
+  double pdr = 0, per = 0;
+  for (int q = 0; q < 3; q++) {
+    pdr += rd[q] * wb[q];
+    per += re[q] * wn[q];
+  }
+  blk[ESF_LB_DR] += rd[3] - (pdr - r[ESF_LR_W + 2]) * dt;
+  blk[ESF_LB_ER] += re[3] - 0.5 * per * dt;
 }
 
 /* One particle's kick in the ledger's blocks: its kinetic energies at v_{n+1/2} (v, w)

@@ -72,6 +72,7 @@ typedef struct esf_config {
   esf_auto_damping autod;              /* adaptive global damping */
 
   int tframe;                /* ESF_TFRAME_* */
+  int rolling;               /* contact.rolling: ESF_ROLL_* (material.h) */
   double max_overlap;        /* failure when overlap > this x the smaller radius */
   int allow_initial_overlap; /* explicit particles may start overlapping */
   double skin;               /* m; <= 0: automatic (0.4 x mean radius, then adaptive) */

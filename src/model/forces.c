@@ -13,6 +13,9 @@
  * q, lever lA = |q - xA|, vc = v_wall(q) - [vA + wA x (lA n)], m* = mA. Hits of
  * one particle on edges and vertices shared by wall elements count once
  * (esf_forces_select_wall_hits, also used by the fast wall pass of wall_fast.c).
+ * Rolling and twisting resistance (contact_rolling.h; scenes with some mu_r or mu_tw
+ * only): torque M on A, -M on B, from the relative spin wA - wB (a wall: its angular
+ * velocity), R* = rA rB/(rA + rB) (a wall: rA).
  * Gravity: f += m g. In 2D only x, z forces and the y torque act.
  * Entry: candidate lists valid for x; on exit f, t hold the totals. */
 #include "model/forces.h"
@@ -21,6 +24,7 @@
 #include <string.h>
 
 #include "loads/drag.h"
+#include "contact/contact_rolling.h"
 #include "contact/lane_scalar.h"
 #include "loads/servo.h"
 #include "util/vec3.h"
@@ -122,6 +126,30 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
   return 1;
 }
 
+/* The rolling resistance of touching candidate k of c (contact_rolling.h), live: it
+ * was touching at the last commit. Adds its torque to ta (A) and the opposite to tb
+ * (B; NULL for a wall), commits its state, and adds to the leapfrog's ledger rows ra, rb
+ * (or NULL; a wall: rb NULL and om its angular velocity). */
+static void rolling(const esf_sim *s, const esf_pair_params *pp, esf_candidates *c,
+                    size_t k, int commit, int live, const double n[3],
+                    const double wrel[3], double rstar, double ir, double itw, double fn,
+                    double dt, double *ta, double *tb, double *ra, double *rb,
+                    const double *om) {
+  esf_law_rout_s o;
+  esf_contact_rolling(pp, s->mats.rolling_model, pp->kn, rstar, ir, itw, fn, dt, n, wrel,
+                      &c->roll[k], live, &o);
+  if (commit) {
+    v3_copy(c->roll[k].m, o.hm);
+    c->roll[k].t = o.ht;
+  }
+  for (int q = 0; q < 3; q++) {
+    const double m = o.md[q] + o.ms[q];
+    ta[q] += m;
+    if (tb) tb[q] -= m;
+  }
+  if (ra) esf_ledger_roll_rows(ra, rb, o.md, o.ms, o.slip, o.e_el, om, dt);
+}
+
 /* The tangential spring's force kt xi of a committed contact, on A. */
 static void spring_t(const esf_pair_params *pp, const esf_contact_hist *h,
                      double ket[3]) {
@@ -161,6 +189,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
     esf_contact_out out;
     double *rows_a = rows ? rows + ESF_LR * a : NULL;
+    const int live = c->touch[k]; /* before the commit (rolling) */
     if (!eval_contact(s, pp, &in, c, k, commit, rows_a, &out)) continue;
     nt++;
     v3_add(p->f + 3 * a, p->f + 3 * a, out.f);
@@ -174,6 +203,15 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
       spring_t(pp, &c->h[k], ket);
       esf_ledger_pair_rows(rows_a, rows + ESF_LR * b, in.n, la, lb, out.fd_n, out.fel,
                            out.fd_t, ket, out.slip_work, out.e_el_n, out.e_el_t);
+    }
+    if (c->roll) {
+      const double ia = p->inertia[a], ib = p->inertia[b];
+      const double ja = ia + p->mass[a] * ra * ra, jb = ib + p->mass[b] * rb * rb;
+      double wrel[3];
+      v3_sub(wrel, wa, wb);
+      rolling(s, pp, c, k, commit, live, in.n, wrel, ra * rb / (ra + rb),
+              ja * jb / (ja + jb), ia * ib / (ia + ib), out.fn, dt, p->t + 3 * a,
+              p->t + 3 * b, rows_a, rows_a ? rows + ESF_LR * b : NULL, NULL);
     }
     if (slips) slip += out.slip_work;
   }
@@ -263,6 +301,7 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
     in.dt = dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
     esf_contact_out out;
+    const int live = c->touch[k]; /* before the commit (rolling) */
     if (!eval_contact(s, pp, &in, c, k, commit, rows, &out)) continue;
     (*nt)++;
     if (rows) {
@@ -279,6 +318,13 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
     double m[3];
     v3_cross(m, in.n, out.ft);
     v3_axpy(t, la, m);
+    if (c->roll) {
+      const double ia = p->inertia[a];
+      double wrel[3];
+      v3_sub(wrel, w + 3 * a, g->omega);
+      rolling(s, pp, c, k, commit, live, in.n, wrel, r, ia + p->mass[a] * r * r, ia,
+              out.fn, dt, t, NULL, rows, NULL, g->omega);
+    }
   }
   return ESF_OK;
 }

@@ -11,6 +11,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/bonds.h"
 #include "loads/drag.h"
@@ -62,7 +63,14 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
     s->beta = 2.0 * c->rayleigh_zeta / omega;
     s->mats.rayleigh_beta = s->beta;
   }
+  s->mats.rolling_model = c->rolling;
   int rc = esf_materials_mix(&s->mats, err);
+  if (!rc && s->mats.any_rolling && strcmp(c->method, "leapfrog") != 0)
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: rolling and twisting resistance (rolling_friction, "
+                    "twisting_friction) are supported by the leapfrog only for now; use "
+                    "integrator.method: leapfrog",
+                    esf_config_where(c, "integrator.method"));
   if (!rc) rc = set_masses(s, err);
   if (!rc) rc = esf_walls_freeze(&s->walls, s->t, err); /* moving walls placed at t0 */
   if (rc) return rc;
@@ -143,6 +151,7 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
   rc = esf_neighbor_init(&s->nb, c->skin, s->led.on, err);
   if (rc) return rc;
   s->nb.bonds = s->bonds.on; /* the lists keep bond states (bonds.c) */
+  s->nb.rolling = s->mats.any_rolling; /* and rolling states (contact_rolling.h) */
   if (c->has_domain) {
     s->nb.dom_lo = c->domain_min;
     s->nb.dom_hi = c->domain_max;

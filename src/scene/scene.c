@@ -47,6 +47,21 @@ static int read_adhesion(const esf_ynode *m, esf_material *mat, esf_error *err) 
   return ESF_OK;
 }
 
+/* rolling_friction mu_r, rolling_damping eta_r (a damping ratio, 0 to 1) and
+ * twisting_friction mu_tw (docs/physics.md#rolling-resistance): all >= 0, default 0. */
+static int read_rolling(const esf_ynode *m, esf_material *mat, esf_error *err) {
+  int rc = esf_yget_double(m, "rolling_friction", 0, &mat->rolling_friction, err);
+  if (!rc) rc = positive(m, "rolling_friction", mat->rolling_friction, 0, err);
+  if (!rc) rc = esf_yget_double(m, "rolling_damping", 0, &mat->rolling_damping, err);
+  if (!rc && !(mat->rolling_damping >= 0 && mat->rolling_damping <= 1))
+    return esf_ynode_fail(esf_ymap_get(m, "rolling_damping"), err,
+                          "must be a damping ratio in [0, 1], got %g",
+                          mat->rolling_damping);
+  if (!rc) rc = esf_yget_double(m, "twisting_friction", 0, &mat->twisting_friction, err);
+  if (!rc) rc = positive(m, "twisting_friction", mat->twisting_friction, 0, err);
+  return rc;
+}
+
 static int read_material(const esf_ynode *name_key_map, size_t k, esf_sim *s,
                          esf_error *err) {
   static const char *const keys[] = {"density",
@@ -59,6 +74,9 @@ static int read_material(const esf_ynode *name_key_map, size_t k, esf_sim *s,
                                      "cohesion",
                                      "tensile_limit",
                                      "adhesion", /* bond: the adhesive law */
+                                     "rolling_friction",
+                                     "rolling_damping",
+                                     "twisting_friction",
                                      NULL};
   const esf_ynode *m = name_key_map->items[k];
   const char *name = name_key_map->keys[k];
@@ -115,6 +133,7 @@ static int read_material(const esf_ynode *name_key_map, size_t k, esf_sim *s,
   if (!rc && mat.density < 0)
     return esf_ynode_fail(esf_ymap_get(m, "density"), err, "must be positive");
   if (!rc) rc = read_adhesion(m, &mat, err);
+  if (!rc) rc = read_rolling(m, &mat, err);
   if (rc) return rc;
   return esf_materials_add(&s->mats, &mat, NULL, err);
 }
@@ -139,6 +158,9 @@ static int read_materials(const esf_ynode *root, esf_sim *s, esf_error *err) {
                                       "adhesion_force",
                                       "adhesion_epsilon",
                                       "adhesion_bond_gap",
+                                      "rolling_friction",
+                                      "rolling_damping",
+                                      "twisting_friction",
                                       NULL};
   if (!mx) return ESF_OK;
   rc = esf_ymap_check_keys(mx, mkeys, err);
@@ -152,7 +174,10 @@ static int read_materials(const esf_ynode *root, esf_sim *s, esf_error *err) {
                   &r->tensile_limit,
                   &r->adhesion_force,
                   &r->adhesion_epsilon,
-                  &r->adhesion_gap};
+                  &r->adhesion_gap,
+                  &r->rolling_friction,
+                  &r->rolling_damping,
+                  &r->twisting_friction};
   for (int k = 0; mkeys[k] && !rc; k++)
     rc = esf_yget_choice(mx, mkeys[k], 0, esf_mix_names, slots[k], err);
   return rc;
@@ -267,7 +292,7 @@ static int read_damping(const esf_ynode *root, esf_config *c, esf_error *err) {
 
 static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
   static const char *const ckeys[] = {"tangential_frame", "max_overlap",
-                                      "allow_initial_overlap", NULL};
+                                      "allow_initial_overlap", "rolling", NULL};
   static const char *const frames[] = {"rotate", "project", NULL};
   static const char *const skeys[] = {"skin", "reorder", NULL};
   static const char *const rkeys[] = {"duration", "steps", NULL};
@@ -278,6 +303,7 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
   if (ct) {
     rc = esf_ymap_check_keys(ct, ckeys, err);
     if (!rc) rc = esf_yget_choice(ct, "tangential_frame", 0, frames, &c->tframe, err);
+    if (!rc) rc = esf_yget_choice(ct, "rolling", 0, esf_roll_names, &c->rolling, err);
     if (!rc) rc = esf_yget_double(ct, "max_overlap", 0, &c->max_overlap, err);
     if (!rc) rc = positive(ct, "max_overlap", c->max_overlap, 1, err);
     if (!rc)

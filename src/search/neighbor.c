@@ -25,6 +25,7 @@ static void contacts_release(esf_candidates *c) {
   free(c->b);
   free(c->h);
   free(c->bond);
+  free(c->roll);
   free(c->touch);
   free(c->led);
   free(c->vc0);
@@ -32,9 +33,9 @@ static void contacts_release(esf_candidates *c) {
 }
 
 /* Room for n candidates in c, with the optional arrays: ledger scratch, carried
- * velocities (carry), bond states (bonds). */
+ * velocities (carry), bond states (bonds), rolling states (roll). */
 static int contacts_reserve(esf_candidates *c, size_t n, int ledger, int carry, int bonds,
-                            esf_error *err) {
+                            int roll, esf_error *err) {
   if (n <= c->cap) return ESF_OK;
   const size_t cap = n + n / 4 + 64; /* a quarter of room: the lists grow and shrink */
   uint32_t *a = realloc(c->a, cap * sizeof *a);
@@ -48,6 +49,11 @@ static int contacts_reserve(esf_candidates *c, size_t n, int ledger, int carry, 
     bd = realloc(c->bond, cap * sizeof *bd);
     if (bd) c->bond = bd;
   }
+  esf_contact_roll *rl = c->roll;
+  if (roll) {
+    rl = realloc(c->roll, cap * sizeof *rl);
+    if (rl) c->roll = rl;
+  }
   uint8_t *t = realloc(c->touch, cap * sizeof *t);
   if (t) c->touch = t;
   double *l = c->led;
@@ -60,7 +66,8 @@ static int contacts_reserve(esf_candidates *c, size_t n, int ledger, int carry, 
     v0 = realloc(c->vc0, cap * 3 * sizeof *v0);
     if (v0) c->vc0 = v0;
   }
-  if (!a || !b || !h || !t || (ledger && !l) || (carry && !v0) || (bonds && !bd))
+  if (!a || !b || !h || !t || (ledger && !l) || (carry && !v0) || (bonds && !bd) ||
+      (roll && !rl))
     return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact candidates", cap);
   c->cap = cap;
   return ESF_OK;
@@ -186,8 +193,8 @@ static int keep_touching(esf_neighbor *nb, const esf_candidates *list, esf_candi
   const size_t nk = ostart[n];
   *carry = nb->carry && list->vc0 != NULL;
   kc->n = 0; /* empty: released after each build (rebuild_list) */
-  const int cb = list->bond != NULL;
-  rc = contacts_reserve(kc, nk, 0, *carry, cb, err);
+  const int cb = list->bond != NULL, cr = list->roll != NULL;
+  rc = contacts_reserve(kc, nk, 0, *carry, cb, cr, err);
   if (rc) return rc;
   const long nn = (long)nk;
   const int cv = *carry;
@@ -198,6 +205,7 @@ static int keep_touching(esf_neighbor *nb, const esf_candidates *list, esf_candi
     kc->h[j] = list->h[f];
     if (cv) memcpy(kc->vc0 + 3 * j, list->vc0 + 3 * f, 3 * sizeof(double));
     if (cb) kc->bond[j] = list->bond[f];
+    if (cr) kc->roll[j] = list->roll[f];
   }
   kc->n = nk;
   return ESF_OK;
@@ -214,7 +222,7 @@ static int fill_list(esf_neighbor *nb, esf_candidates *list, const esf_candidate
   list->xsdot = NULL;
   if (list->cap > 2 * m + 1024) /* the old list was much longer (a larger skin, a */
     contacts_release(list);     /* denser state): drop its storage */
-  int rc = contacts_reserve(list, m, nb->ledger, nb->carry, bonds, err);
+  int rc = contacts_reserve(list, m, nb->ledger, nb->carry, bonds, nb->rolling, err);
   if (rc) return rc;
   size_t *start = nb->ws_start;
   const size_t *ostart = nb->ws_ostart;
@@ -245,11 +253,14 @@ static int fill_list(esf_neighbor *nb, esf_candidates *list, const esf_candidate
           memcpy(list->vc0 + 3 * k, kc->vc0 + 3 * f, 3 * sizeof(double));
         const esf_contact_bond *kb = esf_candidates_bond(kc, f);
         if (bonds) list->bond[k] = kb ? *kb : (esf_contact_bond){0};
+        if (list->roll)
+          list->roll[k] = kc->roll ? kc->roll[f] : (esf_contact_roll){{0, 0, 0}, 0};
       } else {
         memset(&list->h[k], 0, sizeof list->h[k]);
         list->touch[k] = 0;
         if (list->vc0) memset(list->vc0 + 3 * k, 0, 3 * sizeof(double));
         if (bonds) list->bond[k] = (esf_contact_bond){0};
+        if (list->roll) list->roll[k] = (esf_contact_roll){{0, 0, 0}, 0};
       }
     }
   }
@@ -407,6 +418,7 @@ static void remap_list(esf_candidates *c, const size_t *remap, size_t n_old, int
       c->touch[m] = c->touch[k];
       if (c->vc0) memcpy(c->vc0 + 3 * m, c->vc0 + 3 * k, 3 * sizeof(double));
       if (c->bond) c->bond[m] = c->bond[k]; /* its offset is the pair's: no sign */
+      if (c->roll) c->roll[m] = c->roll[k];
     }
     if (!walls && c->a[m] > c->b[m]) {
       const uint32_t t = c->a[m];
@@ -417,7 +429,8 @@ static void remap_list(esf_candidates *c, const size_t *remap, size_t n_old, int
         h->xi[q] = -h->xi[q];
         h->n[q] = -h->n[q];
         if (c->vc0) c->vc0[3 * m + q] = -c->vc0[3 * m + q];
-      }
+        if (c->roll) c->roll[m].m[q] = -c->roll[m].m[q]; /* torque on the new A */
+      } /* the twisting torque t n keeps its sign: n turned round too */
     }
     m++;
   }
@@ -461,8 +474,9 @@ size_t esf_neighbor_touching(const esf_neighbor *nb) {
 /* Checkpoint restore (checkpoint.c): room for npp and npw candidates, scratch
  * included. */
 int esf_neighbor_reserve(esf_neighbor *nb, size_t npp, size_t npw, esf_error *err) {
-  int rc = contacts_reserve(&nb->pp, npp, nb->ledger, nb->carry, nb->bonds, err);
-  if (!rc) rc = contacts_reserve(&nb->pw, npw, nb->ledger, nb->carry, 0, err);
+  int rc =
+      contacts_reserve(&nb->pp, npp, nb->ledger, nb->carry, nb->bonds, nb->rolling, err);
+  if (!rc) rc = contacts_reserve(&nb->pw, npw, nb->ledger, nb->carry, 0, nb->rolling, err);
   if (rc) return rc;
   return wall_scratch_reserve(nb, err);
 }

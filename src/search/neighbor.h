@@ -41,6 +41,8 @@ typedef struct esf_candidates {
   esf_contact_hist *h;    /* history */
   esf_contact_bond *bond; /* bond state, or NULL: the particle list of a scene with
                              bonds only (esf_neighbor.bonds) */
+  esf_contact_roll *roll; /* rolling resistance state, or NULL: scenes where some pair
+                             has rolling or twisting friction only (esf_neighbor.rolling) */
   uint8_t *touch;         /* 1: touching at the last committed evaluation */
   double *led;            /* ESF_LED_STRIDE per contact, or NULL */
   double *vc0;            /* 3 per contact: relative contact velocity at the last commit
@@ -57,6 +59,7 @@ typedef struct esf_neighbor {
   int ledger;        /* allocate ledger scratch */
   int carry;         /* keep vc0 (ODE methods set it before the first build) */
   int bonds;         /* keep pp.bond (model/setup.c sets it before the first build) */
+  int rolling;       /* keep pp.roll and pw.roll (model/setup.c, likewise) */
   esf_cells *cells;
   esf_pairbuf buf;
   esf_pairbuf *wbuf;  /* the wall candidates' per-thread buffers, nwbuf of them */
