@@ -59,6 +59,14 @@ sed 's/kn: 1.0e5/kn: stiff/' "$tmp/ok.yaml" > "$tmp/s4.yaml"
 expect "wrong type" 2 "s4.yaml:3:[0-9]+: materials.glass.kn: expected a number, got 'stiff'" \
   -- run "$tmp/s4.yaml" --out "$tmp/o4"
 
+sed 's/friction: 0.3}/friction: 0.3, rolling_friction: -0.1}/' "$tmp/ok.yaml" > "$tmp/s4r.yaml"
+expect "negative rolling friction" 2 "s4r.yaml:3:[0-9]+: materials.glass.rolling_friction: must be non-negative, got -0.1" \
+  -- run "$tmp/s4r.yaml" --out "$tmp/o4r"
+
+good "" "contact: {rolling: sticky}" > "$tmp/s4m.yaml"
+expect "unknown rolling model" 2 "s4m.yaml:[0-9]+:[0-9]+: .*rolling.*(epsd|cdt)" \
+  -- run "$tmp/s4m.yaml" --out "$tmp/o4m"
+
 good "  - {material: glass, radius: 0.005, position: [0.009, 0, 0.01]}" "" > "$tmp/s5.yaml"
 expect "overlapping explicit particles" 2 "s5.yaml:6:[0-9]+: this particle overlaps the one at .*s5.yaml:5:[0-9]+" \
   -- run "$tmp/s5.yaml" --out "$tmp/o5"

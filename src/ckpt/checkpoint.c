@@ -84,7 +84,8 @@ static void put_sec(esf_blob *b, const char *tag, const void *p, size_t n) {
 static void put_contacts(esf_blob *b, const char *tag, const esf_candidates *c) {
   size_t s = sec_begin(b, tag);
   uint64_t n = c->n;
-  uint8_t has_vc0 = c->vc0 != NULL, has_bond = c->bond != NULL, has_roll = c->roll != NULL;
+  uint8_t has_vc0 = c->vc0 != NULL, has_bond = c->bond != NULL,
+          has_roll = c->roll != NULL;
   esf_blob_put(b, &n, 8);
   esf_blob_put(b, &has_vc0, 1);
   esf_blob_put(b, &has_bond, 1);

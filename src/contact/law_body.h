@@ -280,10 +280,10 @@ static inline void LANE_FN(esf_law_rolling)(const LANE_FN(esf_law_rpar) * P, LAN
   const LANE_R r = LANE_SEL(m1 > 0, m0 / m1, zero);
   for (int q = 0; q < 3; q++) hr[q] = LANE_SEL(live, hr[q] * r, zero);
   const LANE_R h1 = LANE_SEL(live, ht, zero);
-  const LANE_M fr = LANE_FN(esf_law_roll_spring)(3, P->kr, P->mr, dt, hr, wr, o->hm,
-                                                 &o->slip);
-  const LANE_M ft = LANE_FN(esf_law_roll_spring)(1, P->ktw, P->mtw, dt, &h1, &wn, &o->ht,
-                                                 &o->slip);
+  const LANE_M fr =
+      LANE_FN(esf_law_roll_spring)(3, P->kr, P->mr, dt, hr, wr, o->hm, &o->slip);
+  const LANE_M ft =
+      LANE_FN(esf_law_roll_spring)(1, P->ktw, P->mtw, dt, &h1, &wn, &o->ht, &o->slip);
   const LANE_R dtw = LANE_SEL(ft, zero, -P->ctw * wn);
   for (int q = 0; q < 3; q++) {
     o->md[q] = LANE_SEL(fr, zero, -P->cr * wr[q]) + dtw * n[q];

@@ -136,7 +136,8 @@ int esf_materials_mix(esf_materials *t, esf_error *err) {
       }
       p->mu_r = esf_mix(r->rolling_friction, A->rolling_friction, B->rolling_friction);
       p->eta_r = esf_mix(r->rolling_damping, A->rolling_damping, B->rolling_damping);
-      p->mu_tw = esf_mix(r->twisting_friction, A->twisting_friction, B->twisting_friction);
+      p->mu_tw =
+          esf_mix(r->twisting_friction, A->twisting_friction, B->twisting_friction);
       t->any_rolling |= p->mu_r > 0 || p->mu_tw > 0;
       t->all_linear &= p->law == &esf_contact_linear;
       t->any_cohesion |= p->cohesion != 0.0;

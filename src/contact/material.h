@@ -54,7 +54,7 @@ extern const char *const esf_roll_names[]; /* "epsd", "cdt", NULL */
 /* One rule per mixed property. */
 typedef struct esf_mixing {
   int kn, kt, restitution, tangential_restitution, friction, cohesion, tensile_limit;
-  int adhesion_force, adhesion_epsilon, adhesion_gap; /* min, geometric, min */
+  int adhesion_force, adhesion_epsilon, adhesion_gap;       /* min, geometric, min */
   int rolling_friction, rolling_damping, twisting_friction; /* min, min, min */
 } esf_mixing;
 

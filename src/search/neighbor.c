@@ -476,7 +476,8 @@ size_t esf_neighbor_touching(const esf_neighbor *nb) {
 int esf_neighbor_reserve(esf_neighbor *nb, size_t npp, size_t npw, esf_error *err) {
   int rc =
       contacts_reserve(&nb->pp, npp, nb->ledger, nb->carry, nb->bonds, nb->rolling, err);
-  if (!rc) rc = contacts_reserve(&nb->pw, npw, nb->ledger, nb->carry, 0, nb->rolling, err);
+  if (!rc)
+    rc = contacts_reserve(&nb->pw, npw, nb->ledger, nb->carry, 0, nb->rolling, err);
   if (rc) return rc;
   return wall_scratch_reserve(nb, err);
 }

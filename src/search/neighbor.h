@@ -41,15 +41,16 @@ typedef struct esf_candidates {
   esf_contact_hist *h;    /* history */
   esf_contact_bond *bond; /* bond state, or NULL: the particle list of a scene with
                              bonds only (esf_neighbor.bonds) */
-  esf_contact_roll *roll; /* rolling resistance state, or NULL: scenes where some pair
-                             has rolling or twisting friction only (esf_neighbor.rolling) */
-  uint8_t *touch;         /* 1: touching at the last committed evaluation */
-  double *led;            /* ESF_LED_STRIDE per contact, or NULL */
-  double *vc0;            /* 3 per contact: relative contact velocity at the last commit
-                             (the ODE methods' history carry), or NULL */
-  const double *xs;       /* history as ODE state (dem_ode.h): 3 per contact, the live
-                             tangential displacement, m; NULL otherwise (not owned) */
-  double *xsdot;          /* its rate, m/s, written by evaluations when not NULL */
+  esf_contact_roll
+      *roll;        /* rolling resistance state, or NULL: scenes where some pair
+                       has rolling or twisting friction only (esf_neighbor.rolling) */
+  uint8_t *touch;   /* 1: touching at the last committed evaluation */
+  double *led;      /* ESF_LED_STRIDE per contact, or NULL */
+  double *vc0;      /* 3 per contact: relative contact velocity at the last commit
+                       (the ODE methods' history carry), or NULL */
+  const double *xs; /* history as ODE state (dem_ode.h): 3 per contact, the live
+                       tangential displacement, m; NULL otherwise (not owned) */
+  double *xsdot;    /* its rate, m/s, written by evaluations when not NULL */
 } esf_candidates;
 
 typedef struct esf_neighbor {

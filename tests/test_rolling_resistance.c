@@ -1,0 +1,222 @@
+/* test_rolling_resistance.c — rolling and twisting resistance
+ * (docs/physics.md#rolling-resistance) against closed forms, for a sphere (r, m,
+ * I = 2/5 m r^2) on a plane, fn = m g cos(theta), R* = r:
+ *   cdt, rolling without slip on a level plane: the torque mu_r r m g against the
+ *     spin decelerates the centre at (5/7) mu_r g (m a = -F, I a/r = F r - mu_r r m g);
+ *   epsd on an incline of angle theta (gravity tilted): at rest while
+ *     tan(theta) < mu_r (the spring holds m g r sin(theta) <= mu_r r m g cos(theta)),
+ *     rolling above at a = (5/7) g (sin(theta) - mu_r cos(theta)) (the torque at its
+ *     limit, the dashpot off);
+ *   twisting (both models) about the normal: w(t) = w0 - (5/2) mu_tw g t / r;
+ *   the energy ledger closes with rolling (several spheres dropped on a plane);
+ *   a scene with mu_r = mu_tw = 0 keeps no rolling state.
+ * The sphere starts at its static overlap m g / kn (u/r ~ 1e-5, below the 1%
+ * tolerances). */
+#include "simtest.h"
+
+static const char *scene =
+    "name: rolling_resistance\n"
+    "dimension: 3\n"
+    "materials:\n"
+    "  ball: {density: 2500, kn: 1.0e6, kt: 1.0e6, restitution: 0.3, friction: 0.5,\n"
+    "         rolling_friction: 0.1, rolling_damping: 0.5}\n"
+    "particles:\n"
+    "  - {material: ball, radius: 0.01, position: [0, 0, 0.01]}\n"
+    "walls:\n"
+    "  - {plane: {point: [0, 0, 0], normal: [0, 0, 1]}, material: ball}\n"
+    "integrator: {dt: auto, frac: 0.1}\n"
+    "contact: {allow_initial_overlap: true, rolling: epsd}\n"
+    "run: {duration: 1}\n"
+    "output: {energy_every: 0}\n";
+
+static const double g = 9.81, r = 0.01, rho = 2500, kn = 1.0e6;
+
+static double mass(void) { return 4.0 / 3.0 * ESF_PI * r * r * r * rho; }
+
+/* Opens the scene with the sphere at its static overlap under gravity g (cos th) and
+ * the extra overrides. */
+static int open_sphere(simtest *T, double th, const char *const *extra, int nextra) {
+  char z[96], gr[128];
+  const double u = mass() * g * cos(th) / kn;
+  snprintf(z, sizeof z, "particles.0.position=[0, 0, %.17g]", r - u);
+  snprintf(gr, sizeof gr, "gravity=[%.17g, 0, %.17g]", g * sin(th), -g * cos(th));
+  const char *sets[8] = {z, gr};
+  for (int k = 0; k < nextra && k < 6; k++) sets[2 + k] = extra[k];
+  return simtest_open(T, scene, sets, 2 + nextra);
+}
+
+/* The ledger of a single rolling sphere: the rolling resistance's dissipation and the
+ * residual, which stays at rounding level (no impacts). */
+static void ledger_closes(const simtest *T, const char *what) {
+  const esf_ledger *L = &T->s.led;
+  const double D = esf_ledger_dissipated(L), R = esf_ledger_total_error(L);
+  CHECK(L->d_rolling > 0.9 * D, "%s: the rolling resistance dissipates (%.3g of %.3g J)",
+        what, L->d_rolling, D);
+  CHECK(fabs(R) < 1e-9 * D, "%s: the ledger closes: total_error %.3g J against %.3g J",
+        what, R, D);
+  printf("%s ledger: dissipated %.6g J (rolling %.6g J), stored rolling %.3g J, "
+         "total_error %.3g J\n",
+         what, D, L->d_rolling, L->el_r, R);
+}
+
+/* Type A: a sphere rolling without slip at v0 on a level plane. */
+static void cdt_plane(void) {
+  const double mu_r = 0.1, v0 = 1.0, a = 5.0 / 7.0 * mu_r * g;
+  char w[96];
+  snprintf(w, sizeof w, "particles.0.angular_velocity=[0, %.17g, 0]",
+           v0 / (r - mass() * g / kn));
+  const char *ex[] = {"contact.rolling=cdt", "particles.0.velocity=[1, 0, 0]", w,
+                      "output.energy_every=1.0e-9"};
+  simtest T;
+  if (open_sphere(&T, 0, ex, 4)) {
+    CHECK(0, "cdt scene failed");
+    return;
+  }
+  const esf_particles *p = &T.s.p;
+  double worst = 0;
+  for (int k = 1; k <= 10; k++) { /* until v = 0.3 v0 */
+    const double t = 0.1 * k * 0.7 * v0 / a;
+    while (T.s.t < t)
+      if (simtest_step(&T)) break;
+    const double ve = v0 - a * T.s.t, dv = fabs(p->v[0] - ve) / (v0 - ve);
+    if (dv > worst) worst = dv;
+  }
+  CHECK(worst < 0.01, "cdt: v(t) = v0 - (5/7) mu_r g t within 1%% of the change (%.2e)",
+        worst);
+  const double slip = p->v[0] - p->w[1] * p->x[2];
+  CHECK(fabs(slip) < 1e-3 * v0, "cdt: still rolling without slip (%.2e m/s)", slip);
+  printf("cdt: deceleration matches (5/7) mu_r g to %.2e of the speed change\n", worst);
+  ledger_closes(&T, "cdt rolling");
+  simtest_close(&T);
+}
+
+/* Type C on an incline: at rest for tan(theta) = 0.8 mu_r, rolling for 1.25 mu_r. */
+static void epsd_incline(void) {
+  const double mu_r = 0.1;
+  for (int above = 0; above < 2; above++) {
+    const double th = atan((above ? 1.25 : 0.8) * mu_r);
+    const char *ex[] = {"output.energy_every=1.0e-9"};
+    simtest T;
+    if (open_sphere(&T, th, ex, 1)) {
+      CHECK(0, "epsd scene failed");
+      return;
+    }
+    const esf_particles *p = &T.s.p;
+    double t1 = 0.2, t2 = 0.6, v1 = 0;
+    while (T.s.t < t1)
+      if (simtest_step(&T)) break;
+    v1 = p->v[0];
+    while (T.s.t < t2)
+      if (simtest_step(&T)) break;
+    if (!above) {
+      CHECK(fabs(p->x[0]) < 1e-5 && fabs(p->v[0]) < 1e-4,
+            "epsd: tan(theta) = 0.8 mu_r: the sphere stays (x = %.3g m, v = %.3g m/s)",
+            p->x[0], p->v[0]);
+      printf("epsd at tan(theta) = 0.8 mu_r: x = %.3g m, v = %.3g m/s after %.1f s\n",
+             p->x[0], p->v[0], T.s.t);
+    } else {
+      const double ae = 5.0 / 7.0 * g * (sin(th) - mu_r * cos(th));
+      const double am = (p->v[0] - v1) / (t2 - t1);
+      CHECK_NEAR(am, ae, 0.01 * ae, "epsd: tan(theta) = 1.25 mu_r: rolling acceleration");
+      const double slip = p->v[0] - p->w[1] * p->x[2];
+      CHECK(fabs(slip) < 1e-3 * p->v[0], "epsd: rolls without slip (%.2e m/s)", slip);
+      printf("epsd at tan(theta) = 1.25 mu_r: a = %.6f m/s^2 (closed form %.6f)\n", am,
+             ae);
+      ledger_closes(&T, "epsd incline");
+    }
+    simtest_close(&T);
+  }
+}
+
+/* Twisting: a sphere spinning about the plane's normal at w0. */
+static void twisting(int cdt) {
+  const double mu_tw = 0.1, w0 = 50.0, al = 2.5 * mu_tw * g / r;
+  const char *ex[] = {cdt ? "contact.rolling=cdt" : "contact.rolling=epsd",
+                      "materials.ball.twisting_friction=0.1",
+                      "particles.0.angular_velocity=[0, 0, 50]"};
+  simtest T;
+  if (open_sphere(&T, 0, ex, 3)) {
+    CHECK(0, "twisting scene failed");
+    return;
+  }
+  const esf_particles *p = &T.s.p;
+  const double t = 0.5 * w0 / al;
+  while (T.s.t < t)
+    if (simtest_step(&T)) break;
+  const double we = w0 - al * T.s.t;
+  CHECK_NEAR(p->w[2], we, 0.01 * (w0 - we),
+             cdt ? "cdt: twisting deceleration (5/2) mu_tw g / r"
+                 : "epsd: twisting deceleration (5/2) mu_tw g / r");
+  printf("%s twisting: w = %.6f rad/s at t = %.4f s (closed form %.6f)\n",
+         cdt ? "cdt" : "epsd", p->w[2], T.s.t, we);
+  simtest_close(&T);
+}
+
+/* The ledger with rolling: spheres dropped on the plane, rolling after the impacts. */
+static const char *pile =
+    "name: rolling_ledger\n"
+    "materials:\n"
+    "  ball: {density: 2500, kn: 1.0e5, restitution: 0.5, friction: 0.4,\n"
+    "         rolling_friction: 0.2, rolling_damping: 0.3, twisting_friction: 0.1}\n"
+    "particles:\n"
+    "  - {material: ball, radius: 0.01, position: [0, 0, 0.03], velocity: [0.5, 0.2, "
+    "0],\n"
+    "     angular_velocity: [3, -20, 40]}\n"
+    "  - {material: ball, radius: 0.008, position: [0.002, 0.001, 0.056], "
+    "angular_velocity: [10, 0, "
+    "0]}\n"
+    "  - {material: ball, radius: 0.012, position: [0.03, 0, 0.02], velocity: [-0.4, 0, "
+    "0]}\n"
+    "walls:\n"
+    "  - {plane: {point: [0, 0, 0], normal: [0, 0, 1]}, material: ball}\n"
+    "integrator: {dt: auto, frac: 0.02}\n"
+    "run: {duration: 1}\n"
+    "output: {energy_every: 1.0e-9}\n";
+
+static void ledger(const char *model) {
+  char set[64];
+  snprintf(set, sizeof set, "contact.rolling=%s", model);
+  const char *sets[] = {set};
+  simtest T;
+  if (simtest_open(&T, pile, sets, 1)) {
+    CHECK(0, "ledger scene failed");
+    return;
+  }
+  while (T.s.t < 0.4)
+    if (simtest_step(&T)) break;
+  const esf_ledger *L = &T.s.led;
+  const double D = esf_ledger_dissipated(L), R = esf_ledger_total_error(L);
+  CHECK(L->d_rolling > 1e-3 * D, "%s: rolling dissipates (%.3g J of %.3g J)", model,
+        L->d_rolling, D);
+  CHECK(fabs(R) < 1e-4 * D, "%s: the ledger closes: total_error %.3g J against %.3g J",
+        model, R, D);
+  printf("%s ledger: dissipated %.6g J (rolling %.6g J), stored rolling %.3g J, "
+         "total_error %.3g J\n",
+         model, D, L->d_rolling, L->el_r, R);
+  simtest_close(&T);
+}
+
+/* mu_r = mu_tw = 0: no rolling state is kept. */
+static void off(void) {
+  const char *ex[] = {"materials.ball.rolling_friction=0"};
+  simtest T;
+  if (open_sphere(&T, 0, ex, 1)) {
+    CHECK(0, "scene failed");
+    return;
+  }
+  simtest_step(&T);
+  CHECK(!T.s.mats.any_rolling && !T.s.nb.pp.roll && !T.s.nb.pw.roll,
+        "mu_r = mu_tw = 0: no rolling state");
+  simtest_close(&T);
+}
+
+int main(void) {
+  cdt_plane();
+  epsd_incline();
+  twisting(0);
+  twisting(1);
+  ledger("epsd");
+  ledger("cdt");
+  off();
+  return check_finish("test_rolling_resistance");
+}
