@@ -20,7 +20,10 @@
  * drift of either particle would change it) on 1, 2, 3 threads and the general path.
  * Leaving the domain: a sphere drifting out is removed at the general path's step by
  * the fused step on 1 and 2 threads, one and 32 steps per call (without the drift's
- * domain check it goes 200 steps late; without the burst's stop on it, 24). */
+ * domain check it goes 200 steps late; without the burst's stop on it, 24).
+ * Rolling and twisting resistance (both models, mixed between the materials): the
+ * fused step on 1, 2 and 3 threads gives the general path's state and rolling states
+ * bit for bit. */
 #include <stdlib.h>
 
 #include "fused/fused.h"
@@ -65,6 +68,7 @@ typedef struct snapshot {
   size_t n, m;
   double *y;
   esf_contact_hist *h;
+  esf_contact_roll *roll; /* the pair list's rolling states, or NULL */
   long builds;
   double contacts_mean; /* touching contacts per step, averaged over the run */
   long calls;           /* calls of the scheme's step */
@@ -78,7 +82,8 @@ typedef struct snapshot {
  * (fused_isa.h); and whether the energy ledger is on (a row every 1e-5 s). */
 static const char *isa_ = "";
 static int ledger_ = 0;
-static const char *extra_ = NULL; /* one more override, or NULL */
+static const char *extra_ = NULL;  /* one more override, or NULL */
+static const char *extra2_ = NULL; /* and another (with extra_), or NULL */
 
 static int run(int threads, int fused, const char *tframe, int moving, long burst,
                snapshot *out) {
@@ -86,9 +91,10 @@ static int run(int threads, int fused, const char *tframe, int moving, long burs
   snprintf(s_fu, sizeof s_fu, "integrator.fused=%s", fused ? "true" : "false");
   snprintf(s_tf, sizeof s_tf, "contact.tangential_frame=%s", tframe);
   snprintf(scene, sizeof scene, scene_fmt, moving ? oscillate : "");
-  const char *sets[] = {s_fu, s_tf, extra_ ? extra_ : s_fu, "output.energy_every=1.0e-5"};
+  const char *sets[] = {s_fu, s_tf, extra_ ? extra_ : s_fu, extra2_ ? extra2_ : s_fu,
+                        "output.energy_every=1.0e-5"};
   simtest T;
-  int rc = simtest_open(&T, scene, sets, ledger_ ? 4 : 3);
+  int rc = simtest_open(&T, scene, sets, ledger_ ? 5 : 4);
   if (rc) return rc;
   T.s.cfg.threads = threads;
   T.s.cfg.range_work = 1; /* one range per thread, however small the scene */
@@ -114,6 +120,11 @@ static int run(int threads, int fused, const char *tframe, int moving, long burs
     out->h = malloc((out->m ? out->m : 1) * sizeof *out->h);
     memcpy(out->y, T.s.p.y, 9 * out->n * sizeof(double));
     memcpy(out->h, T.s.nb.pp.h, out->m * sizeof *out->h);
+    out->roll = NULL;
+    if (T.s.nb.pp.roll) {
+      out->roll = malloc((out->m ? out->m : 1) * sizeof *out->roll);
+      memcpy(out->roll, T.s.nb.pp.roll, out->m * sizeof *out->roll);
+    }
     out->builds = T.s.nb.builds;
     out->contacts_mean = T.s.contacts_sum / (double)T.s.step;
     out->calls = calls;
@@ -133,6 +144,9 @@ static void check_same(const snapshot *a, const snapshot *ref, const char *what)
         what);
   CHECK(memcmp(a->h, ref->h, ref->m * sizeof *ref->h) == 0, "%s: contact history differs",
         what);
+  CHECK(!a->roll == !ref->roll &&
+            (!a->roll || memcmp(a->roll, ref->roll, ref->m * sizeof *ref->roll) == 0),
+        "%s: rolling states differ", what);
   CHECK(a->contacts_mean == ref->contacts_mean && a->builds == ref->builds,
         "%s: %.6f contacts per step, %ld builds (reference %.6f, %ld)", what,
         a->contacts_mean, a->builds, ref->contacts_mean, ref->builds);
@@ -222,6 +236,7 @@ static void check_failure(void) {
 static void release(snapshot *s) {
   free(s->y);
   free(s->h);
+  free(s->roll);
 }
 
 /* A sphere drifting slowly out of the domain (0.05 m/s, far less than half the skin
@@ -325,6 +340,46 @@ static void check_ledger(void) {
   extra_ = NULL;
 }
 
+/* Rolling and twisting resistance, epsd and cdt, mixed (min) between the materials:
+ * the fused step on 1, 2 and 3 threads against the general path, floor oscillating. */
+static void check_rolling(void) {
+  extra_ = "materials={glass: {density: 2500, kn: 2.0e4, restitution: 0.4, "
+           "tangential_restitution: 0.6, friction: 0.4, rolling_friction: 0.3, "
+           "rolling_damping: 0.4, twisting_friction: 0.1}, steel: {density: 7800, kn: "
+           "4.0e4, restitution: 0.7, friction: 0.2, rolling_friction: 0.1}}";
+  const char *models[] = {"contact.rolling=epsd", "contact.rolling=cdt"};
+  for (int q = 0; q < 2; q++) {
+    extra2_ = models[q];
+    snapshot gen, b;
+    if (run(1, 0, "rotate", 1, 1, &gen) != 0) {
+      CHECK(0, "rolling: general path (%s)", models[q]);
+      break;
+    }
+    CHECK(gen.roll != NULL, "%s: the lists keep rolling states", models[q]);
+    double mmax = 0;
+    for (size_t k = 0; gen.roll && k < gen.m; k++)
+      mmax = fmax(mmax, fabs(gen.roll[k].m[0]) + fabs(gen.roll[k].m[1]) +
+                            fabs(gen.roll[k].m[2]) + fabs(gen.roll[k].t));
+    if (q == 0) CHECK(mmax > 0, "epsd: rolling springs loaded (%.3g N m)", mmax);
+    for (int t = 1; t <= 3; t++) {
+      char what[96];
+      snprintf(what, sizeof what, "%s, %d threads", models[q], t);
+      CHECK(run(t, 1, "rotate", 1, 1, &b) == 0, "%s", what);
+      if (check_failures_) break;
+#ifndef ESF_MINIMAL
+      CHECK(b.fused, "%s: the fused step must run it", what);
+#endif
+      check_same(&b, &gen, what);
+      release(&b);
+    }
+    printf("%s: fused on 1-3 threads = general path; %.1f contacts per step, largest "
+           "stored rolling torque %.3g N m\n",
+           models[q], gen.contacts_mean, mmax);
+    release(&gen);
+  }
+  extra_ = extra2_ = NULL;
+}
+
 /* Every instruction set's kernels (fused_isa.h) that this CPU runs give the base
  * kernels' state bit for bit, on 2 threads. */
 static void check_isas(void) {
@@ -396,6 +451,7 @@ int main(void) {
     release(&ref);
   }
   check_isas();
+  check_rolling();
   check_ledger();
   check_failure();
   check_leave();

@@ -216,30 +216,73 @@ typedef struct LANE_FN(esf_law_rout) {
   LANE_R e_el;  /* the springs' energy |hm|^2/(2 kr) + ht^2/(2 ktw), J */
 } LANE_FN(esf_law_rout);
 
+/* The rolling (and twisting, with mu_tw) spring of a contact whose normal stiffness
+ * is kn, N m/rad: 2.25 kn mu^2 R*^2 (Ai et al. 2011 eq. 17). The linear law passes
+ * its kn; the Hertz law its tangent stiffness at the current overlap. */
+static inline LANE_R LANE_FN(esf_law_rolling_stiffness)(LANE_R kn, LANE_R mu,
+                                                        LANE_R rstar) {
+  return 2.25 * kn * mu * mu * rstar * rstar;
+}
+
+/* A particle pair's effective radius R* = rA rB/(rA + rB) and the equivalent moments
+ * of inertia of the rolling resistance: for rolling (about the contact point, Ai et al.
+ * 2011 eq. 21) 1/(1/(IA + mA rA^2) + 1/(IB + mB rB^2)), for twisting (about the
+ * normal) 1/(1/IA + 1/IB). A wall contact: R* = rA, IA + mA rA^2 and IA. */
+static inline void LANE_FN(esf_law_rolling_pair)(LANE_R ra, LANE_R rb, LANE_R ma,
+                                                 LANE_R mb, LANE_R ia, LANE_R ib,
+                                                 LANE_R *rstar, LANE_R *ir, LANE_R *itw) {
+  const LANE_R ja = ia + ma * ra * ra, jb = ib + mb * rb * rb;
+  *rstar = ra * rb / (ra + rb);
+  *ir = ja * jb / (ja + jb);
+  *itw = ia * ib / (ia + ib);
+}
+
+/* The rolling resistance's parameters (esf_law_rpar) of a contact: normal stiffness kn
+ * (esf_law_rolling_stiffness), mu_r, mu_tw, the damping ratio eta_r, R* and the
+ * inertias (esf_law_rolling_pair), the normal force fn (a tension gives no resistance)
+ * and the model (cdt: no springs). Dashpots C = eta_r 2 sqrt(I k) (Ai eq. 20). */
+static inline void LANE_FN(esf_law_rolling_par)(LANE_R kn, LANE_R mu_r, LANE_R mu_tw,
+                                                LANE_R eta_r, LANE_R rstar, LANE_R ir,
+                                                LANE_R itw, LANE_R fn, int cdt,
+                                                LANE_FN(esf_law_rpar) * P) {
+  const LANE_R zero = {0};
+  const LANE_R f = LANE_SEL(fn > 0, fn, zero);
+  P->mr = mu_r * rstar * f;
+  P->mtw = mu_tw * rstar * f;
+  P->cdt = cdt;
+  P->kr = P->ktw = P->cr = P->ctw = zero;
+  if (!cdt) {
+    P->kr = LANE_FN(esf_law_rolling_stiffness)(kn, mu_r, rstar);
+    P->ktw = LANE_FN(esf_law_rolling_stiffness)(kn, mu_tw, rstar);
+    P->cr = 2.0 * eta_r * LANE_SQRT(ir * P->kr);
+    P->ctw = 2.0 * eta_r * LANE_SQRT(itw * P->ktw);
+  }
+}
+
 /* One elastic-plastic spring of the rolling resistance (Ai et al. 2011, type C), for
  * a torque that is a vector (ncomp 3) or a scalar about n (ncomp 1): trial
  * h - k dt wr, capped at lim (radial return), and the plastic work
- * (h + h_new).(h_trial - h_new)/(2 k); returns the mask of full mobilisation. */
-static inline LANE_M LANE_FN(esf_law_roll_spring)(int ncomp, LANE_R k, LANE_R lim,
-                                                  LANE_R dt, const LANE_R *h,
-                                                  const LANE_R *wr, LANE_R *hn,
-                                                  LANE_R *slip) {
+ * (h + h_new).(h_trial - h_new)/(2 k) added to *slip; *full: the mask of full
+ * mobilisation. */
+static inline void LANE_FN(esf_law_roll_spring)(int ncomp, LANE_R k, LANE_R lim,
+                                                LANE_R dt, const LANE_R *h,
+                                                const LANE_R *wr, LANE_R *hn,
+                                                LANE_R *slip, LANE_M *full) {
   const LANE_R zero = {0};
   LANE_R tr[3], m2 = zero;
   for (int q = 0; q < ncomp; q++) {
     tr[q] = h[q] - k * dt * wr[q];
     m2 = m2 + tr[q] * tr[q];
   }
-  const LANE_M full = m2 > lim * lim;
-  const LANE_R sc = LANE_SEL(full, lim / LANE_SQRT(m2), zero + 1.0);
+  *full = m2 > lim * lim;
+  const LANE_R sc = LANE_SEL(*full, lim / LANE_SQRT(m2), zero + 1.0);
   const LANE_R ik = LANE_SEL(k > 0, 0.5 / k, zero);
   LANE_R w = zero;
   for (int q = 0; q < ncomp; q++) {
     hn[q] = tr[q] * sc;
     w = w + (h[q] + hn[q]) * (tr[q] - hn[q]);
   }
-  *slip = *slip + LANE_SEL(full, ik * w, zero);
-  return full;
+  *slip = *slip + LANE_SEL(*full, ik * w, zero);
 }
 
 /* Rolling and twisting resistance (docs/physics.md#rolling-resistance): the relative
@@ -280,10 +323,9 @@ static inline void LANE_FN(esf_law_rolling)(const LANE_FN(esf_law_rpar) * P, LAN
   const LANE_R r = LANE_SEL(m1 > 0, m0 / m1, zero);
   for (int q = 0; q < 3; q++) hr[q] = LANE_SEL(live, hr[q] * r, zero);
   const LANE_R h1 = LANE_SEL(live, ht, zero);
-  const LANE_M fr =
-      LANE_FN(esf_law_roll_spring)(3, P->kr, P->mr, dt, hr, wr, o->hm, &o->slip);
-  const LANE_M ft =
-      LANE_FN(esf_law_roll_spring)(1, P->ktw, P->mtw, dt, &h1, &wn, &o->ht, &o->slip);
+  LANE_M fr, ft;
+  LANE_FN(esf_law_roll_spring)(3, P->kr, P->mr, dt, hr, wr, o->hm, &o->slip, &fr);
+  LANE_FN(esf_law_roll_spring)(1, P->ktw, P->mtw, dt, &h1, &wn, &o->ht, &o->slip, &ft);
   const LANE_R dtw = LANE_SEL(ft, zero, -P->ctw * wn);
   for (int q = 0; q < 3; q++) {
     o->md[q] = LANE_SEL(fr, zero, -P->cr * wr[q]) + dtw * n[q];

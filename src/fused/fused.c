@@ -116,7 +116,8 @@ const char *esf_fused_refusal(const esf_sim *s) {
   if (s->tally || s->nb.pp.vc0 || s->nb.pp.xs || s->nb.pw.xs)
     return "the integrator's own tallies or history";
   if (!s->mats.particles_fused) return "a contact law the fused step has no kernel for";
-  if (s->mats.any_rolling) return "rolling resistance (no kernel yet)";
+  if (s->mats.any_rolling && s->led.on)
+    return "rolling resistance with the energy ledger (no ledger rows in the batches)";
   if (s->bonds.on && !ESF_FUSED_FEATURES) return "bonds (a minimal build)";
   if ((s->walls.gforce || s->drag) && !ESF_FUSED_FEATURES)
     return "servo walls or the fluid force (a minimal build)";
@@ -265,6 +266,10 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
       .cohesion = ESF_FUSED_FEATURES && s->mats.any_cohesion,
       .rows = ledger ? s->led_rows : NULL,
       .bond = s->bonds.on ? cp->bond : NULL,
+      .roll = cp->roll,
+      .mass = p->mass,
+      .inertia = p->inertia,
+      .roll_cdt = s->mats.rolling_model == ESF_ROLL_CDT,
       .broken = &f->broken};
   const double cr0 = 1.0 - s->alpha_r * h, cr1 = 1.0 / (1.0 + s->alpha_r * h),
                ct0 = 1.0 - s->alpha_t * h, ct1 = 1.0 / (1.0 + s->alpha_t * h);

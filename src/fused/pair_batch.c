@@ -8,7 +8,10 @@
  * dashpot while sticking and the Mohr-Coulomb cap with radial return (004 2.13–2.16).
  * The contact point divides the overlap equally: lever arms la = ra - un/2,
  * lb = rb - un/2; the relative contact velocity is vc = (vB - vA) - (la wA + lb wB) x n
- * (000 3-21). Every lane runs the same instructions (the order per batch: batch).
+ * (000 3-21). Rolling and twisting resistance (scenes with some mu_r or mu_tw; no
+ * ledger): law_body.h's esf_law_rolling, the torque M added to A's and subtracted
+ * from B's in the contact's torques (contact_rolling.h, as model/forces.c adds them).
+ * Every lane runs the same instructions (the order per batch: batch).
  * Entry: the pairs overlapped at their last screening or step; their touch flag says
  * whether the history is live.
  * Exit: a pair whose spheres no longer overlap (the screening's test, |d|^2 < (ra +
@@ -252,6 +255,37 @@ static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_
   }
 }
 
+/* The rolling resistance of the batch's lanes (esf_law_rolling_par, esf_law_rolling),
+ * the operations of model/forces.c's per contact: the pairs' mu_r, mu_tw, eta_r and
+ * stored states gathered, R* and the inertias, the torque M = md + ms added to ta (A's)
+ * and subtracted from tb (B's); R receives the new states to commit. */
+static void rolling(const esf_pair_batch_ctx *c, const esf_pair_params *const *pp,
+                    const size_t *kk, const size_t *ia, const size_t *ib, vd kn, vd ra,
+                    vd rb, vd fn, const vd n[3], const vd wa[3], const vd wb[3], vm live,
+                    esf_law_rout_v *R, vd ta[4], vd tb[4]) {
+  vd mur, mutw, etar, hm[3], ht;
+  for (int l = 0; l < ESF_BATCH; l++) {
+    mur[l] = pp[l]->mu_r;
+    mutw[l] = pp[l]->mu_tw;
+    etar[l] = pp[l]->eta_r;
+    const esf_contact_roll *h = &c->roll[kk[l]];
+    for (int q = 0; q < 3; q++) hm[q][l] = h->m[q];
+    ht[l] = h->t;
+  }
+  vd rs, ir, itw, wrel[3];
+  esf_law_rolling_pair_v(ra, rb, gat(c->mass, ia), gat(c->mass, ib), gat(c->inertia, ia),
+                         gat(c->inertia, ib), &rs, &ir, &itw);
+  esf_law_rpar_v P;
+  esf_law_rolling_par_v(kn, mur, mutw, etar, rs, ir, itw, fn, c->roll_cdt, &P);
+  for (int q = 0; q < 3; q++) wrel[q] = wa[q] - wb[q];
+  esf_law_rolling_v(&P, ((vd){0}) + c->dt, n, wrel, hm, ht, live, R);
+  for (int q = 0; q < 3; q++) {
+    const vd M = R->md[q] + R->ms[q];
+    ta[q] = ta[q] + M;
+    tb[q] = tb[q] - M;
+  }
+}
+
 /* The batch; its results to out (acc NULL) or added to acc. In order: gather the lanes'
  * positions, radii, velocities, spins, history and pair parameters; compute everything
  * lane-wise with the same instructions for every lane (the Coulomb cap as a select, its
@@ -378,8 +412,11 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   esf_law_force_v(n, fn, T.ft, f, m);
   const vd *xi = T.xi;
   const vd f4[4] = {f[0], f[1], f[2], zero};
-  const vd ta[4] = {la * m[0], la * m[1], la * m[2], zero};
-  const vd tb[4] = {lb * m[0], lb * m[1], lb * m[2], zero};
+  vd ta[4] = {la * m[0], la * m[1], la * m[2], zero};
+  vd tb[4] = {lb * m[0], lb * m[1], lb * m[2], zero};
+  esf_law_rout_v R;
+  if (c->roll)
+    rolling(c, pp, kk, ia, ib, kn, ra, rb, fn, n, wa, wb, tch & ~broke, &R, ta, tb);
   v4 rf[ESF_BATCH], rta[ESF_BATCH], rtb[ESF_BATCH];
   if (acc) {
     rows_of(f4, rf);
@@ -418,6 +455,8 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
     const double n12[2] = {n[1][l], n[2][l]};
     memcpy(h + HN1, n12, sizeof n12);
     c->touch[kk[l]] = 1;
+    if (c->roll)
+      c->roll[kk[l]] = (esf_contact_roll){{R.hm[0][l], R.hm[1][l], R.hm[2][l]}, R.ht[l]};
   }
   if (acc)
     for (int l = 0; l < nl; l++) {

@@ -129,7 +129,9 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
 /* The rolling resistance of touching candidate k of c (contact_rolling.h), live: it
  * was touching at the last commit. Adds its torque to ta (A) and the opposite to tb
  * (B; NULL for a wall), commits its state, and adds to the leapfrog's ledger rows ra, rb
- * (or NULL; a wall: rb NULL and om its angular velocity). */
+ * (or NULL; a wall: rb NULL and om its angular velocity). ta and tb are the contact's
+ * own torques (lever arm times n x ft), so that the particles receive lA n x ft + M in
+ * one addition as from the fused step's batches. */
 static void rolling(const esf_sim *s, const esf_pair_params *pp, esf_candidates *c,
                     size_t k, int commit, int live, const double n[3],
                     const double wrel[3], double rstar, double ir, double itw, double fn,
@@ -194,10 +196,10 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
     nt++;
     v3_add(p->f + 3 * a, p->f + 3 * a, out.f);
     v3_sub(p->f + 3 * b, p->f + 3 * b, out.f);
-    double m[3];
+    double m[3], ma[3], mb[3];
     v3_cross(m, in.n, out.ft);
-    v3_axpy(p->t + 3 * a, la, m);
-    v3_axpy(p->t + 3 * b, lb, m);
+    v3_scale(ma, la, m);
+    v3_scale(mb, lb, m);
     if (rows_a) {
       double ket[3];
       spring_t(pp, &c->h[k], ket);
@@ -205,14 +207,15 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
                            out.fd_t, ket, out.slip_work, out.e_el_n, out.e_el_t);
     }
     if (c->roll) {
-      const double ia = p->inertia[a], ib = p->inertia[b];
-      const double ja = ia + p->mass[a] * ra * ra, jb = ib + p->mass[b] * rb * rb;
-      double wrel[3];
+      double wrel[3], rs, ir, itw;
       v3_sub(wrel, wa, wb);
-      rolling(s, pp, c, k, commit, live, in.n, wrel, ra * rb / (ra + rb),
-              ja * jb / (ja + jb), ia * ib / (ia + ib), out.fn, dt, p->t + 3 * a,
-              p->t + 3 * b, rows_a, rows_a ? rows + ESF_LR * b : NULL, NULL);
+      esf_law_rolling_pair_s(ra, rb, p->mass[a], p->mass[b], p->inertia[a], p->inertia[b],
+                             &rs, &ir, &itw);
+      rolling(s, pp, c, k, commit, live, in.n, wrel, rs, ir, itw, out.fn, dt, ma, mb,
+              rows_a, rows_a ? rows + ESF_LR * b : NULL, NULL);
     }
+    v3_add(p->t + 3 * a, p->t + 3 * a, ma);
+    v3_add(p->t + 3 * b, p->t + 3 * b, mb);
     if (slips) slip += out.slip_work;
   }
   if (slips) s->led.d_friction += slip;
@@ -315,16 +318,17 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
     if (commit && s->walls.gforce) /* servo walls (servo.c) */
       esf_servo_add(esf_servo_slot(&s->walls, a, el->group), &out, in.n);
     v3_add(f, f, out.f);
-    double m[3];
+    double m[3], ma[3];
     v3_cross(m, in.n, out.ft);
-    v3_axpy(t, la, m);
+    v3_scale(ma, la, m);
     if (c->roll) {
       const double ia = p->inertia[a];
       double wrel[3];
       v3_sub(wrel, w + 3 * a, g->omega);
       rolling(s, pp, c, k, commit, live, in.n, wrel, r, ia + p->mass[a] * r * r, ia,
-              out.fn, dt, t, NULL, rows, NULL, g->omega);
+              out.fn, dt, ma, NULL, rows, NULL, g->omega);
     }
+    v3_add(t, t, ma);
   }
   return ESF_OK;
 }
