@@ -9,9 +9,13 @@
  *     limit, the dashpot off);
  *   twisting (both models) about the normal: w(t) = w0 - (5/2) mu_tw g t / r;
  *   the energy ledger closes with rolling (several spheres dropped on a plane);
- *   a scene with mu_r = mu_tw = 0 keeps no rolling state.
+ *   a scene with mu_r = mu_tw = 0 keeps no rolling state;
+ *   the live stability check sees the twisting spring: with mu_tw = 1 and no dashpots
+ *   its mode, w^2 = k_tw / I = 5.625 kn mu_tw^2 / m, is the network's fastest (normal
+ *   kn/m, tangential-rolling 3.5 kt/m).
  * The sphere starts at its static overlap m g / kn (u/r ~ 1e-5, below the 1%
  * tolerances). */
+#include "model/stability.h"
 #include "simtest.h"
 
 static const char *scene =
@@ -196,6 +200,29 @@ static void ledger(const char *model) {
   simtest_close(&T);
 }
 
+/* The live stability check's top mode: the twisting spring of a sphere on the plane. */
+static void stability(void) {
+  const char *ex[] = {"materials.ball.twisting_friction=1",
+                      "materials.ball.restitution=1", "materials.ball.rolling_damping=0"};
+  simtest T;
+  if (open_sphere(&T, 0, ex, 3)) {
+    CHECK(0, "stability scene failed");
+    return;
+  }
+  simtest_step(&T);
+  esf_stability st;
+  if (esf_stability_estimate(&T.s, T.s.dt, 1, &st, &T.err)) {
+    CHECK(0, "stability estimate: %s", T.err.msg);
+  } else {
+    const double w2 = 5.625 * kn / mass(), lam = T.s.dt * T.s.dt * w2;
+    CHECK_NEAR(st.lambda, lam, 2e-3 * lam, "stability: lambda of the twisting mode");
+    printf("stability: lambda %.6g (twisting mode dt^2 k_tw/I = %.6g), omega %.6g rad/s "
+           "(%.6g)\n",
+           st.lambda, lam, st.omega, sqrt(w2));
+  }
+  simtest_close(&T);
+}
+
 /* mu_r = mu_tw = 0: no rolling state is kept. */
 static void off(void) {
   const char *ex[] = {"materials.ball.rolling_friction=0"};
@@ -218,5 +245,6 @@ int main(void) {
   ledger("epsd");
   ledger("cdt");
   off();
+  stability();
   return check_finish("test_rolling_resistance");
 }

@@ -53,6 +53,9 @@ static void add_contact(gsl_matrix *M, int dim, const esf_stab_contact *c, int w
     esf_stab_contact_apply(c->n, c->slip ? c->t : NULL, c->la, c->lb, c->kc[which],
                            c->kc[which + 1], x, pair ? x + 6 : NULL, y,
                            pair ? y + 6 : NULL);
+    if (c->roll) /* the rolling resistance's springs or dashpots */
+      esf_stab_roll_apply(c->n, c->kr[which], c->kr[which + 1], x, pair ? x + 6 : NULL, y,
+                          pair ? y + 6 : NULL);
     for (int p = 0; p < nloc; p++)
       if (idx[p] >= 0) *gsl_matrix_ptr(M, (size_t)idx[p], (size_t)idx[q]) += y[p];
   }

@@ -14,7 +14,8 @@
  * has them, lever arms to the contact point, as in `esfera modes` (app/modes.c, which
  * assembles the same esf_stab_contact_apply densely); the turning normal's geometric
  * stiffness is neglected. Touching: overlap > 0, or bonded; a contact at its Coulomb
- * cap (or frictionless) has no tangential spring or dashpot.
+ * cap (or frictionless) has no tangential spring or dashpot. Rolling resistance (epsd):
+ * its rotational springs and dashpots (esf_stab_roll_apply), elastic also at the limit.
  * Units: SI. Entry: a set-up sim with its candidate lists built; nothing is changed. */
 #include "model/stability.h"
 
@@ -25,6 +26,7 @@
 #include <string.h>
 
 #include "bodies/wall_geom.h"
+#include "contact/lane_scalar.h"
 #include "model/forces.h"
 #include "util/clock.h"
 #include "util/vec3.h"
@@ -82,6 +84,29 @@ static void tangential(const esf_pair_params *pp, const esf_contact_hist *h, int
   c->slip = 1;
 }
 
+/* The rolling resistance's springs and dashpots of a contact (esf_law_rolling_par with
+ * R* and the inertias of esf_law_rolling_pair; a wall, b < 0: rA, IA + mA rA^2, IA as
+ * forces.c), epsd only: cdt's constant torque has no stiffness. */
+static void roll_springs(const esf_sim *s, const esf_pair_params *par, size_t a, long b,
+                         esf_stab_contact *c) {
+  const esf_particles *p = &s->p;
+  c->roll = s->mats.any_rolling && s->mats.rolling_model == ESF_ROLL_EPSD;
+  if (!c->roll) return;
+  double rs, ir, itw, ra = p->radius[a], ia = p->inertia[a];
+  if (b >= 0)
+    esf_law_rolling_pair_s(ra, p->radius[b], p->mass[a], p->mass[b], ia, p->inertia[b],
+                           &rs, &ir, &itw);
+  else
+    rs = ra, ir = ia + p->mass[a] * ra * ra, itw = ia;
+  esf_law_rpar_s P;
+  esf_law_rolling_par_s(par->kn, par->mu_r, par->mu_tw, par->eta_r, rs, ir, itw, 1.0, 0,
+                        &P);
+  c->kr[0] = P.kr;
+  c->kr[1] = P.ktw;
+  c->kr[2] = P.cr;
+  c->kr[3] = P.ctw;
+}
+
 size_t esf_stab_contacts(const esf_sim *s, esf_stab_visit fn, void *ctx) {
   const esf_particles *p = &s->p;
   const esf_materials *mt = &s->mats;
@@ -97,6 +122,7 @@ size_t esf_stab_contacts(const esf_sim *s, esf_stab_visit fn, void *ctx) {
                      p->mass[c.a] * p->mass[c.b] / (p->mass[c.a] + p->mass[c.b]), c.kc);
     tangential(par, &pp->h[k], pp->touch[k],
                p->radius[c.a] - c.la + p->radius[c.b] - c.lb, c.n, &c);
+    roll_springs(s, par, c.a, c.b, &c);
     fn(&c, ctx);
     cnt++;
   }
@@ -133,6 +159,7 @@ size_t esf_stab_contacts(const esf_sim *s, esf_stab_visit fn, void *ctx) {
           &mt->pair[p->material[a] * mt->n + s->walls.e[elem[j]].material];
       esf_stab_springs(par, s->beta, p->mass[a], c.kc);
       tangential(par, &pw->h[kk[j]], pw->touch[kk[j]], un[j], c.n, &c);
+      roll_springs(s, par, a, -1, &c);
       fn(&c, ctx);
       cnt++;
     }
@@ -174,6 +201,11 @@ static void apply_one(const esf_stab_contact *c, void *ctx) {
                          o->ck * c->kc[1] + o->cc * c->kc[3], o->x + 6 * c->a,
                          wall ? NULL : o->x + 6 * (size_t)c->b, o->y + 6 * c->a,
                          wall ? NULL : o->y + 6 * (size_t)c->b);
+  if (c->roll)
+    esf_stab_roll_apply(c->n, o->ck * c->kr[0] + o->cc * c->kr[2],
+                        o->ck * c->kr[1] + o->cc * c->kr[3], o->x + 6 * c->a,
+                        wall ? NULL : o->x + 6 * (size_t)c->b, o->y + 6 * c->a,
+                        wall ? NULL : o->y + 6 * (size_t)c->b);
 }
 
 static void op_apply(op *o, const double *x, double *y) {
@@ -287,6 +319,8 @@ static void share_one(const esf_stab_contact *c, void *ctx) {
   const double *xa = h->y + 6 * c->a, *xb = wall ? NULL : h->y + 6 * (size_t)c->b;
   esf_stab_contact_apply(c->n, c->slip ? c->t : NULL, c->la, c->lb, c->kc[0], c->kc[1],
                          xa, xb, ya, wall ? NULL : yb);
+  if (c->roll)
+    esf_stab_roll_apply(c->n, c->kr[0], c->kr[1], xa, xb, ya, wall ? NULL : yb);
   for (int j = 0; j < 6; j++) e += xa[j] * ya[j] + (wall ? 0.0 : xb[j] * yb[j]);
   if (e > h->best) h->best = e, h->a = c->a, h->b = c->b;
 }

@@ -47,6 +47,23 @@ static inline void esf_stab_contact_apply(const double n[3], const double *t, do
     }
 }
 
+/* y += the rolling resistance's rotational stiffness for one contact:
+ * S_r = kr (I - n n^T) + ktw n n^T on the relative rotation dth = dthA - dthB
+ * (docs/physics.md#rolling-resistance): S_r dth on A's rotation, -S_r dth on B's (xb,
+ * yb NULL for a wall). */
+static inline void esf_stab_roll_apply(const double n[3], double kr, double ktw,
+                                       const double *xa, const double *xb, double *ya,
+                                       double *yb) {
+  double d[3];
+  for (int q = 0; q < 3; q++) d[q] = xa[3 + q] - (xb ? xb[3 + q] : 0.0);
+  const double dn = v3_dot(n, d);
+  for (int q = 0; q < 3; q++) {
+    const double m = kr * d[q] + (ktw - kr) * dn * n[q];
+    ya[3 + q] += m;
+    if (yb) yb[3 + q] -= m;
+  }
+}
+
 /* kn, kt, cn, ct of a contact of material pair pp with reduced mass mstar (the linear
  * law's dashpots, contact_linear.c; an adhesive pair's largest bonded tangent
  * stiffness); beta > 0: Rayleigh dashpots c = beta k. */
@@ -55,12 +72,15 @@ void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar, doub
 /* One touching contact as the check sees it: bodies a and b (b < 0: a wall), unit
  * normal n from a, lever arms, kc = kn, kt, cn, ct (esf_stab_springs; kt and ct zero
  * when frictionless) and, when slip, the unit slip direction t of a contact at its
- * Coulomb cap. */
+ * Coulomb cap; with roll, the rolling and twisting springs and dashpots (the elastic
+ * ones, also at the limit: an upper bound). */
 typedef struct esf_stab_contact {
   size_t a;
   long b;
   double n[3], t[3], la, lb, kc[4];
   int slip;
+  int roll;     /* 1: rolling resistance springs (epsd) in kr */
+  double kr[4]; /* kr, ktw, cr, ctw (esf_law_rolling_par; roll only) */
 } esf_stab_contact;
 
 typedef void (*esf_stab_visit)(const esf_stab_contact *c, void *ctx);
