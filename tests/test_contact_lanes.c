@@ -11,14 +11,17 @@
  * (reported, nothing committed). Each case runs with the seed's rotated frame and the
  * projected one, with restitution dashpots and Rayleigh ones, with one material
  * broadcast and with per-pair parameters; the pairs go through the batches in a
- * shuffled order and in batches of 1 to 8 lanes. Compared with memcmp: the force on A,
- * the torques on A and B, the committed history and touch flag, the failure and
- * apart masks. */
+ * shuffled order and in batches of 1 to 8 lanes, and without rolling resistance, with
+ * epsd and with cdt (states of the rolling and twisting springs up to three times
+ * their limits, in a tilted plane; torques composed as model/forces.c does). Compared
+ * with memcmp: the force on A, the torques on A and B, the committed history, rolling
+ * state and touch flag, the failure and apart masks. */
 #include <stdlib.h>
 #include <string.h>
 
 #include "check.h"
 #include "contact/contact_linear.h"
+#include "contact/contact_rolling.h"
 #include "contact/lane_scalar.h"
 #include "contact/material.h"
 #include "fused/fused_impl.h"
@@ -29,10 +32,11 @@ enum { NP = 4000 };
 
 typedef struct cases {
   double y[9 * 2 * NP + 1]; /* x | v | w of 2 NP particles, one spare (pair_batch.h) */
-  double radius[2 * NP], mass[2 * NP], sm[NP];
+  double radius[2 * NP], mass[2 * NP], inertia[2 * NP], sm[NP];
   int32_t material[2 * NP];
   uint32_t a[NP], b[NP];
   esf_contact_hist h[NP];
+  esf_contact_roll roll[NP];
   uint8_t touch[NP];
 } cases;
 
@@ -59,6 +63,8 @@ static void make(cases *c, esf_rng *r) {
     c->mass[ia] = 2500 * 4.18879 * ra * ra * ra;
     c->mass[ib] = 2500 * 4.18879 * rb * rb * rb;
     c->sm[k] = sqrt(c->mass[ia] * c->mass[ib] / (c->mass[ia] + c->mass[ib]));
+    c->inertia[ia] = 0.4 * c->mass[ia] * ra * ra;
+    c->inertia[ib] = 0.4 * c->mass[ib] * rb * rb;
     double u[3] = {uni(r, -1, 1), uni(r, -1, 1), uni(r, -1, 1)};
     v3_scale(u, 1.0 / v3_norm(u), u);
     /* overlap from -0.3 to 1.3 times the limit, 5% of the smaller radius */
@@ -78,6 +84,12 @@ static void make(cases *c, esf_rng *r) {
     const double mag = uni(r, 0, 3) * 0.5 * fmax(-gap, 0) * 1e4 / 2857.0;
     v3_scale(c->h[k].xi, mag / fmax(v3_norm(t), 1e-300), t);
     v3_copy(c->h[k].n, hn);
+    /* rolling state: up to three times mu_r R* kn un (mu_r 0.2, kn 1e4) */
+    double s[3] = {uni(r, -1, 1), uni(r, -1, 1), uni(r, -1, 1)};
+    v3_axpy(s, -v3_dot(s, hn), hn);
+    const double lim = 0.2 * ra * rb / (ra + rb) * 1e4 * fmax(-gap, 0);
+    v3_scale(c->roll[k].m, uni(r, 0, 3) * lim / fmax(v3_norm(s), 1e-300), s);
+    c->roll[k].t = uni(r, -3, 3) * 0.5 * lim;
     c->touch[k] = (uint8_t)(esf_rng_uniform(r) < 0.75);
   }
   c->y[9 * n] = 0.0;
@@ -86,6 +98,7 @@ static void make(cases *c, esf_rng *r) {
 typedef struct result {
   double f[3], ta[3], tb[3];
   esf_contact_hist h;
+  esf_contact_roll roll;
   uint8_t touch;
   int bad, apart;
   int sliding; /* the scalar law's report (not compared: the batch gives none) */
@@ -93,10 +106,10 @@ typedef struct result {
 
 /* The general path's evaluation of pair k (model/forces.c's order of operations). */
 static result scalar(const cases *c, const esf_materials *mt, double beta, int tframe,
-                     double dt, double max_overlap, size_t k) {
+                     double dt, double max_overlap, int roll, size_t k) {
   const size_t n = 2 * NP, ia = c->a[k], ib = c->b[k];
   const double *x = c->y, *v = c->y + 3 * n, *w = c->y + 6 * n;
-  result r = {.touch = c->touch[k], .h = c->h[k]};
+  result r = {.touch = c->touch[k], .h = c->h[k], .roll = c->roll[k]};
   double d[3], d2, la, lb;
   const double ra = c->radius[ia], rb = c->radius[ib];
   if (!esf_law_pair_overlap_s(x + 3 * ia, x + 3 * ib, ra, rb, d, &d2)) {
@@ -123,6 +136,21 @@ static result scalar(const cases *c, const esf_materials *mt, double beta, int t
   v3_copy(r.f, out.f);
   v3_scale(r.ta, la, m);
   v3_scale(r.tb, lb, m);
+  if (roll) { /* model/forces.c's rolling(): M added to A's, subtracted from B's */
+    double wrel[3], rs, ir, itw;
+    v3_sub(wrel, w + 3 * ia, w + 3 * ib);
+    esf_law_rolling_pair_s(ra, rb, c->mass[ia], c->mass[ib], c->inertia[ia],
+                           c->inertia[ib], &rs, &ir, &itw);
+    esf_law_rout_s o;
+    esf_contact_rolling(pp, roll == 2 ? ESF_ROLL_CDT : ESF_ROLL_EPSD, pp->kn, rs, ir, itw,
+                        out.fn, dt, in.n, wrel, &c->roll[k], c->touch[k], &o);
+    for (int q = 0; q < 3; q++) {
+      r.ta[q] += o.md[q] + o.ms[q];
+      r.tb[q] -= o.md[q] + o.ms[q];
+      r.roll.m[q] = o.hm[q];
+    }
+    r.roll.t = o.ht;
+  }
   r.touch = 1;
   r.sliding = out.sliding;
   return r;
@@ -132,10 +160,13 @@ static result scalar(const cases *c, const esf_materials *mt, double beta, int t
  * time (cycling 1 .. 8); the results per pair. */
 static void batched(const esf_fused_kernels *K, cases *c, const esf_materials *mt,
                     const esf_pair_params *one, double beta, int tframe, int cohesion,
-                    double dt, double max_overlap, const uint32_t *ord, result *res) {
+                    double dt, double max_overlap, int roll, const uint32_t *ord,
+                    result *res) {
   esf_contact_hist *h = malloc(NP * sizeof *h);
+  esf_contact_roll *rl = malloc(NP * sizeof *rl);
   uint8_t *touch = malloc(NP);
   memcpy(h, c->h, NP * sizeof *h);
+  memcpy(rl, c->roll, NP * sizeof *rl);
   memcpy(touch, c->touch, NP);
   const size_t n = 2 * NP;
   const esf_pair_batch_ctx ctx = {.x = c->y,
@@ -154,7 +185,11 @@ static void batched(const esf_fused_kernels *K, cases *c, const esf_materials *m
                                   .dt = dt,
                                   .max_overlap = max_overlap,
                                   .rotate = tframe == ESF_TFRAME_ROTATE,
-                                  .cohesion = cohesion};
+                                  .cohesion = cohesion,
+                                  .roll = roll ? rl : NULL,
+                                  .mass = c->mass,
+                                  .inertia = c->inertia,
+                                  .roll_cdt = roll == 2};
   double out[ESF_BATCH][ESF_BATCH_OUT];
   for (size_t q0 = 0, nl = 1; q0 < NP; q0 += nl, nl = nl % ESF_BATCH + 1) {
     if (q0 + nl > NP) nl = NP - q0;
@@ -175,8 +210,10 @@ static void batched(const esf_fused_kernels *K, cases *c, const esf_materials *m
   }
   for (size_t k = 0; k < NP; k++) {
     res[k].h = h[k];
+    res[k].roll = rl[k];
     res[k].touch = touch[k];
   }
+  free(rl);
   free(h);
   free(touch);
 }
@@ -184,12 +221,15 @@ static void batched(const esf_fused_kernels *K, cases *c, const esf_materials *m
 /* The same bits: every field that both evaluations define. */
 static int same(const result *a, const result *b) {
   if (a->bad != b->bad || a->apart != b->apart || a->touch != b->touch) return 0;
-  if (a->bad) return memcmp(&a->h, &b->h, sizeof a->h) == 0; /* nothing committed */
+  if (a->bad) /* nothing committed */
+    return memcmp(&a->h, &b->h, sizeof a->h) == 0 &&
+           memcmp(&a->roll, &b->roll, sizeof a->roll) == 0;
   if (a->apart) return 1;
   return memcmp(a->f, b->f, sizeof a->f) == 0 &&
          memcmp(a->ta, b->ta, sizeof a->ta) == 0 &&
          memcmp(a->tb, b->tb, sizeof a->tb) == 0 &&
-         memcmp(&a->h, &b->h, sizeof a->h) == 0;
+         memcmp(&a->h, &b->h, sizeof a->h) == 0 &&
+         memcmp(&a->roll, &b->roll, sizeof a->roll) == 0;
 }
 
 int main(void) {
@@ -208,12 +248,17 @@ int main(void) {
                      .restitution = 0.5,
                      .tangential_restitution = 0.7,
                      .friction = 0.5,
-                     .tensile_limit = -1};
+                     .tensile_limit = -1,
+                     .rolling_friction = 0.2,
+                     .rolling_damping = 0.3,
+                     .twisting_friction = 0.1};
   esf_material m1 = m0;
   snprintf(m1.name, sizeof m1.name, "sticky");
   m1.kn = 2e4;
   m1.friction = 0.3;
   m1.cohesion = 0.05;
+  m1.rolling_friction = 0.3; /* mixed: min */
+  m1.rolling_damping = 0.5;
   int32_t idx;
   CHECK_OK(esf_materials_add(&mt, &m0, &idx, &err), err);
   CHECK_OK(esf_materials_add(&mt, &m1, &idx, &err), err);
@@ -245,38 +290,44 @@ int main(void) {
     }
     compared++;
     const esf_fused_kernels *K = f->k;
-    for (int tf = 0; tf < 2; tf++)
-      for (int rayleigh = 0; rayleigh < 2; rayleigh++)
-        for (int single = 0; single < 2; single++) {
-          cases *cs = single ? one_mat : &c;
-          const double beta = rayleigh ? 2e-4 : 0.0, dt = 2e-6, lim = 0.05;
-          const int tframe = tf ? ESF_TFRAME_PROJECT : ESF_TFRAME_ROTATE;
-          const esf_pair_params *one = single ? &mt.pair[0] : NULL;
-          const int cohesion = !single; /* material 1 has cohesion */
-          size_t diff = 0, first_diff = NP;
-          for (size_t k = 0; k < NP; k++)
-            ref[k] = scalar(cs, &mt, beta, tframe, dt, lim, k);
-          batched(K, cs, &mt, one, beta, tframe, cohesion, dt, lim, ord, got);
-          for (size_t k = 0; k < NP; k++)
-            if (!same(&ref[k], &got[k])) {
-              diff++;
-              if (first_diff == NP) first_diff = k;
-            }
-          CHECK(diff == 0,
-                "%s, %s frame, %s dashpots, %s: %zu of %d pairs differ (first: pair %zu)",
-                isas[q], tf ? "projected" : "rotated",
-                rayleigh ? "Rayleigh" : "restitution",
+    for (int roll = 0; roll < 3; roll++) /* none, epsd, cdt */
+      for (int tf = 0; tf < 2; tf++)
+        for (int rayleigh = 0; rayleigh < 2; rayleigh++)
+          for (int single = 0; single < 2; single++) {
+            cases *cs = single ? one_mat : &c;
+            const double beta = rayleigh ? 2e-4 : 0.0, dt = 2e-6, lim = 0.05;
+            const int tframe = tf ? ESF_TFRAME_PROJECT : ESF_TFRAME_ROTATE;
+            const esf_pair_params *one = single ? &mt.pair[0] : NULL;
+            const int cohesion = !single; /* material 1 has cohesion */
+            size_t diff = 0, first_diff = NP;
+            for (size_t k = 0; k < NP; k++)
+              ref[k] = scalar(cs, &mt, beta, tframe, dt, lim, roll, k);
+            batched(K, cs, &mt, one, beta, tframe, cohesion, dt, lim, roll, ord, got);
+            for (size_t k = 0; k < NP; k++)
+              if (!same(&ref[k], &got[k])) {
+                diff++;
+                if (first_diff == NP) first_diff = k;
+              }
+            CHECK(
+                diff == 0,
+                "%s, %s, %s frame, %s dashpots, %s: %zu of %d pairs differ (first: pair "
+                "%zu)",
+                isas[q],
+                roll == 0   ? "no rolling"
+                : roll == 1 ? "epsd"
+                            : "cdt",
+                tf ? "projected" : "rotated", rayleigh ? "Rayleigh" : "restitution",
                 single ? "one material" : "two materials", diff, NP, first_diff);
-          if (q == 0 && tf == 0 && rayleigh == 0 && single == 0)
-            for (size_t k = 0; k < NP; k++) { /* what the cases cover */
-              aparts += ref[k].apart;
-              bads += ref[k].bad;
-              if (ref[k].apart || ref[k].bad) continue;
-              firsts += !c.touch[k];
-              cut += -v3_dot(ref[k].f, ref[k].h.n) == 0.0; /* fn */
-              slides += ref[k].sliding;
-            }
-        }
+            if (q == 0 && roll == 0 && tf == 0 && rayleigh == 0 && single == 0)
+              for (size_t k = 0; k < NP; k++) { /* what the cases cover */
+                aparts += ref[k].apart;
+                bads += ref[k].bad;
+                if (ref[k].apart || ref[k].bad) continue;
+                firsts += !c.touch[k];
+                cut += -v3_dot(ref[k].f, ref[k].h.n) == 0.0; /* fn */
+                slides += ref[k].sliding;
+              }
+          }
     esf_fused_free(&f);
   }
   printf(

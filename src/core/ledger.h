@@ -224,10 +224,12 @@ static inline void esf_ledger_roll_rows(double *ra, double *rb, const double md[
 /* The rows of a step's particle i: rows r (ESF_LR), velocities and spins before (vo,
  * wo: v_{n-1/2}) and after the kick (vn, wn), step dt. Adds to its block's channels
  * blk the dashpots' dissipation -(F . vbar + M . wbar) dt, the springs' energies less
- * (1/2) (F . v_{n+1/2} + M . w_{n+1/2}) dt, and the scalars (slip, wall work, bonds). */
+ * (1/2) (F . v_{n+1/2} + M . w_{n+1/2}) dt, and the scalars (slip, wall work, bonds);
+ * with roll, the rolling resistance's rows likewise. */
 static inline void esf_ledger_particle(const double *r, const double vo[3],
                                        const double vn[3], const double wo[3],
-                                       const double wn[3], double dt, double *blk) {
+                                       const double wn[3], double dt, int roll,
+                                       double *blk) {
   double vb[3], wb[3];
   for (int q = 0; q < 3; q++) {
     vb[q] = 0.5 * (vo[q] + vn[q]);
@@ -249,6 +251,7 @@ static inline void esf_ledger_particle(const double *r, const double vo[3],
   blk[ESF_LB_SL] += dn[3];
   blk[ESF_LB_WW] += mdt[3] * dt;
   blk[ESF_LB_BD] += et[3];
+  if (!roll) return; /* no rolling resistance: its rows are zero */
   const double *rd = r + ESF_LR_RD, *re = r + ESF_LR_RE; /* rolling (zero without) */
   double pdr = 0, per = 0;
   for (int q = 0; q < 3; q++) {
@@ -267,6 +270,7 @@ static inline void esf_ledger_particle(const double *r, const double vo[3],
 typedef struct esf_ledger_kick {
   double dt, alpha_r, alpha_t; /* s, 1/s */
   const double *g;             /* gravity, m/s^2 */
+  int roll;                    /* the rows carry rolling resistance (ESF_LR_RD, _RE) */
 } esf_ledger_kick;
 static inline void esf_ledger_kick_particle(const esf_ledger_kick *k, double m, double I,
                                             const double x[3], const double v0[3],
@@ -299,7 +303,7 @@ static inline void esf_ledger_kick_particle(const esf_ledger_kick *k, double m, 
                        ml[1] * wb[1] + ml[2] * wb[2]) *
                       k->dt;
   if (ff) blk[ESF_LB_WF] += (ff[0] * vb[0] + ff[1] * vb[1] + ff[2] * vb[2]) * k->dt;
-  if (r) esf_ledger_particle(r, v0, v, w0, w, k->dt, blk);
+  if (r) esf_ledger_particle(r, v0, v, w0, w, k->dt, k->roll, blk);
 }
 
 /* Sums the nb blocks' channels (ESF_LB_N each) in order and books the step: stored
