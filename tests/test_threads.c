@@ -341,21 +341,27 @@ static void check_ledger(void) {
 }
 
 /* Rolling and twisting resistance, epsd and cdt, mixed (min) between the materials:
- * the fused step on 1, 2 and 3 threads against the general path, floor oscillating. */
+ * the fused step on 1, 2 and 3 threads against the general path, floor oscillating,
+ * without and with the energy ledger (its rolling rows and columns). */
 static void check_rolling(void) {
   extra_ = "materials={glass: {density: 2500, kn: 2.0e4, restitution: 0.4, "
            "tangential_restitution: 0.6, friction: 0.4, rolling_friction: 0.3, "
            "rolling_damping: 0.4, twisting_friction: 0.1}, steel: {density: 7800, kn: "
            "4.0e4, restitution: 0.7, friction: 0.2, rolling_friction: 0.1}}";
   const char *models[] = {"contact.rolling=epsd", "contact.rolling=cdt"};
-  for (int q = 0; q < 2; q++) {
-    extra2_ = models[q];
+  for (int q = 0; q < 4; q++) {
+    extra2_ = models[q % 2];
+    ledger_ = q >= 2;
     snapshot gen, b;
     if (run(1, 0, "rotate", 1, 1, &gen) != 0) {
-      CHECK(0, "rolling: general path (%s)", models[q]);
+      CHECK(0, "rolling: general path (%s)", extra2_);
       break;
     }
-    CHECK(gen.roll != NULL, "%s: the lists keep rolling states", models[q]);
+    CHECK(gen.roll != NULL, "%s: the lists keep rolling states", extra2_);
+    if (ledger_)
+      CHECK(gen.led.d_rolling > 0 && (q == 3 || gen.led.el_r > 0),
+            "%s: the ledger books rolling (%.3g J dissipated, %.3g J stored)", extra2_,
+            gen.led.d_rolling, gen.led.el_r);
     double mmax = 0;
     for (size_t k = 0; gen.roll && k < gen.m; k++)
       mmax = fmax(mmax, fabs(gen.roll[k].m[0]) + fabs(gen.roll[k].m[1]) +
@@ -363,7 +369,8 @@ static void check_rolling(void) {
     if (q == 0) CHECK(mmax > 0, "epsd: rolling springs loaded (%.3g N m)", mmax);
     for (int t = 1; t <= 3; t++) {
       char what[96];
-      snprintf(what, sizeof what, "%s, %d threads", models[q], t);
+      snprintf(what, sizeof what, "%s%s, %d threads", extra2_, ledger_ ? ", ledger" : "",
+               t);
       CHECK(run(t, 1, "rotate", 1, 1, &b) == 0, "%s", what);
       if (check_failures_) break;
 #ifndef ESF_MINIMAL
@@ -372,12 +379,15 @@ static void check_rolling(void) {
       check_same(&b, &gen, what);
       release(&b);
     }
-    printf("%s: fused on 1-3 threads = general path; %.1f contacts per step, largest "
-           "stored rolling torque %.3g N m\n",
-           models[q], gen.contacts_mean, mmax);
+    printf("%s%s: fused on 1-3 threads = general path; %.1f contacts per step, largest "
+           "stored rolling torque %.3g N m; rolling dissipated %.4g J, total error %.3g "
+           "J\n",
+           extra2_, ledger_ ? ", ledger" : "", gen.contacts_mean, mmax, gen.led.d_rolling,
+           esf_ledger_total_error(&gen.led));
     release(&gen);
   }
   extra_ = extra2_ = NULL;
+  ledger_ = 0;
 }
 
 /* Every instruction set's kernels (fused_isa.h) that this CPU runs give the base

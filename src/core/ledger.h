@@ -90,11 +90,16 @@ enum {                      /* row offsets (xyz, then the scalar lane) */
        ESF_LR_MDT = 12, /* tangential dashpot torque | wall work rate F.v_wall (W) */
        ESF_LR_ET = 16,  /* tangential spring force | energy of ruptured bonds (J) */
        ESF_LR_MET = 20, /* tangential spring torque | 0 */
-       ESF_LR_W = 24,   /* a moving wall's side of the dashpots' power: normal -fd vw.n,
+       ESF_LR_RD = 24,  /* rolling resistance's dissipative torque | its plastic work */
+       ESF_LR_RE = 28,  /* rolling resistance's spring torque | the springs' energy */
+       ESF_LR_W = 32    /* a moving wall's side of the dashpots' power: normal -fd vw.n,
                            tangential fdt.vw (W) | rolling md.omega (W) | 0 */
-       ESF_LR_RD = 28,  /* rolling resistance's dissipative torque | its plastic work */
-       ESF_LR_RE = 32   /* rolling resistance's spring torque | the springs' energy */
 };
+/* A pair contact's rows of one particle: the first ESF_LR_PAIR doubles (through
+ * ESF_LR_MET), or ESF_LR_PAIR_ROLL with the rolling resistance (the fused step's
+ * batches write them as one block). */
+#define ESF_LR_PAIR      24
+#define ESF_LR_PAIR_ROLL 32
 enum {            /* channels of a block's sums */
        ESF_LB_KT, /* kinetic, translational, at v_{n+1/2}, J */
        ESF_LB_KR, /* kinetic, rotational */

@@ -116,8 +116,6 @@ const char *esf_fused_refusal(const esf_sim *s) {
   if (s->tally || s->nb.pp.vc0 || s->nb.pp.xs || s->nb.pw.xs)
     return "the integrator's own tallies or history";
   if (!s->mats.particles_fused) return "a contact law the fused step has no kernel for";
-  if (s->mats.any_rolling && s->led.on)
-    return "rolling resistance with the energy ledger (no ledger rows in the batches)";
   if (s->bonds.on && !ESF_FUSED_FEATURES) return "bonds (a minimal build)";
   if ((s->walls.gforce || s->drag) && !ESF_FUSED_FEATURES)
     return "servo walls or the fluid force (a minimal build)";

@@ -43,8 +43,8 @@
 #define ESF_FUSED_SLOT   8 /* per pair in slot: force on A, torque on B */
 #define ESF_FUSED_SLOT_A 8 /* per pair in slot_a: force on A, torque on A */
 #define ESF_FUSED_LSLOT                                                                  \
-  24 /* with the ledger, per pair in lslot (B's) and lslot_a (A's):                      \
-        six ledger rows (core/ledger.h) */
+  32 /* with the ledger, per pair in lslot (B's) and lslot_a (A's): six ledger rows      \
+        (core/ledger.h), eight with rolling resistance (ESF_PAIR_BATCH_LROWS) */
 
 /* One range's results of a step. */
 typedef struct esf_fused_out {

@@ -20,14 +20,13 @@ static inline void add_rows(double *dst, const double *src, int n) {
 /* Adds the A side of outgoing boundary pair j (its pair's a is in range), and its
  * ledger rows to A's (rows not NULL). */
 static inline void outgoing(const esf_fused *f, const esf_candidates *c, size_t j,
-                            double *rows) {
+                            double *rows, int nr) {
   const size_t a = c->a[f->bk[j]];
   double *fa = f->acc + ESF_FUSED_ACC * a;
   const double *sl = f->slot_a + ESF_FUSED_SLOT_A * j;
   v4_acc(fa, sl);
   v4_acc(fa + 4, sl + 4);
-  if (rows)
-    add_rows(rows + ESF_LR * a, f->lslot_a + ESF_FUSED_LSLOT * j, ESF_FUSED_LSLOT);
+  if (rows) add_rows(rows + ESF_LR * a, f->lslot_a + ESF_FUSED_LSLOT * j, nr);
 }
 
 /* Sets the accumulators of particles [from, to) to f = m g, t = 0, and their ledger rows
@@ -75,7 +74,8 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
   esf_particles *p = &s->p;
   const esf_candidates *c = &s->nb.pp;
   const double *g = s->cfg.gravity;
-  double *acc = f->acc, *rows = bc->rows; /* rows: the ledger's, or NULL */
+  double *acc = f->acc, *rows = bc->rows;  /* rows: the ledger's, or NULL */
+  const int nr = ESF_PAIR_BATCH_LROWS(bc); /* ledger rows a pair side */
   size_t bad = SIZE_MAX;
   /* The accumulators are set (f = m g, t = 0) just ahead of their first use, not in a
    * pass of their own: a pair's b lies a few thousand particles ahead of its a, and a
@@ -93,8 +93,7 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
     const double *sl = f->slot + ESF_FUSED_SLOT * j;
     v4_dec(ab, sl);
     v4_acc(ab + 4, sl + 4);
-    if (rows)
-      add_rows(rows + ESF_LR * b, f->lslot + ESF_FUSED_LSLOT * j, ESF_FUSED_LSLOT);
+    if (rows) add_rows(rows + ESF_LR * b, f->lslot + ESF_FUSED_LSLOT * j, nr);
   }
   size_t jo = f->bout[t];
   const size_t jo1 = f->bout[t + 1];
@@ -129,9 +128,9 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
     const unsigned fail = esf_pair_batch_linear(bc, list + q0, nl, out, lout, &apart);
     for (int l = 0; l < nl; l++) {
       const size_t k = list[q0 + l];
-      for (; jo < jo1 && f->bk[jo] < k; jo++) outgoing(f, c, jo, rows);
+      for (; jo < jo1 && f->bk[jo] < k; jo++) outgoing(f, c, jo, rows, nr);
       if (apart >> l & 1u) { /* nothing, but a broken bond's energy (ledger) */
-        if (rows) esf_pair_batch_led_add(rows, c->a[k], c->b[k], lout[l]);
+        if (rows) esf_pair_batch_led_add(rows, c->a[k], c->b[k], lout[l], nr);
         continue;
       }
       if (fail >> l & 1u) {
@@ -140,12 +139,12 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
       }
       esf_pair_batch_acc_add(acc, c->a[k], c->b[k], v4_ld(out[l]), v4_ld(out[l] + 4),
                              v4_ld(out[l] + 8));
-      if (rows) esf_pair_batch_led_add(rows, c->a[k], c->b[k], lout[l]);
+      if (rows) esf_pair_batch_led_add(rows, c->a[k], c->b[k], lout[l], nr);
     }
     w = compact(list, q0, nl, apart, w, ended, &ng);
   }
   acc_set(p, g, acc, rows, fr, hi);
-  for (; jo < jo1; jo++) outgoing(f, c, jo, rows);
+  for (; jo < jo1; jo++) outgoing(f, c, jo, rows, nr);
   *kept = w;
   *ne = ng;
   return bad;

@@ -64,6 +64,7 @@ size_t esf_fused_boundary(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc
   size_t jb[ESF_BATCH], bad = SIZE_MAX;
   int m = 0;
   double out[ESF_BATCH][ESF_BATCH_OUT], lout[ESF_BATCH][ESF_BATCH_LOUT];
+  const size_t lb = (size_t)ESF_PAIR_BATCH_LROWS(bc) * sizeof(double);
   for (size_t j = j0; j < j1 || m > 0;) {
     if (j < j1) {
       const size_t k = f->bk[j], a = c->a[k], b = c->b[k];
@@ -94,19 +95,15 @@ size_t esf_fused_boundary(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc
       if (apart >> l & 1u) { /* a bond broke: no force, its energy in the ledger */
         (*nt)--;
         esf_fused_slot_clear(f, jb[l]);
-        if (bc->rows)
-          memcpy(f->lslot_a + ESF_FUSED_LSLOT * jb[l], lout[l],
-                 ESF_FUSED_LSLOT * sizeof(double));
+        if (bc->rows) memcpy(f->lslot_a + ESF_FUSED_LSLOT * jb[l], lout[l], lb);
         continue;
       }
       slot_put(f->slot + ESF_FUSED_SLOT * jb[l], out[l]);
       memcpy(f->slot_a + ESF_FUSED_SLOT_A * jb[l], out[l],
              ESF_FUSED_SLOT_A * sizeof(double));
       if (bc->rows) { /* the ledger's rows: A's, B's */
-        memcpy(f->lslot_a + ESF_FUSED_LSLOT * jb[l], lout[l],
-               ESF_FUSED_LSLOT * sizeof(double));
-        memcpy(f->lslot + ESF_FUSED_LSLOT * jb[l], lout[l] + ESF_FUSED_LSLOT,
-               ESF_FUSED_LSLOT * sizeof(double));
+        memcpy(f->lslot_a + ESF_FUSED_LSLOT * jb[l], lout[l], lb);
+        memcpy(f->lslot + ESF_FUSED_LSLOT * jb[l], lout[l] + ESF_BATCH_LSIDE, lb);
       }
     }
     m = 0;

@@ -209,15 +209,19 @@ static inline vd dot(const vd a[3], const vd b[3]) { return esf_law_dot_v(a, b);
  * when its bond broke, the bond's energy e_brk in A's fourth lane of [ket]. Added to
  * the rows of the lanes not in skip, in lane order, or written to lout. */
 static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_n,
-                        const vd n[3], vd la, vd lb, const esf_law_tout_v *T, vm keep,
-                        vm broke, vd e_brk, const size_t *ia, const size_t *ib, int nl,
-                        unsigned skip, double lout[ESF_BATCH][ESF_BATCH_LOUT]) {
+                        const vd n[3], vd la, vd lb, const esf_law_tout_v *T,
+                        const esf_law_rout_v *R, vm keep, vm broke, vd e_brk,
+                        const size_t *ia, const size_t *ib, int nl, unsigned skip,
+                        double lout[ESF_BATCH][ESF_BATCH_LOUT]) {
   const vd mz = {-0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0};
   vd ket[3], md[3], me[3];
   for (int q = 0; q < 3; q++) ket[q] = kt * T->xi[q];
   esf_law_cross_v(md, n, T->fdt);
   esf_law_cross_v(me, n, ket);
-  vd col[12][4];
+  /* columns: A's six rows, B's six, then with rolling resistance (esf_ledger_roll_rows)
+     A's [md | slip], [ms | e], B's [-md | -0], [-ms | -0] */
+  const int nc = R ? 16 : 12;
+  vd col[16][4];
   for (int q = 0; q < 3; q++) {
     col[0][q] = -fd * n[q];
     col[1][q] = -fel * n[q];
@@ -232,25 +236,50 @@ static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_
     col[10][q] = -col[4][q];
     col[11][q] = lb * me[q];
   }
+  if (R)
+    for (int q = 0; q < 3; q++) {
+      col[12][q] = R->md[q];
+      col[13][q] = R->ms[q];
+      col[14][q] = -R->md[q];
+      col[15][q] = -R->ms[q];
+    }
   col[0][3] = T->slip;
   col[1][3] = e_n;
   col[2][3] = T->e_el;
-  for (int j = 3; j < 12; j++) col[j][3] = mz;
-  for (int j = 0; j < 12; j++) /* a contact that ended adds nothing... */
+  for (int j = 3; j < nc; j++) col[j][3] = mz;
+  if (R) {
+    col[12][3] = R->slip;
+    col[13][3] = R->e_el;
+  }
+  for (int j = 0; j < nc; j++) /* a contact that ended adds nothing... */
     for (int q = 0; q < 4; q++) col[j][q] = sel(keep, col[j][q], mz);
   col[4][3] = sel(broke, e_brk, mz); /* ...but the energy its bond held */
-  v4 r[12][ESF_BATCH];
-  for (int j = 0; j < 12; j++) rows_of(col[j], r[j]);
+  v4 r[16][ESF_BATCH];
+  for (int j = 0; j < nc; j++) rows_of(col[j], r[j]);
+  /* the columns' offsets in a side's rows (A's, B's from ESF_BATCH_LSIDE in lout) */
+  const int ra_off[8] = {0, 4, 8, 12, 16, 20, ESF_LR_RD, ESF_LR_RE};
+  const int na = nc / 2; /* rows a side */
   for (int l = 0; l < nl; l++) {
     if (skip >> l & 1u) continue;
     if (lout) {
-      for (int j = 0; j < 12; j++) v4_st(lout[l] + 4 * j, r[j][l]);
+      for (int j = 0; j < 6; j++) {
+        v4_st(lout[l] + 4 * j, r[j][l]);
+        v4_st(lout[l] + ESF_BATCH_LSIDE + 4 * j, r[6 + j][l]);
+      }
+      for (int j = 6; j < na; j++) {
+        v4_st(lout[l] + ra_off[j], r[6 + j][l]);
+        v4_st(lout[l] + ESF_BATCH_LSIDE + ra_off[j], r[8 + j][l]);
+      }
       continue;
     }
     double *ra = c->rows + ESF_LR * ia[l], *rb = c->rows + ESF_LR * ib[l];
     for (int j = 0; j < 6; j++) {
       v4_st(ra + 4 * j, v4_ld(ra + 4 * j) + r[j][l]);
       v4_st(rb + 4 * j, v4_ld(rb + 4 * j) + r[6 + j][l]);
+    }
+    for (int j = 6; j < na; j++) {
+      v4_st(ra + ra_off[j], v4_ld(ra + ra_off[j]) + r[6 + j][l]);
+      v4_st(rb + ra_off[j], v4_ld(rb + ra_off[j]) + r[8 + j][l]);
     }
   }
 }
@@ -464,8 +493,8 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
       esf_pair_batch_acc_add(acc, ia[l], ib[l], rf[l], rta[l], rtb[l]);
     }
   if (c->rows)
-    ledger_rows(c, kt, fd, fel, e_n, n, la, lb, &T, keep, broke, e_brk, ia, ib, nl,
-                badmask, acc ? NULL : lout);
+    ledger_rows(c, kt, fd, fel, e_n, n, la, lb, &T, c->roll ? &R : NULL, keep, broke,
+                e_brk, ia, ib, nl, badmask, acc ? NULL : lout);
   *apart = gone;
   return badmask;
 }

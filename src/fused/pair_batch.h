@@ -22,9 +22,11 @@
 
 #define ESF_BATCH     8
 #define ESF_BATCH_OUT 12 /* force on A, torque on A, torque on B: 3 + a zero each */
-/* with the ledger: A's ledger rows (ESF_LR_MET + 4 of core/ledger.h: six rows of
- * four), then B's, ready to add */
-#define ESF_BATCH_LOUT 48
+/* with the ledger: A's ledger rows (ESF_LR_PAIR of core/ledger.h: six rows of four;
+ * ESF_LR_PAIR_ROLL, eight, with rolling resistance), then B's from ESF_BATCH_LSIDE,
+ * ready to add */
+#define ESF_BATCH_LSIDE 32
+#define ESF_BATCH_LOUT  64
 
 /* What the batch reads and commits: the particles, the candidate pairs' ends and
  * history, the reduced masses the dashpots' coefficients come from, and the step's
@@ -70,15 +72,19 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *ctx, const uint32_t *k,
                                double lout[ESF_BATCH][ESF_BATCH_LOUT], unsigned *apart);
 
 /* Adds one pair's ledger rows lout (esf_pair_batch_linear's, A's then B's) to the rows
- * of its particles a and b (ESF_LR a particle). */
+ * of its particles a and b (ESF_LR a particle), nr of them a side (ESF_LR_PAIR, or
+ * ESF_LR_PAIR_ROLL with rolling resistance). */
 static inline void esf_pair_batch_led_add(double *rows, size_t a, size_t b,
-                                          const double *lout) {
+                                          const double *lout, int nr) {
   double *ra = rows + ESF_LR * a, *rb = rows + ESF_LR * b;
-  for (int j = 0; j < 24; j += 4) {
+  for (int j = 0; j < nr; j += 4) {
     v4_st(ra + j, v4_ld(ra + j) + v4_ld(lout + j));
-    v4_st(rb + j, v4_ld(rb + j) + v4_ld(lout + 24 + j));
+    v4_st(rb + j, v4_ld(rb + j) + v4_ld(lout + ESF_BATCH_LSIDE + j));
   }
 }
+
+/* The ledger rows a pair writes per side in the batches of ctx. */
+#define ESF_PAIR_BATCH_LROWS(ctx) ((ctx)->roll ? ESF_LR_PAIR_ROLL : ESF_LR_PAIR)
 
 /* The accumulators esf_pair_batch_linear_add adds into: per particle i, at
  * acc + ESF_BATCH_ACC * i, the force (x, y, z, unused) then the torque (x, y, z,
