@@ -26,7 +26,8 @@
 typedef struct verlet {
   size_t cap;
   double *a, *dw;   /* 3 cap each */
-  double p_prev[6]; /* normal, tangential, global, local, walls, fluid powers at t_n */
+  double p_prev[7]; /* normal, tangential, global, local, walls, fluid, rolling powers
+                       at t_n */
   int started;
 } verlet;
 
@@ -60,8 +61,8 @@ static int reserve(verlet *vv, size_t n, esf_error *err) {
   return ESF_OK;
 }
 
-/* forces and accelerations at the current state; powers into pw[6] */
-static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[6], esf_error *err) {
+/* forces and accelerations at the current state; powers into pw[7] */
+static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[7], esf_error *err) {
   esf_particles *p = &s->p;
   esf_force_tally ty = {0};
   s->tally = s->led.on ? &ty : NULL;
@@ -81,13 +82,15 @@ static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[6], esf_error *
     pw[3] = pd[1];
     pw[4] = ty.p_walls;
     pw[5] = ty.p_fluid;
+    pw[6] = ty.p_rolling;
     s->led.el_n = ty.e_el_n;
     s->led.el_t = ty.e_el_t;
+    s->led.el_r = ty.e_el_r;
   }
   return ESF_OK;
 }
 
-static void ledger_update(esf_sim *s, verlet *vv, const double pw[6]) {
+static void ledger_update(esf_sim *s, verlet *vv, const double pw[7]) {
   esf_ledger *L = &s->led;
   double h = 0.5 * s->dt;
   L->d_normal += h * (vv->p_prev[0] + pw[0]);
@@ -96,7 +99,8 @@ static void ledger_update(esf_sim *s, verlet *vv, const double pw[6]) {
   L->d_local += h * (vv->p_prev[3] + pw[3]);
   L->w_walls += h * (vv->p_prev[4] + pw[4]);
   L->w_fluid += h * (vv->p_prev[5] + pw[5]);
-  memcpy(vv->p_prev, pw, 6 * sizeof(double));
+  L->d_rolling += h * (vv->p_prev[6] + pw[6]);
+  memcpy(vv->p_prev, pw, 7 * sizeof(double));
   esf_sim_energies(s, s->p.x, s->p.v, s->p.w, &L->kin_t, &L->kin_r, &L->pot_g);
   s->led_time = s->t;
 }
@@ -105,7 +109,7 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   (void)t_stop;
   verlet *vv = state;
   esf_particles *p = &s->p;
-  double pw[6] = {0, 0, 0, 0, 0, 0};
+  double pw[7] = {0, 0, 0, 0, 0, 0, 0};
   int rc;
   if (!vv->started) {
     esf_walls_set_time(&s->walls, s->t);
@@ -113,7 +117,7 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     if (!rc) rc = evaluate(s, vv, 0.0, pw, err);
     if (rc) return rc;
     if (s->led.on) {
-      memcpy(vv->p_prev, pw, 6 * sizeof(double));
+      memcpy(vv->p_prev, pw, 7 * sizeof(double));
       esf_sim_energies(s, p->x, p->v, p->w, &s->led.kin_t, &s->led.kin_r, &s->led.pot_g);
       s->led.e0 = esf_ledger_stored(&s->led);
       s->led.started = 1;

@@ -63,6 +63,9 @@ typedef struct esf_force_tally {
   double p_spring_t;   /* power into the tangential springs as applied (Coulomb cap
                           included), W; history as ODE state only */
   double p_fluid;      /* power delivered by the fluid force (drag.c), W */
+  double p_rolling;    /* power dissipated by the rolling resistance's dashpots and
+                          constant torques, W */
+  double e_el_r;       /* elastic energy of the rolling and twisting springs, J */
 } esf_force_tally;
 
 /* The leapfrog's ledger, summed the same way on the general path and the fused step,

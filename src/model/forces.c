@@ -129,14 +129,15 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
 /* The rolling resistance of touching candidate k of c (contact_rolling.h), live: it
  * was touching at the last commit. Adds its torque to ta (A) and the opposite to tb
  * (B; NULL for a wall), commits its state, and adds to the leapfrog's ledger rows ra, rb
- * (or NULL; a wall: rb NULL and om its angular velocity). ta and tb are the contact's
- * own torques (lever arm times n x ft), so that the particles receive lA n x ft + M in
- * one addition as from the fused step's batches. */
-static void rolling(const esf_sim *s, const esf_pair_params *pp, esf_candidates *c,
-                    size_t k, int commit, int live, const double n[3],
-                    const double wrel[3], double rstar, double ir, double itw, double fn,
-                    double dt, double *ta, double *tb, double *ra, double *rb,
-                    const double *om) {
+ * (or NULL; a wall: rb NULL and om its angular velocity), or to the other schemes'
+ * tally (s->tally: the dissipative torque's power -md.wrel, the springs' energy, a
+ * rotating wall's work rate M.om) and, committing, their ledger's plastic work. ta and tb
+ * are the contact's own torques (lever arm times n x ft), so that the particles receive
+ * lA n x ft + M in one addition as from the fused step's batches. */
+static void rolling(esf_sim *s, const esf_pair_params *pp, esf_candidates *c, size_t k,
+                    int commit, int live, const double n[3], const double wrel[3],
+                    double rstar, double ir, double itw, double fn, double dt, double *ta,
+                    double *tb, double *ra, double *rb, const double *om) {
   esf_law_rout_s o;
   esf_contact_rolling(pp, s->mats.rolling_model, pp->kn, rstar, ir, itw, fn, dt, n, wrel,
                       &c->roll[k], live, &o);
@@ -150,6 +151,14 @@ static void rolling(const esf_sim *s, const esf_pair_params *pp, esf_candidates 
     if (tb) tb[q] -= m;
   }
   if (ra) esf_ledger_roll_rows(ra, rb, o.md, o.ms, o.slip, o.e_el, om, dt);
+  esf_force_tally *ty = s->tally;
+  if (ty) {
+    ty->p_rolling -= v3_dot(o.md, wrel);
+    ty->e_el_r += o.e_el;
+    if (om)
+      for (int q = 0; q < 3; q++) ty->p_walls += (o.md[q] + o.ms[q]) * om[q];
+  }
+  if (commit && s->led.on && !ra) s->led.d_rolling += o.slip;
 }
 
 /* The tangential spring's force kt xi of a committed contact, on A. */

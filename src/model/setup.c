@@ -65,11 +65,12 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
   }
   s->mats.rolling_model = c->rolling;
   int rc = esf_materials_mix(&s->mats, err);
-  if (!rc && s->mats.any_rolling && strcmp(c->method, "leapfrog") != 0)
+  if (!rc && s->mats.any_rolling && strcmp(c->method, "leapfrog") != 0 &&
+      strcmp(c->method, "verlet") != 0)
     return esf_fail(err, ESF_EINPUT,
                     "%s: rolling and twisting resistance (rolling_friction, "
-                    "twisting_friction) are supported by the leapfrog only for now; use "
-                    "integrator.method: leapfrog",
+                    "twisting_friction) are supported by the leapfrog and velocity "
+                    "Verlet only for now; use integrator.method: leapfrog",
                     esf_config_where(c, "integrator.method"));
   if (!rc) rc = set_masses(s, err);
   if (!rc) rc = esf_walls_freeze(&s->walls, s->t, err); /* moving walls placed at t0 */
