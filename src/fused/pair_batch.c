@@ -8,18 +8,15 @@
  * dashpot while sticking and the Mohr-Coulomb cap with radial return (004 2.13–2.16).
  * The contact point divides the overlap equally: lever arms la = ra - un/2,
  * lb = rb - un/2; the relative contact velocity is vc = (vB - vA) - (la wA + lb wB) x n
- * (000 3-21). Rolling and twisting resistance (scenes with some mu_r or mu_tw; no
- * ledger): law_body.h's esf_law_rolling, the torque M added to A's and subtracted
- * from B's in the contact's torques (contact_rolling.h, as model/forces.c adds them).
- * Every lane runs the same instructions (the order per batch: batch).
- * Entry: the pairs overlapped at their last screening or step; their touch flag says
- * whether the history is live.
+ * (000 3-21). Rolling resistance (some mu_r or mu_tw): esf_law_rolling, its torque
+ * added to A's, subtracted from B's (as model/forces.c). Every lane runs the same
+ * instructions (the order per batch: batch). Entry: the pairs overlapped at their last
+ * screening or step; their touch flag says whether the history is live.
  * Exit: a pair whose spheres no longer overlap (the screening's test, |d|^2 < (ra +
  * rb)^2, computed in the same order) has its touch flag cleared and nothing else; for
  * the others out holds force on A, torque on A, torque on B (N, N m), or these were
  * added, lane by lane, to the accumulators of A and B (B's force with the opposite
- * sign); history committed.
- * Units: SI. */
+ * sign); history committed. Units: SI. */
 #include "fused/pair_batch.h"
 
 #include "util/vec4.h"
