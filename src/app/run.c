@@ -139,13 +139,12 @@ static int check_energy(esf_sim *s, int *warned, esf_error *err) {
     if (ratio > ESF_RESID_WARN && r > 1e-3 * budget && !*warned) {
       *warned = 1;
       char msg[600];
-      snprintf(
-          msg, sizeof msg,
-          "WARNING: step %ld (t = %.6g s): the energy balance is off by %.4g J, %.3g "
-          "of the %.4g J dissipated or exchanged (warning above %.2g, stop above "
-          "%.2g): dt = %.4g s may be near the stability limit, or too coarse for "
-          "the contacts; a smaller integrator.frac or dt is more accurate",
-          s->step, s->t, err_e, ratio, flow, ESF_RESID_WARN, ESF_RESID_STOP, s->dt);
+      snprintf(msg, sizeof msg,
+               "WARNING: step %ld (t = %.6g s): the energy balance is off by %.4g J, %.3g "
+               "of the %.4g J dissipated or exchanged (warning above %.2g, stop above "
+               "%.2g): dt = %.4g s may be near the stability limit, or too coarse for "
+               "the contacts; a smaller integrator.frac or dt is more accurate",
+               s->step, s->t, err_e, ratio, flow, ESF_RESID_WARN, ESF_RESID_STOP, s->dt);
       esf_sim_log(s, "%s", msg);
       fprintf(stderr, "esfera: %s\n", msg);
     }
@@ -172,15 +171,14 @@ static int check_energy(esf_sim *s, int *warned, esf_error *err) {
                     s->step, s->t, err_e, budget, p->n ? (long long)p->id[worst] : -1LL,
                     s->dt, esf_dt_rule_names[s->cfg.dt_rule],
                     s->dte.crit[s->cfg.dt_rule]);
-  return esf_fail(
-      err, ESF_ENUMERIC,
-      "step %ld (t = %.6g s): the energy balance is off by %.4g J, %.3g of the "
-      "%.4g J dissipated or exchanged (limit %.2g; fastest: particle id %lld): "
-      "the integration is not accurate at dt = %.4g s (critical dt (%s) = "
-      "%.4g s). Lower integrator.frac or dt",
-      s->step, s->t, err_e, ratio, flow, ESF_RESID_STOP,
-      p->n ? (long long)p->id[worst] : -1LL, s->dt, esf_dt_rule_names[s->cfg.dt_rule],
-      s->dte.crit[s->cfg.dt_rule]);
+  return esf_fail(err, ESF_ENUMERIC,
+                  "step %ld (t = %.6g s): the energy balance is off by %.4g J, %.3g of the "
+                  "%.4g J dissipated or exchanged (limit %.2g; fastest: particle id %lld): "
+                  "the integration is not accurate at dt = %.4g s (critical dt (%s) = "
+                  "%.4g s). Lower integrator.frac or dt",
+                  s->step, s->t, err_e, ratio, flow, ESF_RESID_STOP,
+                  p->n ? (long long)p->id[worst] : -1LL, s->dt,
+                  esf_dt_rule_names[s->cfg.dt_rule], s->dte.crit[s->cfg.dt_rule]);
 }
 
 /* A frame of the current state: particles, walls, and the contact network when the
@@ -530,8 +528,8 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   if (!rc && !st->interrupted && (it->flags & ESF_INTEG_STABILITY_CHECK))
     rc = esf_stability_guard(s, 1, err); /* the final state is checked too */
   if (s->stab.checks)
-    esf_sim_log(s, "stability: %ld checks, largest lambda / 4 = %.4g, %.3f s",
-                s->stab.checks, s->stab.worst, s->stab.seconds);
+    esf_sim_log(s, "stability: %ld checks, largest lambda / 4 = %.4g, %.3f s", s->stab.checks,
+                s->stab.worst, s->stab.seconds);
   st->steps = s->step;
   st->resumed_step = o->resume ? step0 : 0;
   st->wall_s = wall;

@@ -271,30 +271,28 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
       .broken = &f->broken};
   const double cr0 = 1.0 - s->alpha_r * h, cr1 = 1.0 / (1.0 + s->alpha_r * h),
                ct0 = 1.0 - s->alpha_t * h, ct1 = 1.0 / (1.0 + s->alpha_t * h);
-  const esf_fused_kick K = {.dt = dt,
-                            .cr0 = cr0,
-                            .cr1 = cr1,
-                            .ct0 = ct0,
-                            .ct1 = ct1,
-                            .lc = s->cfg.local_coef,
-                            .dim2 = s->cfg.dim == 2,
-                            .plain = cr0 == 1.0 && cr1 == 1.0 && ct0 == 1.0 &&
-                                     ct1 == 1.0 && !s->local && s->cfg.dim == 3 &&
-                                     !ledger && !autod && !s->drag,
-                            .wall_pass = esf_wall_pass_select(s),
-                            .loc = s->local,
-                            .xref = s->nb.xref,
-                            .dom_lo = s->nb.dom_lo,
-                            .dom_hi = s->nb.dom_hi,
-                            .rows = ledger ? s->led_rows : NULL,
-                            .blocks = ledger || autod ? s->led_blocks : NULL,
-                            .drag = s->drag,
-                            .drag_on = drag_on,
-                            .lk = {.dt = dt,
-                                   .alpha_r = s->alpha_r,
-                                   .alpha_t = s->alpha_t,
-                                   .g = s->cfg.gravity,
-                                   .roll = s->mats.any_rolling}};
+  esf_fused_kick K = {
+      .dt = dt,
+      .cr0 = cr0,
+      .cr1 = cr1,
+      .ct0 = ct0,
+      .ct1 = ct1,
+      .lc = s->cfg.local_coef,
+      .dim2 = s->cfg.dim == 2,
+      .plain = cr0 == 1.0 && cr1 == 1.0 && ct0 == 1.0 && ct1 == 1.0 && !s->local &&
+               s->cfg.dim == 3 && !ledger && !autod && !s->drag,
+      .wall_pass = esf_wall_pass_select(s),
+      .loc = s->local,
+      .xref = s->nb.xref,
+      .dom_lo = s->nb.dom_lo,
+      .dom_hi = s->nb.dom_hi,
+      .rows = ledger ? s->led_rows : NULL,
+      .blocks = ledger || autod ? s->led_blocks : NULL,
+      .drag = s->drag,
+      .drag_on = drag_on,
+      .lk = {
+          .dt = dt, .alpha_r = s->alpha_r, .alpha_t = s->alpha_t, .g = s->cfg.gravity}};
+  K.lk.roll = s->mats.any_rolling; /* the rows carry rolling resistance */
   /* more than one step only when the lists' check between steps needs nothing but
      the displacements (esf_neighbor_check) and nothing else happens between them */
   const int many = s->nb.xref && s->nb.nref == p->n && !s->walls.moving && !s->events &&

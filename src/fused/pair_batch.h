@@ -32,30 +32,31 @@
  * history, the reduced masses the dashpots' coefficients come from, and the step's
  * constants. */
 typedef struct esf_pair_batch_ctx {
-  const double *x, *v, *w;      /* 3n: m, m/s, rad/s */
-  const double *radius;         /* n, m */
-  const int32_t *material;      /* n */
-  const esf_materials *mt;      /* pair parameters (kn, kt, mu, cohesion) */
-  const esf_pair_params *one;   /* non-NULL: one material, these parameters everywhere */
-  const uint32_t *a, *b;        /* per candidate pair k: its particles, a < b */
-  esf_contact_hist *h;          /* per pair: tangential history, committed */
-  uint8_t *touch;               /* per pair: 1 once committed touching */
-  const double *sm;             /* per pair: sqrt(m*), m* = ma mb / (ma + mb), kg^1/2 */
-  double beta;                  /* > 0: Rayleigh dashpots c = beta k (001 3.47); else c =
-                                   factor sqrt(m*) (004 2.28) */
-  double dt;                    /* s */
-  double max_overlap;           /* the overlap limit, fraction of the smaller radius */
-  int rotate;                   /* 1: xi rotated into the new plane (000 3-17, 3-18);
-                                   0: projected and rescaled */
-  int cohesion;                 /* 1: the Coulomb cap includes the pair's cohesion */
-  double *rows;                 /* the ledger's rows (core/ledger.h, ESF_LR a particle;
-                                   line-aligned), or NULL: no ledger */
-  esf_contact_bond *bond;       /* per pair: the bond state, or NULL: no bonds */
-  esf_contact_roll *roll;       /* per pair: the rolling resistance state (committed), or
-                                   NULL: no rolling resistance (contact_rolling.h) */
-  const double *mass, *inertia; /* n: kg, kg m^2 (with roll) */
-  int roll_cdt;                 /* with roll: 1 the cdt model, 0 epsd */
-  _Atomic long *broken;         /* bonds broken (with bond) */
+  const double *x, *v, *w;    /* 3n: m, m/s, rad/s */
+  const double *radius;       /* n, m */
+  const int32_t *material;    /* n */
+  const esf_materials *mt;    /* pair parameters (kn, kt, mu, cohesion) */
+  const esf_pair_params *one; /* non-NULL: one material, these parameters everywhere */
+  const uint32_t *a, *b;      /* per candidate pair k: its particles, a < b */
+  esf_contact_hist *h;        /* per pair: tangential history, committed */
+  uint8_t *touch;             /* per pair: 1 once committed touching */
+  const double *sm;           /* per pair: sqrt(m*), m* = ma mb / (ma + mb), kg^1/2 */
+  double beta;                /* > 0: Rayleigh dashpots c = beta k (001 3.47); else c =
+                                 factor sqrt(m*) (004 2.28) */
+  double dt;                  /* s */
+  double max_overlap;         /* the overlap limit, fraction of the smaller radius */
+  int rotate;                 /* 1: xi rotated into the new plane (000 3-17, 3-18);
+                                 0: projected and rescaled */
+  int cohesion;               /* 1: the Coulomb cap includes the pair's cohesion */
+  double *rows;               /* the ledger's rows (core/ledger.h, ESF_LR a particle;
+                                 line-aligned), or NULL: no ledger */
+  esf_contact_bond *bond;     /* per pair: the bond state, or NULL: no bonds */
+  esf_contact_roll *roll;     /* per pair: the rolling resistance state (committed), or
+                                 NULL: no rolling resistance (contact_rolling.h) */
+  const double *mass;         /* n, kg (with roll) */
+  const double *inertia;      /* n, kg m^2 (with roll) */
+  int roll_cdt;               /* with roll: 1 the cdt model, 0 epsd */
+  _Atomic long *broken;       /* bonds broken (with bond) */
 } esf_pair_batch_ctx;
 
 /* The contacts of pairs k[0 .. nl) (1 <= nl <= ESF_BATCH). A pair whose spheres do

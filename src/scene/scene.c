@@ -184,9 +184,9 @@ static int read_materials(const esf_ynode *root, esf_sim *s, esf_error *err) {
 }
 
 static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err) {
-  static const char *const keys[] = {"method",          "dt",    "dt_rule", "frac",
-                                     "allow_unstable",  "rtol",  "atol",    "history",
-                                     "max_steps",       "roots", "fused",   "stability",
+  static const char *const keys[] = {"method",         "dt",    "dt_rule", "frac",
+                                     "allow_unstable", "rtol",  "atol",    "history",
+                                     "max_steps",      "roots", "fused",   "stability",
                                      "stability_every", NULL};
   const esf_ynode *in = esf_ymap_get(root, "integrator");
   if (!in) return ESF_OK;
