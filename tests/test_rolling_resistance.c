@@ -1,20 +1,18 @@
 /* test_rolling_resistance.c — rolling and twisting resistance
  * (docs/physics.md#rolling-resistance) against closed forms, for a sphere (r, m,
  * I = 2/5 m r^2) on a plane, fn = m g cos(theta), R* = r:
- *   cdt, rolling without slip on a level plane (leapfrog and velocity Verlet): the torque
- * mu_r r m g against the spin decelerates the centre at (5/7) mu_r g (m a = -F, I a/r = F
- * r - mu_r r m g); epsd on an incline of angle theta (gravity tilted): at rest while
- *     tan(theta) < mu_r (the spring holds m g r sin(theta) <= mu_r r m g cos(theta)),
- *     rolling above at a = (5/7) g (sin(theta) - mu_r cos(theta)) (the torque at its
- *     limit, the dashpot off);
+ *   cdt, rolling without slip on a level plane (leapfrog, velocity Verlet): the torque
+ *     mu_r r m g against the spin decelerates the centre at (5/7) mu_r g (m a = -F,
+ *     I a/r = F r - mu_r r m g); a 2D disk (I = 1/2 m r^2) at (2/3) mu_r g;
+ *   epsd on an incline of angle theta (gravity tilted): at rest while tan(theta) < mu_r
+ *     (the spring holds m g r sin(theta) <= mu_r r m g cos(theta)), rolling above at
+ *     a = (5/7) g (sin(theta) - mu_r cos(theta)) (the torque at its limit, no dashpot);
  *   twisting (both models) about the normal: w(t) = w0 - (5/2) mu_tw g t / r;
- *   the energy ledger closes with rolling (several spheres dropped on a plane);
+ *   the energy ledger closes with rolling (a rolling sphere; spheres dropped);
  *   a scene with mu_r = mu_tw = 0 keeps no rolling state;
- *   the live stability check sees the twisting spring: with mu_tw = 1 and no dashpots
- *   its mode, w^2 = k_tw / I = 5.625 kn mu_tw^2 / m, is the network's fastest (normal
- *   kn/m, tangential-rolling 3.5 kt/m).
- * The sphere starts at its static overlap m g / kn (u/r ~ 1e-5, below the 1%
- * tolerances). */
+ *   the live stability check's top mode is the twisting spring's (mu_tw = 1, no
+ *   dashpots): w^2 = k_tw / I = 5.625 kn mu_tw^2 / m (normal kn/m, tangential-rolling
+ *   3.5 kt/m). The sphere starts at its static overlap m g / kn (u/r ~ 1e-5). */
 #include "model/stability.h"
 #include "simtest.h"
 
@@ -35,18 +33,23 @@ static const char *scene =
 
 static const double g = 9.81, r = 0.01, rho = 2500, kn = 1.0e6;
 
-static double mass(void) { return 4.0 / 3.0 * ESF_PI * r * r * r * rho; }
+static int dim_ = 3; /* the scenes' dimension: 3 spheres, 2 disks (thickness 1 m) */
+
+static double mass(void) {
+  return dim_ == 3 ? 4.0 / 3.0 * ESF_PI * r * r * r * rho : ESF_PI * r * r * rho;
+}
 
 /* Opens the scene with the sphere at its static overlap under gravity g (cos th) and
  * the extra overrides. */
 static int open_sphere(simtest *T, double th, const char *const *extra, int nextra) {
-  char z[96], gr[128];
+  char z[96], gr[128], d[32];
   const double u = mass() * g * cos(th) / kn;
+  snprintf(d, sizeof d, "dimension=%d", dim_);
   snprintf(z, sizeof z, "particles.0.position=[0, 0, %.17g]", r - u);
   snprintf(gr, sizeof gr, "gravity=[%.17g, 0, %.17g]", g * sin(th), -g * cos(th));
-  const char *sets[8] = {z, gr};
-  for (int k = 0; k < nextra && k < 6; k++) sets[2 + k] = extra[k];
-  return simtest_open(T, scene, sets, 2 + nextra);
+  const char *sets[9] = {z, gr, d};
+  for (int k = 0; k < nextra && k < 6; k++) sets[3 + k] = extra[k];
+  return simtest_open(T, scene, sets, 3 + nextra);
 }
 
 /* The ledger of a single rolling sphere: the rolling resistance's dissipation and the
@@ -66,7 +69,8 @@ static void ledger_closes(const simtest *T, const char *what, double tol) {
 /* Type A: a sphere rolling without slip at v0 on a level plane (the leapfrog, or
  * velocity Verlet, whose ledger integrates the powers by the trapezoidal rule). */
 static void cdt_plane(const char *method) {
-  const double mu_r = 0.1, v0 = 1.0, a = 5.0 / 7.0 * mu_r * g;
+  const double mu_r = 0.1, v0 = 1.0, kI = dim_ == 3 ? 0.4 : 0.5; /* I = kI m r^2 */
+  const double a = mu_r * g / (1.0 + kI); /* sphere (5/7) mu_r g, disk (2/3) mu_r g */
   char w[96], me[64];
   snprintf(me, sizeof me, "integrator.method=%s", method);
   snprintf(w, sizeof w, "particles.0.angular_velocity=[0, %.17g, 0]",
@@ -88,12 +92,13 @@ static void cdt_plane(const char *method) {
     if (dv > worst) worst = dv;
   }
   CHECK(worst < 0.01,
-        "cdt (%s): v(t) = v0 - (5/7) mu_r g t within 1%% of the change (%.2e)", method,
-        worst);
+        "cdt (%s, %dD): v(t) = v0 - mu_r g t / (1 + kI) within 1%% of the change (%.2e)",
+        method, dim_, worst);
   const double slip = p->v[0] - p->w[1] * p->x[2];
   CHECK(fabs(slip) < 1e-3 * v0, "cdt: still rolling without slip (%.2e m/s)", slip);
-  printf("cdt (%s): deceleration matches (5/7) mu_r g to %.2e of the speed change\n",
-         method, worst);
+  printf("cdt (%s, %dD): deceleration matches mu_r g / (1 + kI) to %.2e of the speed "
+         "change\n",
+         method, dim_, worst);
   /* velocity Verlet: cdt's torque sees the half-step spin, so the trapezoid over its
      power is first order (7.8e-6 of the dissipation at frac 0.1, half at 0.05) */
   ledger_closes(&T, method, strcmp(method, "leapfrog") ? 2e-5 : 1e-9);
@@ -246,6 +251,9 @@ static void off(void) {
 int main(void) {
   cdt_plane("leapfrog");
   cdt_plane("verlet");
+  dim_ = 2; /* a disk: (2/3) mu_r g */
+  cdt_plane("leapfrog");
+  dim_ = 3;
   epsd_incline();
   twisting(0);
   twisting(1);
