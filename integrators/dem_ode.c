@@ -19,6 +19,7 @@ void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s) {
   /* frozen history keeps each contact's velocity at the commit (before the first
      build, so that the lists allocate it) */
   s->nb.carry = !o->state;
+  o->nq = ESF_ODE_NQ + (s->mats.any_rolling ? 1 : 0); /* the rolling quadrature */
   esf_error_clear(&o->err);
   esf_dem_ode_layout(o);
 }
@@ -27,7 +28,7 @@ size_t esf_dem_ode_layout(esf_dem_ode *o) {
   const esf_neighbor *nb = &o->s->nb;
   o->n = o->s->p.n; /* the refresh before the first build may have removed some */
   o->nxi = o->state ? 3 * (nb->pp.n + nb->pw.n) : 0;
-  o->len = 9 * o->n + ESF_ODE_NQ + o->nxi;
+  o->len = 9 * o->n + o->nq + o->nxi;
   return o->len;
 }
 
@@ -40,9 +41,9 @@ void esf_dem_ode_pack(const esf_dem_ode *o, const double *q, double *y) {
   const esf_sim *s = o->s;
   size_t n9 = 9 * o->n;
   memcpy(y, s->p.y, n9 * sizeof(double));
-  for (int j = 0; j < ESF_ODE_NQ; j++) y[n9 + j] = q ? q[j] : 0.0;
+  for (size_t j = 0; j < o->nq; j++) y[n9 + j] = q ? q[j] : 0.0;
   if (!o->state) return;
-  double *xi = y + n9 + ESF_ODE_NQ;
+  double *xi = y + n9 + o->nq;
   pack_xi(&s->nb.pp, xi);
   pack_xi(&s->nb.pw, xi + 3 * s->nb.pp.n);
 }
@@ -51,7 +52,7 @@ void esf_dem_ode_pack(const esf_dem_ode *o, const double *q, double *y) {
 static void attach_xi(esf_dem_ode *o, const double *y, double *ydot) {
   esf_neighbor *nb = &o->s->nb;
   if (!o->state) return;
-  size_t off = 9 * o->n + ESF_ODE_NQ, npp = 3 * nb->pp.n;
+  size_t off = 9 * o->n + o->nq, npp = 3 * nb->pp.n;
   nb->pp.xs = y + off;
   nb->pw.xs = y + off + npp;
   nb->pp.xsdot = ydot ? ydot + off : NULL;
@@ -81,6 +82,7 @@ int esf_dem_ode_start(esf_dem_ode *o, const double *y, esf_error *err) {
   esf_sim_energies(s, y, y + 3 * n, y + 6 * n, &L->kin_t, &L->kin_r, &L->pot_g);
   L->el_n = ty.e_el_n;
   L->el_t = ty.e_el_t;
+  L->el_r = ty.e_el_r;
   o->el_t0 = ty.e_el_t;
   L->e0 = esf_ledger_stored(L);
   L->started = 1;
@@ -96,8 +98,8 @@ double esf_dem_ode_qtol(const esf_dem_ode *o, double rtol) {
 
 void esf_dem_ode_atol(const esf_dem_ode *o, double *a, double rtol, double atol) {
   for (size_t j = 0; j < 9 * o->n; j++) a[j] = atol;
-  for (int q = 0; q < ESF_ODE_NQ; q++) a[9 * o->n + q] = esf_dem_ode_qtol(o, rtol);
-  for (size_t j = 0; j < o->nxi; j++) a[9 * o->n + ESF_ODE_NQ + j] = atol; /* m */
+  for (size_t q = 0; q < o->nq; q++) a[9 * o->n + q] = esf_dem_ode_qtol(o, rtol);
+  for (size_t j = 0; j < o->nxi; j++) a[9 * o->n + o->nq + j] = atol; /* m */
 }
 
 /* sqrt(sum (x w)^2 / n) as W sqrt(sum (x w/W)^2 / n), W the largest weight: ARKODE
@@ -152,6 +154,12 @@ int esf_dem_ode_check(const esf_sim *s, const char *name, int state_ok, int root
                     "a state whose length changes at every list rebuild; the leapfrog "
                     "and Verlet commit history every step)",
                     esf_config_where(&s->cfg, "integrator.history"), name);
+  if (s->cfg.history == ESF_HIST_STATE && s->mats.any_rolling)
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: integrator.history: state does not carry the rolling "
+                    "resistance's springs; use history: frozen (the default) with "
+                    "rolling_friction or twisting_friction",
+                    esf_config_where(&s->cfg, "integrator.history"));
   if (s->cfg.roots && !roots_ok)
     return esf_fail(err, ESF_EINPUT,
                     "%s: integrator.roots: rootfinding at contact onset and separation "
@@ -197,6 +205,7 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   q[ESF_ODE_QW] = ty.p_walls;
   q[ESF_ODE_QF] = ty.p_spring_t;
   q[ESF_ODE_QFL] = ty.p_fluid;
+  if (o->nq > ESF_ODE_NQ) q[ESF_ODE_QR] = ty.p_rolling;
   return 0;
 }
 
@@ -231,6 +240,11 @@ int esf_dem_ode_commit(esf_dem_ode *o, double t, const double *y, esf_error *err
     L->d_local = q[ESF_ODE_QL];
     L->w_walls = q[ESF_ODE_QW];
     L->w_fluid = q[ESF_ODE_QFL];
+    if (o->nq > ESF_ODE_NQ) { /* rolling: dashpots and torques, plus plastic work */
+      o->slip_r += ty.slip_r;
+      L->el_r = ty.e_el_r;
+      L->d_rolling = q[ESF_ODE_QR] + o->slip_r;
+    }
     if (o->state) /* work into the springs less what they hold (the returns included) */
       L->d_friction = q[ESF_ODE_QF] - (L->el_t - o->el_t0);
   }

@@ -45,20 +45,24 @@ enum {
   ESF_ODE_QW,
   ESF_ODE_QF,
   ESF_ODE_QFL, /* work of the fluid force (drag.c) */
-  ESF_ODE_NQ
+  ESF_ODE_NQ,
+  ESF_ODE_QR = ESF_ODE_NQ /* with rolling resistance only (o->nq = ESF_ODE_NQ + 1): the
+                             power its dashpots and constant torques dissipate */
 };
 
 typedef struct esf_dem_ode {
   esf_sim *s;
   size_t n;        /* particles in the layout */
   size_t nxi;      /* entries of the XI block (0 for frozen history) */
-  size_t len;      /* length of y: 9 n + ESF_ODE_NQ + nxi */
+  size_t nq;       /* quadratures: ESF_ODE_NQ, + 1 with rolling resistance (QR) */
+  size_t len;      /* length of y: 9 n + nq + nxi */
   int state;       /* 1: history as ODE state */
   double t_commit; /* time the committed history refers to, s */
   long nrhs;       /* right-hand-side evaluations */
   long ncommit;    /* commit evaluations */
   long nfail;      /* recoverable failures returned */
   double el_t0;    /* tangential elastic energy at the start, J (history as state) */
+  double slip_r;   /* plastic rolling work booked at the commits, J (rolling) */
   esf_error err;   /* the last failure inside f */
 } esf_dem_ode;
 
@@ -71,7 +75,7 @@ void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s);
 size_t esf_dem_ode_layout(esf_dem_ode *o);
 
 /* Writes y (length o->len): x, v, w from the particles, the quadratures from q
- * (ESF_ODE_NQ values, NULL: zero) and XI from the committed history (zero where not
+ * (o->nq values, NULL: zero) and XI from the committed history (zero where not
  * touching). */
 void esf_dem_ode_pack(const esf_dem_ode *o, const double *q, double *y);
 

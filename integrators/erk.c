@@ -306,7 +306,7 @@ static int erk_sync(erk *e, int *restarted, esf_error *err) {
   double *ny = N_VGetArrayPointer(yn);
   esf_dem_ode_pack(&e->ode, y + 9 * e->ode.n, ny);
   int same = len == old;
-  for (size_t j = 9 * e->ode.n + ESF_ODE_NQ; same && j < len; j++)
+  for (size_t j = 9 * e->ode.n + e->ode.nq; same && j < len; j++)
     same = ny[j] == y[j]; /* by value: -0 and 0 are the same history */
   if (same) {
     N_VDestroy(yn);
@@ -422,7 +422,7 @@ static void mem_counters(const erk *e, long v[6]) {
  * identically (bitwise). Cost per checkpoint: one extra rhs evaluation (the first
  * stage is not reused) and a controller without history for the next step or two. */
 typedef struct erk_saved {
-  double h, t_save, t_event, t_commit, el_t0;
+  double h, t_save, t_event, t_commit, el_t0, slip_r;
   int64_t len, has_atol, retries, resizes, events, roots_off, nrhs, ncommit, nfail;
   int64_t base[6];
 } erk_saved;
@@ -439,6 +439,7 @@ static int erk_save(esf_sim *s, void *state, esf_blob *out, esf_error *err) {
   v.t_event = e->t_event;
   v.t_commit = e->ode.t_commit;
   v.el_t0 = e->ode.el_t0;
+  v.slip_r = e->ode.slip_r;
   v.len = (int64_t)e->ode.len;
   v.has_atol = e->atol != NULL;
   v.retries = e->retries;
@@ -472,11 +473,11 @@ static int erk_restore(esf_sim *s, void *state, esf_blob_in *in, esf_error *err)
                     "%s: the saved ODE state has %lld entries, the restored lists need "
                     "%zu",
                     e->name, (long long)v.len, len);
-  const double tv[] = {v.h, v.t_save, v.t_event, v.t_commit, v.el_t0};
+  const double tv[] = {v.h, v.t_save, v.t_event, v.t_commit, v.el_t0, v.slip_r};
   int ok = v.h > 0 && v.retries >= 0 && v.resizes >= 0 && v.events >= 0 &&
            (v.roots_off == 0 || v.roots_off == 1) && v.nrhs >= 0 && v.ncommit >= 0 &&
            v.nfail >= 0;
-  for (int k = 0; k < 5; k++) ok = ok && isfinite(tv[k]);
+  for (int k = 0; k < 6; k++) ok = ok && isfinite(tv[k]);
   for (int k = 0; k < 6; k++) ok = ok && v.base[k] >= 0;
   if (!ok)
     return esf_fail(err, ESF_EINPUT,
@@ -508,6 +509,7 @@ static int erk_restore(esf_sim *s, void *state, esf_blob_in *in, esf_error *err)
   e->t_event = v.t_event;
   e->ode.t_commit = v.t_commit;
   e->ode.el_t0 = v.el_t0;
+  e->ode.slip_r = v.slip_r;
   e->retries = v.retries;
   e->resizes = v.resizes;
   e->events = v.events;

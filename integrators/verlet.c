@@ -86,6 +86,7 @@ static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[7], esf_error *
     s->led.el_n = ty.e_el_n;
     s->led.el_t = ty.e_el_t;
     s->led.el_r = ty.e_el_r;
+    s->led.d_rolling += ty.slip_r; /* plastic rolling (evaluate commits) */
   }
   return ESF_OK;
 }

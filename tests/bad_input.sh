@@ -67,6 +67,11 @@ good "" "contact: {rolling: sticky}" > "$tmp/s4m.yaml"
 expect "unknown rolling model" 2 "s4m.yaml:[0-9]+:[0-9]+: .*rolling.*(epsd|cdt)" \
   -- run "$tmp/s4m.yaml" --out "$tmp/o4m"
 
+sed 's/friction: 0.3}/friction: 0.3, rolling_friction: 0.1}/' "$tmp/ok.yaml" > "$tmp/s4h.yaml"
+expect "rolling with history as state" 2 "integrator.history=state: .*rolling resistance" \
+  -- run "$tmp/s4h.yaml" --out "$tmp/o4h" --set integrator.method=rk4 \
+  --set integrator.history=state
+
 good "  - {material: glass, radius: 0.005, position: [0.009, 0, 0.01]}" "" > "$tmp/s5.yaml"
 expect "overlapping explicit particles" 2 "s5.yaml:6:[0-9]+: this particle overlaps the one at .*s5.yaml:5:[0-9]+" \
   -- run "$tmp/s5.yaml" --out "$tmp/o5"

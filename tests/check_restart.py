@@ -5,7 +5,8 @@ and a moving wall (general path with the ledger, and the fused step without it,
 checkpointed on two threads and resumed on one), for adaptive Dormand-Prince (ARKODE, rtol 1e-5), for spheres
 leaving the domain (the count changes either side of the checkpoint), for rolling and
 twisting resistance (epsd: its spring torques ride in the checkpoint; general path with
-the ledger, fused step on two threads resumed on one), and for bonded
+the ledger, fused step on two threads resumed on one, adaptive Dormand-Prince with its
+carried spins and plastic work), and for bonded
 blocks (the bond states ride in the checkpoint: bonds break on both sides); a run stopped
 by SIGTERM resumes to the same output; esfera info on the checkpoint names the resume
 command. Usage: check_restart.py ESFERA"""
@@ -64,6 +65,7 @@ def main():
         halves(exe, tmp, scene, "rolling", "0.0201", *roll)
         halves(exe, tmp, scene, "rolling_fused", "0.0201", *roll, "--set",
                "output.energy_every=0", "--threads", "2")
+        halves(exe, tmp, scene, "rolling_erk_dp5", "0.003", *ERK, *roll)
         drop = halves(exe, tmp, write_scene(tmp, DROP, "drop.yaml"), "domain_exit", "0.031")
         with h5py.File(os.path.join(drop, "frames.h5"), "r") as f:
             n = [len(f["frames"][k]["id"]) for k in sorted(f["frames"])]

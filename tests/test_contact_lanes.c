@@ -143,7 +143,7 @@ static result scalar(const cases *c, const esf_materials *mt, double beta, int t
                            c->inertia[ib], &rs, &ir, &itw);
     esf_law_rout_s o;
     esf_contact_rolling(pp, roll == 2 ? ESF_ROLL_CDT : ESF_ROLL_EPSD, pp->kn, rs, ir, itw,
-                        out.fn, dt, in.n, wrel, &c->roll[k], c->touch[k], &o);
+                        out.fn, dt, in.n, wrel, NULL, &c->roll[k], c->touch[k], &o);
     for (int q = 0; q < 3; q++) {
       r.ta[q] += o.md[q] + o.ms[q];
       r.tb[q] -= o.md[q] + o.ms[q];

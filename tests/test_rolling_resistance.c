@@ -106,13 +106,15 @@ static void cdt_plane(const char *method) {
 }
 
 /* Type C on an incline: at rest for tan(theta) = 0.8 mu_r, rolling for 1.25 mu_r. */
-static void epsd_incline(void) {
+static void epsd_incline(const char *method) {
   const double mu_r = 0.1;
+  char me[64];
+  snprintf(me, sizeof me, "integrator.method=%s", method);
   for (int above = 0; above < 2; above++) {
     const double th = atan((above ? 1.25 : 0.8) * mu_r);
-    const char *ex[] = {"output.energy_every=1.0e-9"};
+    const char *ex[] = {"output.energy_every=1.0e-9", me};
     simtest T;
-    if (open_sphere(&T, th, ex, 1)) {
+    if (open_sphere(&T, th, ex, 2)) {
       CHECK(0, "epsd scene failed");
       return;
     }
@@ -125,19 +127,21 @@ static void epsd_incline(void) {
       if (simtest_step(&T)) break;
     if (!above) {
       CHECK(fabs(p->x[0]) < 1e-5 && fabs(p->v[0]) < 1e-4,
-            "epsd: tan(theta) = 0.8 mu_r: the sphere stays (x = %.3g m, v = %.3g m/s)",
-            p->x[0], p->v[0]);
-      printf("epsd at tan(theta) = 0.8 mu_r: x = %.3g m, v = %.3g m/s after %.1f s\n",
-             p->x[0], p->v[0], T.s.t);
+            "epsd (%s): tan(theta) = 0.8 mu_r: the sphere stays (x = %.3g m, v = %.3g "
+            "m/s)",
+            method, p->x[0], p->v[0]);
+      printf(
+          "epsd (%s) at tan(theta) = 0.8 mu_r: x = %.3g m, v = %.3g m/s after %.1f s\n",
+          method, p->x[0], p->v[0], T.s.t);
     } else {
       const double ae = 5.0 / 7.0 * g * (sin(th) - mu_r * cos(th));
       const double am = (p->v[0] - v1) / (t2 - t1);
       CHECK_NEAR(am, ae, 0.01 * ae, "epsd: tan(theta) = 1.25 mu_r: rolling acceleration");
       const double slip = p->v[0] - p->w[1] * p->x[2];
       CHECK(fabs(slip) < 1e-3 * p->v[0], "epsd: rolls without slip (%.2e m/s)", slip);
-      printf("epsd at tan(theta) = 1.25 mu_r: a = %.6f m/s^2 (closed form %.6f)\n", am,
-             ae);
-      ledger_closes(&T, "epsd incline", 1e-9);
+      printf("epsd (%s) at tan(theta) = 1.25 mu_r: a = %.6f m/s^2 (closed form %.6f)\n",
+             method, am, ae);
+      ledger_closes(&T, method, strcmp(method, "leapfrog") ? 1e-6 : 1e-9);
     }
     simtest_close(&T);
   }
@@ -251,10 +255,12 @@ static void off(void) {
 int main(void) {
   cdt_plane("leapfrog");
   cdt_plane("verlet");
+  cdt_plane("rk4");
   dim_ = 2; /* a disk: (2/3) mu_r g */
   cdt_plane("leapfrog");
   dim_ = 3;
-  epsd_incline();
+  epsd_incline("leapfrog");
+  epsd_incline("rk4");
   twisting(0);
   twisting(1);
   ledger("epsd");

@@ -99,6 +99,8 @@ static void put_contacts(esf_blob *b, const char *tag, const esf_candidates *c) 
   static const double zero[3] = {0, 0, 0};
   for (uint64_t k = 0; has_vc0 && k < n; k++)
     esf_blob_put(b, c->touch[k] ? c->vc0 + 3 * k : zero, 3 * sizeof *c->vc0);
+  for (uint64_t k = 0; has_vc0 && has_roll && k < n; k++) /* the rolling carry, alike */
+    esf_blob_put(b, c->touch[k] ? c->wr0 + 3 * k : zero, 3 * sizeof *c->wr0);
   if (has_bond) esf_blob_put(b, c->bond, n * sizeof *c->bond);
   if (has_roll) esf_blob_put(b, c->roll, n * sizeof *c->roll);
   sec_end(b, s);

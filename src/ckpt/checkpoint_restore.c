@@ -192,6 +192,7 @@ static int check_contacts(const esf_ckpt *c, const esf_candidates *l, size_t m, 
       return invalid(c, err, "a contact list is not in the order of its build");
     if (l->touch[k] > 1 || !all_finite(l->h[k].xi, 3) || !all_finite(l->h[k].n, 3) ||
         (l->vc0 && !all_finite(l->vc0 + 3 * k, 3)) ||
+        (l->wr0 && !all_finite(l->wr0 + 3 * k, 3)) ||
         (l->bond && (!isfinite(l->bond[k].s) || (uint32_t)l->bond[k].on > 1)) ||
         (l->roll && (!all_finite(l->roll[k].m, 3) || !isfinite(l->roll[k].t))))
       return invalid(c, err, "a contact's history or flags are not valid");
@@ -218,6 +219,8 @@ static int get_contacts(const esf_ckpt *c, const char *tag, esf_candidates *dst,
   esf_blob_get(&in, dst->h, m * sizeof *dst->h);
   esf_blob_get(&in, dst->touch, m * sizeof *dst->touch);
   if (has_vc0 && dst->vc0) esf_blob_get(&in, dst->vc0, 3 * m * sizeof *dst->vc0);
+  if (has_vc0 && has_roll && dst->wr0)
+    esf_blob_get(&in, dst->wr0, 3 * m * sizeof *dst->wr0);
   if (has_bond && dst->bond) esf_blob_get(&in, dst->bond, m * sizeof *dst->bond);
   if (has_roll && dst->roll) esf_blob_get(&in, dst->roll, m * sizeof *dst->roll);
   if (in.short_read || in.pos != in.n) return mismatch(c, err, "a contact list's size");

@@ -16,15 +16,18 @@
 /* The rolling resistance of a touching contact: pair parameters pp, model
  * (ESF_ROLL_*), normal stiffness kn, R* and the inertias ir, itw
  * (esf_law_rolling_pair_s), normal force fn, relative spin wrel = wA - wB (a wall: its
- * angular velocity), the stored state h (live: touching at the last commit). */
+ * angular velocity), wi NULL or the spin the increments integrate over dt (the ODE
+ * methods' trapezoidal carry), the stored state h (live: touching at the last
+ * commit). */
 static inline void esf_contact_rolling(const esf_pair_params *pp, int model, double kn,
                                        double rstar, double ir, double itw, double fn,
                                        double dt, const double n[3], const double wrel[3],
-                                       const esf_contact_roll *h, int live,
-                                       esf_law_rout_s *o) {
+                                       const double *wi, const esf_contact_roll *h,
+                                       int live, esf_law_rout_s *o) {
   esf_law_rpar_s P;
   esf_law_rolling_par_s(kn, pp->mu_r, pp->mu_tw, pp->eta_r, rstar, ir, itw, fn,
                         model == ESF_ROLL_CDT, &P);
+  P.wi = wi;
   esf_law_rolling_s(&P, dt, n, wrel, h->m, h->t, live, o);
 }
 

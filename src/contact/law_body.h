@@ -203,6 +203,8 @@ typedef struct LANE_FN(esf_law_rpar) {
   LANE_R cr, ctw; /* their dashpots, N m s/rad (epsd) */
   LANE_R mr, mtw; /* the limits mu_r R* fn and mu_tw R* fn, N m */
   int cdt;        /* 1: the constant directional torque (type A); 0: epsd (type C) */
+  const LANE_R *wi; /* NULL, or the relative spin whose parts integrate the springs'
+                       increments over dt (the ODE methods' trapezoidal carry) */
 } LANE_FN(esf_law_rpar);
 
 /* What the rolling resistance gives. */
@@ -250,6 +252,7 @@ static inline void LANE_FN(esf_law_rolling_par)(LANE_R kn, LANE_R mu_r, LANE_R m
   P->mr = mu_r * rstar * f;
   P->mtw = mu_tw * rstar * f;
   P->cdt = cdt;
+  P->wi = 0; /* no carry */
   P->kr = P->ktw = P->cr = P->ctw = zero;
   if (!cdt) {
     P->kr = LANE_FN(esf_law_rolling_stiffness)(kn, mu_r, rstar);
@@ -324,8 +327,15 @@ static inline void LANE_FN(esf_law_rolling)(const LANE_FN(esf_law_rpar) * P, LAN
   for (int q = 0; q < 3; q++) hr[q] = LANE_SEL(live, hr[q] * r, zero);
   const LANE_R h1 = LANE_SEL(live, ht, zero);
   LANE_M fr, ft;
-  LANE_FN(esf_law_roll_spring)(3, P->kr, P->mr, dt, hr, wr, o->hm, &o->slip, &fr);
-  LANE_FN(esf_law_roll_spring)(1, P->ktw, P->mtw, dt, &h1, &wn, &o->ht, &o->slip, &ft);
+  LANE_R wri[3], wni = wn; /* the increments' spin: wrel's parts, or wi's */
+  if (P->wi) {
+    wni = LANE_FN(esf_law_dot)(P->wi, n);
+    for (int q = 0; q < 3; q++) wri[q] = P->wi[q] - wni * n[q];
+  } else {
+    for (int q = 0; q < 3; q++) wri[q] = wr[q];
+  }
+  LANE_FN(esf_law_roll_spring)(3, P->kr, P->mr, dt, hr, wri, o->hm, &o->slip, &fr);
+  LANE_FN(esf_law_roll_spring)(1, P->ktw, P->mtw, dt, &h1, &wni, &o->ht, &o->slip, &ft);
   const LANE_R dtw = LANE_SEL(ft, zero, -P->ctw * wn);
   for (int q = 0; q < 3; q++) {
     o->md[q] = LANE_SEL(fr, zero, -P->cr * wr[q]) + dtw * n[q];

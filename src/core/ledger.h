@@ -66,6 +66,7 @@ typedef struct esf_force_tally {
   double p_rolling;    /* power dissipated by the rolling resistance's dashpots and
                           constant torques, W */
   double e_el_r;       /* elastic energy of the rolling and twisting springs, J */
+  double slip_r;       /* their plastic work in this evaluation (committing), J */
 } esf_force_tally;
 
 /* The leapfrog's ledger, summed the same way on the general path and the fused step,

@@ -139,11 +139,17 @@ static void rolling(esf_sim *s, const esf_pair_params *pp, esf_candidates *c, si
                     double rstar, double ir, double itw, double fn, double dt, double *ta,
                     double *tb, double *ra, double *rb, const double *om) {
   esf_law_rout_s o;
+  double wm[3], *wi = NULL;
+  if (c->wr0 && live) { /* ODE methods: trapezoidal increment since the commit */
+    for (int q = 0; q < 3; q++) wm[q] = 0.5 * (c->wr0[3 * k + q] + wrel[q]);
+    wi = wm;
+  }
   esf_contact_rolling(pp, s->mats.rolling_model, pp->kn, rstar, ir, itw, fn, dt, n, wrel,
-                      &c->roll[k], live, &o);
+                      wi, &c->roll[k], live, &o);
   if (commit) {
     v3_copy(c->roll[k].m, o.hm);
     c->roll[k].t = o.ht;
+    if (c->wr0) v3_copy(c->wr0 + 3 * k, wrel);
   }
   for (int q = 0; q < 3; q++) {
     const double m = o.md[q] + o.ms[q];
@@ -155,10 +161,10 @@ static void rolling(esf_sim *s, const esf_pair_params *pp, esf_candidates *c, si
   if (ty) {
     ty->p_rolling -= v3_dot(o.md, wrel);
     ty->e_el_r += o.e_el;
+    ty->slip_r += o.slip;
     if (om)
       for (int q = 0; q < 3; q++) ty->p_walls += (o.md[q] + o.ms[q]) * om[q];
   }
-  if (commit && s->led.on && !ra) s->led.d_rolling += o.slip;
 }
 
 /* The tangential spring's force kt xi of a committed contact, on A. */

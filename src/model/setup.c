@@ -11,7 +11,6 @@
 
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "core/bonds.h"
 #include "loads/drag.h"
@@ -65,13 +64,6 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
   }
   s->mats.rolling_model = c->rolling;
   int rc = esf_materials_mix(&s->mats, err);
-  if (!rc && s->mats.any_rolling && strcmp(c->method, "leapfrog") != 0 &&
-      strcmp(c->method, "verlet") != 0)
-    return esf_fail(err, ESF_EINPUT,
-                    "%s: rolling and twisting resistance (rolling_friction, "
-                    "twisting_friction) are supported by the leapfrog and velocity "
-                    "Verlet only for now; use integrator.method: leapfrog",
-                    esf_config_where(c, "integrator.method"));
   if (!rc) rc = set_masses(s, err);
   if (!rc) rc = esf_walls_freeze(&s->walls, s->t, err); /* moving walls placed at t0 */
   if (rc) return rc;
@@ -151,7 +143,7 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
   if (rc) return rc;
   rc = esf_neighbor_init(&s->nb, c->skin, s->led.on, err);
   if (rc) return rc;
-  s->nb.bonds = s->bonds.on;           /* the lists keep bond states (bonds.c) */
+  s->nb.bonds = s->bonds.on; /* the lists keep bond states (bonds.c) */
   s->nb.rolling = s->mats.any_rolling; /* and rolling states (contact_rolling.h) */
   if (c->has_domain) {
     s->nb.dom_lo = c->domain_min;

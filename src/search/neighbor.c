@@ -29,6 +29,7 @@ static void contacts_release(esf_candidates *c) {
   free(c->touch);
   free(c->led);
   free(c->vc0);
+  free(c->wr0);
   memset(c, 0, sizeof *c);
 }
 
@@ -66,8 +67,13 @@ static int contacts_reserve(esf_candidates *c, size_t n, int ledger, int carry, 
     v0 = realloc(c->vc0, cap * 3 * sizeof *v0);
     if (v0) c->vc0 = v0;
   }
+  double *w0 = c->wr0;
+  if (carry && roll) {
+    w0 = realloc(c->wr0, cap * 3 * sizeof *w0);
+    if (w0) c->wr0 = w0;
+  }
   if (!a || !b || !h || !t || (ledger && !l) || (carry && !v0) || (bonds && !bd) ||
-      (roll && !rl))
+      (roll && !rl) || (carry && roll && !w0))
     return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact candidates", cap);
   c->cap = cap;
   return ESF_OK;
@@ -204,6 +210,7 @@ static int keep_touching(esf_neighbor *nb, const esf_candidates *list, esf_candi
     kc->b[j] = list->b[f];
     kc->h[j] = list->h[f];
     if (cv) memcpy(kc->vc0 + 3 * j, list->vc0 + 3 * f, 3 * sizeof(double));
+    if (cv && cr) memcpy(kc->wr0 + 3 * j, list->wr0 + 3 * f, 3 * sizeof(double));
     if (cb) kc->bond[j] = list->bond[f];
     if (cr) kc->roll[j] = list->roll[f];
   }
@@ -251,6 +258,8 @@ static int fill_list(esf_neighbor *nb, esf_candidates *list, const esf_candidate
         list->touch[k] = 1;
         if (carry && list->vc0)
           memcpy(list->vc0 + 3 * k, kc->vc0 + 3 * f, 3 * sizeof(double));
+        if (carry && list->wr0 && kc->wr0)
+          memcpy(list->wr0 + 3 * k, kc->wr0 + 3 * f, 3 * sizeof(double));
         const esf_contact_bond *kb = esf_candidates_bond(kc, f);
         if (bonds) list->bond[k] = kb ? *kb : (esf_contact_bond){0};
         if (list->roll)
@@ -259,6 +268,7 @@ static int fill_list(esf_neighbor *nb, esf_candidates *list, const esf_candidate
         memset(&list->h[k], 0, sizeof list->h[k]);
         list->touch[k] = 0;
         if (list->vc0) memset(list->vc0 + 3 * k, 0, 3 * sizeof(double));
+        if (list->wr0) memset(list->wr0 + 3 * k, 0, 3 * sizeof(double));
         if (bonds) list->bond[k] = (esf_contact_bond){0};
         if (list->roll) list->roll[k] = (esf_contact_roll){{0, 0, 0}, 0};
       }
@@ -417,6 +427,7 @@ static void remap_list(esf_candidates *c, const size_t *remap, size_t n_old, int
       c->h[m] = c->h[k];
       c->touch[m] = c->touch[k];
       if (c->vc0) memcpy(c->vc0 + 3 * m, c->vc0 + 3 * k, 3 * sizeof(double));
+      if (c->wr0) memcpy(c->wr0 + 3 * m, c->wr0 + 3 * k, 3 * sizeof(double));
       if (c->bond) c->bond[m] = c->bond[k]; /* its offset is the pair's: no sign */
       if (c->roll) c->roll[m] = c->roll[k];
     }
@@ -429,6 +440,7 @@ static void remap_list(esf_candidates *c, const size_t *remap, size_t n_old, int
         h->xi[q] = -h->xi[q];
         h->n[q] = -h->n[q];
         if (c->vc0) c->vc0[3 * m + q] = -c->vc0[3 * m + q];
+        if (c->wr0) c->wr0[3 * m + q] = -c->wr0[3 * m + q];
         if (c->roll) c->roll[m].m[q] = -c->roll[m].m[q]; /* torque on the new A */
       } /* the twisting torque t n keeps its sign: n turned round too */
     }

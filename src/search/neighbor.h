@@ -48,6 +48,8 @@ typedef struct esf_candidates {
   double *led;      /* ESF_LED_STRIDE per contact, or NULL */
   double *vc0;      /* 3 per contact: relative contact velocity at the last commit
                        (the ODE methods' history carry), or NULL */
+  double *wr0;      /* 3 per contact: relative spin wA - wB at the last commit (the
+                       rolling state's carry; with carry and rolling only), or NULL */
   const double *xs; /* history as ODE state (dem_ode.h): 3 per contact, the live
                        tangential displacement, m; NULL otherwise (not owned) */
   double *xsdot;    /* its rate, m/s, written by evaluations when not NULL */
