@@ -28,7 +28,7 @@ extern const char *const esf_history_names[]; /* "frozen", "state", NULL */
  * allow_unstable. */
 enum { ESF_STAB_AUTO = 0, ESF_STAB_STOP = 1, ESF_STAB_WARN = 2, ESF_STAB_OFF = 3 };
 extern const char *const esf_stab_names[]; /* "auto", "stop", "warn", "off", NULL */
-#define ESF_STAB_EVERY 8000 /* default steps between checks */
+#define ESF_STAB_EVERY 8000                /* default steps between checks */
 
 enum { ESF_LOCAL_OFF = 0, ESF_LOCAL_COMPONENT = 1, ESF_LOCAL_VECTOR = 2 };
 
@@ -53,10 +53,10 @@ typedef struct esf_config {
   char method[128]; /* integrator name */
   double dt;        /* s; <= 0 with dt_auto */
   int dt_auto;
-  int dt_rule;        /* ESF_DT_* */
-  double frac;        /* dt = frac x critical (auto) */
-  int allow_unstable; /* accept dt above the rule's critical value */
-  int stability;      /* the live stability check: ESF_STAB_* (set-up resolves AUTO) */
+  int dt_rule;          /* ESF_DT_* */
+  double frac;          /* dt = frac x critical (auto) */
+  int allow_unstable;   /* accept dt above the rule's critical value */
+  int stability;        /* the live stability check: ESF_STAB_* (set-up resolves AUTO) */
   long stability_every; /* steps between its checks (> 0) */
 
   double rtol, atol; /* adaptive ODE methods: tolerances (rtol 0: fixed step) */
@@ -72,6 +72,7 @@ typedef struct esf_config {
   esf_auto_damping autod;              /* adaptive global damping */
 
   int tframe;                /* ESF_TFRAME_* */
+  int wall_lever;            /* ESF_WALL_LEVER_* (bodies/walls.h) */
   double max_overlap;        /* failure when overlap > this x the smaller radius */
   int allow_initial_overlap; /* explicit particles may start overlapping */
   double skin;               /* m; <= 0: automatic (0.4 x mean radius, then adaptive) */

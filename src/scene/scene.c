@@ -159,9 +159,9 @@ static int read_materials(const esf_ynode *root, esf_sim *s, esf_error *err) {
 }
 
 static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err) {
-  static const char *const keys[] = {"method",         "dt",    "dt_rule", "frac",
-                                     "allow_unstable", "rtol",  "atol",    "history",
-                                     "max_steps",      "roots", "fused",   "stability",
+  static const char *const keys[] = {"method",          "dt",    "dt_rule", "frac",
+                                     "allow_unstable",  "rtol",  "atol",    "history",
+                                     "max_steps",       "roots", "fused",   "stability",
                                      "stability_every", NULL};
   const esf_ynode *in = esf_ymap_get(root, "integrator");
   if (!in) return ESF_OK;
@@ -267,8 +267,9 @@ static int read_damping(const esf_ynode *root, esf_config *c, esf_error *err) {
 
 static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
   static const char *const ckeys[] = {"tangential_frame", "max_overlap",
-                                      "allow_initial_overlap", NULL};
+                                      "allow_initial_overlap", "wall_lever", NULL};
   static const char *const frames[] = {"rotate", "project", NULL};
+  static const char *const levers[] = {"seed", "surface", NULL}; /* ESF_WALL_LEVER_* */
   static const char *const skeys[] = {"skin", "reorder", NULL};
   static const char *const rkeys[] = {"duration", "steps", NULL};
   static const char *const okeys[] = {"every",    "energy_every",     "dir",
@@ -278,6 +279,7 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
   if (ct) {
     rc = esf_ymap_check_keys(ct, ckeys, err);
     if (!rc) rc = esf_yget_choice(ct, "tangential_frame", 0, frames, &c->tframe, err);
+    if (!rc) rc = esf_yget_choice(ct, "wall_lever", 0, levers, &c->wall_lever, err);
     if (!rc) rc = esf_yget_double(ct, "max_overlap", 0, &c->max_overlap, err);
     if (!rc) rc = positive(ct, "max_overlap", c->max_overlap, 1, err);
     if (!rc)
