@@ -117,3 +117,12 @@ int esf_butcher_order(const esf_butcher *t, const double *w, const char *name, i
   }
   return qmax;
 }
+
+int esf_butcher_conditions(int q) {
+  if (q < 1 || q > ESF_BUTCHER_QMAX) return 0;
+  forest f;
+  plant(&f, q);
+  int n = 0;
+  for (int i = 0; i < f.n; i++) n += f.t[i].order == q;
+  return n;
+}

@@ -26,4 +26,8 @@ typedef struct esf_butcher_miss {
 int esf_butcher_order(const esf_butcher *t, const double *w, const char *name, int qmax,
                       esf_butcher_miss *miss);
 
+/* The number of order conditions of order q (rooted trees of q nodes), 1 <= q <=
+ * ESF_BUTCHER_QMAX; 0 otherwise. */
+int esf_butcher_conditions(int q);
+
 #endif
