@@ -162,7 +162,7 @@ static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err)
   static const char *const keys[] = {"method",          "dt",    "dt_rule", "frac",
                                      "allow_unstable",  "rtol",  "atol",    "history",
                                      "max_steps",       "roots", "fused",   "stability",
-                                     "stability_every", NULL};
+                                     "stability_every", "table", NULL};
   const esf_ynode *in = esf_ymap_get(root, "integrator");
   if (!in) return ESF_OK;
   int rc = esf_ynode_require_map(in, err);
@@ -201,6 +201,7 @@ static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err)
   if (!rc && c->stability_every <= 0)
     return esf_ynode_fail(esf_ymap_get(in, "stability_every"), err,
                           "must be a positive number of steps");
+  if (!rc) rc = esf_scene_butcher(in, c, err); /* integrator.table (method erk) */
   return rc;
 }
 
@@ -392,7 +393,7 @@ static void record_places(const esf_ynode *root, esf_config *c) {
   static const char *const keys[] = {
       "", "materials", "particles", "walls", "events", "fluid", "damping", "integrator",
       "integrator.method", "integrator.dt", "integrator.frac", "integrator.history",
-      "integrator.roots", "integrator.rtol", "run", "run.duration", "run.steps",
+      "integrator.roots", "integrator.rtol", "integrator.table", "run", "run.duration", "run.steps",
       "output", "output.every", "output.energy_every", "output.checkpoint_every",
       "search", "search.skin", NULL};
   /* clang-format on */
