@@ -30,7 +30,8 @@ int main(int argc, char **argv) {
   if (esf_handle_open(&h, scene, sets, nsets)) return fail(&h, "open");
   size_t n = esf_handle_count(h), len = 0;
   const double *v = esf_handle_array(h, ESF_ARRAY_VELOCITY, &len);
-  double rel0 = n >= 2 ? v[3] - v[0] : 0.0; /* x-velocity of the 2nd relative to the 1st */
+  double rel0 =
+      n >= 2 ? v[3] - v[0] : 0.0; /* x-velocity of the 2nd relative to the 1st */
   double dt = esf_handle_dt(h), t_end = esf_handle_end_time(h);
   long steps = (long)(t_end / dt); /* whole steps to the end time */
   if ((double)steps * dt < t_end * (1 - 1e-12)) steps++;

@@ -140,8 +140,8 @@ static void stepping(const char *head_on) {
         "method, dim");
   long k = (long)ceil(esf_handle_end_time(a) / esf_handle_dt(a) - 1e-9);
   CHECK(esf_handle_step(a, k) == ESF_OK, "step: %s", esf_handle_message(a));
-  CHECK(esf_handle_steps(a) == k && fabs(esf_handle_time(a) - k * esf_handle_dt(a)) <
-                                        1e-15,
+  CHECK(esf_handle_steps(a) == k &&
+            fabs(esf_handle_time(a) - k * esf_handle_dt(a)) < 1e-15,
         "k steps of dt: %ld %.17g", esf_handle_steps(a), esf_handle_time(a));
   CHECK(esf_handle_steps(b) == 0 && esf_handle_time(b) == 0, "b untouched");
   double row[ESF_ENERGY_COLUMNS];
@@ -149,8 +149,8 @@ static void stepping(const char *head_on) {
   CHECK(strcmp(esf_energy_column(9), "total_error") == 0 && !esf_energy_column(-1) &&
             !esf_energy_column(ESF_ENERGY_COLUMNS),
         "column names");
-  CHECK(row[5] > 1e-4 && fabs(row[9]) < 1e-2 * row[5], "ledger closes: error %.3g of %.3g",
-        row[9], row[5]);
+  CHECK(row[5] > 1e-4 && fabs(row[9]) < 1e-2 * row[5],
+        "ledger closes: error %.3g of %.3g", row[9], row[5]);
   size_t len = 0;
   const double *v = esf_handle_array(a, ESF_ARRAY_VELOCITY, &len);
   double e = (v[3] - v[0]) / 2.0; /* relative speed after / before (2 m/s) */

@@ -57,7 +57,7 @@ static int poison(esf_handle *h, int rc) {
 }
 
 int esf_handle_open(esf_handle **out, const char *scene, const char *const *sets,
-                        int nsets) {
+                    int nsets) {
   esf_handle *h = calloc(1, sizeof *h);
   *out = h;
   if (!h) return ESF_ENOMEM;
@@ -65,8 +65,9 @@ int esf_handle_open(esf_handle **out, const char *scene, const char *const *sets
   esf_sim *s = &h->s;
   int rc = ESF_OK;
   if (!scene || nsets < 0 || (nsets > 0 && !sets))
-    rc = esf_fail(err, ESF_EINPUT, "esf_handle_open: give a scene path and nsets >= 0 "
-                                   "overrides");
+    rc = esf_fail(err, ESF_EINPUT,
+                  "esf_handle_open: give a scene path and nsets >= 0 "
+                  "overrides");
   if (!rc) rc = esf_scene_load(scene, sets, nsets, s, err);
   if (!rc && !(h->it = esf_integrator_find(s->cfg.method)))
     rc = esf_fail(err, ESF_EINPUT,
@@ -102,9 +103,7 @@ double esf_handle_time(const esf_handle *h) { return h ? h->s.t : NAN; }
 double esf_handle_dt(const esf_handle *h) { return h ? h->s.dt : NAN; }
 long esf_handle_steps(const esf_handle *h) { return h ? h->s.step : 0; }
 double esf_handle_end_time(const esf_handle *h) { return h ? h->t_end : NAN; }
-const char *esf_handle_method(const esf_handle *h) {
-  return h ? h->s.cfg.method : "";
-}
+const char *esf_handle_method(const esf_handle *h) { return h ? h->s.cfg.method : ""; }
 int esf_handle_dim(const esf_handle *h) { return h ? h->s.cfg.dim : 0; }
 
 const double *esf_handle_array(esf_handle *h, int which, size_t *len) {
@@ -112,8 +111,8 @@ const double *esf_handle_array(esf_handle *h, int which, size_t *len) {
   if (!h || !h->set_up) return NULL;
   esf_particles *p = &h->s.p;
   if (which == ESF_ARRAY_FORCE || which == ESF_ARRAY_TORQUE) esf_sim_forces_sync(&h->s);
-  const double *a[ESF_ARRAY_COUNT] = {p->x,      p->v,    p->w,      p->f,
-                                      p->t,      p->radius, p->mass, p->inertia};
+  const double *a[ESF_ARRAY_COUNT] = {p->x, p->v,      p->w,    p->f,
+                                      p->t, p->radius, p->mass, p->inertia};
   if (which < 0 || which >= ESF_ARRAY_COUNT) return NULL;
   *len = which <= ESF_ARRAY_TORQUE ? 3 * p->n : p->n;
   return a[which];

@@ -120,8 +120,8 @@ int esf_handle_step(esf_handle *h, long k);
  * rebuild changes its length: continue from esf_handle_y0 (of esf_handle_ode_size
  * entries) after every commit. With frozen history y0 after a commit is the committed
  * y itself. The first ODE call builds the contact lists and starts the ledger. */
-size_t esf_handle_ode_size(esf_handle *h); /* length of y; 0 on failure */
-int esf_handle_y0(esf_handle *h, double *y);  /* the state to continue from */
+size_t esf_handle_ode_size(esf_handle *h);   /* length of y; 0 on failure */
+int esf_handle_y0(esf_handle *h, double *y); /* the state to continue from */
 int esf_handle_rhs(esf_handle *h, double t, const double *y, double *ydot);
 int esf_handle_commit(esf_handle *h, double t, const double *y);
 
