@@ -8,7 +8,8 @@ view: y0's layout against the state arrays, rhs against the library's own forces
 against central differences of the ledger's elastic energy (commits at t = 0 with the
 spheres pressed together: m a = -dE/dx), free fall (a = g), rhs pure (twice the same
 bits), commit (time, steps, y0 after it, back in time refused), the two uses refusing
-each other; step with the leapfrog; numpy views read-only and keeping the Sim alive;
+each other; step with the leapfrog (step(k) = k x step(1) bit for bit) and an adaptive ERK to
+the scene's end; numpy views read-only and keeping the Sim alive;
 the SciPy example (DOP853 and Radau on scenes/head_on.yaml) against the no-tension
 closed form 0.550283 to 1e-3; the own-method example runs.
 """
@@ -153,6 +154,25 @@ def test_step_and_views():
     check(v[1, 0] > 0.5, f"a view keeps its Sim alive: {v[1, 0]}")
 
 
+def test_step_bits():
+    """step(k) takes the fused leapfrog's bursts: the same bits as k calls of step(1);
+    an adaptive ERK stops at the scene's end and then refuses."""
+    a, b = esfera.Sim(PACK), esfera.Sim(PACK)
+    a.step(1500)
+    for _ in range(1500):
+        b.step(1)
+    check(np.array_equal(a.positions, b.positions) and
+          np.array_equal(a.velocities, b.velocities) and a.energies == b.energies,
+          "step(k) = k x step(1), bit for bit")
+    c = esfera.Sim(HEAD_ON, set={"integrator.method": "erk:ARKODE_DORMAND_PRINCE_7_4_5",
+                                 "integrator.rtol": 1e-8})
+    c.step(10 ** 6)
+    v = c.velocities[:, 0]
+    check(c.time == c.end_time and abs((v[1] - v[0]) / 2 - 0.550283) < 1e-3,
+          f"adaptive ERK to the end: t {c.time}, restitution {(v[1] - v[0]) / 2}")
+    raises(lambda: c.step(1), -1, r"head_on.yaml:\d+:\d+: run.duration: .*end time")
+
+
 def test_scipy():
     import scipy_head_on as ex
     from scipy.integrate import DOP853, Radau
@@ -177,5 +197,6 @@ with tempfile.TemporaryDirectory() as tmp:
     test_energy_gradient()
     test_free_fall()
     test_step_and_views()
+    test_step_bits()
     test_scipy()
 sys.exit(finish("python"))

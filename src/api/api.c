@@ -168,6 +168,7 @@ int esf_handle_step(esf_handle *h, long k) {
   const int adaptive = (h->it->flags & ESF_INTEG_ADAPTIVE) && s->cfg.rtol > 0;
   long taken = 0, idle = 0;
   while (taken < k) {
+    if (adaptive && s->t >= h->t_end * (1 - 1e-12) && taken > 0) break; /* the end */
     if (adaptive && s->t >= h->t_end * (1 - 1e-12))
       return esf_fail(err, ESF_EINPUT,
                       "%s: run.duration: the adaptive method %s is at the scene's end "
@@ -176,8 +177,9 @@ int esf_handle_step(esf_handle *h, long k) {
     /* fixed-step schemes ignore the stop time, or need it beyond this call's steps */
     double t_stop = adaptive ? h->t_end : fmax(h->t_end, s->t + (double)(k + 1) * s->dt);
     long before = s->step;
-    s->burst = 1;
+    s->burst = k - taken; /* the fused leapfrog may take them at once (same bits) */
     rc = h->it->step(s, h->ist, t_stop, err);
+    s->burst = 1;
     if (rc) return poison(h, rc);
     taken += s->step - before;
     idle = s->step == before ? idle + 1 : 0; /* an ODE method redoing a step */

@@ -102,7 +102,8 @@ const char *esf_energy_column(int k); /* NULL outside 0..ESF_ENERGY_COLUMNS-1 */
 int esf_handle_energies(esf_handle *h, double row[ESF_ENERGY_COLUMNS]);
 
 /* Takes k steps with the scene's integrator (integrator.method). Adaptive methods
- * stop at the scene's end time (ESF_EINPUT when already there). The first call fixes
+ * stop at the scene's end time (fewer than k steps then; ESF_EINPUT when already
+ * there at the call). The first call fixes
  * the handle to this use: the ODE calls below then refuse, and the other way round. */
 int esf_handle_step(esf_handle *h, long k);
 
