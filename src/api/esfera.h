@@ -103,8 +103,8 @@ int esf_handle_energies(esf_handle *h, double row[ESF_ENERGY_COLUMNS]);
 
 /* Takes k steps with the scene's integrator (integrator.method). Adaptive methods
  * stop at the scene's end time (fewer than k steps then; ESF_EINPUT when already
- * there at the call). The first call fixes
- * the handle to this use: the ODE calls below then refuse, and the other way round. */
+ * there at the call). The first call fixes the handle to this use: the ODE calls
+ * below then refuse, and the other way round. */
 int esf_handle_step(esf_handle *h, long k);
 
 /* The DEM as an ODE (docs/library.md#the-ode-view):
