@@ -7,7 +7,9 @@
  *   ./embed scenes/head_on.yaml [KEY=VALUE]...
  *
  * For scenes/head_on.yaml it prints the restitution of the two spheres' collision
- * (relative speed after / before) next to the no-tension closed form, 0.550283. */
+ * (relative speed after / before) next to the no-tension closed form, 0.550283: the
+ * leapfrog at the scene's step (a tenth of the Hart step) gives 0.5612, at
+ * integrator.frac=0.01 0.5482 (examples/scipy_head_on.py meets it to 1e-7). */
 #include <esfera.h>
 #include <stdio.h>
 #include <stdlib.h>
