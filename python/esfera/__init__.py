@@ -11,7 +11,8 @@ or, on a second Sim, the DEM as an ODE for a solver of your own:
 
 Built on the C library (esfera.h) with ctypes: no compiled extension. The shared
 library is found in this order: $ESFERA_LIB (a file path), the build tree next to this
-package (../../build/libesfera.so), then the system's (ctypes.util.find_library).
+package (../../build/libesfera.so), the library installed with this package (`meson
+install`), then the system's (ctypes.util.find_library).
 Errors raise esfera.Error carrying esfera's message (file:line:column for scenes).
 """
 import ctypes
@@ -53,6 +54,12 @@ def library_path():
     local = os.path.join(here, "..", "..", "build", "libesfera.so")
     if os.path.exists(local):
         return os.path.normpath(local)
+    try:  # the module `meson install` put beside the installed library
+        from . import _installed
+        if os.path.exists(_installed.LIBRARY):
+            return _installed.LIBRARY
+    except ImportError:
+        pass
     found = ctypes.util.find_library("esfera")
     if found:
         return found
