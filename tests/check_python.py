@@ -8,10 +8,10 @@ view: y0's layout against the state arrays, rhs against the library's own forces
 against central differences of the ledger's elastic energy (commits at t = 0 with the
 spheres pressed together: m a = -dE/dx), free fall (a = g), rhs pure (twice the same
 bits), commit (time, steps, y0 after it, back in time refused), the two uses refusing
-each other; step with the leapfrog (step(k) = k x step(1) bit for bit) and an adaptive ERK to
-the scene's end; numpy views read-only and keeping the Sim alive;
-the SciPy example (DOP853 and Radau on scenes/head_on.yaml) against the no-tension
-closed form 0.550283 to 1e-3; the own-method example runs.
+each other; step with the leapfrog (step(k) = k x step(1), threads 1 = 2, bit for
+bit) and an adaptive ERK to the scene's end; numpy views read-only and keeping the Sim
+alive; the SciPy example (DOP853 and Radau on scenes/head_on.yaml) against the
+no-tension closed form 0.550283 to 1e-3; the own-method example runs.
 """
 import gc
 import os
@@ -157,13 +157,18 @@ def test_step_and_views():
 def test_step_bits():
     """step(k) takes the fused leapfrog's bursts: the same bits as k calls of step(1);
     an adaptive ERK stops at the scene's end and then refuses."""
-    a, b = esfera.Sim(PACK), esfera.Sim(PACK)
+    a, b, c = esfera.Sim(PACK, threads=1), esfera.Sim(PACK, threads=1), \
+        esfera.Sim(PACK, threads=2)
     a.step(1500)
+    c.step(1500)
     for _ in range(1500):
         b.step(1)
     check(np.array_equal(a.positions, b.positions) and
           np.array_equal(a.velocities, b.velocities) and a.energies == b.energies,
           "step(k) = k x step(1), bit for bit")
+    check(np.array_equal(a.positions, c.positions) and a.energies == c.energies,
+          "threads 1 and 2: the same bits")
+    raises(lambda: esfera.Sim(PACK, threads=0), -1, "1 to 1024")
     c = esfera.Sim(HEAD_ON, set={"integrator.method": "erk:ARKODE_DORMAND_PRINCE_7_4_5",
                                  "integrator.rtol": 1e-8})
     c.step(10 ** 6)

@@ -135,6 +135,9 @@ static void stepping(const char *head_on) {
   CHECK(esf_handle_open(&a, head_on, NULL, 0) == ESF_OK, "open a");
   const char *sets[] = {"integrator.frac=0.05"};
   CHECK(esf_handle_open(&b, head_on, sets, 1) == ESF_OK, "open b");
+  CHECK(esf_handle_set_threads(a, 1) == ESF_OK &&
+            esf_handle_set_threads(b, 0) == ESF_EINPUT,
+        "threads");
   CHECK(fabs(esf_handle_dt(b) / esf_handle_dt(a) - 0.5) < 1e-12, "override: dt halved");
   CHECK(strcmp(esf_handle_method(a), "leapfrog") == 0 && esf_handle_dim(a) == 3,
         "method, dim");
@@ -144,6 +147,7 @@ static void stepping(const char *head_on) {
             fabs(esf_handle_time(a) - k * esf_handle_dt(a)) < 1e-15,
         "k steps of dt: %ld %.17g", esf_handle_steps(a), esf_handle_time(a));
   CHECK(esf_handle_steps(b) == 0 && esf_handle_time(b) == 0, "b untouched");
+  CHECK(esf_handle_set_threads(a, 2) == ESF_EINPUT, "threads fixed once started");
   double row[ESF_ENERGY_COLUMNS];
   CHECK(esf_handle_energies(a, row) == ESF_OK, "energies");
   CHECK(strcmp(esf_energy_column(9), "total_error") == 0 && !esf_energy_column(-1) &&

@@ -86,6 +86,7 @@ def _load():
         "esf_handle_end_time": (D, [H]),
         "esf_handle_method": (ctypes.c_char_p, [H]),
         "esf_handle_dim": (ctypes.c_int, [H]),
+        "esf_handle_set_threads": (ctypes.c_int, [H, ctypes.c_int]),
         "esf_handle_array": (P, [H, ctypes.c_int, ctypes.POINTER(S)]),
         "esf_handle_ids": (ctypes.POINTER(ctypes.c_int64), [H]),
         "esf_energy_column": (ctypes.c_char_p, [ctypes.c_int]),
@@ -127,13 +128,15 @@ def _vector(y, n, what):
 class Sim:
     """One simulation: a scene loaded and set up (esf_handle of esfera.h).
 
-    Sim(scene_path, set={"dotted.key": value, ...}) -- overrides as the program's --set
-    (values given as Python numbers, strings, or lists, written as YAML flow values).
+    Sim(scene_path, set={"dotted.key": value, ...}, threads=None) -- overrides as the
+    program's --set (values given as Python numbers, strings, or lists, written as YAML
+    flow values); threads: worker threads (default all cores; results do not depend on
+    it).
     Drive it either with step(k) (the scene's integrator) or as an ODE with y0(), rhs()
     and commit(); the first such call fixes which (Error on mixing: open another Sim).
     """
 
-    def __init__(self, scene_path, set=None):
+    def __init__(self, scene_path, set=None, threads=None):
         sets = [f"{k}={_yaml(v)}" for k, v in (set or {}).items()]
         arr = (ctypes.c_char_p * max(len(sets), 1))(*[s.encode() for s in sets])
         self._h = ctypes.c_void_p()
@@ -144,6 +147,14 @@ class Sim:
                    if self._h else "out of memory")
             self.close()
             raise Error(rc, msg)
+        if threads is not None:
+            self._check(_lib.esf_handle_set_threads(self._h, int(threads)))
+
+    def __repr__(self):
+        if not self._h:
+            return "<esfera.Sim closed>"
+        return (f"<esfera.Sim {self.n} particles, {self.method}, t = {self.time:.6g} s, "
+                f"{self.steps} steps>")
 
     # lifetime ---------------------------------------------------------------------
     def close(self):

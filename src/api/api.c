@@ -106,6 +106,23 @@ double esf_handle_end_time(const esf_handle *h) { return h ? h->t_end : NAN; }
 const char *esf_handle_method(const esf_handle *h) { return h ? h->s.cfg.method : ""; }
 int esf_handle_dim(const esf_handle *h) { return h ? h->s.cfg.dim : 0; }
 
+int esf_handle_set_threads(esf_handle *h, int n) {
+  int rc = usable(h);
+  if (rc) return rc;
+  if (n < 1 || n > 1024)
+    return esf_fail(&h->err, ESF_EINPUT,
+                    "esf_handle_set_threads: %d threads: give 1 to "
+                    "1024",
+                    n);
+  if (h->mode != MODE_NONE)
+    return esf_fail(&h->err, ESF_EINPUT,
+                    "esf_handle_set_threads: the handle has "
+                    "started; set the threads before the first step or ODE call");
+  h->s.cfg.threads = n;
+  h->s.cfg.threads_auto = 0;
+  return ESF_OK;
+}
+
 const double *esf_handle_array(esf_handle *h, int which, size_t *len) {
   *len = 0;
   if (!h || !h->set_up) return NULL;

@@ -70,6 +70,11 @@ double esf_handle_end_time(const esf_handle *h);
 const char *esf_handle_method(const esf_handle *h);
 int esf_handle_dim(const esf_handle *h);
 
+/* Worker threads of the handle's steps (default: every core the process may use);
+ * results do not depend on it. Only before the first step or ODE call (ESF_EINPUT
+ * after), n from 1 to 1024. */
+int esf_handle_set_threads(esf_handle *h, int n);
+
 /* Per-particle arrays. */
 enum {
   ESF_ARRAY_POSITION, /* 3n, m */
