@@ -189,7 +189,8 @@ int esf_handle_step(esf_handle *h, long k) {
     if (adaptive && s->t >= h->t_end * (1 - 1e-12))
       return esf_fail(err, ESF_EINPUT,
                       "%s: run.duration: the adaptive method %s is at the scene's end "
-                      "time t = %.9g s (raise run.duration to go on)",
+                      "time t = %.9g s (open the scene with a longer run.duration to go "
+                      "on)",
                       esf_config_where(&s->cfg, "run.duration"), s->cfg.method, s->t);
     /* fixed-step schemes ignore the stop time, or need it beyond this call's steps */
     double t_stop = adaptive ? h->t_end : fmax(h->t_end, s->t + (double)(k + 1) * s->dt);
