@@ -82,11 +82,11 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
       double *r = c->xsdot + 3 * k, sp[3], fs[3];
       v3_copy(r, in->vc);
       v3_axpy(r, -v3_dot(in->vc, in->n), in->n);
-      if (pp->ht > 0) v3_scale(r, esf_law_hertz_st0_s(pp->ht, in->rstar, in->un), r);
       if (s->tally) { /* power into the tangential spring as applied (capped) */
         v3_sub(fs, out->ft, out->fd_t);
         s->tally->p_spring_t += v3_dot(fs, r);
       }
+      if (pp->ht > 0) v3_scale(r, esf_law_hertz_st0_s(pp->ht, in->rstar, in->un), r);
       v3_cross(sp, in->n, h.xi);
       v3_axpy(r, in->spin_n, sp);
     }
@@ -119,6 +119,14 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
     ty->e_el_n += out->e_el_n;
     ty->e_el_t += out->e_el_t;
     ty->slip += out->slip_work;
+    if (pp->ht > 0 && c->xs) { /* history as ODE state: the rate of |F|^2/(2 S_t) at
+                                  fixed F, |F|^2 vn / (4 S_t u); the other schemes book
+                                  the law's w_st at their commits */
+      double fs[3];
+      v3_sub(fs, out->ft, out->fd_t);
+      const double st = esf_law_hertz_st0_s(pp->ht, in->rstar, in->un);
+      ty->p_stiff += v3_norm2(fs) * v3_dot(in->vc, in->n) / (4.0 * st * in->un);
+    }
   }
   return 1;
 }
@@ -137,7 +145,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
   const esf_materials *mt = &s->mats;
   double *rows = commit && s->led.on ? s->led_rows : NULL; /* the leapfrog's (ledger.h) */
   const int slips = commit && s->led.on && !rows;          /* the other schemes' ledger */
-  double slip = 0;
+  double slip = 0, wst = 0;
   size_t nt = 0;
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];
@@ -180,8 +188,10 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
       if (pp->ht > 0) rows_a[ESF_LR_MET + 3] += out.w_st;
     }
     if (slips) slip += out.slip_work;
+    if (slips) wst += out.w_st;
   }
   if (slips) s->led.d_friction += slip;
+  if (slips) s->led.w_stiff += wst;
   *touching += nt;
   return ESF_OK;
 }
@@ -278,6 +288,7 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
       if (pp->ht > 0) rows[ESF_LR_MET + 3] += out.w_st;
     }
     if (slip) *slip += out.slip_work;
+    if (slip) s->led.w_stiff += out.w_st; /* the other schemes' ledger (as the slip) */
     if (s->tally) s->tally->p_walls += v3_dot(out.f, vw);
     if (commit && s->walls.gforce) /* servo walls (servo.c) */
       esf_servo_add(esf_servo_slot(&s->walls, a, el->group), &out, in.n);
