@@ -279,5 +279,8 @@ sed 's/kn: 1.0e5,/youngs_modulus: 1e9,/' "$tmp/ok.yaml" > "$tmp/h5.yaml"
 expect "youngs_modulus without poisson_ratio" 2 "h5.yaml:3:[0-9]+: .*needs both youngs_modulus and poisson_ratio" \
   -- run "$tmp/h5.yaml" --out "$tmp/oh5"
 
+expect "rayleigh rule with the linear law" 2 "--set integrator.dt_rule=rayleigh: integrator.dt_rule: rayleigh needs the Hertz-Mindlin law" \
+  -- run "$tmp/ok.yaml" --set integrator.dt_rule=rayleigh --out "$tmp/oh6"
+
 echo "bad_input: $pass passed, $fail failed"
 [ "$fail" = 0 ]
