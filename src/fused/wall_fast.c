@@ -15,10 +15,9 @@
  * product (wall_overlap). Up to FAST_MAX candidates per particle the hits live on the
  * stack; more use the neighbour lists' wall scratch at k0 (as forces.c), so particles
  * run in parallel.
- * Entry: candidate lists valid for s->p.x; walls static (s->walls.moving == 0), every
- * material pair linear or every one Hertz-Mindlin (contact_hertz.h), no ledger, tally,
- * servo walls or history as ODE state (esf_wall_pass_select checks). Exit: as
- * esf_forces_wall_particle committing. Units: SI. */
+ * Entry: candidate lists valid for s->p.x; walls static, every material pair linear or
+ * every one Hertz-Mindlin (contact_hertz.h), no tally, servo walls or ODE-state history
+ * (esf_wall_pass_select checks). Exit: as esf_forces_wall_particle committing. SI. */
 #include "fused/wall_fast.h"
 
 #include <math.h>
