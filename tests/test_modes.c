@@ -62,7 +62,7 @@ static void on_wall(int dim) {
   simtest T;
   esf_modes m;
   if (modes_of(yaml, &T, &m) == 0) {
-    double mass = T.s.p.mass[0], I = T.s.p.inertia[0], l = 0.005 - 1e-5;
+    double mass = T.s.p.mass[0], I = T.s.p.inertia[0], l = 0.005 - 0.5e-5; /* r - u/2 */
     double w2 = fmax(1.0e5 / mass, 0.5e5 * (1 / mass + l * l / I));
     check_close(dim == 3 ? "sphere on a wall" : "disk on a wall", m.omega_max, sqrt(w2));
     CHECK(m.contacts == 1 && m.dofs == (dim == 3 ? 6u : 3u), "one contact, %zu dofs",
@@ -103,7 +103,7 @@ static void on_wall_local(void) {
   simtest T;
   esf_modes m;
   if (modes_of(yaml, &T, &m) == 0) {
-    double mass = T.s.p.mass[0], I = T.s.p.inertia[0], l = 0.005 - 1e-5, f = 1.7;
+    double mass = T.s.p.mass[0], I = T.s.p.inertia[0], l = 0.005 - 0.5e-5, f = 1.7;
     double xi = esf_restitution_gamma(0.5), xm = xi * sqrt(1 + mass * l * l / I);
     double wn = sqrt(1.0e5 / mass), wt = sqrt(0.5e5 * (1 / mass + l * l / I));
     double dn = 2 / wn * (sqrt(xi * xi + 1 / f) - xi),

@@ -74,9 +74,10 @@ static inline double wall_overlap(const esf_wall_elem *e, const double *x, doubl
 
 /* The contact of particle a with kept hit `hit` on element el, candidate k: the law
  * (esf_contact_linear_eval, contact_linear.h, inline: no strategy-table call) with the
- * contact velocity vc = v_wall - [vA + wA x (lA n)], lA = dist, where a static wall's
- * point velocity is +0 exactly as esf_wall_point_velocity computes it for a group with
- * zero vel and omega, and the spin (wA.n + 0.n)/2; f += force, t += lA n x ft. */
+ * contact velocity vc = v_wall - [vA + wA x (lA n)], lA = esf_wall_lever's, where a
+ * static wall's point velocity is +0 exactly as esf_wall_point_velocity computes it for a
+ * group with zero vel and omega, and the spin (wA.n + 0.n)/2; f += force, t += lA n x ft.
+ */
 static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
                                 const esf_wall_hit *hit, double un, size_t a, size_t k,
                                 double dt, size_t *nt, double *f, double *t,
@@ -87,7 +88,7 @@ static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
   esf_contact_in in;
   v3_copy(in.n, hit->n);
   in.un = un;
-  const double la = hit->dist;
+  const double la = esf_wall_lever(s->cfg.wall_lever, p->radius[a], un, hit->dist);
   double ra[3], ta[3];
   v3_scale(ra, la, in.n);
   v3_cross(ta, w, ra);

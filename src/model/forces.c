@@ -10,7 +10,9 @@
  *   the contact law gives the force on A; B gets the opposite (004 2.31);
  *   torques M_A = lA n x Ft, M_B = lB n x Ft (same sense, 004 2.34).
  * For a wall element: q its nearest point (wall_geom.h), un = rA - |q - xA|, n toward
- * q, lever lA = |q - xA|, vc = v_wall(q) - [vA + wA x (lA n)], m* = mA. Hits of
+ * q, lever lA = rA - un/2 to the contact point xc = xA + lA n as for pairs (000 3-16;
+ * contact.wall_lever: surface takes lA = |q - xA|, xc = q),
+ * vc = v_wall(xc) - [vA + wA x (lA n)], m* = mA. Hits of
  * one particle on edges and vertices shared by wall elements count once
  * (esf_forces_select_wall_hits, also used by the fast wall pass of wall_fast.c).
  * Gravity: f += m g. In 2D only x, z forces and the y torque act.
@@ -268,9 +270,10 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
     esf_contact_in in;
     v3_copy(in.n, hit->n);
     in.un = un[k - k0];
-    double la = hit->dist;
-    double vw[3];
-    esf_wall_point_velocity(g, hit->q, vw);
+    const double la = esf_wall_lever(s->cfg.wall_lever, r, in.un, hit->dist);
+    double vw[3], pc[3];
+    esf_wall_contact_point(s->cfg.wall_lever, x + 3 * a, la, in.n, hit->q, pc);
+    esf_wall_point_velocity(g, pc, vw);
     contact_velocity(v, w, a, vw, NULL, la, 0, in.n, in.vc);
     in.spin_n = 0.5 * (v3_dot(w + 3 * a, in.n) + v3_dot(g->omega, in.n));
     in.mstar = p->mass[a];
