@@ -181,7 +181,7 @@ static void hertz_on_wall(void) {
   simtest T;
   esf_modes m;
   if (modes_of(yaml, &T, &m) == 0) {
-    const double E = 1e8, nu = 0.3, r = 0.005, u = 1e-5, l = r - u;
+    const double E = 1e8, nu = 0.3, r = 0.005, u = 1e-5, l = r - u / 2; /* r - u/2 */
     const double es = E / (2 * (1 - nu * nu)), gs = E / (4 * (2 - nu) * (1 + nu));
     const double sn = 2 * es * sqrt(r * u), st = 8 * gs * sqrt(r * u);
     const double mass = T.s.p.mass[0], I = T.s.p.inertia[0];
