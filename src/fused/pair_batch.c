@@ -359,7 +359,7 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
       qa = esf_law_hertz_qref_v(es, sm, rs, pp[0]->v_imp);
     }
     esf_law_hertz_dashpots_v(c->beta, cnf, ctf, sm, qa, sn, st, &cn, &ct);
-    if (c->rows) st0 = esf_law_hertz_st0_v(kt, rs, un + c->dt * vn);
+    if (c->rows) st0 = esf_law_hertz_st_v(kt, rs, un + c->dt * vn);
     kn = ks;        /* the secant stiffness: fel = ks un */
     kt = zero + 1.; /* the record xi is the force */
   }

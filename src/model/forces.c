@@ -88,7 +88,7 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
         v3_sub(fs, out->ft, out->fd_t);
         s->tally->p_spring_t += v3_dot(fs, r);
       }
-      if (pp->ht > 0) v3_scale(r, esf_law_hertz_st0_s(pp->ht, in->rstar, in->un), r);
+      if (pp->ht > 0) v3_scale(r, esf_law_hertz_st_s(pp->ht, in->rstar, in->un), r);
       v3_cross(sp, in->n, h.xi);
       v3_axpy(r, in->spin_n, sp);
     }
@@ -126,7 +126,7 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
                                   the law's w_st at their commits */
       double fs[3];
       v3_sub(fs, out->ft, out->fd_t);
-      const double st = esf_law_hertz_st0_s(pp->ht, in->rstar, in->un);
+      const double st = esf_law_hertz_st_s(pp->ht, in->rstar, in->un);
       ty->p_stiff += v3_norm2(fs) * v3_dot(in->vc, in->n) / (4.0 * st * in->un);
     }
   }
