@@ -279,6 +279,10 @@ sed 's/kn: 1.0e5,/youngs_modulus: 1e9,/' "$tmp/ok.yaml" > "$tmp/h5.yaml"
 expect "youngs_modulus without poisson_ratio" 2 "h5.yaml:3:[0-9]+: .*needs both youngs_modulus and poisson_ratio" \
   -- run "$tmp/h5.yaml" --out "$tmp/oh5"
 
+sed 's/kn: 1.0e5,/youngs_modulus: 1e9, poisson_ratio: 0.3,/; s|normal: \[0, 0, 1\]}, material: glass}|normal: [0, 0, 1]}, material: glass, motion: {servo: {stress: 1.0e4, direction: [0, 0, 1], max_speed: 0.1, area: 0.01}}}|' \
+  "$tmp/ok.yaml" > "$tmp/h7.yaml"
+expect "servo walls with Hertz" 2 "h7.yaml:[0-9]+:[0-9]+: servo walls need the linear law's kn" \
+  -- run "$tmp/h7.yaml" --out "$tmp/oh7"
 expect "rayleigh rule with the linear law" 2 "--set integrator.dt_rule=rayleigh: integrator.dt_rule: rayleigh needs the Hertz-Mindlin law" \
   -- run "$tmp/ok.yaml" --set integrator.dt_rule=rayleigh --out "$tmp/oh6"
 

@@ -118,8 +118,7 @@ static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
   v3_axpy(t, la, m);
   if (rows) { /* the ledger, as forces.c's (a static wall: its point velocity +0) */
     double ket[3];
-    for (int q = 0; q < 3; q++)
-      ket[q] = pp->ht > 0 ? c->h[k].xi[q] : pp->kt * c->h[k].xi[q];
+    esf_contact_ket(pp, c->h[k].xi, ket);
     esf_ledger_wall_rows(rows, in.n, la, out.fd_n, out.fel, out.fd_t, ket, out.slip_work,
                          out.e_el_n, out.e_el_t, out.f, zero3, dt);
     if (pp->ht > 0) rows[ESF_LR_MET + 3] += out.w_st;

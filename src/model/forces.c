@@ -133,11 +133,10 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
   return 1;
 }
 
-/* The tangential spring's force kt xi of a committed contact, on A (the Hertz-Mindlin
- * law's record xi is that force). */
+/* The tangential spring's force of a committed contact, on A (esf_contact_ket). */
 static void spring_t(const esf_pair_params *pp, const esf_contact_hist *h,
                      double ket[3]) {
-  for (int q = 0; q < 3; q++) ket[q] = pp->ht > 0 ? h->xi[q] : pp->kt * h->xi[q];
+  esf_contact_ket(pp, h->xi, ket);
 }
 
 static int pair_forces(esf_sim *s, const double *x, const double *v, const double *w,
