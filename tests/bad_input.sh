@@ -283,6 +283,8 @@ sed 's/kn: 1.0e5,/youngs_modulus: 1e9, poisson_ratio: 0.3,/; s|normal: \[0, 0, 1
   "$tmp/ok.yaml" > "$tmp/h7.yaml"
 expect "servo walls with Hertz" 2 "h7.yaml:[0-9]+:[0-9]+: servo walls need the linear law's kn" \
   -- run "$tmp/h7.yaml" --out "$tmp/oh7"
+expect "Hertz in 2D" 2 "h5.yaml:[0-9]+:[0-9]+: the Hertz-Mindlin law .* is the law of spheres" \
+  -- run "$tmp/h5.yaml" --set 'materials.glass.poisson_ratio=0.3' --set dimension=2 --out "$tmp/oh8"
 expect "rayleigh rule with the linear law" 2 "--set integrator.dt_rule=rayleigh: integrator.dt_rule: rayleigh needs the Hertz-Mindlin law" \
   -- run "$tmp/ok.yaml" --set integrator.dt_rule=rayleigh --out "$tmp/oh6"
 
