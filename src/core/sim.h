@@ -17,8 +17,16 @@
 #include "util/esf_error.h"
 #include "util/rng.h"
 
-enum { ESF_DT_CUNDALL = 0, ESF_DT_HART = 1, ESF_DT_DAMPED = 2, ESF_DT_RULES = 3 };
-extern const char *const esf_dt_rule_names[]; /* "cundall", "hart", "damped", NULL */
+enum {
+  ESF_DT_CUNDALL = 0,
+  ESF_DT_HART = 1,
+  ESF_DT_DAMPED = 2,
+  ESF_DT_RAYLEIGH = 3,  /* Hertz-Mindlin scenes only (INFINITY otherwise) */
+  ESF_DT_COLLISION = 4, /* the collision time at integrator.impact_speed */
+  ESF_DT_RULES = 5
+};
+/* "cundall", "hart", "damped", "rayleigh", "collision", NULL */
+extern const char *const esf_dt_rule_names[];
 
 /* How ODE methods treat contact history (integrators/dem_ode.h). */
 enum { ESF_HIST_FROZEN = 0, ESF_HIST_STATE = 1 };
@@ -84,6 +92,8 @@ typedef struct esf_config {
   esf_auto_damping autod;              /* adaptive global damping */
 
   int tframe;                /* ESF_TFRAME_* */
+  int hertz_damping;         /* contact.hertz_damping: 0 tsuji, 1 constant */
+  double impact_speed;       /* integrator.impact_speed, m/s (the Hertz time rule) */
   int wall_lever;            /* ESF_WALL_LEVER_* (bodies/walls.h) */
   double max_overlap;        /* failure when overlap > this x the smaller radius */
   int allow_initial_overlap; /* explicit particles may start overlapping */
@@ -131,7 +141,9 @@ void esf_config_set_where(esf_config *c, const char *key, const char *place);
 /* Critical-step estimates (timestep.c). */
 typedef struct esf_dt_estimate {
   double m_min;              /* smallest particle mass, kg */
-  double k_max;              /* largest stiffness of any used material pair, N/m */
+  double k_max;              /* largest stiffness of any used material pair, N/m
+                                (Hertz-Mindlin: the tangent stiffness at the peak
+                                overlap of an impact at integrator.impact_speed) */
   double xi;                 /* largest damping ratio (contact + global) */
   double crit[ESF_DT_RULES]; /* each rule's critical step (FRAC = 1), s */
 } esf_dt_estimate;

@@ -36,7 +36,7 @@ int esf_forces_overlap_failure(const esf_sim *s, long long ida, long long idb, i
                     "by %.3g m, %.0f%% of its radius (limit %.0f%%); dt = %.4g s, "
                     "critical dt (%s) = %.4g s. The wall pushes faster than contacts "
                     "can respond, or dt is too large: lower integrator.frac or dt, or "
-                    "raise kn",
+                    "raise kn (youngs_modulus for the Hertz-Mindlin law)",
                     s->step, s->t, ida, idb, un, 100.0 * un / rmin,
                     100.0 * s->cfg.max_overlap, s->dt, rule, s->dte.crit[s->cfg.dt_rule]);
   return esf_fail(err, ESF_ENUMERIC,
@@ -44,7 +44,7 @@ int esf_forces_overlap_failure(const esf_sim *s, long long ida, long long idb, i
                   "m, %.0f%% of the smaller radius (limit %.0f%%); dt = %.4g s, "
                   "critical dt (%s) = %.4g s. The step is too large for the stiffness "
                   "(lower integrator.frac or dt) or the contacts are too soft for the "
-                  "loads (raise kn)",
+                  "loads (raise kn, or youngs_modulus for the Hertz-Mindlin law)",
                   s->step, s->t, ida, idb, un, 100.0 * un / rmin,
                   100.0 * s->cfg.max_overlap, s->dt, rule, s->dte.crit[s->cfg.dt_rule]);
 }
@@ -80,7 +80,7 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
     in->vinc = NULL;
     pp->law->eval(pp, s->beta, s->cfg.tframe, in, &h, bond, 0, commit ? &c->h[k] : NULL,
                   out);
-    if (c->xsdot && out->touching) { /* xi' = vct + spin_n n x xi */
+    if (c->xsdot && out->touching) { /* xi' = vct + spin_n n x xi (Hertz: S_t vct) */
       double *r = c->xsdot + 3 * k, sp[3], fs[3];
       v3_copy(r, in->vc);
       v3_axpy(r, -v3_dot(in->vc, in->n), in->n);
@@ -88,6 +88,7 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
         v3_sub(fs, out->ft, out->fd_t);
         s->tally->p_spring_t += v3_dot(fs, r);
       }
+      if (pp->ht > 0) v3_scale(r, esf_law_hertz_st_s(pp->ht, in->rstar, in->un), r);
       v3_cross(sp, in->n, h.xi);
       v3_axpy(r, in->spin_n, sp);
     }
@@ -120,14 +121,22 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
     ty->e_el_n += out->e_el_n;
     ty->e_el_t += out->e_el_t;
     ty->slip += out->slip_work;
+    if (pp->ht > 0 && c->xs) { /* history as ODE state: the rate of |F|^2/(2 S_t) at
+                                  fixed F, |F|^2 vn / (4 S_t u); the other schemes book
+                                  the law's w_st at their commits */
+      double fs[3];
+      v3_sub(fs, out->ft, out->fd_t);
+      const double st = esf_law_hertz_st_s(pp->ht, in->rstar, in->un);
+      ty->p_stiff += v3_norm2(fs) * v3_dot(in->vc, in->n) / (4.0 * st * in->un);
+    }
   }
   return 1;
 }
 
-/* The tangential spring's force kt xi of a committed contact, on A. */
+/* The tangential spring's force of a committed contact, on A (esf_contact_ket). */
 static void spring_t(const esf_pair_params *pp, const esf_contact_hist *h,
                      double ket[3]) {
-  for (int q = 0; q < 3; q++) ket[q] = pp->kt * h->xi[q];
+  esf_contact_ket(pp, h->xi, ket);
 }
 
 static int pair_forces(esf_sim *s, const double *x, const double *v, const double *w,
@@ -137,7 +146,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
   const esf_materials *mt = &s->mats;
   double *rows = commit && s->led.on ? s->led_rows : NULL; /* the leapfrog's (ledger.h) */
   const int slips = commit && s->led.on && !rows;          /* the other schemes' ledger */
-  double slip = 0;
+  double slip = 0, wst = 0;
   size_t nt = 0;
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];
@@ -159,6 +168,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
                                         in.un, rmin, err);
     in.spin_n = 0.5 * (v3_dot(wa, in.n) + v3_dot(wb, in.n));
     in.mstar = p->mass[a] * p->mass[b] / (p->mass[a] + p->mass[b]);
+    in.rstar = ra * rb / (ra + rb);
     in.dt = dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
     esf_contact_out out;
@@ -176,10 +186,13 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
       spring_t(pp, &c->h[k], ket);
       esf_ledger_pair_rows(rows_a, rows + ESF_LR * b, in.n, la, lb, out.fd_n, out.fel,
                            out.fd_t, ket, out.slip_work, out.e_el_n, out.e_el_t);
+      if (pp->ht > 0) rows_a[ESF_LR_MET + 3] += out.w_st;
     }
     if (slips) slip += out.slip_work;
+    if (slips) wst += out.w_st;
   }
   if (slips) s->led.d_friction += slip;
+  if (slips) s->led.w_stiff += wst;
   *touching += nt;
   return ESF_OK;
 }
@@ -263,6 +276,7 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
     contact_velocity(v, w, a, vw, NULL, la, 0, in.n, in.vc);
     in.spin_n = 0.5 * (v3_dot(w + 3 * a, in.n) + v3_dot(g->omega, in.n));
     in.mstar = p->mass[a];
+    in.rstar = p->radius[a];
     in.dt = dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
     esf_contact_out out;
@@ -273,8 +287,10 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
       spring_t(pp, &c->h[k], ket);
       esf_ledger_wall_rows(rows, in.n, la, out.fd_n, out.fel, out.fd_t, ket,
                            out.slip_work, out.e_el_n, out.e_el_t, out.f, vw, dt);
+      if (pp->ht > 0) rows[ESF_LR_MET + 3] += out.w_st;
     }
     if (slip) *slip += out.slip_work;
+    if (slip) s->led.w_stiff += out.w_st; /* the other schemes' ledger (as the slip) */
     if (s->tally) s->tally->p_walls += v3_dot(out.f, vw);
     if (commit && s->walls.gforce) /* servo walls (servo.c) */
       esf_servo_add(esf_servo_slot(&s->walls, a, el->group), &out, in.n);
