@@ -79,7 +79,8 @@ def test_ode():
     s = esfera.Sim(HEAD_ON)
     n = s.n
     y = s.y0()
-    check(y.shape == (9 * n + 7,) and s.ode_size == 9 * n + 7, f"layout {y.shape}")
+    nq = len(esfera.Q_NAMES)
+    check(y.shape == (9 * n + nq,) and s.ode_size == 9 * n + nq, f"layout {y.shape}")
     b = s.split(y)
     check(np.array_equal(b["x"], s.positions) and np.array_equal(b["v"], s.velocities)
           and not b["q"].any() and b["xi"].size == 0, "y0 holds x, v, w, Q = 0")

@@ -79,8 +79,11 @@ static void ode_view(const char *head_on) {
   CHECK(rc == ESF_OK, "open: %s", esf_handle_message(h));
   double row[ESF_ENERGY_COLUMNS];
   CHECK(esf_handle_energies(h, row) == ESF_EINPUT, "no ledger before the first call");
-  size_t n = esf_handle_count(h), m = esf_handle_ode_size(h);
-  CHECK(n == 2 && m == 9 * n + 7, "layout n %zu m %zu", n, m);
+  size_t n = esf_handle_count(h), m = esf_handle_ode_size(h), nq = 0;
+  while (esf_ode_quadrature((int)nq)) nq++;
+  CHECK(nq >= 8 && !strcmp(esf_ode_quadrature(7), "work_tangential_stiffness"),
+        "%zu quadratures named", nq);
+  CHECK(n == 2 && m == 9 * n + nq, "layout n %zu m %zu", n, m);
   double *y = calloc(m, sizeof *y), *dy = calloc(m, sizeof *dy);
   CHECK(esf_handle_y0(h, y) == ESF_OK, "y0");
   size_t len = 0;

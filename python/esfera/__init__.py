@@ -23,13 +23,8 @@ import numpy as np
 
 __all__ = ["Sim", "Error", "library_path", "version", "ENERGY_COLUMNS", "Q_NAMES"]
 
-# The ledger quadratures' block of the ODE state (esfera.h, integrators/dem_ode.h).
-Q_NAMES = ("dissipated_normal", "dissipated_tangential", "dissipated_global",
-           "dissipated_local", "work_walls", "work_tangential_springs", "work_fluid")
-
 _ARRAYS = {"positions": (0, 3), "velocities": (1, 3), "spins": (2, 3), "forces": (3, 3),
            "torques": (4, 3), "radii": (5, 1), "masses": (6, 1), "inertias": (7, 1)}
-_NCOLS = 20  # ESF_ENERGY_COLUMNS
 _CODES = {-1: "bad input", -2: "input/output", -3: "out of memory",
           -4: "numerical failure", -5: "internal error"}
 
@@ -90,6 +85,7 @@ def _load():
         "esf_handle_array": (P, [H, ctypes.c_int, ctypes.POINTER(S)]),
         "esf_handle_ids": (ctypes.POINTER(ctypes.c_int64), [H]),
         "esf_energy_column": (ctypes.c_char_p, [ctypes.c_int]),
+        "esf_ode_quadrature": (ctypes.c_char_p, [ctypes.c_int]),
         "esf_handle_energies": (ctypes.c_int, [H, P]),
         "esf_handle_step": (ctypes.c_int, [H, ctypes.c_long]),
         "esf_handle_ode_size": (S, [H]),
@@ -104,7 +100,21 @@ def _load():
 
 
 _lib = _load()
-ENERGY_COLUMNS = tuple(_lib.esf_energy_column(k).decode() for k in range(_NCOLS))
+
+
+def _names(fn):
+    """The names fn(0), fn(1), ... up to its first NULL."""
+    out = []
+    while fn(len(out)) is not None:
+        out.append(fn(len(out)).decode())
+    return tuple(out)
+
+
+# The energy row's columns (energy.csv's) and the ODE state's quadratures, as this
+# library has them (esfera.h: new ones are added at the end).
+ENERGY_COLUMNS = _names(_lib.esf_energy_column)
+Q_NAMES = _names(_lib.esf_ode_quadrature)
+_NCOLS, _NQ = len(ENERGY_COLUMNS), len(Q_NAMES)
 
 
 def version():
@@ -261,7 +271,8 @@ class Sim:
     # the ODE view -----------------------------------------------------------------
     @property
     def ode_size(self):
-        """Length of y: 9 n + 7 (+ 3 per candidate contact with history as state)."""
+        """Length of y: 9 n + len(Q_NAMES) (+ 3 per candidate contact with history as
+        state)."""
         m = _lib.esf_handle_ode_size(self._handle())
         if m == 0:
             self._check(_lib.esf_handle_status(self._h) or -5)
@@ -269,7 +280,7 @@ class Sim:
 
     def y0(self):
         """The state to continue from (a new array): y = [x (3n) | v (3n) | w (3n) |
-        Q (7, Q_NAMES) | XI (history as state only)], each vector block particle by
+        Q (len(Q_NAMES), Q_NAMES) | XI (history as state only)], each vector block particle by
         particle (x0, y0, z0, x1, ...). At the start Q is 0; after a commit it is the
         committed y's."""
         y = np.empty(self.ode_size)
@@ -298,11 +309,11 @@ class Sim:
         self._check(_lib.esf_handle_commit(self._h, float(t), _ptr(y)))
 
     def split(self, y):
-        """The blocks of an ODE vector as views: dict x, v, w (n x 3), q (7), xi."""
+        """The blocks of an ODE vector as views: dict x, v, w (n x 3), q (len(Q_NAMES)), xi."""
         n = self.n
         return {"x": y[:3 * n].reshape(-1, 3), "v": y[3 * n:6 * n].reshape(-1, 3),
-                "w": y[6 * n:9 * n].reshape(-1, 3), "q": y[9 * n:9 * n + 7],
-                "xi": y[9 * n + 7:]}
+                "w": y[6 * n:9 * n].reshape(-1, 3), "q": y[9 * n:9 * n + _NQ],
+                "xi": y[9 * n + _NQ:]}
 
 
 def _yaml(v):

@@ -139,6 +139,19 @@ const int64_t *esf_handle_ids(const esf_handle *h) {
   return h && h->set_up ? h->s.p.id : NULL;
 }
 
+/* The ODE state's quadratures, in dem_ode.h's order. */
+static const char *const quadratures[] = {
+    "dissipated_normal", "dissipated_tangential",
+    "dissipated_global", "dissipated_local",
+    "work_walls",        "work_tangential_springs",
+    "work_fluid",        "work_tangential_stiffness"};
+_Static_assert(sizeof quadratures / sizeof *quadratures == ESF_ODE_NQ,
+               "a name for every quadrature of dem_ode.h");
+
+const char *esf_ode_quadrature(int k) {
+  return k >= 0 && k < ESF_ODE_NQ ? quadratures[k] : NULL;
+}
+
 const char *esf_energy_column(int k) {
   return k >= 0 && k < ESF_LEDGER_NCOLS ? esf_ledger_columns[k] : NULL;
 }

@@ -102,7 +102,10 @@ const int64_t *esf_handle_ids(const esf_handle *h);
  * columns of energy.csv (time, kinetic_translational, ..., total_error), named by
  * esf_energy_column. The ledger is on when the scene sets output.energy_every > 0
  * (ESF_EINPUT otherwise). Values refer to the time in row[0]. */
-#define ESF_ENERGY_COLUMNS 20
+/* This version's count: later versions add columns at the end (a program built
+ * against an older header reads a prefix of the row; a binding counts them with
+ * esf_energy_column). */
+#define ESF_ENERGY_COLUMNS 21
 const char *esf_energy_column(int k); /* NULL outside 0..ESF_ENERGY_COLUMNS-1 */
 int esf_handle_energies(esf_handle *h, double row[ESF_ENERGY_COLUMNS]);
 
@@ -113,20 +116,23 @@ int esf_handle_energies(esf_handle *h, double row[ESF_ENERGY_COLUMNS]);
 int esf_handle_step(esf_handle *h, long k);
 
 /* The DEM as an ODE (docs/library.md#the-ode-view):
- *   y = [ x (3n) | v (3n) | w (3n) | Q (7) | XI (3 per candidate contact) ]
- * Q the ledger's quadratures (energy dissipated by normal and tangential dashpots,
- * global and local damping, the work of walls, the power into tangential springs, the
- * work of the fluid; J); XI only with integrator.history: state (the live tangential
- * displacements, m). f = [ v | a | dw/dt | powers | dXI/dt ].
- * Contact history is frozen at the last commit (integrator.history: frozen, the
- * default): f(t, y) carries each contact's committed tangential displacement to t;
- * esf_handle_commit(t, y) accepts a step: it commits the histories over it, updates the
- * ledger and refreshes the contact lists. Particles leaving the domain fail the commit.
- * With history as state, a commit rebuilds XI from the committed histories and a list
- * rebuild changes its length: continue from esf_handle_y0 (of esf_handle_ode_size
- * entries) after every commit. With frozen history y0 after a commit is the committed
- * y itself. The first ODE call builds the contact lists and starts the ledger. */
+ *   y = [ x (3n) | v (3n) | w (3n) | Q (nq) | XI (3 per candidate contact) ]
+ * Q the ledger's quadratures, J, named by esf_ode_quadrature(0..nq-1) (energy
+ * dissipated by normal and tangential dashpots, global and local damping, the work of
+ * walls, the power into tangential springs, the work of the fluid, the Hertz
+ * tangential springs' stiffness changes, ...; new ones are added at the end); XI only
+ * with integrator.history: state (the live tangential displacements, m). f = [ v | a |
+ * dw/dt | powers | dXI/dt ]. Contact history is frozen at the last commit
+ * (integrator.history: frozen, the default): f(t, y) carries each contact's committed
+ * tangential displacement to t; esf_handle_commit(t, y) accepts a step: it commits the
+ * histories over it, updates the ledger and refreshes the contact lists. Particles
+ * leaving the domain fail the commit. With history as state, a commit rebuilds XI from
+ * the committed histories and a list rebuild changes its length: continue from
+ * esf_handle_y0 (of esf_handle_ode_size entries) after every commit. With frozen history
+ * y0 after a commit is the committed y itself. The first ODE call builds the contact
+ * lists and starts the ledger. */
 size_t esf_handle_ode_size(esf_handle *h);   /* length of y; 0 on failure */
+const char *esf_ode_quadrature(int k);       /* Q's names; NULL outside 0..nq-1 */
 int esf_handle_y0(esf_handle *h, double *y); /* the state to continue from */
 int esf_handle_rhs(esf_handle *h, double t, const double *y, double *ydot);
 int esf_handle_commit(esf_handle *h, double t, const double *y);
