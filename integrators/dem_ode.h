@@ -45,6 +45,7 @@ enum {
   ESF_ODE_QW,
   ESF_ODE_QF,
   ESF_ODE_QFL, /* work of the fluid force (drag.c) */
+  ESF_ODE_QS,  /* Hertz tangential springs' stiffness changes (forces.c p_stiff) */
   ESF_ODE_NQ,
   ESF_ODE_QR = ESF_ODE_NQ /* with rolling resistance only (o->nq = ESF_ODE_NQ + 1): the
                              power its dashpots and constant torques dissipate */

@@ -2,11 +2,14 @@
 checkpoint, `esfera run --resume` and N/2 more, compared bit for bit (every frame
 dataset, /energy, energy.csv), for the leapfrog with friction, global and local damping
 and a moving wall (general path with the ledger, and the fused step without it,
-checkpointed on two threads and resumed on one), for adaptive Dormand-Prince (ARKODE, rtol 1e-5), for spheres
+checkpointed on two threads and resumed on one; and so with the Hertz-Mindlin law), for
+adaptive Dormand-Prince (ARKODE, rtol 1e-5) and adaptive Bogacki-Shampine typed in as
+the scene's Butcher table, for spheres
 leaving the domain (the count changes either side of the checkpoint), for rolling and
 twisting resistance (epsd: its spring torques ride in the checkpoint; general path with
 the ledger, fused step on two threads resumed on one, adaptive Dormand-Prince with its
-carried spins and plastic work), and for bonded
+carried spins and plastic work; and with the Hertz-Mindlin law, fused with the ledger on
+two threads resumed on one), and for bonded
 blocks (the bond states ride in the checkpoint: bonds break on both sides); a run stopped
 by SIGTERM resumes to the same output; esfera info on the checkpoint names the resume
 command. Usage: check_restart.py ESFERA"""
@@ -20,7 +23,7 @@ import time
 
 import h5py
 
-from ckpt_common import DROP, ERK, esfera, identical, run_ok, write_scene
+from ckpt_common import DROP, ERK, ERK_TABLE, esfera, identical, run_ok, write_scene
 from pycheck import check, finish
 
 
@@ -58,7 +61,15 @@ def main():
         # the fused threaded step (no ledger): checkpoint on 2 threads, resume on 1
         halves(exe, tmp, scene, "leapfrog_fused", "0.0201", "--set",
                "output.energy_every=0", "--threads", "2")
+        # the Hertz-Mindlin law (its tangential force record in the histories), with the
+        # ledger (work_tangential_stiffness) on the general path, and on the fused step
+        hz = ("--set", "materials.glass={density: 2500, youngs_modulus: 1.0e7, "
+              "poisson_ratio: 0.3, restitution: 0.7, friction: 0.3}")
+        halves(exe, tmp, scene, "hertz", "0.0201", *hz)
+        halves(exe, tmp, scene, "hertz_fused", "0.0201", *hz, "--set",
+               "output.energy_every=0", "--threads", "2")
         halves(exe, tmp, scene, "erk_dp5", "0.003", *ERK)
+        halves(exe, tmp, scene, "erk_table", "0.003", *ERK_TABLE)
         roll = ["--set", "materials.glass.rolling_friction=0.2", "--set",
                 "materials.glass.rolling_damping=0.3", "--set",
                 "materials.glass.twisting_friction=0.05"]
@@ -66,6 +77,10 @@ def main():
         halves(exe, tmp, scene, "rolling_fused", "0.0201", *roll, "--set",
                "output.energy_every=0", "--threads", "2")
         halves(exe, tmp, scene, "rolling_erk_dp5", "0.003", *ERK, *roll)
+        # both: the Hertz law's S_n in the rolling springs, fused on two threads with
+        # the ledger, resumed on one
+        halves(exe, tmp, scene, "hertz_rolling_fused", "0.0201", *hz, *roll, "--threads",
+               "2")
         drop = halves(exe, tmp, write_scene(tmp, DROP, "drop.yaml"), "domain_exit", "0.031")
         with h5py.File(os.path.join(drop, "frames.h5"), "r") as f:
             n = [len(f["frames"][k]["id"]) for k in sorted(f["frames"])]

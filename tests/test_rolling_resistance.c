@@ -73,8 +73,10 @@ static void cdt_plane(const char *method) {
   const double a = mu_r * g / (1.0 + kI); /* sphere (5/7) mu_r g, disk (2/3) mu_r g */
   char w[96], me[64];
   snprintf(me, sizeof me, "integrator.method=%s", method);
+  /* rolling without slip about the contact point at the lever r - u/2 (the default
+     contact.wall_lever: seed) */
   snprintf(w, sizeof w, "particles.0.angular_velocity=[0, %.17g, 0]",
-           v0 / (r - mass() * g / kn));
+           v0 / (r - 0.5 * mass() * g / kn));
   const char *ex[] = {"contact.rolling=cdt", "particles.0.velocity=[1, 0, 0]", w,
                       "output.energy_every=1.0e-9", me};
   simtest T;

@@ -23,7 +23,7 @@
  * domain check it goes 200 steps late; without the burst's stop on it, 24).
  * Rolling and twisting resistance (both models, mixed between the materials): the
  * fused step on 1, 2 and 3 threads gives the general path's state and rolling states
- * bit for bit. */
+ * bit for bit; with the Hertz-Mindlin law too (1 and 2 threads, with the ledger). */
 #include <stdlib.h>
 
 #include "fused/fused.h"
@@ -83,7 +83,13 @@ typedef struct snapshot {
 static const char *isa_ = "";
 static int ledger_ = 0;
 static const char *extra_ = NULL;  /* one more override, or NULL */
-static const char *extra2_ = NULL; /* and another (with extra_), or NULL */
+static const char *extra2_ = NULL; /* and another, or NULL */
+static int hertz_ = 0;             /* both materials Hertz-Mindlin (check_hertz) */
+static const char *const hertz_sets[] = {
+    "materials.glass={density: 2500, youngs_modulus: 5.0e7, poisson_ratio: 0.3, "
+    "restitution: 0.4, tangential_restitution: 0.6, friction: 0.4}",
+    "materials.steel={density: 7800, youngs_modulus: 2.0e8, poisson_ratio: 0.28, "
+    "restitution: 0.7, friction: 0.2}"};
 
 static int run(int threads, int fused, const char *tframe, int moving, long burst,
                snapshot *out) {
@@ -91,10 +97,16 @@ static int run(int threads, int fused, const char *tframe, int moving, long burs
   snprintf(s_fu, sizeof s_fu, "integrator.fused=%s", fused ? "true" : "false");
   snprintf(s_tf, sizeof s_tf, "contact.tangential_frame=%s", tframe);
   snprintf(scene, sizeof scene, scene_fmt, moving ? oscillate : "");
-  const char *sets[] = {s_fu, s_tf, extra_ ? extra_ : s_fu, extra2_ ? extra2_ : s_fu,
-                        "output.energy_every=1.0e-5"};
+  const char *sets[8] = {s_fu, s_tf, extra_ ? extra_ : s_fu};
+  int nsets = 3;
+  if (extra2_) sets[nsets++] = extra2_;
+  if (ledger_) sets[nsets++] = "output.energy_every=1.0e-5";
+  if (hertz_) {
+    sets[nsets++] = hertz_sets[0];
+    sets[nsets++] = hertz_sets[1];
+  }
   simtest T;
-  int rc = simtest_open(&T, scene, sets, ledger_ ? 5 : 4);
+  int rc = simtest_open(&T, scene, sets, nsets);
   if (rc) return rc;
   T.s.cfg.threads = threads;
   T.s.cfg.range_work = 1; /* one range per thread, however small the scene */
@@ -340,21 +352,73 @@ static void check_ledger(void) {
   extra_ = NULL;
 }
 
-/* Rolling and twisting resistance, epsd and cdt, mixed (min) between the materials:
- * the fused step on 1, 2 and 3 threads against the general path, floor oscillating,
- * without and with the energy ledger (its rolling rows and columns). */
-static void check_rolling(void) {
-  extra_ = "materials={glass: {density: 2500, kn: 2.0e4, restitution: 0.4, "
-           "tangential_restitution: 0.6, friction: 0.4, rolling_friction: 0.3, "
-           "rolling_damping: 0.4, twisting_friction: 0.1}, steel: {density: 7800, kn: "
-           "4.0e4, restitution: 0.7, friction: 0.2, rolling_friction: 0.1}}";
+/* The Hertz-Mindlin law (contact_hertz.c) on both materials: the fused step on 1 and
+ * 2 threads gives the general path's state bit for bit, with the floor oscillating
+ * (one step per call) and still (32), the second time with the energy ledger (its
+ * work_tangential_stiffness column included). */
+static void check_hertz(void) {
+  hertz_ = 1;
+  for (int round = 0; round < 2; round++) {
+    snapshot gen, b;
+    const int moving = round == 0;
+    ledger_ = round == 1;
+    if (run(1, 0, "rotate", moving, 1, &gen) != 0) {
+      CHECK(0, "Hertz: general path");
+      break;
+    }
+    printf("Hertz, floor %s: %.1f contacts per step%s", moving ? "oscillating" : "still",
+           gen.contacts_mean, ledger_ ? "" : "\n");
+    if (ledger_)
+      printf(", dissipated normal %.6g J, friction %.6g J, work_tangential_stiffness "
+             "%.6g J\n",
+             gen.led.d_normal, gen.led.d_friction, gen.led.w_stiff);
+    CHECK(gen.contacts_mean > 0.05 * (double)gen.n, "Hertz: collisions all along");
+    CHECK(!ledger_ || gen.led.w_stiff != 0.0, "Hertz: the stiffness column books");
+    for (int t = 1; t <= 2; t++) {
+      char what[96];
+      snprintf(what, sizeof what, "Hertz, floor %s%s, %d threads",
+               moving ? "oscillating" : "still", ledger_ ? ", ledger" : "", t);
+      CHECK(run(t, 1, "rotate", moving, moving ? 1 : 32, &b) == 0, "%s", what);
+      if (check_failures_) break;
+#ifndef ESF_MINIMAL
+      CHECK(b.fused, "%s: the fused step must run it", what);
+#endif
+      check_same(&b, &gen, what);
+      release(&b);
+    }
+    release(&gen);
+  }
+  hertz_ = 0;
+  ledger_ = 0;
+}
+
+/* The materials of check_rolling: the linear law, and the Hertz-Mindlin law (rolling's
+ * kn: S_n at the overlap) with check_hertz's moduli. */
+static const char *const roll_linear =
+    "materials={glass: {density: 2500, kn: 2.0e4, restitution: 0.4, "
+    "tangential_restitution: 0.6, friction: 0.4, rolling_friction: 0.3, "
+    "rolling_damping: 0.4, twisting_friction: 0.1}, steel: {density: 7800, kn: 4.0e4, "
+    "restitution: 0.7, friction: 0.2, rolling_friction: 0.1}}";
+static const char *const roll_hertz =
+    "materials={glass: {density: 2500, youngs_modulus: 5.0e7, poisson_ratio: 0.3, "
+    "restitution: 0.4, tangential_restitution: 0.6, friction: 0.4, rolling_friction: 0.3, "
+    "rolling_damping: 0.4, twisting_friction: 0.1}, steel: {density: 7800, "
+    "youngs_modulus: 2.0e8, poisson_ratio: 0.28, restitution: 0.7, friction: 0.2, "
+    "rolling_friction: 0.1}}";
+
+/* Rolling and twisting resistance, epsd and cdt, mixed (min) between the materials
+ * (mats: the materials override, law: its name): the fused step on 1 to tmax threads
+ * against the general path, floor oscillating, without (q0 = 0) and with the energy
+ * ledger (its rolling rows and columns). */
+static void check_rolling(const char *mats, const char *law, int q0, int tmax) {
+  extra_ = mats;
   const char *models[] = {"contact.rolling=epsd", "contact.rolling=cdt"};
-  for (int q = 0; q < 4; q++) {
+  for (int q = q0; q < 4; q++) {
     extra2_ = models[q % 2];
     ledger_ = q >= 2;
     snapshot gen, b;
     if (run(1, 0, "rotate", 1, 1, &gen) != 0) {
-      CHECK(0, "rolling: general path (%s)", extra2_);
+      CHECK(0, "rolling, %s law: general path (%s)", law, extra2_);
       break;
     }
     CHECK(gen.roll != NULL, "%s: the lists keep rolling states", extra2_);
@@ -366,11 +430,11 @@ static void check_rolling(void) {
     for (size_t k = 0; gen.roll && k < gen.m; k++)
       mmax = fmax(mmax, fabs(gen.roll[k].m[0]) + fabs(gen.roll[k].m[1]) +
                             fabs(gen.roll[k].m[2]) + fabs(gen.roll[k].t));
-    if (q == 0) CHECK(mmax > 0, "epsd: rolling springs loaded (%.3g N m)", mmax);
-    for (int t = 1; t <= 3; t++) {
-      char what[96];
-      snprintf(what, sizeof what, "%s%s, %d threads", extra2_, ledger_ ? ", ledger" : "",
-               t);
+    if (q % 2 == 0) CHECK(mmax > 0, "epsd: rolling springs loaded (%.3g N m)", mmax);
+    for (int t = 1; t <= tmax; t++) {
+      char what[128];
+      snprintf(what, sizeof what, "%s law, %s%s, %d threads", law, extra2_,
+               ledger_ ? ", ledger" : "", t);
       CHECK(run(t, 1, "rotate", 1, 1, &b) == 0, "%s", what);
       if (check_failures_) break;
 #ifndef ESF_MINIMAL
@@ -379,11 +443,11 @@ static void check_rolling(void) {
       check_same(&b, &gen, what);
       release(&b);
     }
-    printf("%s%s: fused on 1-3 threads = general path; %.1f contacts per step, largest "
-           "stored rolling torque %.3g N m; rolling dissipated %.4g J, total error %.3g "
-           "J\n",
-           extra2_, ledger_ ? ", ledger" : "", gen.contacts_mean, mmax, gen.led.d_rolling,
-           esf_ledger_total_error(&gen.led));
+    printf("%s law, %s%s: fused on 1-%d threads = general path; %.1f contacts per step, "
+           "largest stored rolling torque %.3g N m; rolling dissipated %.4g J, total "
+           "error %.3g J\n",
+           law, extra2_, ledger_ ? ", ledger" : "", tmax, gen.contacts_mean, mmax,
+           gen.led.d_rolling, esf_ledger_total_error(&gen.led));
     release(&gen);
   }
   extra_ = extra2_ = NULL;
@@ -461,8 +525,10 @@ int main(void) {
     release(&ref);
   }
   check_isas();
-  check_rolling();
+  check_rolling(roll_linear, "linear", 0, 3);
+  check_rolling(roll_hertz, "Hertz", 2, 2);
   check_ledger();
+  check_hertz();
   check_failure();
   check_leave();
   return check_finish("threads");

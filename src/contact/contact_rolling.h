@@ -3,7 +3,7 @@
  * esf_law_rolling_s from a pair's mixed parameters, shared by the general path's pairs
  * and walls (model/forces.c); the fused step's batches run the same formulas
  * (fused/pair_batch.c). Ai, Chen, Rotter & Ooi 2011, Powder Technol. 206, 269-282:
- * type C (epsd) k_r = 2.25 kn mu_r^2 R*^2, limit mu_r R* fn, dashpot
+ * type C (epsd) k_r = 2.25 kn mu_r^2 R*^2 (Hertz-Mindlin: kn = S_n at the overlap), limit mu_r R* fn, dashpot
  * C_r = eta_r 2 sqrt(I_r k_r) off at the limit; type A (cdt) the constant torque
  * mu_r R* fn against the rolling spin. Twisting: the same forms with mu_tw about the
  * normal. Units: SI; torques on A. */
@@ -12,6 +12,18 @@
 
 #include "contact/contact_law.h"
 #include "contact/lane_scalar.h"
+
+/* The normal stiffness kn of k_r = 2.25 kn mu_r^2 R*^2 for a touching contact at
+ * overlap un with reduced radius rstar: the linear law's kn, or for a Hertz-Mindlin
+ * pair (hn > 0) the normal tangent stiffness S_n = 2 E* sqrt(R* un) at that overlap
+ * (esf_law_hertz_springs's sn: the same operations as the fused step's batches). */
+static inline double esf_contact_rolling_kn(const esf_pair_params *pp, double rstar,
+                                            double un) {
+  if (!(pp->hn > 0)) return pp->kn;
+  double ks, sn, st, qa;
+  esf_law_hertz_springs_s(pp->hn, pp->ht, rstar, un, &ks, &sn, &st, &qa);
+  return sn;
+}
 
 /* The rolling resistance of a touching contact: pair parameters pp, model
  * (ESF_ROLL_*), normal stiffness kn, R* and the inertias ir, itw

@@ -4,7 +4,7 @@
  * Stored energies are measured from the state; dissipation and wall work are tallied
  * every step along each path. The balance residual
  *   total_error = (kinetic + gravity + elastic) - e0 - work_walls - work_fluid
- *                 + dissipated + removed
+ *                 - work_tangential_stiffness + dissipated + removed
  * is zero for an exact integration; what is left is the integrator's energy error. */
 #ifndef ESF_LEDGER_H
 #define ESF_LEDGER_H
@@ -29,6 +29,8 @@ typedef struct esf_ledger {
   double el_r;         /* elastic, rolling and twisting springs, J */
   double d_rolling;    /* rolling and twisting resistance: dashpots, plastic rolling,
                           the constant torques' work, J (cumulative) */
+  double w_stiff;      /* energy the Hertz-Mindlin tangential springs gained as their
+                          stiffness changed under a carried force, J (cumulative) */
   double e0;           /* stored energy at the start, J */
   int started;         /* e0 set */
 } esf_ledger;
@@ -38,7 +40,7 @@ double esf_ledger_dissipated(const esf_ledger *l);
 double esf_ledger_total_error(const esf_ledger *l);
 
 /* The columns of an energy row (energy.csv and /energy in frames.h5), in order. */
-enum { ESF_LEDGER_NCOLS = 22 };
+enum { ESF_LEDGER_NCOLS = 23 };
 extern const char *const esf_ledger_columns[ESF_LEDGER_NCOLS];
 enum { ESF_LEDGER_ALPHA = 17 }; /* the column of alpha_global */
 
@@ -67,6 +69,8 @@ typedef struct esf_force_tally {
                           constant torques, W */
   double e_el_r;       /* elastic energy of the rolling and twisting springs, J */
   double slip_r;       /* their plastic work in this evaluation (committing), J */
+  double p_stiff;      /* rate of the Hertz tangential springs' energy from their
+                          stiffness's change at a fixed force, W */
 } esf_force_tally;
 
 /* The leapfrog's ledger, summed the same way on the general path and the fused step,
@@ -93,7 +97,8 @@ enum {                      /* row offsets (xyz, then the scalar lane) */
        ESF_LR_DT = 8,   /* tangential dashpot force | the tangential spring's energy */
        ESF_LR_MDT = 12, /* tangential dashpot torque | wall work rate F.v_wall (W) */
        ESF_LR_ET = 16,  /* tangential spring force | energy of ruptured bonds (J) */
-       ESF_LR_MET = 20, /* tangential spring torque | 0 */
+       ESF_LR_MET = 20, /* tangential spring torque | the energy a Hertz tangential
+                           spring gained from its stiffness's change (J) */
        ESF_LR_RD = 24,  /* rolling resistance's dissipative torque | its plastic work */
        ESF_LR_RE = 28,  /* rolling resistance's spring torque | the springs' energy */
        ESF_LR_W = 32    /* a moving wall's side of the dashpots' power: normal -fd vw.n,
@@ -120,6 +125,7 @@ enum {            /* channels of a block's sums */
        ESF_LB_WW, /* work of the walls */
        ESF_LB_BD, /* ruptured bonds */
        ESF_LB_WF, /* work of the fluid force */
+       ESF_LB_SW, /* Hertz tangential springs' stiffness change */
        ESF_LB_ER, /* rolling and twisting springs, J (stored) */
        ESF_LB_DR, /* rolling resistance's dissipation */
        ESF_LB_N = 18
@@ -260,6 +266,7 @@ static inline void esf_ledger_particle(const double *r, const double vo[3],
   blk[ESF_LB_SL] += dn[3];
   blk[ESF_LB_WW] += mdt[3] * dt;
   blk[ESF_LB_BD] += et[3];
+  blk[ESF_LB_SW] += met[3];
   if (!roll) return; /* no rolling resistance: its rows are zero */
   const double *rd = r + ESF_LR_RD, *re = r + ESF_LR_RE; /* rolling (zero without) */
   double pdr = 0, per = 0;

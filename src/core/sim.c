@@ -36,11 +36,14 @@ void esf_config_default(esf_config *c) {
   c->autod.alpha_min = -1; /* set from the contact frequency at set-up */
   c->autod.alpha_max = -1;
   c->tframe = ESF_TFRAME_ROTATE;
+  c->wall_lever = ESF_WALL_LEVER_SEED;
   c->rtol = 0;
   c->atol = 1e-9;
   c->history = ESF_HIST_FROZEN;
   c->max_steps = 100000000;
   c->max_overlap = 0.5;
+  c->hertz_damping = 0;
+  c->impact_speed = 1.0;
   c->skin = -1;
   c->reorder = 1;
   c->out_every = 0;

@@ -1,7 +1,8 @@
-/* pair_batch.c — the linear law of the fused step, ESF_BATCH pairs in vector lanes.
+/* pair_batch.c — the linear law of the fused step, ESF_BATCH pairs in vector lanes
+ * (with ctx.hertz the Hertz-Mindlin law's springs and dashpots, contact_hertz.h).
  *
  * Physics: contact_linear.c's law (docs/physics.md#linear-springdashpot-law), as the
- * fused step needs it (no ledger by-products): normal spring and dashpot without
+ * fused step needs it: normal spring and dashpot without
  * tension (004 2.9–2.12), the incremental tangential spring xi carried into the new
  * contact plane, rotated (000 3-17, 3-18: xi += (n_old x n) x xi, then the twist of the
  * mean spin about n) or projected and rescaled to its old length, the tangential
@@ -77,6 +78,13 @@ static inline int any(vm m) {
                 __builtin_shufflevector(m, m, 4, 5, 6, 7);
   return (o[0] | o[1] | o[2] | o[3]) != 0;
 #endif
+}
+
+/* pow per lane (the constant Hertz dashpots only: libm's, the scalar copy's bits) */
+static inline __attribute__((always_inline)) vd vpow(vd x, double y) {
+  vd r;
+  for (int l = 0; l < ESF_BATCH; l++) r[l] = pow(x[l], y);
+  return r;
 }
 
 /* p[i[0]], ..., p[i[7]] */
@@ -187,6 +195,7 @@ static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
 #define LANE_SEL(m, a, b) sel(m, a, b)
 #define LANE_SQRT(x)      vsqrt(x)
 #define LANE_ANY(m)       any(m)
+#define LANE_POW(x, y)    vpow(x, y)
 #define LANE_FN(name)     name##_v
 #include "contact/law_body.h"
 #undef LANE_R
@@ -194,6 +203,7 @@ static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
 #undef LANE_SEL
 #undef LANE_SQRT
 #undef LANE_ANY
+#undef LANE_POW
 #undef LANE_FN
 
 static inline vd dot(const vd a[3], const vd b[3]) { return esf_law_dot_v(a, b); }
@@ -244,6 +254,7 @@ static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_
   col[1][3] = e_n;
   col[2][3] = T->e_el;
   for (int j = 3; j < nc; j++) col[j][3] = mz;
+  if (c->hertz) col[5][3] = T->w_st; /* the stiffness change's energy (ESF_LR_MET) */
   if (R) {
     col[12][3] = R->slip;
     col[13][3] = R->e_el;
@@ -282,7 +293,8 @@ static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_
 }
 
 /* The rolling resistance of the batch's lanes (esf_law_rolling_par, esf_law_rolling),
- * the operations of model/forces.c's per contact: the pairs' mu_r, mu_tw, eta_r and
+ * the operations of model/forces.c's per contact (kn: the linear law's, or a Hertz
+ * pair's S_n at the overlap, esf_contact_rolling_kn): the pairs' mu_r, mu_tw, eta_r and
  * stored states gathered, R* and the inertias, the torque M = md + ms added to ta (A's)
  * and subtracted from tb (B's); R receives the new states to commit. */
 static void rolling(const esf_pair_batch_ctx *c, const esf_pair_params *const *pp,
@@ -364,8 +376,14 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
       if (c->bond) tl[l] = pp[l]->tensile_limit;
     }
   }
-  vd cn, ct; /* the dashpots, N s/m */
-  if (c->beta > 0) {
+  if (c->hertz) /* Hertz-Mindlin pairs (every pair: the laws never mix): hn, ht */
+    for (int l = 0; l < ESF_BATCH; l++) {
+      kn[l] = pp[l]->hn;
+      kt[l] = pp[l]->ht;
+    }
+  vd cn = zero, ct = zero; /* the dashpots, N s/m (Hertz: below, at the overlap) */
+  if (c->hertz) {
+  } else if (c->beta > 0) {
     cn = c->beta * kn;
     ct = c->beta * kt;
   } else { /* c = factor sqrt(m*), sqrt(m*) per pair (computed at the list's build) */
@@ -390,7 +408,25 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   esf_law_pair_kinematics_v(d, d2, ra, rb, va, vb, wa, wb, n, &un, &la, &lb, vc);
   const vm bad = un > c->max_overlap * sel(ra < rb, ra, rb);
   const vd vn = dot(vc, n);
-  vd fd, fel = kn * un, e_n = 0.5 * kn * un * un, e_brk = zero;
+  vd st = zero, st0 = zero; /* Hertz: tangential stiffness now, at the last commit */
+  vd sn = zero;             /* Hertz: the normal tangent stiffness (rolling's kn) */
+  if (c->hertz) {           /* contact_hertz.h's operations, lane-wise */
+    const vd rs = ra * rb / (ra + rb);
+    vd ks, qa;
+    esf_law_hertz_springs_v(kn, kt, rs, un, &ks, &sn, &st, &qa);
+    const vd sm = gat(c->sm, kk);
+    if (c->hertz_cst) {
+      vd es;
+      for (int l = 0; l < ESF_BATCH; l++) es[l] = pp[l]->estar;
+      qa = esf_law_hertz_qref_v(es, sm, rs, pp[0]->v_imp);
+    }
+    esf_law_hertz_dashpots_v(c->beta, cnf, ctf, sm, qa, sn, st, &cn, &ct);
+    if (c->rows) st0 = esf_law_hertz_st_v(kt, rs, un + c->dt * vn);
+    kn = ks;        /* the secant stiffness: fel = ks un */
+    kt = zero + 1.; /* the record xi is the force */
+  }
+  vd fd, fel = kn * un, e_brk = zero;
+  vd e_n = c->hertz ? esf_law_hertz_energy_v(kn, un) : 0.5 * kn * un * un;
   vd fn = esf_law_linear_normal_v(kn, cn, un, vn, &fd);
   /* Bonds (contact/contact_adhesive.c, 004 2.22-2.25): a bonded contact's normal spring
    * is the adhesive one at u = un + s, with the dashpot unclipped (it may pull); below
@@ -431,6 +467,9 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
                             .rotate = c->rotate,
                             .tension = c->bond != NULL, /* only bonds pull */
                             .ledger = c->rows != NULL,
+                            .hertz = c->hertz,
+                            .st = st,
+                            .st0 = st0,
                             .vi = NULL};
   esf_law_tout_v T;
   esf_law_tangential_v(&P, zero + c->dt, n, spin, vc, vn, fn, hx, hn, tch & ~broke, &T);
@@ -442,7 +481,8 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   vd tb[4] = {lb * m[0], lb * m[1], lb * m[2], zero};
   esf_law_rout_v R;
   if (c->roll)
-    rolling(c, pp, kk, ia, ib, kn, ra, rb, fn, n, wa, wb, tch & ~broke, &R, ta, tb);
+    rolling(c, pp, kk, ia, ib, c->hertz ? sn : kn, ra, rb, fn, n, wa, wb, tch & ~broke, &R,
+            ta, tb);
   v4 rf[ESF_BATCH], rta[ESF_BATCH], rtb[ESF_BATCH];
   if (acc) {
     rows_of(f4, rf);

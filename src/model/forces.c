@@ -10,7 +10,9 @@
  *   the contact law gives the force on A; B gets the opposite (004 2.31);
  *   torques M_A = lA n x Ft, M_B = lB n x Ft (same sense, 004 2.34).
  * For a wall element: q its nearest point (wall_geom.h), un = rA - |q - xA|, n toward
- * q, lever lA = |q - xA|, vc = v_wall(q) - [vA + wA x (lA n)], m* = mA. Hits of
+ * q, lever lA = rA - un/2 to the contact point xc = xA + lA n as for pairs (000 3-16;
+ * contact.wall_lever: surface takes lA = |q - xA|, xc = q),
+ * vc = v_wall(xc) - [vA + wA x (lA n)], m* = mA. Hits of
  * one particle on edges and vertices shared by wall elements count once
  * (esf_forces_select_wall_hits, also used by the fast wall pass of wall_fast.c).
  * Rolling and twisting resistance (contact_rolling.h; scenes with some mu_r or mu_tw
@@ -38,7 +40,7 @@ int esf_forces_overlap_failure(const esf_sim *s, long long ida, long long idb, i
                     "by %.3g m, %.0f%% of its radius (limit %.0f%%); dt = %.4g s, "
                     "critical dt (%s) = %.4g s. The wall pushes faster than contacts "
                     "can respond, or dt is too large: lower integrator.frac or dt, or "
-                    "raise kn",
+                    "raise kn (youngs_modulus for the Hertz-Mindlin law)",
                     s->step, s->t, ida, idb, un, 100.0 * un / rmin,
                     100.0 * s->cfg.max_overlap, s->dt, rule, s->dte.crit[s->cfg.dt_rule]);
   return esf_fail(err, ESF_ENUMERIC,
@@ -46,7 +48,7 @@ int esf_forces_overlap_failure(const esf_sim *s, long long ida, long long idb, i
                   "m, %.0f%% of the smaller radius (limit %.0f%%); dt = %.4g s, "
                   "critical dt (%s) = %.4g s. The step is too large for the stiffness "
                   "(lower integrator.frac or dt) or the contacts are too soft for the "
-                  "loads (raise kn)",
+                  "loads (raise kn, or youngs_modulus for the Hertz-Mindlin law)",
                   s->step, s->t, ida, idb, un, 100.0 * un / rmin,
                   100.0 * s->cfg.max_overlap, s->dt, rule, s->dte.crit[s->cfg.dt_rule]);
 }
@@ -82,7 +84,7 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
     in->vinc = NULL;
     pp->law->eval(pp, s->beta, s->cfg.tframe, in, &h, bond, 0, commit ? &c->h[k] : NULL,
                   out);
-    if (c->xsdot && out->touching) { /* xi' = vct + spin_n n x xi */
+    if (c->xsdot && out->touching) { /* xi' = vct + spin_n n x xi (Hertz: S_t vct) */
       double *r = c->xsdot + 3 * k, sp[3], fs[3];
       v3_copy(r, in->vc);
       v3_axpy(r, -v3_dot(in->vc, in->n), in->n);
@@ -90,6 +92,7 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
         v3_sub(fs, out->ft, out->fd_t);
         s->tally->p_spring_t += v3_dot(fs, r);
       }
+      if (pp->ht > 0) v3_scale(r, esf_law_hertz_st_s(pp->ht, in->rstar, in->un), r);
       v3_cross(sp, in->n, h.xi);
       v3_axpy(r, in->spin_n, sp);
     }
@@ -122,6 +125,14 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
     ty->e_el_n += out->e_el_n;
     ty->e_el_t += out->e_el_t;
     ty->slip += out->slip_work;
+    if (pp->ht > 0 && c->xs) { /* history as ODE state: the rate of |F|^2/(2 S_t) at
+                                  fixed F, |F|^2 vn / (4 S_t u); the other schemes book
+                                  the law's w_st at their commits */
+      double fs[3];
+      v3_sub(fs, out->ft, out->fd_t);
+      const double st = esf_law_hertz_st_s(pp->ht, in->rstar, in->un);
+      ty->p_stiff += v3_norm2(fs) * v3_dot(in->vc, in->n) / (4.0 * st * in->un);
+    }
   }
   return 1;
 }
@@ -133,19 +144,20 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
  * tally (s->tally: the dissipative torque's power -md.wrel, the springs' energy, a
  * rotating wall's work rate M.om) and, committing, their ledger's plastic work. ta and tb
  * are the contact's own torques (lever arm times n x ft), so that the particles receive
- * lA n x ft + M in one addition as from the fused step's batches. */
+ * lA n x ft + M in one addition as from the fused step's batches. rstar and the
+ * overlap un give a Hertz pair's kn (esf_contact_rolling_kn). */
 static void rolling(esf_sim *s, const esf_pair_params *pp, esf_candidates *c, size_t k,
                     int commit, int live, const double n[3], const double wrel[3],
-                    double rstar, double ir, double itw, double fn, double dt, double *ta,
-                    double *tb, double *ra, double *rb, const double *om) {
+                    double rstar, double un, double ir, double itw, double fn, double dt,
+                    double *ta, double *tb, double *ra, double *rb, const double *om) {
   esf_law_rout_s o;
   double wm[3], *wi = NULL;
   if (c->wr0 && live) { /* ODE methods: trapezoidal increment since the commit */
     for (int q = 0; q < 3; q++) wm[q] = 0.5 * (c->wr0[3 * k + q] + wrel[q]);
     wi = wm;
   }
-  esf_contact_rolling(pp, s->mats.rolling_model, pp->kn, rstar, ir, itw, fn, dt, n, wrel,
-                      wi, &c->roll[k], live, &o);
+  esf_contact_rolling(pp, s->mats.rolling_model, esf_contact_rolling_kn(pp, rstar, un),
+                      rstar, ir, itw, fn, dt, n, wrel, wi, &c->roll[k], live, &o);
   if (commit) {
     v3_copy(c->roll[k].m, o.hm);
     c->roll[k].t = o.ht;
@@ -167,10 +179,10 @@ static void rolling(esf_sim *s, const esf_pair_params *pp, esf_candidates *c, si
   }
 }
 
-/* The tangential spring's force kt xi of a committed contact, on A. */
+/* The tangential spring's force of a committed contact, on A (esf_contact_ket). */
 static void spring_t(const esf_pair_params *pp, const esf_contact_hist *h,
                      double ket[3]) {
-  for (int q = 0; q < 3; q++) ket[q] = pp->kt * h->xi[q];
+  esf_contact_ket(pp, h->xi, ket);
 }
 
 static int pair_forces(esf_sim *s, const double *x, const double *v, const double *w,
@@ -180,7 +192,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
   const esf_materials *mt = &s->mats;
   double *rows = commit && s->led.on ? s->led_rows : NULL; /* the leapfrog's (ledger.h) */
   const int slips = commit && s->led.on && !rows;          /* the other schemes' ledger */
-  double slip = 0;
+  double slip = 0, wst = 0;
   size_t nt = 0;
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];
@@ -202,6 +214,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
                                         in.un, rmin, err);
     in.spin_n = 0.5 * (v3_dot(wa, in.n) + v3_dot(wb, in.n));
     in.mstar = p->mass[a] * p->mass[b] / (p->mass[a] + p->mass[b]);
+    in.rstar = ra * rb / (ra + rb);
     in.dt = dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
     esf_contact_out out;
@@ -220,20 +233,23 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
       spring_t(pp, &c->h[k], ket);
       esf_ledger_pair_rows(rows_a, rows + ESF_LR * b, in.n, la, lb, out.fd_n, out.fel,
                            out.fd_t, ket, out.slip_work, out.e_el_n, out.e_el_t);
+      if (pp->ht > 0) rows_a[ESF_LR_MET + 3] += out.w_st;
     }
     if (c->roll) {
       double wrel[3], rs, ir, itw;
       v3_sub(wrel, wa, wb);
       esf_law_rolling_pair_s(ra, rb, p->mass[a], p->mass[b], p->inertia[a], p->inertia[b],
                              &rs, &ir, &itw);
-      rolling(s, pp, c, k, commit, live, in.n, wrel, rs, ir, itw, out.fn, dt, ma, mb,
+      rolling(s, pp, c, k, commit, live, in.n, wrel, rs, in.un, ir, itw, out.fn, dt, ma, mb,
               rows_a, rows_a ? rows + ESF_LR * b : NULL, NULL);
     }
     v3_add(p->t + 3 * a, p->t + 3 * a, ma);
     v3_add(p->t + 3 * b, p->t + 3 * b, mb);
     if (slips) slip += out.slip_work;
+    if (slips) wst += out.w_st;
   }
   if (slips) s->led.d_friction += slip;
+  if (slips) s->led.w_stiff += wst;
   *touching += nt;
   return ESF_OK;
 }
@@ -310,12 +326,14 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
     esf_contact_in in;
     v3_copy(in.n, hit->n);
     in.un = un[k - k0];
-    double la = hit->dist;
-    double vw[3];
-    esf_wall_point_velocity(g, hit->q, vw);
+    const double la = esf_wall_lever(s->cfg.wall_lever, r, in.un, hit->dist);
+    double vw[3], pc[3];
+    esf_wall_contact_point(s->cfg.wall_lever, x + 3 * a, la, in.n, hit->q, pc);
+    esf_wall_point_velocity(g, pc, vw);
     contact_velocity(v, w, a, vw, NULL, la, 0, in.n, in.vc);
     in.spin_n = 0.5 * (v3_dot(w + 3 * a, in.n) + v3_dot(g->omega, in.n));
     in.mstar = p->mass[a];
+    in.rstar = p->radius[a];
     in.dt = dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
     esf_contact_out out;
@@ -327,8 +345,10 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
       spring_t(pp, &c->h[k], ket);
       esf_ledger_wall_rows(rows, in.n, la, out.fd_n, out.fel, out.fd_t, ket,
                            out.slip_work, out.e_el_n, out.e_el_t, out.f, vw, dt);
+      if (pp->ht > 0) rows[ESF_LR_MET + 3] += out.w_st;
     }
     if (slip) *slip += out.slip_work;
+    if (slip) s->led.w_stiff += out.w_st; /* the other schemes' ledger (as the slip) */
     if (s->tally) s->tally->p_walls += v3_dot(out.f, vw);
     if (commit && s->walls.gforce) /* servo walls (servo.c) */
       esf_servo_add(esf_servo_slot(&s->walls, a, el->group), &out, in.n);
@@ -340,7 +360,7 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
       const double ia = p->inertia[a];
       double wrel[3];
       v3_sub(wrel, w + 3 * a, g->omega);
-      rolling(s, pp, c, k, commit, live, in.n, wrel, r, ia + p->mass[a] * r * r, ia,
+      rolling(s, pp, c, k, commit, live, in.n, wrel, r, in.un, ia + p->mass[a] * r * r, ia,
               out.fn, dt, ma, NULL, rows, NULL, g->omega);
     }
     v3_add(t, t, ma);

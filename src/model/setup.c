@@ -63,11 +63,24 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
     s->mats.rayleigh_beta = s->beta;
   }
   s->mats.rolling_model = c->rolling;
+  s->mats.hertz_constant = c->hertz_damping == 1;
+  s->mats.impact_speed = c->impact_speed;
   int rc = esf_materials_mix(&s->mats, err);
   if (!rc) rc = set_masses(s, err);
   if (!rc) rc = esf_walls_freeze(&s->walls, s->t, err); /* moving walls placed at t0 */
   if (rc) return rc;
 
+  if (c->dim == 2 && s->mats.all_hertz) /* disks are cylinders: another contact law */
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: the Hertz-Mindlin law (youngs_modulus) is the law of spheres; "
+                    "2D disks (dimension: 2) need kn (the linear law)",
+                    esf_config_where(c, "dimension"));
+  if (c->dt_rule == ESF_DT_RAYLEIGH && !s->mats.all_hertz)
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: integrator.dt_rule: rayleigh needs the Hertz-Mindlin law "
+                    "(materials with youngs_modulus and poisson_ratio); this scene's "
+                    "materials give kn",
+                    esf_config_where(c, "integrator.dt_rule"));
   esf_dt_estimate_compute(s, &s->dte);
   double crit = s->dte.crit[c->dt_rule];
   if (c->dt_auto) {
@@ -78,13 +91,14 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
                       esf_config_where(c, "integrator.dt"));
     s->dt = c->frac * crit;
     if (c->frac > 1 && !c->allow_unstable)
-      return esf_fail(err, ESF_EINPUT,
-                      "%s: integrator.frac = %.4g is above 1: dt would be %.4g x the "
-                      "critical step of the '%s' rule, %.6g s, and the run unstable. Use "
-                      "frac <= 1 (seeds: 0.1), or set integrator.allow_unstable: true for "
-                      "stability studies",
-                      esf_config_where(c, "integrator.frac"), c->frac, c->frac,
-                      esf_dt_rule_names[c->dt_rule], crit);
+      return esf_fail(
+          err, ESF_EINPUT,
+          "%s: integrator.frac = %.4g is above 1: dt would be %.4g x the "
+          "critical step of the '%s' rule, %.6g s, and the run unstable. Use "
+          "frac <= 1 (seeds: 0.1), or set integrator.allow_unstable: true for "
+          "stability studies",
+          esf_config_where(c, "integrator.frac"), c->frac, c->frac,
+          esf_dt_rule_names[c->dt_rule], crit);
   } else {
     s->dt = c->dt;
     if (s->dt > crit && !c->allow_unstable)
