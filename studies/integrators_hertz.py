@@ -157,8 +157,9 @@ def adaptive_ref(runner, case, duration, rtol):
             f"integrator.atol={rtol * 1e-5:g}", "integrator.history=frozen",
             "integrator.roots=true", f"run.duration={duration!r}"]
     obs, _, status = runner.run(case, GAP0, sets)
-    if status != "ok":
-        raise RuntimeError(f"{case}: reference run failed: {status}")
+    if status != "ok" or not all(np.isfinite(obs)):
+        raise RuntimeError(f"{case}: reference run failed: {status}, observed {obs} "
+                           "(the pair has not separated by the end)")
     return obs
 
 
@@ -288,6 +289,9 @@ def main(argv):
     ap.add_argument("--esfera", default=os.path.join(REPO, "build", "esfera"))
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--replot", action="store_true")
+    ap.add_argument("--cases", default=",".join(CASES),
+                    help="comma-separated cases to measure (of " + ", ".join(CASES) +
+                    "); the others are kept from DIR's hertz_orders.csv/.json")
     args = ap.parse_args(argv)
     out = os.path.abspath(args.out)
     os.makedirs(out, exist_ok=True)
@@ -299,29 +303,43 @@ def main(argv):
     csv_path, meta_path = (os.path.join(out, "hertz_orders.csv"),
                            os.path.join(out, "hertz_orders.json"))
     import json
-    if args.replot:
+    rows, meta = [], {}
+    if os.path.exists(csv_path) and os.path.exists(meta_path):
         rows = read_csv(csv_path)
         with open(meta_path) as fh:
             meta = json.load(fh)
-    else:
+    if not args.replot:
+        measure_cases = [c.strip() for c in args.cases.split(",") if c.strip()]
+        bad = [c for c in measure_cases if c not in CASES]
+        if bad:
+            print(f"integrators_hertz.py: unknown case(s) {', '.join(bad)}",
+                  file=sys.stderr)
+            return 2
+        rows = [r for r in rows if r["case"] not in measure_cases]
         tmp = os.path.join(out, "tmp_hertz")
         os.makedirs(os.path.join(tmp, "runs"), exist_ok=True)
         runner = Runner(os.path.abspath(args.esfera), tmp)
         methods = ["leapfrog", DP5] if args.quick else METHODS
         per = PER_CONTACT[1:9:2] if args.quick else PER_CONTACT  # 16, 64, 256, 1024
         phases = PHASES[1::2] if args.quick else PHASES  # 0.29, 0.73
-        rows, meta = [], {}
-        for case in CASES:
-            r, m = measure(runner, case, methods, per, phases, log)
+        for case in measure_cases:
+            meta.pop(case, None)
+            try:
+                r, m = measure(runner, case, methods, per, phases, log)
+            except RuntimeError as exc:
+                log(f"{case}: left out: {exc}")
+                continue
             rows += r
             meta[case] = m
-        meta["_run"] = (f"({'quick' if args.quick else 'full'} mode, {runner.n} runs, "
-                        f"{time.monotonic() - t0:.0f} s, {time.strftime('%Y-%m-%d')})")
+            meta[case]["run"] = (f"{'quick' if args.quick else 'full'} mode, "
+                                 f"{time.strftime('%Y-%m-%d')}")
+        log(f"{runner.n} runs")
         write_csv(csv_path, rows, FIELDS)
         with open(meta_path, "w") as fh:
             json.dump(meta, fh, indent=1)
         shutil.rmtree(tmp, ignore_errors=True)
-    run_note = meta.pop("_run", "")
+    run_note = "(" + "; ".join(f"{c}: {meta[c].get('run', '?')}" for c in CASES
+                               if c in meta) + ")"
     plot(os.path.join(out, "hertz_orders.png"), rows, meta)
     text = "\n".join(section(rows, meta, run_note)) + "\n"
     with open(os.path.join(out, "hertz.md"), "w") as fh:
