@@ -259,5 +259,25 @@ sed 's/deep.csv/deep2.csv/' "$tmp/s53.yaml" > "$tmp/s54.yaml"
 only "two packed spheres deep in each other" 2 "^esfera: .*s54.yaml:6:[0-9]+ \(particles.1, a row of its file\): particle id 2 and particle id 3 .* start overlapping by 0.008 m, 160% of the smaller radius" \
   -- run "$tmp/s54.yaml" --out "$tmp/o54"
 
+# the Hertz-Mindlin law (docs/scene.md#materials): kn and youngs_modulus together, a
+# Hertz material meeting a linear one, adhesion with Hertz, a bad poisson_ratio
+sed 's/kn: 1.0e5,/kn: 1.0e5, youngs_modulus: 1e9, poisson_ratio: 0.3,/' "$tmp/ok.yaml" > "$tmp/h1.yaml"
+expect "kn and youngs_modulus together" 2 "h1.yaml:3:[0-9]+: .*give kn \(the linear law\) or youngs_modulus and poisson_ratio" \
+  -- run "$tmp/h1.yaml" --out "$tmp/oh1"
+sed 's/^  glass: .*/  glass: {density: 2500, youngs_modulus: 1e9, poisson_ratio: 0.3}\n  steel: {density: 7800, kn: 1.0e5}/' \
+  "$tmp/ok.yaml" > "$tmp/h2.yaml"
+expect "Hertz meets linear" 2 "h2.yaml:4:[0-9]+: .*material 'steel' uses the linear law, material 'glass' the Hertz-Mindlin law" \
+  -- run "$tmp/h2.yaml" --out "$tmp/oh2"
+sed 's/kn: 1.0e5,/youngs_modulus: 1e9, poisson_ratio: 0.3, adhesion: {force: 1, epsilon: 0.5},/' \
+  "$tmp/ok.yaml" > "$tmp/h3.yaml"
+expect "adhesion with Hertz" 2 "h3.yaml:3:[0-9]+: .*adhesion .*not defined for a Hertz-Mindlin material" \
+  -- run "$tmp/h3.yaml" --out "$tmp/oh3"
+sed 's/kn: 1.0e5,/youngs_modulus: 1e9, poisson_ratio: 0.5,/' "$tmp/ok.yaml" > "$tmp/h4.yaml"
+expect "poisson_ratio 0.5" 2 "h4.yaml:3:[0-9]+: materials.glass.poisson_ratio: must be in \[0, 0.5\)" \
+  -- run "$tmp/h4.yaml" --out "$tmp/oh4"
+sed 's/kn: 1.0e5,/youngs_modulus: 1e9,/' "$tmp/ok.yaml" > "$tmp/h5.yaml"
+expect "youngs_modulus without poisson_ratio" 2 "h5.yaml:3:[0-9]+: .*needs both youngs_modulus and poisson_ratio" \
+  -- run "$tmp/h5.yaml" --out "$tmp/oh5"
+
 echo "bad_input: $pass passed, $fail failed"
 [ "$fail" = 0 ]

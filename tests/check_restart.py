@@ -2,7 +2,7 @@
 checkpoint, `esfera run --resume` and N/2 more, compared bit for bit (every frame
 dataset, /energy, energy.csv), for the leapfrog with friction, global and local damping
 and a moving wall (general path with the ledger, and the fused step without it,
-checkpointed on two threads and resumed on one), for adaptive Dormand-Prince (ARKODE, rtol 1e-5), for spheres
+checkpointed on two threads and resumed on one; and so with the Hertz-Mindlin law), for adaptive Dormand-Prince (ARKODE, rtol 1e-5), for spheres
 leaving the domain (the count changes either side of the checkpoint), and for bonded
 blocks (the bond states ride in the checkpoint: bonds break on both sides); a run stopped
 by SIGTERM resumes to the same output; esfera info on the checkpoint names the resume
@@ -54,6 +54,13 @@ def main():
               f"{diffs[:3]}")
         # the fused threaded step (no ledger): checkpoint on 2 threads, resume on 1
         halves(exe, tmp, scene, "leapfrog_fused", "0.0201", "--set",
+               "output.energy_every=0", "--threads", "2")
+        # the Hertz-Mindlin law (its tangential force record in the histories), with the
+        # ledger (work_tangential_stiffness) on the general path, and on the fused step
+        hz = ("--set", "materials.glass={density: 2500, youngs_modulus: 1.0e7, "
+              "poisson_ratio: 0.3, restitution: 0.7, friction: 0.3}")
+        halves(exe, tmp, scene, "hertz", "0.0201", *hz)
+        halves(exe, tmp, scene, "hertz_fused", "0.0201", *hz, "--set",
                "output.energy_every=0", "--threads", "2")
         halves(exe, tmp, scene, "erk_dp5", "0.003", *ERK)
         drop = halves(exe, tmp, write_scene(tmp, DROP, "drop.yaml"), "domain_exit", "0.031")

@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "contact/contact_hertz.h"
 #include "contact/contact_linear.h"
 #include "contact/lane_scalar.h"
 #include "contact/material.h"
@@ -113,11 +114,15 @@ static result scalar(const cases *c, const esf_materials *mt, double beta, int t
   }
   in.spin_n = 0.5 * (v3_dot(w + 3 * ia, in.n) + v3_dot(w + 3 * ib, in.n));
   in.mstar = c->mass[ia] * c->mass[ib] / (c->mass[ia] + c->mass[ib]);
+  in.rstar = ra * rb / (ra + rb);
   in.dt = dt;
   in.vinc = NULL;
   const esf_pair_params *pp = &mt->pair[c->material[ia] * mt->n + c->material[ib]];
   esf_contact_out out;
-  esf_contact_linear_eval(pp, beta, tframe, &in, &c->h[k], !c->touch[k], &r.h, &out);
+  if (mt->all_hertz)
+    esf_contact_hertz_eval(pp, beta, tframe, &in, &c->h[k], !c->touch[k], &r.h, &out);
+  else
+    esf_contact_linear_eval(pp, beta, tframe, &in, &c->h[k], !c->touch[k], &r.h, &out);
   double m[3];
   v3_cross(m, in.n, out.ft);
   v3_copy(r.f, out.f);
@@ -154,7 +159,9 @@ static void batched(const esf_fused_kernels *K, cases *c, const esf_materials *m
                                   .dt = dt,
                                   .max_overlap = max_overlap,
                                   .rotate = tframe == ESF_TFRAME_ROTATE,
-                                  .cohesion = cohesion};
+                                  .cohesion = cohesion,
+                                  .hertz = mt->all_hertz,
+                                  .hertz_cst = mt->hertz_constant};
   double out[ESF_BATCH][ESF_BATCH_OUT];
   for (size_t q0 = 0, nl = 1; q0 < NP; q0 += nl, nl = nl % ESF_BATCH + 1) {
     if (q0 + nl > NP) nl = NP - q0;
@@ -218,10 +225,37 @@ int main(void) {
   CHECK_OK(esf_materials_add(&mt, &m0, &idx, &err), err);
   CHECK_OK(esf_materials_add(&mt, &m1, &idx, &err), err);
   CHECK_OK(esf_materials_mix(&mt, &err), err);
+  /* the same two materials as Hertz-Mindlin ones (contact_hertz.h), E chosen so that
+     the tangent stiffnesses at these overlaps are near kt: the histories (forces now)
+     scaled by kt stay near the Coulomb limit; with tsuji and with constant dashpots */
+  esf_materials mth = {0}, mtc = {0};
+  esf_mixing_default(&mth.mixing);
+  esf_material h0 = m0, h1 = m1;
+  h0.kn = h0.kt = h1.kn = h1.kt = 0;
+  h0.youngs_modulus = 1e7;
+  h0.poisson_ratio = 0.3;
+  h1.youngs_modulus = 2.5e7;
+  h1.poisson_ratio = 0.2;
+  CHECK_OK(esf_materials_add(&mth, &h0, &idx, &err), err);
+  CHECK_OK(esf_materials_add(&mth, &h1, &idx, &err), err);
+  CHECK_OK(esf_materials_mix(&mth, &err), err);
+  CHECK(mth.all_hertz && !mth.all_linear, "two Hertz materials: the Hertz law");
+  esf_mixing_default(&mtc.mixing);
+  CHECK_OK(esf_materials_add(&mtc, &h0, &idx, &err), err);
+  CHECK_OK(esf_materials_add(&mtc, &h1, &idx, &err), err);
+  mtc.hertz_constant = 1;
+  mtc.impact_speed = 0.5;
+  CHECK_OK(esf_materials_mix(&mtc, &err), err);
+  static cases ch;
+  memcpy(&ch, &c, sizeof c);
+  for (size_t k = 0; k < NP; k++)
+    for (int q = 0; q < 3; q++) ch.h[k].xi[q] *= m0.kt;
   /* the single-material runs use material 0 everywhere */
-  cases *one_mat = malloc(sizeof *one_mat);
+  cases *one_mat = malloc(sizeof *one_mat), *one_h = malloc(sizeof *one_h);
   memcpy(one_mat, &c, sizeof c);
   for (size_t i = 0; i < 2 * NP; i++) one_mat->material[i] = 0;
+  memcpy(one_h, &ch, sizeof ch);
+  for (size_t i = 0; i < 2 * NP; i++) one_h->material[i] = 0;
 
   uint32_t ord[NP];
   for (uint32_t k = 0; k < NP; k++) ord[k] = k;
@@ -245,38 +279,44 @@ int main(void) {
     }
     compared++;
     const esf_fused_kernels *K = f->k;
-    for (int tf = 0; tf < 2; tf++)
-      for (int rayleigh = 0; rayleigh < 2; rayleigh++)
-        for (int single = 0; single < 2; single++) {
-          cases *cs = single ? one_mat : &c;
-          const double beta = rayleigh ? 2e-4 : 0.0, dt = 2e-6, lim = 0.05;
-          const int tframe = tf ? ESF_TFRAME_PROJECT : ESF_TFRAME_ROTATE;
-          const esf_pair_params *one = single ? &mt.pair[0] : NULL;
-          const int cohesion = !single; /* material 1 has cohesion */
-          size_t diff = 0, first_diff = NP;
-          for (size_t k = 0; k < NP; k++)
-            ref[k] = scalar(cs, &mt, beta, tframe, dt, lim, k);
-          batched(K, cs, &mt, one, beta, tframe, cohesion, dt, lim, ord, got);
-          for (size_t k = 0; k < NP; k++)
-            if (!same(&ref[k], &got[k])) {
-              diff++;
-              if (first_diff == NP) first_diff = k;
-            }
-          CHECK(diff == 0,
-                "%s, %s frame, %s dashpots, %s: %zu of %d pairs differ (first: pair %zu)",
-                isas[q], tf ? "projected" : "rotated",
-                rayleigh ? "Rayleigh" : "restitution",
-                single ? "one material" : "two materials", diff, NP, first_diff);
-          if (q == 0 && tf == 0 && rayleigh == 0 && single == 0)
-            for (size_t k = 0; k < NP; k++) { /* what the cases cover */
-              aparts += ref[k].apart;
-              bads += ref[k].bad;
-              if (ref[k].apart || ref[k].bad) continue;
-              firsts += !c.touch[k];
-              cut += -v3_dot(ref[k].f, ref[k].h.n) == 0.0; /* fn */
-              slides += ref[k].sliding;
-            }
-        }
+    for (int law = 0; law < 3; law++) /* linear, Hertz (tsuji), Hertz (constant) */
+      for (int tf = 0; tf < 2; tf++)
+        for (int rayleigh = 0; rayleigh < 2; rayleigh++)
+          for (int single = 0; single < 2; single++) {
+            const esf_materials *ml = law == 0 ? &mt : law == 1 ? &mth : &mtc;
+            cases *cs = law ? (single ? one_h : &ch) : (single ? one_mat : &c);
+            const double beta = rayleigh ? 2e-4 : 0.0, dt = 2e-6, lim = 0.05;
+            const int tframe = tf ? ESF_TFRAME_PROJECT : ESF_TFRAME_ROTATE;
+            const esf_pair_params *one = single ? &ml->pair[0] : NULL;
+            const int cohesion = !single; /* material 1 has cohesion */
+            size_t diff = 0, first_diff = NP;
+            for (size_t k = 0; k < NP; k++)
+              ref[k] = scalar(cs, ml, beta, tframe, dt, lim, k);
+            batched(K, cs, ml, one, beta, tframe, cohesion, dt, lim, ord, got);
+            for (size_t k = 0; k < NP; k++)
+              if (!same(&ref[k], &got[k])) {
+                diff++;
+                if (first_diff == NP) first_diff = k;
+              }
+            CHECK(diff == 0,
+                  "%s law, %s, %s frame, %s dashpots, %s: %zu of %d pairs differ (first: "
+                  "pair %zu)",
+                  law == 0   ? "linear"
+                  : law == 1 ? "Hertz (tsuji)"
+                             : "Hertz (constant)",
+                  isas[q], tf ? "projected" : "rotated",
+                  rayleigh ? "Rayleigh" : "restitution",
+                  single ? "one material" : "two materials", diff, NP, first_diff);
+            if (q == 0 && tf == 0 && rayleigh == 0 && single == 0 && law < 2)
+              for (size_t k = 0; k < NP; k++) { /* what the cases cover */
+                aparts += ref[k].apart;
+                bads += ref[k].bad;
+                if (ref[k].apart || ref[k].bad) continue;
+                firsts += !c.touch[k];
+                cut += -v3_dot(ref[k].f, ref[k].h.n) == 0.0; /* fn */
+                slides += ref[k].sliding;
+              }
+          }
     esf_fused_free(&f);
   }
   printf(
@@ -288,6 +328,9 @@ int main(void) {
         aparts, bads, firsts, cut, slides);
   printf("kernels compared with the scalar law: %d instruction sets\n", compared);
   free(one_mat);
+  free(one_h);
   esf_materials_release(&mt);
+  esf_materials_release(&mth);
+  esf_materials_release(&mtc);
   return check_finish("contact_lanes");
 }

@@ -79,6 +79,12 @@ typedef struct snapshot {
 static const char *isa_ = "";
 static int ledger_ = 0;
 static const char *extra_ = NULL; /* one more override, or NULL */
+static int hertz_ = 0;            /* both materials Hertz-Mindlin (check_hertz) */
+static const char *const hertz_sets[] = {
+    "materials.glass={density: 2500, youngs_modulus: 5.0e7, poisson_ratio: 0.3, "
+    "restitution: 0.4, tangential_restitution: 0.6, friction: 0.4}",
+    "materials.steel={density: 7800, youngs_modulus: 2.0e8, poisson_ratio: 0.28, "
+    "restitution: 0.7, friction: 0.2}"};
 
 static int run(int threads, int fused, const char *tframe, int moving, long burst,
                snapshot *out) {
@@ -86,9 +92,15 @@ static int run(int threads, int fused, const char *tframe, int moving, long burs
   snprintf(s_fu, sizeof s_fu, "integrator.fused=%s", fused ? "true" : "false");
   snprintf(s_tf, sizeof s_tf, "contact.tangential_frame=%s", tframe);
   snprintf(scene, sizeof scene, scene_fmt, moving ? oscillate : "");
-  const char *sets[] = {s_fu, s_tf, extra_ ? extra_ : s_fu, "output.energy_every=1.0e-5"};
+  const char *sets[6] = {s_fu, s_tf, extra_ ? extra_ : s_fu};
+  int nsets = 3;
+  if (ledger_) sets[nsets++] = "output.energy_every=1.0e-5";
+  if (hertz_) {
+    sets[nsets++] = hertz_sets[0];
+    sets[nsets++] = hertz_sets[1];
+  }
   simtest T;
-  int rc = simtest_open(&T, scene, sets, ledger_ ? 4 : 3);
+  int rc = simtest_open(&T, scene, sets, nsets);
   if (rc) return rc;
   T.s.cfg.threads = threads;
   T.s.cfg.range_work = 1; /* one range per thread, however small the scene */
@@ -325,6 +337,46 @@ static void check_ledger(void) {
   extra_ = NULL;
 }
 
+/* The Hertz-Mindlin law (contact_hertz.c) on both materials: the fused step on 1 and
+ * 2 threads gives the general path's state bit for bit, with the floor oscillating
+ * (one step per call) and still (32), the second time with the energy ledger (its
+ * work_tangential_stiffness column included). */
+static void check_hertz(void) {
+  hertz_ = 1;
+  for (int round = 0; round < 2; round++) {
+    snapshot gen, b;
+    const int moving = round == 0;
+    ledger_ = round == 1;
+    if (run(1, 0, "rotate", moving, 1, &gen) != 0) {
+      CHECK(0, "Hertz: general path");
+      break;
+    }
+    printf("Hertz, floor %s: %.1f contacts per step%s", moving ? "oscillating" : "still",
+           gen.contacts_mean, ledger_ ? "" : "\n");
+    if (ledger_)
+      printf(", dissipated normal %.6g J, friction %.6g J, work_tangential_stiffness "
+             "%.6g J\n",
+             gen.led.d_normal, gen.led.d_friction, gen.led.w_stiff);
+    CHECK(gen.contacts_mean > 0.05 * (double)gen.n, "Hertz: collisions all along");
+    CHECK(!ledger_ || gen.led.w_stiff != 0.0, "Hertz: the stiffness column books");
+    for (int t = 1; t <= 2; t++) {
+      char what[96];
+      snprintf(what, sizeof what, "Hertz, floor %s%s, %d threads",
+               moving ? "oscillating" : "still", ledger_ ? ", ledger" : "", t);
+      CHECK(run(t, 1, "rotate", moving, moving ? 1 : 32, &b) == 0, "%s", what);
+      if (check_failures_) break;
+#ifndef ESF_MINIMAL
+      CHECK(b.fused, "%s: the fused step must run it", what);
+#endif
+      check_same(&b, &gen, what);
+      release(&b);
+    }
+    release(&gen);
+  }
+  hertz_ = 0;
+  ledger_ = 0;
+}
+
 /* Every instruction set's kernels (fused_isa.h) that this CPU runs give the base
  * kernels' state bit for bit, on 2 threads. */
 static void check_isas(void) {
@@ -397,6 +449,7 @@ int main(void) {
   }
   check_isas();
   check_ledger();
+  check_hertz();
   check_failure();
   check_leave();
   return check_finish("threads");

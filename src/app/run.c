@@ -125,12 +125,13 @@ static int check_energy(esf_sim *s, int *warned, esf_error *err) {
   const esf_ledger *L = &s->led;
   double err_e = esf_ledger_total_error(L);
   double flow = fabs(esf_ledger_dissipated(L)) + fabs(L->w_walls) + fabs(L->w_fluid) +
-                fabs(L->e_removed);
+                fabs(L->e_removed) + fabs(L->w_stiff);
   double budget = fabs(L->e0) + fabs(L->d_normal) + fabs(L->d_tangential) +
                   fabs(L->d_friction) + fabs(L->d_global) + fabs(L->d_local) +
                   fabs(L->w_walls) + fabs(L->e_removed) + fabs(L->pot_g) + fabs(L->el_n) +
                   fabs(L->el_t) + fabs(L->d_bonds);
   budget += fabs(L->w_fluid); /* the fluid force (drag.c) */
+  budget += fabs(L->w_stiff); /* Hertz tangential stiffness changes */
   double r = fabs(err_e), ratio = flow > 0 ? r / flow : INFINITY;
   int from_nothing = err_e > 0.25 * budget && err_e > 1e-30;
   int stop = ratio > ESF_RESID_STOP && r > 1e-2 * budget;
@@ -138,12 +139,13 @@ static int check_energy(esf_sim *s, int *warned, esf_error *err) {
     if (ratio > ESF_RESID_WARN && r > 1e-3 * budget && !*warned) {
       *warned = 1;
       char msg[600];
-      snprintf(msg, sizeof msg,
-               "WARNING: step %ld (t = %.6g s): the energy balance is off by %.4g J, %.3g "
-               "of the %.4g J dissipated or exchanged (warning above %.2g, stop above "
-               "%.2g): dt = %.4g s may be near the stability limit, or too coarse for "
-               "the contacts; a smaller integrator.frac or dt is more accurate",
-               s->step, s->t, err_e, ratio, flow, ESF_RESID_WARN, ESF_RESID_STOP, s->dt);
+      snprintf(
+          msg, sizeof msg,
+          "WARNING: step %ld (t = %.6g s): the energy balance is off by %.4g J, %.3g "
+          "of the %.4g J dissipated or exchanged (warning above %.2g, stop above "
+          "%.2g): dt = %.4g s may be near the stability limit, or too coarse for "
+          "the contacts; a smaller integrator.frac or dt is more accurate",
+          s->step, s->t, err_e, ratio, flow, ESF_RESID_WARN, ESF_RESID_STOP, s->dt);
       esf_sim_log(s, "%s", msg);
       fprintf(stderr, "esfera: %s\n", msg);
     }
@@ -170,14 +172,15 @@ static int check_energy(esf_sim *s, int *warned, esf_error *err) {
                     s->step, s->t, err_e, budget, p->n ? (long long)p->id[worst] : -1LL,
                     s->dt, esf_dt_rule_names[s->cfg.dt_rule],
                     s->dte.crit[s->cfg.dt_rule]);
-  return esf_fail(err, ESF_ENUMERIC,
-                  "step %ld (t = %.6g s): the energy balance is off by %.4g J, %.3g of the "
-                  "%.4g J dissipated or exchanged (limit %.2g; fastest: particle id %lld): "
-                  "the integration is not accurate at dt = %.4g s (critical dt (%s) = "
-                  "%.4g s). Lower integrator.frac or dt",
-                  s->step, s->t, err_e, ratio, flow, ESF_RESID_STOP,
-                  p->n ? (long long)p->id[worst] : -1LL, s->dt,
-                  esf_dt_rule_names[s->cfg.dt_rule], s->dte.crit[s->cfg.dt_rule]);
+  return esf_fail(
+      err, ESF_ENUMERIC,
+      "step %ld (t = %.6g s): the energy balance is off by %.4g J, %.3g of the "
+      "%.4g J dissipated or exchanged (limit %.2g; fastest: particle id %lld): "
+      "the integration is not accurate at dt = %.4g s (critical dt (%s) = "
+      "%.4g s). Lower integrator.frac or dt",
+      s->step, s->t, err_e, ratio, flow, ESF_RESID_STOP,
+      p->n ? (long long)p->id[worst] : -1LL, s->dt, esf_dt_rule_names[s->cfg.dt_rule],
+      s->dte.crit[s->cfg.dt_rule]);
 }
 
 /* A frame of the current state: particles, walls, and the contact network when the
@@ -527,8 +530,8 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   if (!rc && !st->interrupted && (it->flags & ESF_INTEG_STABILITY_CHECK))
     rc = esf_stability_guard(s, 1, err); /* the final state is checked too */
   if (s->stab.checks)
-    esf_sim_log(s, "stability: %ld checks, largest lambda / 4 = %.4g, %.3f s", s->stab.checks,
-                s->stab.worst, s->stab.seconds);
+    esf_sim_log(s, "stability: %ld checks, largest lambda / 4 = %.4g, %.3f s",
+                s->stab.checks, s->stab.worst, s->stab.seconds);
   st->steps = s->step;
   st->resumed_step = o->resume ? step0 : 0;
   st->wall_s = wall;

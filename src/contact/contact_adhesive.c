@@ -140,14 +140,15 @@ static void adhesive_eval(const esf_pair_params *pp, double beta, int tframe,
   const double fel = esf_adhesion_force(pp->kn, A, u);
   double fn = fel + fd; /* tension negative, unclipped */
   double xi[3];
-  esf_contact_tangential(pp, ct, tframe, 1, in, hist, 0, vn, fn, xi, out);
+  esf_contact_tangential(pp, ct, tframe, 1, in, hist, 0, vn, fn, 0.0, 0.0, xi, out);
   esf_contact_finish(in, fn, fd, xi, hist_out, out);
   out->fel = fel;
   out->e_el_n = esf_adhesion_energy(pp->kn, A, u);
 }
 
 static double adhesive_energy_n(const esf_pair_params *pp, const esf_contact_bond *bond,
-                                double un, double *fel) {
+                                double un, double rstar, double *fel) {
+  (void)rstar;
   if (!bond || !bond->on) {
     *fel = pp->kn * un;
     return 0.5 * pp->kn * un * un;

@@ -13,6 +13,7 @@
 #ifndef ESF_CONTACT_LAW_H
 #define ESF_CONTACT_LAW_H
 
+#include <math.h>
 #include <stdint.h>
 
 #include "contact/material.h"
@@ -24,6 +25,7 @@ typedef struct esf_contact_in {
   double vc[3];  /* relative velocity of the contact point, B minus A, m/s */
   double spin_n; /* (w_A + w_B).n / 2, rad/s: the contact plane's spin about n (3-18) */
   double mstar;  /* reduced mass, kg (the particle's mass against a wall) */
+  double rstar;  /* reduced radius rA rB / (rA + rB), m (rA against a wall) */
   double dt;     /* time over which the tangential increment integrates, s */
   const double *vinc; /* NULL, or the relative velocity to integrate the increment with
                          over dt (its tangential part is taken), m/s */
@@ -32,7 +34,8 @@ typedef struct esf_contact_in {
 /* The history one contact carries between steps (48 bytes, no padding: checkpoints
  * store it raw). */
 typedef struct esf_contact_hist {
-  double xi[3]; /* tangential elastic displacement, m (force on A = kt xi) */
+  double xi[3]; /* tangential elastic displacement, m (force on A = kt xi); Hertz-
+                   Mindlin: the elastic tangential force on A itself, N */
   double n[3];  /* the normal xi was last expressed in */
 } esf_contact_hist;
 
@@ -57,6 +60,7 @@ typedef struct esf_contact_out {
   double slip_work; /* friction work of this evaluation (force x slip), J */
   double e_el_n;    /* elastic energy in the normal spring, J */
   double e_el_t;    /* elastic energy in the tangential spring, J */
+  double w_st;      /* Hertz: energy given by the tangential stiffness's change, J */
   int touching;     /* 0: no force (separated); history is reset */
   int sliding;      /* 1: the Coulomb cap was active */
   int broke;        /* 1: a bond ruptured in this evaluation (Phi 1 -> 0) */
@@ -88,13 +92,28 @@ typedef struct esf_contact_law {
                const esf_contact_bond *bond, int first, esf_contact_hist *hist_out,
                esf_contact_out *out);
   /* Elastic energy of the normal spring at overlap un for a touching contact with
-   * bond state bond (or NULL), J; *fel receives the elastic normal force (> 0
-   * repulsive), N. */
+   * bond state bond (or NULL) and reduced radius rstar (m), J; *fel receives the elastic
+   * normal force (> 0 repulsive), N. */
   double (*energy_n)(const esf_pair_params *pp, const esf_contact_bond *bond, double un,
-                     double *fel);
+                     double rstar, double *fel);
 } esf_contact_law;
 
+/* Elastic energy of the tangential spring of a touching contact with history xi at
+ * overlap un, reduced radius rstar: (1/2) kt |xi|^2, or for the Hertz-Mindlin law (xi
+ * the force) |xi|^2 / (2 S_t), S_t = 8 G* sqrt(R* un), J. */
+static inline double esf_contact_energy_t(const esf_pair_params *pp, const double xi[3],
+                                          double un, double rstar) {
+  const double x2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
+  if (pp->ht > 0) {
+    const double st = un > 0 ? pp->ht * sqrt(rstar * un) : 0.0;
+    return st > 0 ? 0.5 * x2 / st : 0.0;
+  }
+  return 0.5 * pp->kt * x2;
+}
+
 extern const esf_contact_law esf_contact_linear;
+/* docs/physics.md#hertz-mindlin-law */
+extern const esf_contact_law esf_contact_hertz;
 /* docs/physics.md#adhesive-normal-law-and-bonds, 004 2.22-2.25 */
 extern const esf_contact_law esf_contact_adhesive;
 

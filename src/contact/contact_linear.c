@@ -26,8 +26,9 @@ static void linear_eval(const esf_pair_params *pp, double beta, int tframe,
 }
 
 static double linear_energy_n(const esf_pair_params *pp, const esf_contact_bond *bond,
-                              double un, double *fel) {
+                              double un, double rstar, double *fel) {
   (void)bond;
+  (void)rstar;
   *fel = pp->kn * un;
   return 0.5 * pp->kn * un * un;
 }

@@ -29,7 +29,7 @@ static inline void esf_contact_linear_eval(const esf_pair_params *pp, double bet
   const double vn = v3_dot(in->vc, n); /* < 0 approaching */
   double fd, xi[3];
   const double fn = esf_law_linear_normal_s(pp->kn, cn, in->un, vn, &fd);
-  esf_contact_tangential(pp, ct, tframe, 0, in, hist, first, vn, fn, xi, out);
+  esf_contact_tangential(pp, ct, tframe, 0, in, hist, first, vn, fn, 0.0, 0.0, xi, out);
   esf_contact_finish(in, fn, fd, xi, hist_out, out);
   out->fel = pp->kn * in->un;
   out->e_el_n = 0.5 * pp->kn * in->un * in->un;

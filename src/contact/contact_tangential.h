@@ -11,11 +11,18 @@
 #include "contact/lane_scalar.h"
 #include "util/vec3.h"
 
-static inline void
-esf_contact_tangential(const esf_pair_params *pp, double ct, int tframe, int tension,
-                       const esf_contact_in *in, const esf_contact_hist *hist, int first,
-                       double vn, double fn, double xi_new[3], esf_contact_out *out) {
-  const esf_law_tpar_s P = {.kt = pp->kt,
+/* st > 0: the Hertz-Mindlin force record (law_body.h), stiffness st now and st0 at the
+ * last commit's overlap (0: unknown); st = 0: the linear spring kt. */
+static inline void esf_contact_tangential(const esf_pair_params *pp, double ct,
+                                          int tframe, int tension,
+                                          const esf_contact_in *in,
+                                          const esf_contact_hist *hist, int first,
+                                          double vn, double fn, double st, double st0,
+                                          double xi_new[3], esf_contact_out *out) {
+  const esf_law_tpar_s P = {.kt = st > 0 ? 1.0 : pp->kt,
+                            .hertz = st > 0,
+                            .st = st,
+                            .st0 = st0,
                             .ct = ct,
                             .mu = pp->mu,
                             .coh = pp->cohesion,
@@ -33,6 +40,7 @@ esf_contact_tangential(const esf_pair_params *pp, double ct, int tframe, int ten
   out->sliding = T.slide != 0;
   out->slip_work = T.slip;
   out->e_el_t = T.e_el;
+  out->w_st = T.w_st;
 }
 
 static inline void esf_contact_finish(const esf_contact_in *in, double fn, double fd_n,

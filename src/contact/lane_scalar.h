@@ -11,6 +11,7 @@
 #define LANE_SEL(m, a, b) ((m) ? (a) : (b))
 #define LANE_SQRT(x)      sqrt(x)
 #define LANE_ANY(m)       (m)
+#define LANE_POW(x, y)    pow(x, y)
 #define LANE_FN(name)     name##_s
 #include "contact/law_body.h"
 #undef LANE_R
@@ -18,6 +19,7 @@
 #undef LANE_SEL
 #undef LANE_SQRT
 #undef LANE_ANY
+#undef LANE_POW
 #undef LANE_FN
 
 #endif

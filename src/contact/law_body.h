@@ -7,6 +7,7 @@
  *   LANE_SEL(m,a,b) per lane, m ? a : b
  *   LANE_SQRT(x)    per lane, sqrt
  *   LANE_ANY(m)     whether some lane of m is set
+ *   LANE_POW(x, y)  per lane, pow(x, y) for a double y
  *   LANE_FN(name)   the name of this lane type's copy of a function
  * (contact/lane_scalar.h: double, for the general path and the ODE methods;
  * fused/pair_batch.c: eight lanes for the fused step's batches). Every copy performs the
@@ -88,14 +89,69 @@ static inline LANE_R LANE_FN(esf_law_linear_normal)(LANE_R kn, LANE_R cn, LANE_R
   return LANE_SEL(neg, zero, fn);
 }
 
+/* The Hertz-Mindlin springs at overlap un > 0 (docs/physics.md#hertz-mindlin-law; Hertz
+ * 1882, Mindlin 1949 via Johnson 1985 ch. 4, 7): the contact radius a = sqrt(R* un);
+ * with hn = (4/3) E* and ht = 8 G* of the pair, the secant stiffness ks = hn a (the
+ * elastic force ks un = (4/3) E* sqrt(R*) un^(3/2), fed to esf_law_linear_normal), the
+ * normal tangent stiffness sn = dfn/dun = (3/2) ks = 2 E* a, the tangential one
+ * st = ht a = 8 G* a, and *qa = sqrt(a) (the u^(1/4) of the dashpots). */
+static inline void LANE_FN(esf_law_hertz_springs)(LANE_R hn, LANE_R ht, LANE_R rs,
+                                                  LANE_R un, LANE_R *ks, LANE_R *sn,
+                                                  LANE_R *st, LANE_R *qa) {
+  const LANE_R a = LANE_SQRT(rs * un);
+  *ks = hn * a;
+  *sn = 1.5 * *ks;
+  *st = ht * a;
+  *qa = LANE_SQRT(a);
+}
+
+/* The Hertz tangential stiffness ht sqrt(R* u0) at the last commit's overlap u0 (0 when
+ * u0 <= 0), for the ledger's w_st. */
+static inline LANE_R LANE_FN(esf_law_hertz_st0)(LANE_R ht, LANE_R rs, LANE_R u0) {
+  const LANE_R zero = {0};
+  return LANE_SEL(u0 > 0, ht * LANE_SQRT(rs * u0), zero);
+}
+
+/* The Hertz law's dashpots: with Rayleigh damping (beta > 0) c = beta S; else
+ * c = factor sqrt(m*) q, the pair's factors 2 gamma sqrt((3/2) hn) and 2 gamma_t
+ * sqrt(ht): with q = sqrt(a) (tsuji) c = 2 gamma sqrt(m* S) (Tsuji et al. 1992); with
+ * `constant` damping q is esf_law_hertz_qref's, fixed per contact. sm = sqrt(m*). */
+static inline void LANE_FN(esf_law_hertz_dashpots)(double beta, LANE_R cnf, LANE_R ctf,
+                                                   LANE_R sm, LANE_R q, LANE_R sn,
+                                                   LANE_R st, LANE_R *cn, LANE_R *ct) {
+  if (beta > 0) {
+    *cn = beta * sn;
+    *ct = beta * st;
+  } else {
+    *cn = cnf * sm * q;
+    *ct = ctf * sm * q;
+  }
+}
+
+/* The constant dashpots' q: sqrt(a) at the undamped peak overlap u_p = (15 m* v^2 /
+ * (16 E* sqrt(R*)))^(2/5) of an impact at v (integrator.impact_speed), so
+ * q = (R*^2 (15/16) m* v^2 / E*)^(1/10); es = E*, sm = sqrt(m*). */
+static inline LANE_R LANE_FN(esf_law_hertz_qref)(LANE_R es, LANE_R sm, LANE_R rs,
+                                                 double v) {
+  return LANE_POW(rs * rs * (0.9375 * v * v) * (sm * sm) / es, 0.1);
+}
+
+/* The Hertz normal spring's energy (8/15) E* sqrt(R*) un^(5/2) = (2/5) ks un^2, J. */
+static inline LANE_R LANE_FN(esf_law_hertz_energy)(LANE_R ks, LANE_R un) {
+  return 0.4 * ks * un * un;
+}
+
 /* The tangential parameters of a pair, per lane. */
 typedef struct LANE_FN(esf_law_tpar) {
-  LANE_R kt, ct;    /* spring N/m, dashpot N s/m */
+  LANE_R kt, ct;    /* spring N/m, dashpot N s/m; Hertz: kt = 1 (xi holds the force) */
   LANE_R mu, coh;   /* friction coefficient, cohesion N */
   LANE_R tl;        /* tension cut-off of the shear strength, N (tension: 1 only) */
   int rotate;       /* 1: the seed's two rotations (000 3-17, 3-18); 0: projection */
   int tension;      /* 1: fn may be negative (the adhesive law): the tension cut-off */
   int ledger;       /* 1: slip work and elastic energy computed */
+  int hertz;        /* 1: xi is the elastic force, its increment st dt vct (kt = 1) */
+  LANE_R st, st0;   /* Hertz: tangential stiffness now and at the last commit's
+                       overlap (st0, ledger only; 0: none), N/m */
   const LANE_R *vi; /* NULL, or the velocity whose tangential part integrates the
                        increment over dt (the ODE methods' trapezoidal carry) */
 } LANE_FN(esf_law_tpar);
@@ -107,7 +163,9 @@ typedef struct LANE_FN(esf_law_tout) {
   LANE_R xi[3];  /* the new elastic displacement, m */
   LANE_M slide;  /* the Coulomb cap was active */
   LANE_R slip;   /* friction work of this evaluation, J (ledger) */
-  LANE_R e_el;   /* elastic energy (1/2) kt |xi|^2, J (ledger) */
+  LANE_R e_el;   /* elastic energy (1/2) kt |xi|^2 (Hertz |xi|^2/(2 st)), J (ledger) */
+  LANE_R w_st;   /* Hertz: the energy the stiffness change st0 -> st gave the carried
+                    force, |xi_rot|^2 (1/st - 1/st0)/2, J (ledger) */
 } LANE_FN(esf_law_tout);
 
 /* The tangential force (000 3-17..3-26, 004 2.13-2.16, 2.26): the stored displacement
@@ -117,7 +175,12 @@ typedef struct LANE_FN(esf_law_tout) {
  * projection and rescaling; the trial xi + dt vct; the force kt xi + ct vct; the
  * Mohr-Coulomb cap tau = max(0, coh + mu fn), zero once fn < -tl (tension only), with
  * radial return xi = ft/kt and no dashpot while sliding. The slip work is the slip
- * xi_trial - xi_new times the mean elastic force kt (xi_rot + xi_new)/2. */
+ * xi_trial - xi_new times the mean elastic force kt (xi_rot + xi_new)/2.
+ * Hertz-Mindlin (P->hertz): xi holds the elastic force itself (kt = 1), its increment
+ * st dt vct (Mindlin's incremental stiffness: a changing contact radius makes no force
+ * at zero tangential motion); the elastic energy is |xi|^2/(2 st), the slip work the
+ * force's slip (xi_trial - xi_new)/st times the mean force, and w_st books the energy
+ * the carried force's energy changes by as st changes. */
 static inline void LANE_FN(esf_law_tangential)(const LANE_FN(esf_law_tpar) * P, LANE_R dt,
                                                const LANE_R n[3], LANE_R spin,
                                                const LANE_R vc[3], LANE_R vn, LANE_R fn,
@@ -153,7 +216,8 @@ static inline void LANE_FN(esf_law_tangential)(const LANE_FN(esf_law_tpar) * P, 
     for (int q = 0; q < 3; q++) inc[q] = vct[q];
   }
   for (int q = 0; q < 3; q++) {
-    o->xi[q] = xr[q] + dt * inc[q];
+    const LANE_R di = dt * inc[q];
+    o->xi[q] = xr[q] + (P->hertz ? P->st * di : di);
     o->fdt[q] = P->ct * vct[q];
     o->ft[q] = P->kt * o->xi[q] + o->fdt[q];
   }
@@ -165,6 +229,13 @@ static inline void LANE_FN(esf_law_tangential)(const LANE_FN(esf_law_tpar) * P, 
   const LANE_R ftm2 = LANE_FN(esf_law_dot)(o->ft, o->ft);
   o->slide = ftm2 > tau * tau;
   o->slip = zero;
+  o->w_st = zero;
+  /* the spring's energy per |xi|^2: kt/2, or 1/(2 st) for the Hertz force record */
+  const LANE_R ew = P->hertz && P->ledger ? 1.0 / P->st : P->kt;
+  if (P->hertz && P->ledger) {
+    const LANE_R i0 = LANE_SEL(P->st0 > 0, 1.0 / P->st0, ew);
+    o->w_st = 0.5 * LANE_FN(esf_law_dot)(xr, xr) * (ew - i0);
+  }
   if (LANE_ANY(o->slide)) { /* radial return, no dashpot (004 2.16) */
     const LANE_R sc = tau / LANE_SQRT(ftm2), ikt = LANE_SEL(P->kt > 0, 1.0 / P->kt, zero);
     LANE_R xn[3];
@@ -178,14 +249,14 @@ static inline void LANE_FN(esf_law_tangential)(const LANE_FN(esf_law_tpar) * P, 
         sl[q] = o->xi[q] - xn[q];
         fm[q] = xr[q] + xn[q];
       }
-      o->slip = LANE_SEL(o->slide, 0.5 * P->kt * LANE_FN(esf_law_dot)(fm, sl), zero);
+      o->slip = LANE_SEL(o->slide, 0.5 * ew * LANE_FN(esf_law_dot)(fm, sl), zero);
     }
     for (int q = 0; q < 3; q++) {
       o->xi[q] = LANE_SEL(o->slide, xn[q], o->xi[q]);
       o->fdt[q] = LANE_SEL(o->slide, zero, o->fdt[q]);
     }
   }
-  if (P->ledger) o->e_el = 0.5 * P->kt * LANE_FN(esf_law_dot)(o->xi, o->xi);
+  if (P->ledger) o->e_el = 0.5 * ew * LANE_FN(esf_law_dot)(o->xi, o->xi);
 }
 
 /* The contact force on A, f = ft - fn n, and the torque direction m = n x ft: the

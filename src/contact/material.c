@@ -73,12 +73,43 @@ int32_t esf_materials_find(const esf_materials *t, const char *name) {
   return -1;
 }
 
+/* A Hertz-Mindlin pair (docs/physics.md#hertz-mindlin-law): E* = 1/((1 - nu_a^2)/E_a +
+ * (1 - nu_b^2)/E_b), G* = 1/(2 (2 - nu_a)(1 + nu_a)/E_a + 2 (2 - nu_b)(1 + nu_b)/E_b)
+ * (Johnson 1985; G = E/(2 (1 + nu)) each), the damping ratios from the exact map of the
+ * mixed restitutions (esf_hertz_gamma). For equal materials: exactly E/(2 (1 - nu^2)),
+ * E/(4 (2 - nu)(1 + nu)). */
+static void hertz_pair(const esf_materials *t, const esf_material *A,
+                       const esf_material *B, double en, double et, esf_pair_params *p) {
+  const double na = A->poisson_ratio, nb = B->poisson_ratio;
+  p->law = &esf_contact_hertz;
+  p->kn = p->kt = 0.0;
+  p->estar =
+      1.0 / ((1 - na * na) / A->youngs_modulus + (1 - nb * nb) / B->youngs_modulus);
+  p->gstar = 1.0 / (2 * (2 - na) * (1 + na) / A->youngs_modulus +
+                    2 * (2 - nb) * (1 + nb) / B->youngs_modulus);
+  p->hn = 4.0 / 3.0 * p->estar;
+  p->ht = 8.0 * p->gstar;
+  p->hertz_constant = t->hertz_constant;
+  p->v_imp = t->impact_speed;
+  if (t->rayleigh_beta > 0) {
+    p->gamma_n = p->gamma_t = 0.0;
+    p->cn_factor = p->ct_factor = 0.0;
+    return;
+  }
+  p->gamma_n = esf_hertz_gamma(en);
+  p->gamma_t = esf_hertz_gamma(et);
+  /* tsuji: c = 2 gamma sqrt(m* S), S = 1.5 hn a or ht a: factor sqrt(m*) sqrt(a) */
+  p->cn_factor = 2.0 * p->gamma_n * sqrt(1.5 * p->hn);
+  p->ct_factor = 2.0 * p->gamma_t * sqrt(p->ht);
+}
+
 int esf_materials_mix(esf_materials *t, esf_error *err) {
   free(t->pair);
   t->pair = calloc((size_t)t->n * (size_t)(t->n ? t->n : 1), sizeof *t->pair);
   if (!t->pair) return esf_fail(err, ESF_ENOMEM, "out of memory for the pair table");
   const esf_mixing *r = &t->mixing;
   t->all_linear = 1;
+  t->all_hertz = t->n > 0;
   t->any_cohesion = 0;
   for (int a = 0; a < t->n; a++) {
     for (int b = 0; b < t->n; b++) {
@@ -91,6 +122,7 @@ int esf_materials_mix(esf_materials *t, esf_error *err) {
                           B->tangential_restitution);
       p->gamma_n = esf_restitution_gamma(en);
       p->gamma_t = esf_restitution_gamma(et);
+      p->estar = p->gstar = p->hn = p->ht = 0.0;
       if (t->rayleigh_beta > 0) {
         /* c = beta k per contact; the damping ratio beta omega / 2 depends on the
            contact's frequency, so the restitution-derived gammas do not apply */
@@ -129,7 +161,23 @@ int esf_materials_mix(esf_materials *t, esf_error *err) {
         p->adh.gap = esf_mix(r->adhesion_gap, A->adhesion_gap, B->adhesion_gap);
         p->law = &esf_contact_adhesive;
       }
+      const int ha = A->youngs_modulus > 0, hb = B->youngs_modulus > 0;
+      if (ha != hb)
+        return esf_fail(
+            err, ESF_EINPUT,
+            "materials '%s' and '%s': a Hertz-Mindlin material (youngs_modulus) "
+            "meets a linear one (kn); there is no mixing rule between the laws",
+            ha ? A->name : B->name, ha ? B->name : A->name);
+      if (ha) {
+        if (p->law != &esf_contact_linear)
+          return esf_fail(err, ESF_EINPUT,
+                          "materials '%s' and '%s': adhesion is not defined for the "
+                          "Hertz-Mindlin law",
+                          A->name, B->name);
+        hertz_pair(t, A, B, en, et, p);
+      }
       t->all_linear &= p->law == &esf_contact_linear;
+      t->all_hertz &= p->law == &esf_contact_hertz;
       t->any_cohesion |= p->cohesion != 0.0;
     }
   }

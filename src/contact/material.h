@@ -28,6 +28,8 @@ typedef struct esf_material {
   double adhesion_force;         /* F of the adhesive law (004 2.23), N; 0: none */
   double adhesion_epsilon;       /* its epsilon, (0, 1) without 1/e */
   double adhesion_gap;           /* bond_gap: pairs this close at the start bond, m */
+  double youngs_modulus;         /* E of the Hertz-Mindlin law, Pa; 0: linear (kn) */
+  double poisson_ratio;          /* its nu, [0, 0.5) */
 } esf_material;
 
 /* Mixing rules. For equal values every rule returns that value. */
@@ -80,6 +82,13 @@ typedef struct esf_pair_params {
   double cohesion;                   /* N */
   double tensile_limit; /* N, >= 0: the shear strength vanishes when f_n < -limit */
   esf_adhesion adh;     /* the adhesive law's parameters (law = adhesive only) */
+  /* Hertz-Mindlin (law = hertz; kn = kt = 0 then; docs/physics.md#hertz-mindlin-law):
+     cn_factor, ct_factor are 2 gamma sqrt(1.5 hn) and 2 gamma_t sqrt(ht) (tsuji: c =
+     factor sqrt(m*) a^(1/2)), or the constant dashpots' 2 gamma sqrt(S(u_ref)) */
+  double estar, gstar; /* effective moduli E*, G*, Pa */
+  double hn, ht;       /* (4/3) E* and 8 G*, Pa */
+  int hertz_constant;  /* the constant dashpots (contact.hertz_damping: constant) */
+  double v_imp;        /* their impact speed (esf_materials.impact_speed), m/s */
 } esf_pair_params;
 
 typedef struct esf_materials {
@@ -90,7 +99,10 @@ typedef struct esf_materials {
   double rayleigh_beta; /* > 0: contact dashpots c = beta k (001 3.47) replace the
                            restitution-derived ones */
   /* summaries of the pair table, for the fused step's choices (fused/fused.c) */
+  int hertz_constant;  /* contact.hertz_damping: constant (1) or tsuji (0) */
+  double impact_speed; /* integrator.impact_speed, m/s (the constant dashpots' u_ref) */
   int all_linear;      /* every pair uses the linear law (esf_materials_mix) */
+  int all_hertz;       /* every pair uses the Hertz-Mindlin law (esf_materials_mix) */
   int any_cohesion;    /* some pair has cohesion != 0 (esf_materials_mix) */
   int particles_fused; /* every pair of two materials that particles use has a law the
                           fused step computes (ESF_LAW_FUSED; esf_bonds_setup sets it) */
@@ -98,6 +110,14 @@ typedef struct esf_materials {
 
 /* gamma = -ln(eta) / sqrt(pi^2 + ln^2 eta), 004 (2.28); 0 for eta = 1. */
 double esf_restitution_gamma(double eta);
+
+/* The Hertz-Mindlin law's damping ratio gamma for restitution eta (hertz_map.c): the
+ * exact inverse of the restitution of the damped Hertz oscillator with the no-tension
+ * cut, m u'' = -k u^(3/2) - 2 gamma sqrt(m (3/2) k u^(1/2)) u' (force >= 0), which does
+ * not depend on the impact speed; 0 for eta >= 1. */
+double esf_hertz_gamma(double eta);
+/* The restitution of that oscillator for damping ratio gamma (>= 0). */
+double esf_hertz_restitution(double gamma);
 
 /* Adds a material (copied); returns its index in *index. Error on a duplicate name. */
 int esf_materials_add(esf_materials *t, const esf_material *m, int32_t *index,

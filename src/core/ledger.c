@@ -2,7 +2,8 @@
  * table of frames.h5): esf_ledger_columns names the columns, esf_ledger_values gives
  * them, esf_ledger_header and esf_ledger_row print them as CSV (time with 10
  * significant digits, energies in J with 13, alpha in 1/s with 7). Columns added
- * later (work_fluid) go at the end, so readers by position keep working. */
+ * later (work_fluid, work_tangential_stiffness) go at the end, so readers by position
+ * keep working. */
 #include "core/ledger.h"
 
 const char *const esf_ledger_columns[ESF_LEDGER_NCOLS] = {"time",
@@ -24,7 +25,8 @@ const char *const esf_ledger_columns[ESF_LEDGER_NCOLS] = {"time",
                                                           "energy_removed",
                                                           "alpha_global",
                                                           "dissipated_bonds",
-                                                          "work_fluid"};
+                                                          "work_fluid",
+                                                          "work_tangential_stiffness"};
 
 double esf_ledger_stored(const esf_ledger *l) {
   return l->kin_t + l->kin_r + l->pot_g + l->el_n + l->el_t;
@@ -36,7 +38,7 @@ double esf_ledger_dissipated(const esf_ledger *l) {
 }
 
 double esf_ledger_total_error(const esf_ledger *l) {
-  return esf_ledger_stored(l) - l->e0 - l->w_walls - l->w_fluid +
+  return esf_ledger_stored(l) - l->e0 - l->w_walls - l->w_fluid - l->w_stiff +
          esf_ledger_dissipated(l) + l->e_removed;
 }
 
@@ -61,7 +63,8 @@ void esf_ledger_values(double t, const esf_ledger *l, double alpha,
                                       l->e_removed,
                                       alpha,
                                       l->d_bonds,
-                                      l->w_fluid};
+                                      l->w_fluid,
+                                      l->w_stiff};
   for (int k = 0; k < ESF_LEDGER_NCOLS; k++) row[k] = v[k];
 }
 
@@ -96,6 +99,7 @@ void esf_ledger_step(esf_ledger *l, const double *blocks, size_t nb) {
   l->w_walls += t[ESF_LB_WW];
   l->d_bonds += t[ESF_LB_BD];
   l->w_fluid += t[ESF_LB_WF];
+  l->w_stiff += t[ESF_LB_SW];
   if (!l->started) {
     l->e0 = t[ESF_LB_KO] + t[ESF_LB_PO] + l->el_n + l->el_t;
     l->started = 1;

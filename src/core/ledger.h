@@ -4,7 +4,7 @@
  * Stored energies are measured from the state; dissipation and wall work are tallied
  * every step along each path. The balance residual
  *   total_error = (kinetic + gravity + elastic) - e0 - work_walls - work_fluid
- *                 + dissipated + removed
+ *                 - work_tangential_stiffness + dissipated + removed
  * is zero for an exact integration; what is left is the integrator's energy error. */
 #ifndef ESF_LEDGER_H
 #define ESF_LEDGER_H
@@ -26,6 +26,8 @@ typedef struct esf_ledger {
                           deleted by events (with their contacts' elastic energy), J */
   double d_bonds;      /* energy bonds held when they ruptured (adhesive law), J */
   double w_fluid;      /* work done by the fluid force on the particles (drag.c), J */
+  double w_stiff;      /* energy the Hertz-Mindlin tangential springs gained as their
+                          stiffness changed under a carried force, J (cumulative) */
   double e0;           /* stored energy at the start, J */
   int started;         /* e0 set */
 } esf_ledger;
@@ -35,7 +37,7 @@ double esf_ledger_dissipated(const esf_ledger *l);
 double esf_ledger_total_error(const esf_ledger *l);
 
 /* The columns of an energy row (energy.csv and /energy in frames.h5), in order. */
-enum { ESF_LEDGER_NCOLS = 20 };
+enum { ESF_LEDGER_NCOLS = 21 };
 extern const char *const esf_ledger_columns[ESF_LEDGER_NCOLS];
 enum { ESF_LEDGER_ALPHA = 17 }; /* the column of alpha_global */
 
@@ -86,7 +88,8 @@ enum {                      /* row offsets (xyz, then the scalar lane) */
        ESF_LR_DT = 8,   /* tangential dashpot force | the tangential spring's energy */
        ESF_LR_MDT = 12, /* tangential dashpot torque | wall work rate F.v_wall (W) */
        ESF_LR_ET = 16,  /* tangential spring force | energy of ruptured bonds (J) */
-       ESF_LR_MET = 20, /* tangential spring torque | 0 */
+       ESF_LR_MET = 20, /* tangential spring torque | the energy a Hertz tangential
+                           spring gained from its stiffness's change (J) */
        ESF_LR_W = 24    /* a moving wall's side of the dashpots' power: normal -fd vw.n,
                            tangential fdt.vw (W) | 0 | 0 | 0 */
 };
@@ -106,6 +109,7 @@ enum {            /* channels of a block's sums */
        ESF_LB_WW, /* work of the walls */
        ESF_LB_BD, /* ruptured bonds */
        ESF_LB_WF, /* work of the fluid force */
+       ESF_LB_SW, /* Hertz tangential springs' stiffness change */
        ESF_LB_N = 16
 };
 
@@ -211,6 +215,7 @@ static inline void esf_ledger_particle(const double *r, const double vo[3],
   blk[ESF_LB_SL] += dn[3];
   blk[ESF_LB_WW] += mdt[3] * dt;
   blk[ESF_LB_BD] += et[3];
+  blk[ESF_LB_SW] += met[3];
 }
 
 /* One particle's kick in the ledger's blocks: its kinetic energies at v_{n+1/2} (v, w)

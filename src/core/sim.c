@@ -41,6 +41,8 @@ void esf_config_default(esf_config *c) {
   c->history = ESF_HIST_FROZEN;
   c->max_steps = 100000000;
   c->max_overlap = 0.5;
+  c->hertz_damping = 0;
+  c->impact_speed = 1.0;
   c->skin = -1;
   c->reorder = 1;
   c->out_every = 0;

@@ -17,8 +17,16 @@
 #include "util/esf_error.h"
 #include "util/rng.h"
 
-enum { ESF_DT_CUNDALL = 0, ESF_DT_HART = 1, ESF_DT_DAMPED = 2, ESF_DT_RULES = 3 };
-extern const char *const esf_dt_rule_names[]; /* "cundall", "hart", "damped", NULL */
+enum {
+  ESF_DT_CUNDALL = 0,
+  ESF_DT_HART = 1,
+  ESF_DT_DAMPED = 2,
+  ESF_DT_RAYLEIGH = 3,  /* Hertz-Mindlin scenes only (INFINITY otherwise) */
+  ESF_DT_COLLISION = 4, /* the collision time at integrator.impact_speed */
+  ESF_DT_RULES = 5
+};
+/* "cundall", "hart", "damped", "rayleigh", "collision", NULL */
+extern const char *const esf_dt_rule_names[];
 
 /* How ODE methods treat contact history (integrators/dem_ode.h). */
 enum { ESF_HIST_FROZEN = 0, ESF_HIST_STATE = 1 };
@@ -28,7 +36,7 @@ extern const char *const esf_history_names[]; /* "frozen", "state", NULL */
  * allow_unstable. */
 enum { ESF_STAB_AUTO = 0, ESF_STAB_STOP = 1, ESF_STAB_WARN = 2, ESF_STAB_OFF = 3 };
 extern const char *const esf_stab_names[]; /* "auto", "stop", "warn", "off", NULL */
-#define ESF_STAB_EVERY 8000 /* default steps between checks */
+#define ESF_STAB_EVERY 8000                /* default steps between checks */
 
 enum { ESF_LOCAL_OFF = 0, ESF_LOCAL_COMPONENT = 1, ESF_LOCAL_VECTOR = 2 };
 
@@ -53,10 +61,10 @@ typedef struct esf_config {
   char method[128]; /* integrator name */
   double dt;        /* s; <= 0 with dt_auto */
   int dt_auto;
-  int dt_rule;        /* ESF_DT_* */
-  double frac;        /* dt = frac x critical (auto) */
-  int allow_unstable; /* accept dt above the rule's critical value */
-  int stability;      /* the live stability check: ESF_STAB_* (set-up resolves AUTO) */
+  int dt_rule;          /* ESF_DT_* */
+  double frac;          /* dt = frac x critical (auto) */
+  int allow_unstable;   /* accept dt above the rule's critical value */
+  int stability;        /* the live stability check: ESF_STAB_* (set-up resolves AUTO) */
   long stability_every; /* steps between its checks (> 0) */
 
   double rtol, atol; /* adaptive ODE methods: tolerances (rtol 0: fixed step) */
@@ -72,6 +80,8 @@ typedef struct esf_config {
   esf_auto_damping autod;              /* adaptive global damping */
 
   int tframe;                /* ESF_TFRAME_* */
+  int hertz_damping;         /* contact.hertz_damping: 0 tsuji, 1 constant */
+  double impact_speed;       /* integrator.impact_speed, m/s (the Hertz time rule) */
   double max_overlap;        /* failure when overlap > this x the smaller radius */
   int allow_initial_overlap; /* explicit particles may start overlapping */
   double skin;               /* m; <= 0: automatic (0.4 x mean radius, then adaptive) */
@@ -118,7 +128,9 @@ void esf_config_set_where(esf_config *c, const char *key, const char *place);
 /* Critical-step estimates (timestep.c). */
 typedef struct esf_dt_estimate {
   double m_min;              /* smallest particle mass, kg */
-  double k_max;              /* largest stiffness of any used material pair, N/m */
+  double k_max;              /* largest stiffness of any used material pair, N/m
+                                (Hertz-Mindlin: the tangent stiffness at the peak
+                                overlap of an impact at integrator.impact_speed) */
   double xi;                 /* largest damping ratio (contact + global) */
   double crit[ESF_DT_RULES]; /* each rule's critical step (FRAC = 1), s */
 } esf_dt_estimate;

@@ -106,8 +106,9 @@ void esf_fused_free(esf_fused **f) {
 const char *esf_fused_isa(const esf_fused *f) { return f->k->isa; }
 
 static int minimal_ok(const esf_sim *s) {
-  return !s->mats.any_cohesion && s->cfg.tframe == ESF_TFRAME_ROTATE && s->cfg.dim == 3 &&
-         !s->local && s->alpha_r == 0.0 && s->alpha_t == 0.0 && !s->walls.moving;
+  return !s->mats.any_cohesion && !s->mats.all_hertz &&
+         s->cfg.tframe == ESF_TFRAME_ROTATE && s->cfg.dim == 3 && !s->local &&
+         s->alpha_r == 0.0 && s->alpha_t == 0.0 && !s->walls.moving;
 }
 
 const char *esf_fused_refusal(const esf_sim *s) {
@@ -262,6 +263,8 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
       .max_overlap = s->cfg.max_overlap,
       .rotate = !ESF_FUSED_FEATURES || s->cfg.tframe == ESF_TFRAME_ROTATE,
       .cohesion = ESF_FUSED_FEATURES && s->mats.any_cohesion,
+      .hertz = ESF_FUSED_FEATURES && s->mats.all_hertz,
+      .hertz_cst = s->mats.hertz_constant,
       .rows = ledger ? s->led_rows : NULL,
       .bond = s->bonds.on ? cp->bond : NULL,
       .broken = &f->broken};

@@ -79,6 +79,13 @@ static inline int any(vm m) {
 #endif
 }
 
+/* pow per lane (the constant Hertz dashpots only: libm's, the scalar copy's bits) */
+static inline __attribute__((always_inline)) vd vpow(vd x, double y) {
+  vd r;
+  for (int l = 0; l < ESF_BATCH; l++) r[l] = pow(x[l], y);
+  return r;
+}
+
 /* p[i[0]], ..., p[i[7]] */
 static inline vd gat(const double *p, const size_t *i) {
   return (vd){p[i[0]], p[i[1]], p[i[2]], p[i[3]], p[i[4]], p[i[5]], p[i[6]], p[i[7]]};
@@ -187,6 +194,7 @@ static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
 #define LANE_SEL(m, a, b) sel(m, a, b)
 #define LANE_SQRT(x)      vsqrt(x)
 #define LANE_ANY(m)       any(m)
+#define LANE_POW(x, y)    vpow(x, y)
 #define LANE_FN(name)     name##_v
 #include "contact/law_body.h"
 #undef LANE_R
@@ -194,6 +202,7 @@ static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
 #undef LANE_SEL
 #undef LANE_SQRT
 #undef LANE_ANY
+#undef LANE_POW
 #undef LANE_FN
 
 static inline vd dot(const vd a[3], const vd b[3]) { return esf_law_dot_v(a, b); }
@@ -233,7 +242,8 @@ static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_
   col[1][3] = e_n;
   col[2][3] = T->e_el;
   for (int j = 3; j < 12; j++) col[j][3] = mz;
-  for (int j = 0; j < 12; j++) /* a contact that ended adds nothing... */
+  if (c->hertz) col[5][3] = T->w_st; /* the stiffness change's energy (ESF_LR_MET) */
+  for (int j = 0; j < 12; j++)       /* a contact that ended adds nothing... */
     for (int q = 0; q < 4; q++) col[j][q] = sel(keep, col[j][q], mz);
   col[4][3] = sel(broke, e_brk, mz); /* ...but the energy its bond held */
   v4 r[12][ESF_BATCH];
@@ -304,8 +314,14 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
       if (c->bond) tl[l] = pp[l]->tensile_limit;
     }
   }
-  vd cn, ct; /* the dashpots, N s/m */
-  if (c->beta > 0) {
+  if (c->hertz) /* Hertz-Mindlin pairs (every pair: the laws never mix): hn, ht */
+    for (int l = 0; l < ESF_BATCH; l++) {
+      kn[l] = pp[l]->hn;
+      kt[l] = pp[l]->ht;
+    }
+  vd cn = zero, ct = zero; /* the dashpots, N s/m (Hertz: below, at the overlap) */
+  if (c->hertz) {
+  } else if (c->beta > 0) {
     cn = c->beta * kn;
     ct = c->beta * kt;
   } else { /* c = factor sqrt(m*), sqrt(m*) per pair (computed at the list's build) */
@@ -330,7 +346,24 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   esf_law_pair_kinematics_v(d, d2, ra, rb, va, vb, wa, wb, n, &un, &la, &lb, vc);
   const vm bad = un > c->max_overlap * sel(ra < rb, ra, rb);
   const vd vn = dot(vc, n);
-  vd fd, fel = kn * un, e_n = 0.5 * kn * un * un, e_brk = zero;
+  vd st = zero, st0 = zero; /* Hertz: tangential stiffness now, at the last commit */
+  if (c->hertz) {           /* contact_hertz.h's operations, lane-wise */
+    const vd rs = ra * rb / (ra + rb);
+    vd ks, sn, qa;
+    esf_law_hertz_springs_v(kn, kt, rs, un, &ks, &sn, &st, &qa);
+    const vd sm = gat(c->sm, kk);
+    if (c->hertz_cst) {
+      vd es;
+      for (int l = 0; l < ESF_BATCH; l++) es[l] = pp[l]->estar;
+      qa = esf_law_hertz_qref_v(es, sm, rs, pp[0]->v_imp);
+    }
+    esf_law_hertz_dashpots_v(c->beta, cnf, ctf, sm, qa, sn, st, &cn, &ct);
+    if (c->rows) st0 = esf_law_hertz_st0_v(kt, rs, un + c->dt * vn);
+    kn = ks;        /* the secant stiffness: fel = ks un */
+    kt = zero + 1.; /* the record xi is the force */
+  }
+  vd fd, fel = kn * un, e_brk = zero;
+  vd e_n = c->hertz ? esf_law_hertz_energy_v(kn, un) : 0.5 * kn * un * un;
   vd fn = esf_law_linear_normal_v(kn, cn, un, vn, &fd);
   /* Bonds (contact/contact_adhesive.c, 004 2.22-2.25): a bonded contact's normal spring
    * is the adhesive one at u = un + s, with the dashpot unclipped (it may pull); below
@@ -371,6 +404,9 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
                             .rotate = c->rotate,
                             .tension = c->bond != NULL, /* only bonds pull */
                             .ledger = c->rows != NULL,
+                            .hertz = c->hertz,
+                            .st = st,
+                            .st0 = st0,
                             .vi = NULL};
   esf_law_tout_v T;
   esf_law_tangential_v(&P, zero + c->dt, n, spin, vc, vn, fn, hx, hn, tch & ~broke, &T);

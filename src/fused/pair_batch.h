@@ -46,6 +46,8 @@ typedef struct esf_pair_batch_ctx {
   int rotate;                 /* 1: xi rotated into the new plane (000 3-17, 3-18);
                                  0: projected and rescaled */
   int cohesion;               /* 1: the Coulomb cap includes the pair's cohesion */
+  int hertz;                  /* 1: every pair Hertz-Mindlin (contact_hertz.h) */
+  int hertz_cst;              /* with hertz: constant dashpots (hertz_damping) */
   double *rows;               /* the ledger's rows (core/ledger.h, ESF_LR a particle;
                                  line-aligned), or NULL: no ledger */
   esf_contact_bond *bond;     /* per pair: the bond state, or NULL: no bonds */

@@ -1,5 +1,6 @@
 /* wall_fast.c — the particle-wall contacts of one particle for static walls and the
- * linear law (wall_fast.h), the fused leapfrog step's wall pass (fused_kick.c).
+ * linear or the Hertz-Mindlin law (wall_fast.h), the fused leapfrog step's wall pass
+ * (fused_kick.c).
  *
  * Physics: exactly model/forces.c's wall contacts (docs/physics.md#contact-kinematics,
  * #linear-springdashpot-law; 004 §2.3.2, eqs. 2.4–2.5 for the nearest point; 000
@@ -15,15 +16,16 @@
  * stack; more use the neighbour lists' wall scratch at k0 (as forces.c), so particles
  * run in parallel.
  * Entry: candidate lists valid for s->p.x; walls static (s->walls.moving == 0), every
- * material pair linear, no ledger, tally, servo walls or history as ODE state
- * (esf_wall_pass_select checks). Exit: as esf_forces_wall_particle committing.
- * Units: SI. */
+ * material pair linear or every one Hertz-Mindlin (contact_hertz.h), no ledger, tally,
+ * servo walls or history as ODE state (esf_wall_pass_select checks). Exit: as
+ * esf_forces_wall_particle committing. Units: SI. */
 #include "fused/wall_fast.h"
 
 #include <math.h>
 #include <stdint.h>
 
 #include "bodies/walls.h"
+#include "contact/contact_hertz.h"
 #include "contact/contact_linear.h"
 #include "model/forces.h"
 #include "util/vec3.h"
@@ -94,14 +96,19 @@ static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
     in.vc[q] = (0.0 + 0.0) - v[q] - ta[q]; /* v_wall + 0 - ... */
   in.spin_n = 0.5 * (v3_dot(w, in.n) + v3_dot(zero3, in.n));
   in.mstar = p->mass[a];
+  in.rstar = p->radius[a];
   in.dt = dt;
   in.vinc = NULL;
   const esf_materials *mt = &s->mats;
   const esf_pair_params *pp = /* one material: no load of the particle's */
       mt->n == 1 ? mt->pair : &mt->pair[p->material[a] * mt->n + el->material];
   esf_contact_out out;
-  esf_contact_linear_eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], !c->touch[k],
-                          &c->h[k], &out);
+  if (s->mats.all_hertz) /* the laws never mix (material.c) */
+    esf_contact_hertz_eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], !c->touch[k],
+                           &c->h[k], &out);
+  else
+    esf_contact_linear_eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], !c->touch[k],
+                            &c->h[k], &out);
   c->touch[k] = (uint8_t)out.touching;
   if (!out.touching) return;
   (*nt)++;
@@ -111,9 +118,11 @@ static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
   v3_axpy(t, la, m);
   if (rows) { /* the ledger, as forces.c's (a static wall: its point velocity +0) */
     double ket[3];
-    for (int q = 0; q < 3; q++) ket[q] = pp->kt * c->h[k].xi[q];
+    for (int q = 0; q < 3; q++)
+      ket[q] = pp->ht > 0 ? c->h[k].xi[q] : pp->kt * c->h[k].xi[q];
     esf_ledger_wall_rows(rows, in.n, la, out.fd_n, out.fel, out.fd_t, ket, out.slip_work,
                          out.e_el_n, out.e_el_t, out.f, zero3, dt);
+    if (pp->ht > 0) rows[ESF_LR_MET + 3] += out.w_st;
   }
 }
 
@@ -170,7 +179,7 @@ int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_
 
 esf_wall_pass_fn esf_wall_pass_select(const esf_sim *s) {
   /* all pairs: wall materials may pair by a law the particles' pairs do not use */
-  const int fast = s->mats.all_linear && !s->walls.moving && !s->tally &&
-                   !s->walls.gforce && !s->nb.pw.xs && !s->nb.pw.vc0;
+  const int fast = (s->mats.all_linear || s->mats.all_hertz) && !s->walls.moving &&
+                   !s->tally && !s->walls.gforce && !s->nb.pw.xs && !s->nb.pw.vc0;
   return fast ? esf_wall_fast_particle : esf_wall_general_particle;
 }

@@ -58,11 +58,12 @@ static double removed_elastic(const esf_sim *s, const unsigned char *keep) {
     double d[3];
     v3_sub(d, p->x + 3 * b, p->x + 3 * a);
     double un = p->radius[a] + p->radius[b] - v3_norm(d);
+    const double rs = p->radius[a] * p->radius[b] / (p->radius[a] + p->radius[b]);
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
     double fel; /* a separated pair stores no normal energy unless a bond holds it */
     if (un > 0 || esf_candidates_bonded(c, k))
-      e += pp->law->energy_n(pp, esf_candidates_bond(c, k), un, &fel);
-    e += 0.5 * pp->kt * v3_norm2(c->h[k].xi);
+      e += pp->law->energy_n(pp, esf_candidates_bond(c, k), un, rs, &fel);
+    e += esf_contact_energy_t(pp, c->h[k].xi, un, rs);
   }
   c = &s->nb.pw;
   for (size_t k = 0; k < c->n; k++) {
@@ -74,8 +75,8 @@ static double removed_elastic(const esf_sim *s, const unsigned char *keep) {
     double un = p->radius[a] - hit.dist;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
     double fel; /* walls never bond */
-    if (un > 0) e += pp->law->energy_n(pp, NULL, un, &fel);
-    e += 0.5 * pp->kt * v3_norm2(c->h[k].xi);
+    if (un > 0) e += pp->law->energy_n(pp, NULL, un, p->radius[a], &fel);
+    e += esf_contact_energy_t(pp, c->h[k].xi, un, p->radius[a]);
   }
   return e;
 }

@@ -78,10 +78,11 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
     in->vinc = NULL;
     pp->law->eval(pp, s->beta, s->cfg.tframe, in, &h, bond, 0, commit ? &c->h[k] : NULL,
                   out);
-    if (c->xsdot && out->touching) { /* xi' = vct + spin_n n x xi */
+    if (c->xsdot && out->touching) { /* xi' = vct + spin_n n x xi (Hertz: S_t vct) */
       double *r = c->xsdot + 3 * k, sp[3], fs[3];
       v3_copy(r, in->vc);
       v3_axpy(r, -v3_dot(in->vc, in->n), in->n);
+      if (pp->ht > 0) v3_scale(r, esf_law_hertz_st0_s(pp->ht, in->rstar, in->un), r);
       if (s->tally) { /* power into the tangential spring as applied (capped) */
         v3_sub(fs, out->ft, out->fd_t);
         s->tally->p_spring_t += v3_dot(fs, r);
@@ -122,10 +123,11 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
   return 1;
 }
 
-/* The tangential spring's force kt xi of a committed contact, on A. */
+/* The tangential spring's force kt xi of a committed contact, on A (the Hertz-Mindlin
+ * law's record xi is that force). */
 static void spring_t(const esf_pair_params *pp, const esf_contact_hist *h,
                      double ket[3]) {
-  for (int q = 0; q < 3; q++) ket[q] = pp->kt * h->xi[q];
+  for (int q = 0; q < 3; q++) ket[q] = pp->ht > 0 ? h->xi[q] : pp->kt * h->xi[q];
 }
 
 static int pair_forces(esf_sim *s, const double *x, const double *v, const double *w,
@@ -157,6 +159,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
                                         in.un, rmin, err);
     in.spin_n = 0.5 * (v3_dot(wa, in.n) + v3_dot(wb, in.n));
     in.mstar = p->mass[a] * p->mass[b] / (p->mass[a] + p->mass[b]);
+    in.rstar = ra * rb / (ra + rb);
     in.dt = dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
     esf_contact_out out;
@@ -174,6 +177,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
       spring_t(pp, &c->h[k], ket);
       esf_ledger_pair_rows(rows_a, rows + ESF_LR * b, in.n, la, lb, out.fd_n, out.fel,
                            out.fd_t, ket, out.slip_work, out.e_el_n, out.e_el_t);
+      if (pp->ht > 0) rows_a[ESF_LR_MET + 3] += out.w_st;
     }
     if (slips) slip += out.slip_work;
   }
@@ -260,6 +264,7 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
     contact_velocity(v, w, a, vw, NULL, la, 0, in.n, in.vc);
     in.spin_n = 0.5 * (v3_dot(w + 3 * a, in.n) + v3_dot(g->omega, in.n));
     in.mstar = p->mass[a];
+    in.rstar = p->radius[a];
     in.dt = dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + el->material];
     esf_contact_out out;
@@ -270,6 +275,7 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
       spring_t(pp, &c->h[k], ket);
       esf_ledger_wall_rows(rows, in.n, la, out.fd_n, out.fel, out.fd_t, ket,
                            out.slip_work, out.e_el_n, out.e_el_t, out.f, vw, dt);
+      if (pp->ht > 0) rows[ESF_LR_MET + 3] += out.w_st;
     }
     if (slip) *slip += out.slip_work;
     if (s->tally) s->tally->p_walls += v3_dot(out.f, vw);

@@ -62,6 +62,8 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
     s->beta = 2.0 * c->rayleigh_zeta / omega;
     s->mats.rayleigh_beta = s->beta;
   }
+  s->mats.hertz_constant = c->hertz_damping == 1;
+  s->mats.impact_speed = c->impact_speed;
   int rc = esf_materials_mix(&s->mats, err);
   if (!rc) rc = set_masses(s, err);
   if (!rc) rc = esf_walls_freeze(&s->walls, s->t, err); /* moving walls placed at t0 */
@@ -77,13 +79,14 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
                       esf_config_where(c, "integrator.dt"));
     s->dt = c->frac * crit;
     if (c->frac > 1 && !c->allow_unstable)
-      return esf_fail(err, ESF_EINPUT,
-                      "%s: integrator.frac = %.4g is above 1: dt would be %.4g x the "
-                      "critical step of the '%s' rule, %.6g s, and the run unstable. Use "
-                      "frac <= 1 (seeds: 0.1), or set integrator.allow_unstable: true for "
-                      "stability studies",
-                      esf_config_where(c, "integrator.frac"), c->frac, c->frac,
-                      esf_dt_rule_names[c->dt_rule], crit);
+      return esf_fail(
+          err, ESF_EINPUT,
+          "%s: integrator.frac = %.4g is above 1: dt would be %.4g x the "
+          "critical step of the '%s' rule, %.6g s, and the run unstable. Use "
+          "frac <= 1 (seeds: 0.1), or set integrator.allow_unstable: true for "
+          "stability studies",
+          esf_config_where(c, "integrator.frac"), c->frac, c->frac,
+          esf_dt_rule_names[c->dt_rule], crit);
   } else {
     s->dt = c->dt;
     if (s->dt > crit && !c->allow_unstable)

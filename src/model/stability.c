@@ -10,7 +10,9 @@
  * lambda_max comes from Lanczos on the operator applied contact by contact (no matrix):
  * a deterministic start vector, the tridiagonal's top Ritz value every 4 steps, stopped
  * when its residual bound is below 1e-3 of it. Springs are the linear law's kn and the
- * sticking kt (an adhesive pair's largest bonded tangent stiffness), dashpots as the law
+ * sticking kt (an adhesive pair's largest bonded tangent stiffness; the Hertz-Mindlin
+ * law's tangent stiffnesses S_n = 2 E* a, S_t = 8 G* a at the current overlap,
+ * a = sqrt(R* u)), dashpots as the law
  * has them, lever arms to the contact point, as in `esfera modes` (app/modes.c, which
  * assembles the same esf_stab_contact_apply densely); the turning normal's geometric
  * stiffness is neglected. Touching: overlap > 0, or bonded; a contact at its Coulomb
@@ -25,6 +27,7 @@
 #include <string.h>
 
 #include "bodies/wall_geom.h"
+#include "contact/lane_scalar.h"
 #include "model/forces.h"
 #include "util/clock.h"
 #include "util/vec3.h"
@@ -33,8 +36,17 @@
 #define LZ_EVERY 4    /* steps between tridiagonal solves */
 #define LZ_TOL   1e-3 /* residual bound / Ritz value to stop */
 
-void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar,
-                      double kc[4]) {
+void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar, double rstar,
+                      double un, double kc[4]) {
+  if (pp->law == &esf_contact_hertz) { /* tangent stiffnesses at un (contact_hertz.h) */
+    double ks, qa, sm = sqrt(mstar);
+    esf_law_hertz_springs_s(pp->hn, pp->ht, rstar, fmax(un, 0.0), &ks, &kc[0], &kc[1],
+                            &qa);
+    if (pp->hertz_constant) qa = esf_law_hertz_qref_s(pp->estar, sm, rstar, pp->v_imp);
+    esf_law_hertz_dashpots_s(beta, pp->cn_factor, pp->ct_factor, sm, qa, kc[0], kc[1],
+                             &kc[2], &kc[3]);
+    return;
+  }
   double kn = pp->law->flags & ESF_LAW_TENSION ? pp->adh.k_max : pp->kn;
   kc[0] = kn;
   kc[1] = pp->kt;
@@ -67,13 +79,14 @@ static void tangential(const esf_pair_params *pp, const esf_contact_hist *h, int
                        double un, const double n[3], esf_stab_contact *c) {
   c->slip = 0;
   if (pp->law->flags & ESF_LAW_TENSION) return;
-  double tau = pp->cohesion + pp->mu * pp->kn * un;
+  const int hz = pp->law == &esf_contact_hertz; /* fel (2/3) S_n u; xi the force */
+  double tau = pp->cohesion + pp->mu * (hz ? c->kc[0] / 1.5 : pp->kn) * un;
   if (tau <= 0) {
     c->kc[1] = c->kc[3] = 0.0;
     return;
   }
   double xi = live ? v3_norm(h->xi) : 0.0;
-  if (!(pp->kt * xi >= (1 - 1e-9) * tau)) return;
+  if (!((hz ? 1.0 : pp->kt) * xi >= (1 - 1e-9) * tau)) return;
   double s = v3_dot(h->xi, n), t[3], m;
   for (int q = 0; q < 3; q++) t[q] = h->xi[q] - s * n[q];
   m = v3_norm(t);
@@ -93,10 +106,12 @@ size_t esf_stab_contacts(const esf_sim *s, esf_stab_visit fn, void *ctx) {
     c.a = pp->a[k];
     c.b = pp->b[k];
     const esf_pair_params *par = &mt->pair[p->material[c.a] * mt->n + p->material[c.b]];
+    const double ra = p->radius[c.a], rb = p->radius[c.b];
+    const double u = ra - c.la + rb - c.lb;
     esf_stab_springs(par, s->beta,
-                     p->mass[c.a] * p->mass[c.b] / (p->mass[c.a] + p->mass[c.b]), c.kc);
-    tangential(par, &pp->h[k], pp->touch[k],
-               p->radius[c.a] - c.la + p->radius[c.b] - c.lb, c.n, &c);
+                     p->mass[c.a] * p->mass[c.b] / (p->mass[c.a] + p->mass[c.b]),
+                     ra * rb / (ra + rb), u, c.kc);
+    tangential(par, &pp->h[k], pp->touch[k], u, c.n, &c);
     fn(&c, ctx);
     cnt++;
   }
@@ -131,7 +146,7 @@ size_t esf_stab_contacts(const esf_sim *s, esf_stab_visit fn, void *ctx) {
       c.lb = 0.0;
       const esf_pair_params *par =
           &mt->pair[p->material[a] * mt->n + s->walls.e[elem[j]].material];
-      esf_stab_springs(par, s->beta, p->mass[a], c.kc);
+      esf_stab_springs(par, s->beta, p->mass[a], p->radius[a], un[j], c.kc);
       tangential(par, &pw->h[kk[j]], pw->touch[kk[j]], un[j], c.n, &c);
       fn(&c, ctx);
       cnt++;

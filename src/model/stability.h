@@ -49,8 +49,10 @@ static inline void esf_stab_contact_apply(const double n[3], const double *t, do
 
 /* kn, kt, cn, ct of a contact of material pair pp with reduced mass mstar (the linear
  * law's dashpots, contact_linear.c; an adhesive pair's largest bonded tangent
- * stiffness); beta > 0: Rayleigh dashpots c = beta k. */
-void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar, double kc[4]);
+ * stiffness; the Hertz-Mindlin law's tangent stiffnesses and dashpots at overlap un,
+ * reduced radius rstar, contact_hertz.h); beta > 0: Rayleigh dashpots c = beta k. */
+void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar, double rstar,
+                      double un, double kc[4]);
 
 /* One touching contact as the check sees it: bodies a and b (b < 0: a wall), unit
  * normal n from a, lever arms, kc = kn, kt, cn, ct (esf_stab_springs; kt and ct zero

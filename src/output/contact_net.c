@@ -52,6 +52,7 @@ static double normal_force(const esf_sim *s, size_t k, const double d[3], double
     in.vc[q] = p->v[3 * b + q] + tb[q] - p->v[3 * a + q] - ta[q];
   in.spin_n = 0.5 * (v3_dot(p->w + 3 * a, in.n) + v3_dot(p->w + 3 * b, in.n));
   in.mstar = p->mass[a] * p->mass[b] / (p->mass[a] + p->mass[b]);
+  in.rstar = p->radius[a] * p->radius[b] / (p->radius[a] + p->radius[b]);
   in.dt = s->dt;
   in.vinc = NULL;
   const esf_materials *mt = &s->mats;

@@ -42,9 +42,47 @@ static int read_adhesion(const esf_ynode *m, esf_material *mat, esf_error *err) 
                           "must be a non-negative force in N (the largest tension), "
                           "got %g",
                           mat->adhesion_force);
+  if (mat->youngs_modulus > 0) return ESF_OK; /* refused by read_stiffness */
   if (esf_adhesion_derive(mat->adhesion_force, mat->adhesion_epsilon, mat->kn, &a, &e2))
     return esf_ynode_fail(esf_ymap_get(ad, "epsilon"), err, "%s", e2.msg);
   return ESF_OK;
+}
+
+/* kn (and kt) for the linear law, or youngs_modulus and poisson_ratio for the
+ * Hertz-Mindlin law (docs/scene.md#materials), never both. */
+static int read_stiffness(const esf_ynode *m, esf_material *mat, esf_error *err) {
+  const esf_ynode *E = esf_ymap_get(m, "youngs_modulus"),
+                  *nu = esf_ymap_get(m, "poisson_ratio");
+  const esf_ynode *kn = esf_ymap_get(m, "kn"), *kt = esf_ymap_get(m, "kt");
+  if (!E && !nu) {
+    int rc = esf_yget_double(m, "kn", 1, &mat->kn, err);
+    if (!rc) rc = positive(m, "kn", mat->kn, 1, err);
+    mat->kt = mat->kn;
+    if (!rc) rc = esf_yget_double(m, "kt", 0, &mat->kt, err);
+    if (!rc) rc = positive(m, "kt", mat->kt, 0, err);
+    return rc;
+  }
+  if (kn || kt)
+    return esf_ynode_fail(kn ? kn : kt, err,
+                          "give kn (the linear law) or youngs_modulus and poisson_ratio "
+                          "(Hertz-Mindlin), not both");
+  if (!E || !nu)
+    return esf_ynode_fail(m, err,
+                          "the Hertz-Mindlin law needs both youngs_modulus and "
+                          "poisson_ratio");
+  int rc = esf_ynode_double(E, &mat->youngs_modulus, err);
+  if (!rc && !(mat->youngs_modulus > 0))
+    return esf_ynode_fail(E, err, "must be a positive modulus in Pa, got %g",
+                          mat->youngs_modulus);
+  if (!rc) rc = esf_ynode_double(nu, &mat->poisson_ratio, err);
+  if (!rc && !(mat->poisson_ratio >= 0 && mat->poisson_ratio < 0.5))
+    return esf_ynode_fail(nu, err, "must be in [0, 0.5), got %g", mat->poisson_ratio);
+  if (!rc && esf_ymap_get(m, "adhesion"))
+    return esf_ynode_fail(
+        esf_ymap_get(m, "adhesion"), err,
+        "adhesion (the adhesive law) is not defined for a Hertz-Mindlin "
+        "material (youngs_modulus)");
+  return rc;
 }
 
 static int read_material(const esf_ynode *name_key_map, size_t k, esf_sim *s,
@@ -58,7 +96,9 @@ static int read_material(const esf_ynode *name_key_map, size_t k, esf_sim *s,
                                      "friction_angle",
                                      "cohesion",
                                      "tensile_limit",
-                                     "adhesion", /* bond: the adhesive law */
+                                     "adhesion",       /* bond: the adhesive law */
+                                     "youngs_modulus", /* the Hertz-Mindlin law */
+                                     "poisson_ratio",
                                      NULL};
   const esf_ynode *m = name_key_map->items[k];
   const char *name = name_key_map->keys[k];
@@ -76,11 +116,7 @@ static int read_material(const esf_ynode *name_key_map, size_t k, esf_sim *s,
   mat.friction = 0.0;
   mat.tensile_limit = -1;
   rc = esf_yget_double(m, "density", 0, &mat.density, err);
-  if (!rc) rc = esf_yget_double(m, "kn", 1, &mat.kn, err);
-  if (!rc) rc = positive(m, "kn", mat.kn, 1, err);
-  mat.kt = mat.kn;
-  if (!rc) rc = esf_yget_double(m, "kt", 0, &mat.kt, err);
-  if (!rc) rc = positive(m, "kt", mat.kt, 0, err);
+  if (!rc) rc = read_stiffness(m, &mat, err);
   if (!rc) rc = esf_yget_double(m, "restitution", 0, &mat.restitution, err);
   if (!rc && !(mat.restitution > 0 && mat.restitution <= 1))
     return esf_ynode_fail(esf_ymap_get(m, "restitution"), err,
@@ -126,6 +162,16 @@ static int read_materials(const esf_ynode *root, esf_sim *s, esf_error *err) {
   if (rc) return rc;
   if (ms->n == 0) return esf_ynode_fail(ms, err, "define at least one material");
   for (size_t k = 0; k < ms->n && !rc; k++) rc = read_material(ms, k, s, err);
+  for (size_t k = 1; k < ms->n && !rc; k++) /* the laws never mix (material.c) */
+    if ((s->mats.m[k].youngs_modulus > 0) != (s->mats.m[0].youngs_modulus > 0))
+      return esf_ynode_fail(ms->items[k], err,
+                            "material '%s' uses the %s law, material '%s' the %s law: a "
+                            "Hertz-Mindlin material cannot meet a linear one (no mixing "
+                            "rule); give every material youngs_modulus or every one kn",
+                            s->mats.m[k].name,
+                            s->mats.m[k].youngs_modulus > 0 ? "Hertz-Mindlin" : "linear",
+                            s->mats.m[0].name,
+                            s->mats.m[0].youngs_modulus > 0 ? "Hertz-Mindlin" : "linear");
   if (rc) return rc;
   esf_mixing_default(&s->mats.mixing);
   const esf_ynode *mx = esf_ymap_get(root, "mixing");
@@ -159,10 +205,10 @@ static int read_materials(const esf_ynode *root, esf_sim *s, esf_error *err) {
 }
 
 static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err) {
-  static const char *const keys[] = {"method",         "dt",    "dt_rule", "frac",
-                                     "allow_unstable", "rtol",  "atol",    "history",
-                                     "max_steps",      "roots", "fused",   "stability",
-                                     "stability_every", NULL};
+  static const char *const keys[] = {
+      "method", "dt",        "dt_rule",         "frac",         "allow_unstable",
+      "rtol",   "atol",      "history",         "max_steps",    "roots",
+      "fused",  "stability", "stability_every", "impact_speed", NULL};
   const esf_ynode *in = esf_ymap_get(root, "integrator");
   if (!in) return ESF_OK;
   int rc = esf_ynode_require_map(in, err);
@@ -198,6 +244,8 @@ static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err)
   if (!rc) rc = esf_yget_bool(in, "fused", 0, &c->fused, err);
   if (!rc) rc = esf_yget_choice(in, "stability", 0, esf_stab_names, &c->stability, err);
   if (!rc) rc = esf_yget_long(in, "stability_every", 0, &c->stability_every, err);
+  if (!rc) rc = esf_yget_double(in, "impact_speed", 0, &c->impact_speed, err);
+  if (!rc) rc = positive(in, "impact_speed", c->impact_speed, 1, err);
   if (!rc && c->stability_every <= 0)
     return esf_ynode_fail(esf_ymap_get(in, "stability_every"), err,
                           "must be a positive number of steps");
@@ -266,9 +314,10 @@ static int read_damping(const esf_ynode *root, esf_config *c, esf_error *err) {
 }
 
 static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
-  static const char *const ckeys[] = {"tangential_frame", "max_overlap",
+  static const char *const ckeys[] = {"tangential_frame", "hertz_damping", "max_overlap",
                                       "allow_initial_overlap", NULL};
   static const char *const frames[] = {"rotate", "project", NULL};
+  static const char *const hdamp[] = {"tsuji", "constant", NULL};
   static const char *const skeys[] = {"skin", "reorder", NULL};
   static const char *const rkeys[] = {"duration", "steps", NULL};
   static const char *const okeys[] = {"every",    "energy_every",     "dir",
@@ -278,6 +327,7 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
   if (ct) {
     rc = esf_ymap_check_keys(ct, ckeys, err);
     if (!rc) rc = esf_yget_choice(ct, "tangential_frame", 0, frames, &c->tframe, err);
+    if (!rc) rc = esf_yget_choice(ct, "hertz_damping", 0, hdamp, &c->hertz_damping, err);
     if (!rc) rc = esf_yget_double(ct, "max_overlap", 0, &c->max_overlap, err);
     if (!rc) rc = positive(ct, "max_overlap", c->max_overlap, 1, err);
     if (!rc)
