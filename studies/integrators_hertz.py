@@ -240,6 +240,61 @@ def order_table(rows, meta):
     return lines
 
 
+def error_at(rows, case, method, n):
+    pts = curve([r for r in rows if r["case"] == case and r["method"] == method])
+    hit = [p["error"] for p in pts if round(1 / p["setting"]) == n]
+    return hit[0] if hit else float("nan")
+
+
+def error_table(rows, meta):
+    """Markdown lines: the error (largest over the phases) at 64 and 512 steps per
+    contact, per case and method."""
+    lines = ["Error at 64 / 512 steps per contact (largest over the phases):", "",
+             "| case | " + " | ".join(SHORT.get(m, m) for m in METHODS) + " |",
+             "|---|" + "---|" * len(METHODS)]
+    for case in CASES:
+        if case in meta:
+            lines.append(f"| {CASES[case][0]} | " + " | ".join(
+                f"{error_at(rows, case, m, 64):.1e} / {error_at(rows, case, m, 512):.1e}"
+                for m in METHODS) + " |")
+    return lines
+
+
+def findings(rows, meta):
+    """The conclusions, with the fitted ERK slopes (median over the five tables) per
+    case."""
+    med = {}
+    for case in CASES:
+        if case in meta:
+            sl = [orders(curve([r for r in rows if r["case"] == case and r["method"] == m]),
+                         meta[case]["floor"]) for m in METHODS[1:]]
+            sl = [o["all"] for o in sl if o]
+            med[case] = float(np.median(sl)) if sl else float("nan")
+
+    def m(c):
+        return f"{med.get(c, float('nan')):.2f}"
+    return [
+        "Findings:", "",
+        "- The ERK methods keep exactly the order the force's smoothness at onset allows "
+        "(k + 1 for a force rising as s^k after touch): median fitted slopes "
+        f"{m('linear_undamped')} (linear spring, k = 1), {m('hertz_undamped')} (Hertz, "
+        f"k = 3/2), {m('hertz_tsuji')} (Hertz with the u^(1/4) dashpot, whose force "
+        f"rises as t^(1/4)), {m('hertz_constant')} (constant dashpot, a jump) and "
+        f"{m('linear_damped')} (linear dashpot, a jump). No table of order 3 to 6 "
+        "reaches its nominal order: the undamped Hertz impact gains half an order over "
+        "the linear one, and any dashpot takes it back, the Tsuji form down to 1.25.",
+        "- The leapfrog is second order on both undamped impacts and first order with "
+        "any dashpot: its forces take the half-step velocity v_(n-1/2) (physics.md, "
+        "Leapfrog), an O(dt) error in the dashpot whatever the force's smoothness "
+        "(1.0 also with the Tsuji form, where the ERK tables reach 1.25).",
+        "- At equal steps per contact the higher-order tables are still more accurate "
+        "(the constants differ), but not by a factor that grows with the order: per "
+        "halving of the step every table of order k + 1 or more gains the same factor "
+        "2^(k+1); on the undamped Hertz impact RK4, DP5 and V6 sit within a factor 2 "
+        "of each other at 64 steps per contact and 25-55x below the leapfrog, for 4 to "
+        "9 times its rhs evaluations per step."]
+
+
 def plot(path, rows, meta):
     import matplotlib
     matplotlib.use("Agg")
@@ -277,7 +332,8 @@ def section(rows, meta, run_note):
              "reference floor (the finer half's slope, the error span); nominal orders "
              "in the header; 'expected' is the order the force's smoothness at onset "
              "allows (k + 1 for F ~ s^k), capped by the nominal one.", ""]
-    lines += order_table(rows, meta) + ["", "References:", ""]
+    lines += order_table(rows, meta) + [""] + error_table(rows, meta) + [""]
+    lines += findings(rows, meta) + ["", "References:", ""]
     lines += [f"- {CASES[c][0]}: {meta[c]['note']}." for c in CASES if c in meta]
     return lines + [""]
 
