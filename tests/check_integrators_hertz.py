@@ -3,8 +3,9 @@
 mode (leapfrog and DP5 on the five head-on cases, 16 .. 1024 steps per contact, two
 onset phases; about 15 s) into a temporary directory: every case measured, its CSV,
 JSON, PNG and section written, the references (closed forms: the adaptive reference
-within 1e-9 of them), every curve's error falling at least 30-fold from 16 to 1024 steps
-per contact, and the clearest orders even at four step sizes: the leapfrog's 2 on the
+within 1e-9 of them), every curve's error falling at least 15-fold from 16 to 1024 steps
+per contact (64-fold at order 1, less the onset phase's scatter), and the clearest
+orders even at four step sizes: the leapfrog's 2 on the
 undamped cases (linear and Hertz) and 1 on the linear damped one (within 0.35), DP5's
 above 2.1 on the undamped Hertz impact. Then the committed full results
 (studies/results/integrators/hertz_orders.csv and .json): all five cases, and the
@@ -61,7 +62,7 @@ with tempfile.TemporaryDirectory() as tmp:
         for m in ("leapfrog", DP5):
             pts = ih.curve([r for r in rows if r["case"] == case and r["method"] == m])
             drop = pts[0]["error"] / pts[-1]["error"] if len(pts) == 4 else 0.0
-            check(drop > 30, f"{case} {m}: error falls {drop:.3g}-fold over 16..1024")
+            check(drop > 15, f"{case} {m}: error falls {drop:.3g}-fold over 16..1024")
     s = slopes(rows, meta)
     for case, want in (("linear_undamped", 2.0), ("hertz_undamped", 2.0),
                        ("linear_damped", 1.0)):
