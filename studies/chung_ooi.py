@@ -262,10 +262,13 @@ def published(test, mat):
 
 
 def published_at(points, x):
-    """The digitised curve at x (linear between points), None outside its range."""
+    """The digitised curve at x (linear between points; the end value within 3 % of
+    the x range beyond an end: digitised points sit off the exact abscissa), None
+    further out."""
     pts = sorted(points)
     xs, ys = [a for a, _ in pts], [b for _, b in pts]
-    if not xs or x < xs[0] - 1e-9 or x > xs[-1] + 1e-9:
+    slack = 0.03 * (xs[-1] - xs[0]) if xs else 0.0
+    if not xs or x < xs[0] - slack or x > xs[-1] + slack:
         return None
     return float(np.interp(x, xs, ys))
 
