@@ -3,8 +3,12 @@
 Hertz-Mindlin law, against the paper's published curves (digitised:
 chung_ooi_published.py) and the rigid-body closed forms of gross sliding.
 
-Chung Y.C., Ooi J.Y., Granular Matter 13 (2011) 643-656. The tests' definitions (one
-sphere and a rigid plane, or two spheres; no gravity):
+Chung Y.C., Ooi J.Y., Granular Matter 13 (2011) 643-656. The tests' definitions and
+data, as the peer codes' inputs for these tests give them (the paper itself was not
+available here): Yade's Chung & Ooi scripts (test 4), LIGGGHTS-PFM's
+examples/LIGGGHTS/PFM/tests/contact_models/chung/test04..test07, and the PySPH fork
+github.com/dineshadepu/pysph (tests 4, 5); they agree where they overlap. One sphere and
+a rigid plane, or two spheres; no gravity:
   test4  R = 2.5 mm, |v| = 3.9 m/s at 5-85 deg from the normal, no spin, e = 0.98,
          mu = 0.092; aluminium oxide (E 380 GPa, nu 0.23, rho 4000) and aluminium alloy
          (70 GPa, 0.33, 2700). Observed: e_t = v_t'/v_t and the spin w' (rad/s).
@@ -37,7 +41,7 @@ v_c' = 0, hence e_t = 5/7 from rest.
 
 Run: /usr/bin/python3 studies/chung_ooi.py [--out DIR] [--esfera PATH] [--tests 4,5]
 Writes DIR (default studies/results/chung_ooi/): chung_ooi.csv (every impact), test4.png
-.. test7.png and report.md (chung_ooi_report.py). About a minute.
+.. test7.png and report.md (chung_ooi_report.py). About 10 s.
 """
 import argparse
 import math
@@ -48,11 +52,11 @@ import sys
 import numpy as np
 
 import chung_ooi_published as pub
-from common import fmt, last_frame, run, write_csv, write_scene
+from common import last_frame, run, write_csv, write_scene
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
-MATERIALS = {  # E (Pa), nu, rho (kg/m^3): Chung & Ooi's tables
+MATERIALS = {  # E (Pa), nu, rho (kg/m^3): Chung & Ooi's materials (see the docstring)
     "al_oxide": (3.8e11, 0.23, 4000.0), "al_alloy": (7.0e10, 0.33, 2700.0),
     "steel": (2.08e11, 0.30, 7850.0), "polyethylene": (1.0e9, 0.40, 1400.0),
     "nylon": (2.5e9, 0.40, 1000.0), "copper": (1.2e11, 0.35, 8900.0)}
@@ -315,7 +319,3 @@ def main(argv):
 
 if __name__ == "__main__":
     sys.exit(main(sys.argv[1:]))
-
-
-__all__ = ["TESTS", "MATERIALS", "NAMES", "impact", "closed_form", "published",
-           "published_at", "hertz_time", "fmt"]
