@@ -197,6 +197,7 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   q[ESF_ODE_QW] = ty.p_walls;
   q[ESF_ODE_QF] = ty.p_spring_t;
   q[ESF_ODE_QFL] = ty.p_fluid;
+  q[ESF_ODE_QS] = ty.p_stiff;
   return 0;
 }
 
@@ -231,8 +232,12 @@ int esf_dem_ode_commit(esf_dem_ode *o, double t, const double *y, esf_error *err
     L->d_local = q[ESF_ODE_QL];
     L->w_walls = q[ESF_ODE_QW];
     L->w_fluid = q[ESF_ODE_QFL];
-    if (o->state) /* work into the springs less what they hold (the returns included) */
-      L->d_friction = q[ESF_ODE_QF] - (L->el_t - o->el_t0);
+    if (o->state) { /* work into the springs less what they hold (the returns
+                       included), and the Hertz springs' stiffness changes; frozen
+                       history: the commits book them (forces.c) */
+      L->w_stiff = q[ESF_ODE_QS];
+      L->d_friction = q[ESF_ODE_QF] + q[ESF_ODE_QS] - (L->el_t - o->el_t0);
+    }
   }
   return ESF_OK;
 }

@@ -45,6 +45,7 @@ enum {
   ESF_ODE_QW,
   ESF_ODE_QF,
   ESF_ODE_QFL, /* work of the fluid force (drag.c) */
+  ESF_ODE_QS,  /* Hertz tangential springs' stiffness changes (forces.c p_stiff) */
   ESF_ODE_NQ
 };
 

@@ -1,7 +1,8 @@
 /* erk.c — ARKODE ERKStep explicit Runge-Kutta methods on the DEM right-hand side
  * (dem_ode.h): `erk:<TABLE>` for any explicit table of SUNDIALS 6.4 by name
- * (ARKODE_HEUN_EULER_2_1_2 ... ARKODE_VERNER_8_5_6, ARKODE_FEHLBERG_13_7_8) and `rk4`,
- * the classical fourth-order method as a custom Butcher table.
+ * (ARKODE_HEUN_EULER_2_1_2 ... ARKODE_VERNER_8_5_6, ARKODE_FEHLBERG_13_7_8), `rk4`,
+ * the classical fourth-order method as a custom Butcher table, and `erk` with the
+ * scene's own table (integrator.table, checked by the scene reader: scene_butcher.c).
  *
  * Fixed step (integrator.rtol = 0): dt from integrator.dt or frac x the critical step.
  * Adaptive (rtol > 0, tables with an embedding only): tolerances rtol and atol on x, v,
@@ -117,6 +118,21 @@ static ARKodeButcherTable rk4_table(void) {
   realtype A[16] = {0, 0, 0, 0, 0.5, 0, 0, 0, 0, 0.5, 0, 0, 0, 0, 1, 0};
   realtype b[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6};
   return ARKodeButcherTable_Create(4, 4, 0, c, A, b, NULL);
+}
+
+/* The scene's table (cfg.table, s > 0), with its stated orders. */
+static ARKodeButcherTable scene_table(const esf_butcher *u) {
+  realtype A[ESF_BUTCHER_MAX * ESF_BUTCHER_MAX], c[ESF_BUTCHER_MAX], b[ESF_BUTCHER_MAX],
+      d[ESF_BUTCHER_MAX];
+  int s = u->s;
+  for (int i = 0; i < s; i++) {
+    c[i] = u->c[i];
+    b[i] = u->b[i];
+    d[i] = u->d[i];
+    for (int j = 0; j < s; j++) A[i * s + j] = u->A[i][j];
+  }
+  return ARKodeButcherTable_Create(s, u->q, u->has_d ? u->p : 0, c, A, b,
+                                   u->has_d ? d : NULL);
 }
 
 /* SUNDIALS 6.4.1's ERKStep takes any table with c_s = 1 for "first same as last" and
@@ -240,7 +256,10 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   if (hc) return hc;
   if (SUNContext_Create(NULL, &e->ctx))
     return esf_fail(err, ESF_EINTERNAL, "cannot create a SUNDIALS context");
-  if (strcmp(tname, "rk4") == 0)
+  int own = strcmp(c->method, "erk") == 0 && c->table.s > 0;
+  if (own)
+    e->table = scene_table(&c->table);
+  else if (strcmp(tname, "rk4") == 0)
     e->table = rk4_table();
   else
     e->table = load_table(tname);
@@ -253,7 +272,8 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
     }
     return esf_fail(err, ESF_EINPUT,
                     "%s: integrator.method: '%s' is not an explicit Runge-Kutta table "
-                    "of SUNDIALS 6.4: give rk4 or erk:ARKODE_<NAME>, NAME one of %s",
+                    "of SUNDIALS 6.4: give rk4, erk with integrator.table, or "
+                    "erk:ARKODE_<NAME>, NAME one of %s",
                     esf_config_where(c, "integrator.method"), c->method, list);
   }
   int adaptive = c->rtol > 0;
@@ -283,9 +303,9 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   rc = erk_mem_create(e, s->dt, err);
   if (rc) return rc;
   esf_sim_log(s,
-              "%s: %d stages, order %d%s; stability radius %.3f along the xi = %.3f "
+              "%s%s: %d stages, order %d%s; stability radius %.3f along the xi = %.3f "
               "ray, omega_max %.4g rad/s: h_stab %.4g s; %s; history %s%s",
-              c->method, e->table->stages, e->table->q,
+              c->method, own ? " (the scene's table)" : "", e->table->stages, e->table->q,
               e->table->d ? " with an embedding" : "", e->r_stab, s->dte.xi, sqrt(w2),
               e->h_stab, adaptive ? "adaptive" : "fixed step",
               esf_history_names[c->history],
@@ -453,6 +473,8 @@ static int erk_save(esf_sim *s, void *state, esf_blob *out, esf_error *err) {
   esf_blob_put(out, N_VGetArrayPointer(e->y), e->ode.len * sizeof(double));
   if (e->atol)
     esf_blob_put(out, N_VGetArrayPointer(e->atol), e->ode.len * sizeof(double));
+  if (s->cfg.table.s > 0) /* the scene's table, for the resumed run to compare */
+    esf_blob_put(out, &s->cfg.table, sizeof s->cfg.table);
   /* the restart both runs make */
   ERKStepFree(&e->mem);
   for (int k = 0; k < 6; k++) e->base[k] = cnt[k];
@@ -466,8 +488,9 @@ static int erk_restore(esf_sim *s, void *state, esf_blob_in *in, esf_error *err)
     return esf_fail(err, ESF_EINPUT, "%s: the saved state is cut short", e->name);
   e->ode.n = s->p.n;
   size_t len = esf_dem_ode_layout(&e->ode);
+  size_t own = s->cfg.table.s > 0 ? sizeof s->cfg.table : 0;
   if ((size_t)v.len != len || (v.has_atol != 0) != (s->cfg.rtol > 0) ||
-      in->n - in->pos != (v.has_atol ? 2 : 1) * len * sizeof(double))
+      in->n - in->pos != (v.has_atol ? 2 : 1) * len * sizeof(double) + own)
     return esf_fail(err, ESF_EINPUT,
                     "%s: the saved ODE state has %lld entries, the restored lists need "
                     "%zu",
@@ -504,6 +527,13 @@ static int erk_restore(esf_sim *s, void *state, esf_blob_in *in, esf_error *err)
         return esf_fail(err, ESF_EINPUT, "%s: a saved tolerance is not positive",
                         e->name);
   }
+  esf_butcher saved;
+  if (own && (esf_blob_get(in, &saved, sizeof saved) ||
+              memcmp(&saved, &s->cfg.table, sizeof saved) != 0))
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: integrator.table: the scene's Butcher table differs from the "
+                    "one the checkpoint was written with",
+                    esf_config_where(&s->cfg, "integrator.table"));
   e->t_save = v.t_save;
   e->t_event = v.t_event;
   e->ode.t_commit = v.t_commit;
@@ -556,7 +586,8 @@ static void erk_destroy(void **state) {
 
 const esf_integrator_type esf_integrator_erk = {
     .name = "erk",
-    .summary = "erk:<TABLE> or rk4: SUNDIALS ARKODE explicit Runge-Kutta, fixed step or "
+    .summary = "erk:<TABLE>, rk4, or erk with integrator.table: SUNDIALS ARKODE explicit "
+               "Runge-Kutta, fixed step or "
                "adaptive (rtol, atol) with the DEM stability bound",
     .order = 0, /* the table's */
     .flags = ESF_INTEG_FIXED_STEP | ESF_INTEG_ADAPTIVE,

@@ -279,5 +279,63 @@ sed 's/kn: 1.0e5,/youngs_modulus: 1e9,/' "$tmp/ok.yaml" > "$tmp/h5.yaml"
 expect "youngs_modulus without poisson_ratio" 2 "h5.yaml:3:[0-9]+: .*needs both youngs_modulus and poisson_ratio" \
   -- run "$tmp/h5.yaml" --out "$tmp/oh5"
 
+sed 's/kn: 1.0e5,/youngs_modulus: 1e9, poisson_ratio: 0.3,/; s|normal: \[0, 0, 1\]}, material: glass}|normal: [0, 0, 1]}, material: glass, motion: {servo: {stress: 1.0e4, direction: [0, 0, 1], max_speed: 0.1, area: 0.01}}}|' \
+  "$tmp/ok.yaml" > "$tmp/h7.yaml"
+expect "servo walls with Hertz" 2 "h7.yaml:[0-9]+:[0-9]+: servo walls need the linear law's kn" \
+  -- run "$tmp/h7.yaml" --out "$tmp/oh7"
+expect "Hertz in 2D" 2 "h5.yaml:[0-9]+:[0-9]+: the Hertz-Mindlin law .* is the law of spheres" \
+  -- run "$tmp/h5.yaml" --set 'materials.glass.poisson_ratio=0.3' --set dimension=2 --out "$tmp/oh8"
+expect "rayleigh rule with the linear law" 2 "--set integrator.dt_rule=rayleigh: integrator.dt_rule: rayleigh needs the Hertz-Mindlin law" \
+  -- run "$tmp/ok.yaml" --set integrator.dt_rule=rayleigh --out "$tmp/oh6"
+
+# Butcher tables from the scene (integrator.table): each check fails at its node
+table() {  # $1: c, $2: A, $3: b, $4: order, $5 extra table lines
+  good "" "integrator:
+  method: erk
+  table:
+    c: $1
+    A: $2
+    b: $3
+    order: $4${5:-}"
+}
+table "[0, 1/2, 3/4]" "[[], [1/2], [0, 3/4]]" "[2/9, 1/3, 4/9]" 3 > "$tmp/t0.yaml"
+expect "Ralston 3 typed in runs" 0 "^$" -- run "$tmp/t0.yaml" --out "$tmp/ot0" --quiet
+table "[0, 1/2, 3/4]" "[[], [1/2], [0, 3/4, 0.1]]" "[2/9, 1/3, 4/9]" 3 > "$tmp/t1.yaml"
+expect "table not explicit" 2 "t1.yaml:15:29: integrator.table.A.2.2: a_22 = 0.1: an explicit table has a_ij = 0 for j >= i" \
+  -- run "$tmp/t1.yaml" --out "$tmp/ot1"
+table "[0, 1/2, 0.7]" "[[], [1/2], [0, 3/4]]" "[2/9, 1/3, 4/9]" 3 > "$tmp/t2.yaml"
+expect "table c not the row sums" 2 "t2.yaml:14:17: integrator.table.c.2: c_2 = 0.6999.*, but row 2 of A sums to 0.75" \
+  -- run "$tmp/t2.yaml" --out "$tmp/ot2"
+table "[0, 1]" "[[], [1]]" "[1/2, 1/2]" 3 > "$tmp/t3.yaml"
+expect "order 3 claimed for Heun's second-order table" 2 "t3.yaml:17:12: integrator.table.order: order 3 claimed, but b has order 2: the order-3 condition sum b c\^2 = 1/3 fails \(0.5, off by 0.167\)" \
+  -- run "$tmp/t3.yaml" --out "$tmp/ot3"
+table "[0, 1/2, 3/4]" "[[], [1/2], [0, 3/4]]" "[2/9, 1/3]" 3 > "$tmp/t4.yaml"
+expect "table b too short" 2 "t4.yaml:16:8: integrator.table.b: has 2 entries, c has 3 \(one per stage\)" \
+  -- run "$tmp/t4.yaml" --out "$tmp/ot4"
+table "[0, 1/2, 3/4]" "[[], [1/2]]" "[2/9, 1/3, 4/9]" 3 > "$tmp/t5.yaml"
+expect "table A short of a row" 2 "t5.yaml:15:8: integrator.table.A: has 2 rows, c has 3 stages" \
+  -- run "$tmp/t5.yaml" --out "$tmp/ot5"
+table "[0, 1/2, 3/4]" "[[], [1/2, 0, 0, 0], [0, 3/4]]" "[2/9, 1/3, 4/9]" 3 > "$tmp/t6.yaml"
+expect "table A row of 4 in 3 stages" 2 "t6.yaml:15:13: integrator.table.A.1: row 1 has 4 entries: give 1 .*, 2 .* or 3" \
+  -- run "$tmp/t6.yaml" --out "$tmp/ot6"
+expect "adaptive steps without an embedding" 2 "^esfera: --set integrator.rtol=1e-6: integrator.rtol: adaptive steps \(rtol > 0\) need an error estimate" \
+  -- run "$tmp/t0.yaml" --out "$tmp/ot7" --set integrator.rtol=1e-6
+table "[0, 1/2, 3/4]" "[[], [1/2], [0, 3/4]]" "[2/9, 1/3, 4/9]" 3 "
+    b_embedded: [0, 1, 0]
+    embedded_order: 3" > "$tmp/t8.yaml"
+expect "embedded order over-claimed" 2 "t8.yaml:19:21: integrator.table.embedded_order: order 3 claimed, but b_embedded has order 2: the order-3 condition sum b_embedded c\^2 = 1/3 fails \(0.25, off by -0.0833\)" \
+  -- run "$tmp/t8.yaml" --out "$tmp/ot8"
+expect "a table for another method" 2 "t0.yaml:14:5: integrator.table: a Butcher table is for method: erk \(method is rk4\)" \
+  -- run "$tmp/t0.yaml" --out "$tmp/ot9" --set integrator.method=rk4
+good "" "integrator: {method: erk}" > "$tmp/t10.yaml"
+expect "method erk without a table" 2 "t10.yaml:11:22: integrator.method: method erk takes its Butcher table from integrator.table" \
+  -- run "$tmp/t10.yaml" --out "$tmp/ot10"
+table "[0, 1/2, 3/4]" "[[], [1/0], [0, 3/4]]" "[2/9, 1/3, 4/9]" 3 > "$tmp/t11.yaml"
+expect "table entry 1/0" 2 "t11.yaml:15:14: integrator.table.A.1.0: expected a number or a fraction p/q, got '1/0'" \
+  -- run "$tmp/t11.yaml" --out "$tmp/ot11"
+table "[0, 1/2, 3/4]" "[[], [1/2], [0, 3/4]]" "[2/9, 1/3, 4/9]" 9 > "$tmp/t12.yaml"
+expect "order beyond the checked ones" 2 "t12.yaml:17:12: integrator.table.order: must be 1 to 8" \
+  -- run "$tmp/t12.yaml" --out "$tmp/ot12"
+
 echo "bad_input: $pass passed, $fail failed"
 [ "$fail" = 0 ]

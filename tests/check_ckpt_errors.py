@@ -24,7 +24,7 @@ import zlib
 
 import h5py
 
-from ckpt_common import ERK, esfera, identical, run_ok, write_scene
+from ckpt_common import ERK, ERK_TABLE, esfera, identical, run_ok, write_scene
 from pycheck import check, finish
 
 
@@ -101,6 +101,12 @@ def misfits(exe, tmp, scene, ref, data):
     erk = os.path.join(tmp, "erk")
     run_ok(exe, "run", scene, "--out", erk, "--quiet", *ERK, "--checkpoint-every", "0.004")
     data_erk = open(os.path.join(erk, "checkpoint.esf"), "rb").read()
+    # and one with the scene's Butcher table (esf_butcher last in INTEG: 4 int32, then
+    # c[16], b[16], d[16], A[16][16]; b_0 sits 2304 bytes before the end)
+    erk_t = os.path.join(tmp, "erk_table")
+    run_ok(exe, "run", scene, "--out", erk_t, "--quiet", *ERK_TABLE, "--checkpoint-every",
+           "0.004")
+    data_erk_t = open(os.path.join(erk_t, "checkpoint.esf"), "rb").read()
     cases = [
         (off, "LEDGER", put("<i", 0, 1), ["energy ledger is on in it, off"],
          "ledger flag set on a scene without the ledger"),
@@ -128,11 +134,13 @@ def misfits(exe, tmp, scene, ref, data):
          "adaptive ERK: step size -1"),
         (erk, "INTEG", put("<d", 200, float("nan")), ["ODE state is not finite"],
          "adaptive ERK: NaN in y"),
+        (erk_t, "INTEG", put("<d", -2304, 0.25), ["Butcher table differs"],
+         "the scene's Butcher table: b_0 changed"),
     ]
     for k, (src, tag, fn, words, what) in enumerate(cases):
         bad = os.path.join(tmp, f"misfit{k}")  # the whole output: a resume gets past
         shutil.copytree(src, bad)             # reopening it to the checkpoint itself
-        ck = data_off if src == off else data_erk if src == erk else data
+        ck = {off: data_off, erk: data_erk, erk_t: data_erk_t}.get(src, data)
         with open(os.path.join(bad, "checkpoint.esf"), "wb") as fh:
             fh.write(patch(ck, tag, fn))
         expect_fail(exe, ["run", "--resume", bad, "--quiet"], words, "misfit: " + what,

@@ -2,7 +2,9 @@
 checkpoint, `esfera run --resume` and N/2 more, compared bit for bit (every frame
 dataset, /energy, energy.csv), for the leapfrog with friction, global and local damping
 and a moving wall (general path with the ledger, and the fused step without it,
-checkpointed on two threads and resumed on one; and so with the Hertz-Mindlin law), for adaptive Dormand-Prince (ARKODE, rtol 1e-5), for spheres
+checkpointed on two threads and resumed on one; and so with the Hertz-Mindlin law), for
+adaptive Dormand-Prince (ARKODE, rtol 1e-5) and adaptive Bogacki-Shampine typed in as
+the scene's Butcher table, for spheres
 leaving the domain (the count changes either side of the checkpoint), and for bonded
 blocks (the bond states ride in the checkpoint: bonds break on both sides); a run stopped
 by SIGTERM resumes to the same output; esfera info on the checkpoint names the resume
@@ -17,7 +19,7 @@ import time
 
 import h5py
 
-from ckpt_common import DROP, ERK, esfera, identical, run_ok, write_scene
+from ckpt_common import DROP, ERK, ERK_TABLE, esfera, identical, run_ok, write_scene
 from pycheck import check, finish
 
 
@@ -63,6 +65,7 @@ def main():
         halves(exe, tmp, scene, "hertz_fused", "0.0201", *hz, "--set",
                "output.energy_every=0", "--threads", "2")
         halves(exe, tmp, scene, "erk_dp5", "0.003", *ERK)
+        halves(exe, tmp, scene, "erk_table", "0.003", *ERK_TABLE)
         drop = halves(exe, tmp, write_scene(tmp, DROP, "drop.yaml"), "domain_exit", "0.031")
         with h5py.File(os.path.join(drop, "frames.h5"), "r") as f:
             n = [len(f["frames"][k]["id"]) for k in sorted(f["frames"])]

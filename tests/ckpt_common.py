@@ -59,6 +59,12 @@ ERK = ["--set", "integrator.method=erk:ARKODE_DORMAND_PRINCE_7_4_5",
        "--set", "integrator.rtol=1e-5", "--set", "run.duration=0.006",
        "--set", "damping.local.coefficient=0", "--set", "output.every=0.0005"]
 
+# the same run with Bogacki-Shampine 3(2) typed in as the scene's table (method erk)
+BS_TABLE = ("integrator.table={c: [0, 1/2, 3/4, 1], A: [[], [1/2], [0, 3/4], "
+            "[2/9, 1/3, 4/9]], b: [2/9, 1/3, 4/9, 0], b_embedded: [7/24, 1/4, 1/3, 1/8], "
+            "order: 3, embedded_order: 2}")
+ERK_TABLE = ["--set", "integrator.method=erk", "--set", BS_TABLE] + ERK[2:]
+
 
 def write_scene(tmp, text=BED, name="bed.yaml"):
     path = os.path.join(tmp, name)

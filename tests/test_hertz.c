@@ -22,8 +22,12 @@ static const double E1 = 1e9, NU1 = 0.3, E2 = 3e9, NU2 = 0.25;
 /* One impact: pair (wall 0) or wall (1), speed v, requested restitution eta (1: none).
  * Returns the measured restitution; *dur the force duration, *umax the peak overlap,
  * and the closed forms' values. */
-static double impact(int wall, double v, double eta, double *dur, double *umax,
-                     double *t_ref, double *u_ref) {
+static const char *method_ = NULL; /* an integrator.method override, or NULL */
+static const char *extra_ = NULL;  /* one more override, or NULL */
+static const char *extra2_ = NULL; /* and another, or NULL (with extra_) */
+
+static double impact_at(int wall, double v, double vimp, double eta, double *dur,
+                        double *umax, double *t_ref, double *u_ref) {
   char yaml[2048];
   const double r0 = 0.005, r1 = 0.004, gap = 1e-5;
   if (wall)
@@ -42,7 +46,7 @@ static double impact(int wall, double v, double eta, double *dur, double *umax,
              "integrator: {dt: auto, frac: 0.003, impact_speed: %.17g}\n"
              "run: {duration: 1}\n"
              "output: {energy_every: 0}\n",
-             E1, NU1, eta, E2, NU2, eta, r0, r0 + gap, -v, v);
+             E1, NU1, eta, E2, NU2, eta, r0, r0 + gap, -v, vimp);
   else
     snprintf(
         yaml, sizeof yaml,
@@ -63,12 +67,16 @@ static double impact(int wall, double v, double eta, double *dur, double *umax,
         E1, NU1, eta, E2, NU2, eta, r0, -r0 - gap / 2, 0.5 * v, r1, r1 + gap / 2,
         -0.5 * v, v);
   simtest T;
-  if (simtest_open(&T, yaml, NULL, 0)) {
+  char set[96];
+  snprintf(set, sizeof set, "integrator.method=%s", method_ ? method_ : "leapfrog");
+  const char *sets[] = {set, extra_, extra2_};
+  if (simtest_open(&T, yaml, sets, extra_ ? (extra2_ ? 3 : 2) : 1)) {
     CHECK(0, "scene failed");
     return NAN;
   }
-  CHECK(esf_fused_eligible(&T.s), "the fused step takes the Hertz scene (%s)",
-        esf_fused_refusal(&T.s));
+  if (!method_)
+    CHECK(esf_fused_eligible(&T.s), "the fused step takes the Hertz scene (%s)",
+          esf_fused_refusal(&T.s));
   esf_particles *p = &T.s.p;
   const double es = 1.0 / ((1 - NU1 * NU1) / E1 + (1 - NU2 * NU2) / E2);
   const double ms =
@@ -87,7 +95,7 @@ static double impact(int wall, double v, double eta, double *dur, double *umax,
     int force = fabs(p->f[0]) + fabs(p->f[2]) > 0;
     if (force && t_first < 0) t_first = T.s.t - T.s.dt;
     if (force) t_last = T.s.t - T.s.dt;
-    if (t_first >= 0 && t_sep < 0 && un <= 0) t_sep = T.s.t;
+    if (t_first >= 0 && t_sep < 0 && *umax > 1e-3 * *u_ref && un <= 0) t_sep = T.s.t;
     if (t_sep > 0 && T.s.t - t_sep > 0.2 * *t_ref) break;
   }
   CHECK(t_sep > 0, "the impact ended");
@@ -95,6 +103,11 @@ static double impact(int wall, double v, double eta, double *dur, double *umax,
   double v_out = wall ? p->v[2] : p->v[3] - p->v[0];
   simtest_close(&T);
   return v_out / v;
+}
+
+static double impact(int wall, double v, double eta, double *dur, double *umax,
+                     double *t_ref, double *u_ref) {
+  return impact_at(wall, v, v, eta, dur, umax, t_ref, u_ref);
 }
 
 /* The force record: xi is the force; pressing harder keeps it. */
@@ -151,6 +164,70 @@ static void record_case(void) {
   esf_materials_release(&mt);
 }
 
+/* contact.hertz_damping: constant: the dashpot 2 gamma sqrt(m* S_n(u_p)) (u_p the
+ * undamped peak overlap at impact_speed, gamma its own exact map) from the first touch,
+ * its force c v there; the requested restitution within 1% at impact_speed (0.05, 0.5,
+ * 5 m/s), and the speed dependence away from it (printed). */
+static void constant_case(void) {
+  esf_materials mt = {0};
+  esf_mixing_default(&mt.mixing);
+  mt.hertz_constant = 1;
+  mt.impact_speed = 0.5;
+  esf_material m = {.name = "ball",
+                    .density = 2500,
+                    .youngs_modulus = E1,
+                    .poisson_ratio = NU1,
+                    .restitution = 0.5,
+                    .tangential_restitution = 0.5,
+                    .friction = 0.5,
+                    .tensile_limit = -1};
+  esf_error err;
+  esf_error_clear(&err);
+  int32_t idx;
+  CHECK_OK(esf_materials_add(&mt, &m, &idx, &err), err);
+  CHECK_OK(esf_materials_mix(&mt, &err), err);
+  const esf_pair_params *pp = &mt.pair[0];
+  const double ms = 1e-3, rs = 2.5e-3, v = 0.5, es = pp->estar;
+  const double up = pow(15 * ms * v * v / (16 * es * sqrt(rs)), 0.4);
+  const double c = 2 * esf_hertz_gamma_form(0.5, 1) * sqrt(ms * 2 * es * sqrt(rs * up));
+  esf_contact_in in = {.n = {0, 0, 1},
+                       .un = 1e-15,
+                       .vc = {0, 0, -v},
+                       .spin_n = 0,
+                       .mstar = ms,
+                       .rstar = rs,
+                       .dt = 1e-6,
+                       .vinc = NULL};
+  esf_contact_hist h0 = {{0, 0, 0}, {0, 0, 1}};
+  esf_contact_out o;
+  esf_contact_hertz_eval(pp, 0.0, ESF_TFRAME_ROTATE, &in, &h0, 1, NULL, &o);
+  CHECK_NEAR(o.fd_n, c * v, 1e-12 * c * v,
+             "constant dashpot: c v at first touch, c = 2 gamma sqrt(m* S_n(u_p))");
+  esf_materials_release(&mt);
+  extra_ = "contact.hertz_damping=constant";
+  for (int j = 0; j < 3; j++) {
+    double dur, umax, tr, ur;
+    const double vv[] = {0.05, 0.5, 5.0};
+    const double e = impact(1, vv[j], 0.5, &dur, &umax, &tr, &ur);
+    char what[96];
+    snprintf(what, sizeof what, "constant dashpot, v = impact_speed = %g: e = 0.5",
+             vv[j]);
+    CHECK_NEAR(e, 0.5, 0.01 * 0.5, what);
+    printf("constant dashpot, impact_speed = v = %g, requested e=0.50: measured %.5f\n",
+           vv[j], e);
+  }
+  extra_ = "contact.hertz_damping=constant";
+  for (int j = 0; j < 2; j++) { /* impact_speed 0.5 m/s, the impact at 0.05 and 5 */
+    double dur, umax, tr, ur;
+    const double vv[] = {0.05, 5.0};
+    const double e = impact_at(1, vv[j], 0.5, 0.5, &dur, &umax, &tr, &ur);
+    printf("constant dashpot, impact_speed 0.5 m/s, impact at %g m/s, requested e=0.50: "
+           "measured %.5f\n",
+           vv[j], e);
+  }
+  extra_ = NULL;
+}
+
 int main(void) {
   /* the map */
   CHECK_NEAR(esf_hertz_restitution(0.0), 1.0, 1e-9, "undamped: e = 1");
@@ -189,5 +266,39 @@ int main(void) {
                wall ? "wall" : "pair", vs[j], es[i], m, 100 * (m / es[i] - 1));
       }
     }
+  /* the ODE methods (the same law through forces.c): fixed-step rk4, and adaptive
+     Dormand-Prince at its fixed step (rtol 0) */
+  const char *ode[] = {"rk4", "erk:ARKODE_DORMAND_PRINCE_7_4_5"};
+  for (int q = 0; q < 2; q++) {
+    method_ = ode[q];
+    for (int wall = 0; wall < 2; wall++) {
+      double dur, umax, tr, ur;
+      const double m = impact(wall, 0.5, 0.3, &dur, &umax, &tr, &ur);
+      char what[96];
+      snprintf(what, sizeof what, "%s %s e=0.3 restitution", ode[q],
+               wall ? "wall" : "pair");
+      CHECK_NEAR(m, 0.3, 0.01 * 0.3, what);
+      printf("%s %s v=0.5: requested e=0.30, measured %.5f\n", ode[q],
+             wall ? "wall" : "pair", m);
+    }
+  }
+  /* adaptive Dormand-Prince with root-finding: steps end at onset and at the no-tension
+     cut (roots.c's Hertz event) */
+  method_ = ode[1];
+  extra_ = "integrator.rtol=1e-7";
+  extra2_ = "integrator.roots=true";
+  for (int wall = 0; wall < 2; wall++) {
+    double dur, umax, tr, ur;
+    const double m = impact(wall, 0.5, 0.3, &dur, &umax, &tr, &ur);
+    char what[96];
+    snprintf(what, sizeof what, "adaptive DP5 with roots, %s e=0.3 restitution",
+             wall ? "wall" : "pair");
+    CHECK_NEAR(m, 0.3, 0.01 * 0.3, what);
+    printf("%s v=0.5, adaptive DP5 with roots: requested e=0.30, measured %.5f\n",
+           wall ? "wall" : "pair", m);
+  }
+  extra_ = extra2_ = NULL;
+  method_ = NULL;
+  constant_case();
   return check_finish("hertz");
 }

@@ -8,7 +8,9 @@
  * bound holds because those errors are O((w dt)^2) per contact event and do not
  * accumulate systematically. The Hertz-Mindlin packs close to the same level once the
  * tangential springs' stiffness changes (work_tangential_stiffness) are booked; without
- * that column their residual is 2.6% of the dissipated energy (measured). */
+ * that column their residual is 4% of the dissipated energy (leapfrog; 18% for rk4 with
+ * the history as state); Verlet and rk4 close as they do for the linear law (measured).
+ */
 #include "simtest.h"
 
 static const char *pack =
@@ -55,7 +57,10 @@ static void settle(const char *label, const char *const *sets, int nsets, int wa
     printf("%s: work_tangential_stiffness %.4g J (the residual without it: %.3g of "
            "dissipated)\n",
            label, L->w_stiff, (R + L->w_stiff) / D);
-  CHECK(L->d_normal > 0 && L->d_tangential > 0 && L->d_friction > 0,
+  /* the Coulomb slip and, for the Hertz law, the tangential springs' stiffness changes
+     together: their split depends on dt at contact onsets (docs/physics.md#hertz-mindlin-
+     law); for the linear law w_stiff = 0 */
+  CHECK(L->d_normal > 0 && L->d_tangential > 0 && L->d_friction - L->w_stiff > 0,
         "%s: every contact path dissipates", label);
   CHECK(want_global ? L->d_global > 0 : L->d_global == 0, "%s: global damping tally",
         label);
@@ -141,6 +146,12 @@ int main(void) {
   settle("verlet", vv, 1, 0, 1, 0.03);
   const char *rk[] = {"integrator.method=rk4"};
   settle("rk4 (frozen history)", rk, 1, 0, 1, 0.01);
+  const char *hzv[] = {hz[0], hz[1], "integrator.method=verlet"};
+  settle("Hertz-Mindlin, verlet", hzv, 3, 0, 1, 0.03);
+  const char *hzr[] = {hz[0], hz[1], "integrator.method=rk4"};
+  settle("Hertz-Mindlin, rk4 (frozen history)", hzr, 3, 0, 1, 0.01);
+  const char *hzs[] = {hz[0], hz[1], "integrator.method=rk4", "integrator.history=state"};
+  settle("Hertz-Mindlin, rk4 (history as state)", hzs, 4, 0, 1, 0.01);
   adaptive_at_limit("frozen", 0.01);
   adaptive_at_limit("state", 0.01);
   return check_finish("test_ledger");

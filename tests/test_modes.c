@@ -7,6 +7,8 @@
  *    across it;
  * 4. a free chain of N equal spheres touching in a line with a negligible tangential
  *    stiffness: the free-free chain's top mode 2 sqrt(kn/m) sin((N - 1) pi / (2N));
+ * 5. a Hertz-Mindlin sphere on a wall: the same with the tangent stiffnesses at its
+ *    overlap (hertz_on_wall);
  * and the damped bound (2/omega)(sqrt(1 + xi^2) - xi) with xi the contacts' ratio, and
  * the top mode's own damping ratio (sphere on a wall: the contact's times
  * sqrt(1 + m l^2/I); the chain: sqrt(2) gamma sin((N - 1) pi / (2N))).
@@ -60,7 +62,7 @@ static void on_wall(int dim) {
   simtest T;
   esf_modes m;
   if (modes_of(yaml, &T, &m) == 0) {
-    double mass = T.s.p.mass[0], I = T.s.p.inertia[0], l = 0.005 - 1e-5;
+    double mass = T.s.p.mass[0], I = T.s.p.inertia[0], l = 0.005 - 0.5e-5; /* r - u/2 */
     double w2 = fmax(1.0e5 / mass, 0.5e5 * (1 / mass + l * l / I));
     check_close(dim == 3 ? "sphere on a wall" : "disk on a wall", m.omega_max, sqrt(w2));
     CHECK(m.contacts == 1 && m.dofs == (dim == 3 ? 6u : 3u), "one contact, %zu dofs",
@@ -101,7 +103,7 @@ static void on_wall_local(void) {
   simtest T;
   esf_modes m;
   if (modes_of(yaml, &T, &m) == 0) {
-    double mass = T.s.p.mass[0], I = T.s.p.inertia[0], l = 0.005 - 1e-5, f = 1.7;
+    double mass = T.s.p.mass[0], I = T.s.p.inertia[0], l = 0.005 - 0.5e-5, f = 1.7;
     double xi = esf_restitution_gamma(0.5), xm = xi * sqrt(1 + mass * l * l / I);
     double wn = sqrt(1.0e5 / mass), wt = sqrt(0.5e5 * (1 / mass + l * l / I));
     double dn = 2 / wn * (sqrt(xi * xi + 1 / f) - xi),
@@ -164,7 +166,36 @@ static void chain(void) {
   simtest_close(&T);
 }
 
+/* 5. a Hertz-Mindlin sphere pressed 10 um on a wall of its material: the tangent
+ * stiffnesses at that overlap, S_n = 2 E* sqrt(R u), S_t = 8 G* sqrt(R u) (E* = E/(2 (1 -
+ * nu^2)), G* = E/(4 (2 - nu)(1 + nu))), in the sphere-on-a-wall closed form, and the
+ * normal damping ratio the exact map's gamma (c_n = 2 gamma sqrt(m S_n)). */
+static void hertz_on_wall(void) {
+  const char *yaml =
+      "name: hw\ngravity: [0, 0, 0]\n"
+      "materials: {g: {density: 2500, youngs_modulus: 1.0e8, poisson_ratio: 0.3, "
+      "restitution: 0.5, friction: 0.3}}\n"
+      "particles:\n  - {material: g, radius: 0.005, position: [0, 0, 0.00499]}\n"
+      "walls:\n  - {plane: {point: [0, 0, 0], normal: [0, 0, 1]}, material: g}\n"
+      "contact: {allow_initial_overlap: true}\nrun: {steps: 1}\n";
+  simtest T;
+  esf_modes m;
+  if (modes_of(yaml, &T, &m) == 0) {
+    const double E = 1e8, nu = 0.3, r = 0.005, u = 1e-5, l = r - u / 2; /* r - u/2 */
+    const double es = E / (2 * (1 - nu * nu)), gs = E / (4 * (2 - nu) * (1 + nu));
+    const double sn = 2 * es * sqrt(r * u), st = 8 * gs * sqrt(r * u);
+    const double mass = T.s.p.mass[0], I = T.s.p.inertia[0];
+    const double w2 = fmax(sn / mass, st * (1 / mass + l * l / I));
+    check_close("Hertz sphere on a wall", m.omega_max, sqrt(w2));
+    const double xi = esf_hertz_gamma(0.5);
+    CHECK(fabs(m.xi_max / xi - 1) < 1e-9, "Hertz: damping ratio %.9g (%.9g)", m.xi_max,
+          xi);
+  }
+  simtest_close(&T);
+}
+
 int main(void) {
+  hertz_on_wall();
   on_wall(3);
   on_wall(2);
   on_wall_local();

@@ -4,7 +4,7 @@
  *   rolling starts at t_r = v0 / (mu g (1 + 1/k))  (sphere: 2 v0 / (7 mu g))
  *   and the rolling speed is v0 / (1 + k)          (sphere: 5/7 v0; disk: 2/3 v0).
  * The body starts at its static overlap m g / kn, so it neither bounces nor lifts; the
- * lever arm r - u differs from r by u/r = 1e-4, below the tolerances (0.3%). */
+ * lever arm r - u/2 differs from r by u/2r = 5e-5, below the tolerances (0.3%). */
 #include "simtest.h"
 
 static const char *scene =

@@ -20,6 +20,83 @@ static const char *scene =
     "run: {steps: 1}\n"
     "output: {energy_every: 0}\n";
 
+/* The Hertz-Mindlin rules (docs/physics.md#time-step), by hand: two particle
+ * materials and a wall material; the smallest particle (a, r = 2 mm) sets m_min and its
+ * radius; k is the largest tangent stiffness at the peak overlap of an impact at
+ * impact_speed (a pair of two such particles, or one on the wall); rayleigh the
+ * smallest pi r sqrt(rho/G)/(0.1631 nu + 0.8766) over the particles; collision the
+ * shortest Hertz contact time of those impacts. */
+static const char *hscene =
+    "name: dt_hertz\n"
+    "materials:\n"
+    "  a: {density: 2000, youngs_modulus: 1.0e8, poisson_ratio: 0.25, restitution: 0.5}\n"
+    "  b: {density: 8000, youngs_modulus: 2.0e9, poisson_ratio: 0.3, restitution: 0.9}\n"
+    "  w: {youngs_modulus: 5.0e9, poisson_ratio: 0.2, restitution: 0.5}\n"
+    "particles:\n"
+    "  - {material: a, radius: 0.002, position: [0, 0, 0.01]}\n"
+    "  - {material: b, radius: 0.003, position: [0.01, 0, 0.01]}\n"
+    "walls:\n"
+    "  - {plane: {point: [0, 0, 0], normal: [0, 0, 1]}, material: w}\n"
+    "integrator: {dt: auto, dt_rule: hart, frac: 0.1, impact_speed: 2.0}\n"
+    "run: {steps: 1}\n"
+    "output: {energy_every: 0}\n";
+
+static double estar(double e1, double n1, double e2, double n2) {
+  return 1.0 / ((1 - n1 * n1) / e1 + (1 - n2 * n2) / e2);
+}
+static double gstar(double e1, double n1, double e2, double n2) {
+  return 1.0 / (2 * (2 - n1) * (1 + n1) / e1 + 2 * (2 - n2) * (1 + n2) / e2);
+}
+
+static void hertz_rules(void) {
+  simtest T;
+  if (simtest_open(&T, hscene, NULL, 0)) {
+    CHECK(0, "Hertz scene");
+    return;
+  }
+  const double m = 4.0 / 3.0 * ESF_PI * 8e-9 * 2000, r = 0.002, v = 2.0;
+  const double E[3] = {1e8, 2e9, 5e9}, nu[3] = {0.25, 0.3, 0.2};
+  double k = 0, tc = INFINITY;
+  for (int a = 0; a < 2; a++) /* particle materials */
+    for (int b = 0; b < 3; b++) {
+      const double es = estar(E[a], nu[a], E[b], nu[b]),
+                   gs = gstar(E[a], nu[a], E[b], nu[b]);
+      const double ms = b == 2 ? m : m / 2, rs = b == 2 ? r : r / 2;
+      const double up = pow(15 * ms * v * v / (16 * es * sqrt(rs)), 0.4);
+      k = fmax(k, fmax(2 * es, 8 * gs) * sqrt(rs * up));
+      tc = fmin(tc, 2.868 * pow(ms * ms / (rs * es * es * v), 0.2));
+    }
+  double ray = INFINITY;
+  const double rad[2] = {0.002, 0.003}, rho[2] = {2000, 8000};
+  for (int i = 0; i < 2; i++) {
+    const double G = E[i] / (2 * (1 + nu[i]));
+    ray = fmin(ray, ESF_PI * rad[i] * sqrt(rho[i] / G) / (0.1631 * nu[i] + 0.8766));
+  }
+  const esf_dt_estimate *e = &T.s.dte;
+  CHECK_NEAR(e->k_max, k, 1e-12 * k, "Hertz: k_max at the peak overlap");
+  CHECK_NEAR(e->crit[ESF_DT_HART], 2 * sqrt(m / (2 * k)), 1e-12 * sqrt(m / k),
+             "Hertz: hart");
+  CHECK_NEAR(e->crit[ESF_DT_RAYLEIGH], ray, 1e-12 * ray, "Hertz: rayleigh");
+  CHECK_NEAR(e->crit[ESF_DT_COLLISION], tc, 1e-12 * tc, "Hertz: collision");
+  CHECK_NEAR(T.s.dt, 0.1 * 2 * sqrt(m / (2 * k)), 1e-12 * sqrt(m / k), "Hertz: dt auto");
+  printf("Hertz: k_max %.6g N/m, hart %.6g s, rayleigh %.6g s, collision %.6g s\n", k,
+         2 * sqrt(m / (2 * k)), ray, tc);
+  simtest_close(&T);
+  const char *sets[] = {"integrator.dt_rule=rayleigh", "integrator.frac=0.2"};
+  if (simtest_open(&T, hscene, sets, 2) == 0) {
+    CHECK_NEAR(T.s.dt, 0.2 * ray, 1e-12 * ray, "Hertz: dt auto with rayleigh");
+    simtest_close(&T);
+  }
+  /* the linear scene: no Rayleigh time; collision the half period pi sqrt(m/2k) */
+  if (simtest_open(&T, scene, NULL, 0) == 0) {
+    CHECK(isinf(T.s.dte.crit[ESF_DT_RAYLEIGH]), "linear: no rayleigh rule");
+    const double kl = T.s.dte.k_max, ml = T.s.dte.m_min;
+    CHECK_NEAR(T.s.dte.crit[ESF_DT_COLLISION], ESF_PI * sqrt(ml / (2 * kl)),
+               1e-12 * sqrt(ml / kl), "linear: collision");
+    simtest_close(&T);
+  }
+}
+
 int main(void) {
   simtest T;
   if (simtest_open(&T, scene, NULL, 0)) return check_finish("test_timestep");
@@ -74,5 +151,6 @@ int main(void) {
   rc = simtest_open(&T, scene, below, 1);
   CHECK(rc == 0, "dt just below critical is accepted (rc %d)", rc);
   simtest_close(&T);
+  hertz_rules();
   return check_finish("test_timestep");
 }

@@ -81,6 +81,12 @@ static void log_setup(const esf_sim *s, const esf_integrator_type *it) {
               "(m_min %.6g kg, k_max %.6g N/m, damping ratio %.4g)",
               s->dte.crit[0], s->dte.crit[1], s->dte.crit[2], s->dte.m_min, s->dte.k_max,
               s->dte.xi);
+  if (s->mats.all_hertz) /* docs/physics.md#time-step */
+    esf_sim_log(s,
+                "Hertz-Mindlin: k_max at the peak overlap of an impact at %.6g m/s; "
+                "rayleigh %.6g s, collision time %.6g s",
+                c->impact_speed, s->dte.crit[ESF_DT_RAYLEIGH],
+                s->dte.crit[ESF_DT_COLLISION]);
   esf_sim_log(s, "dt used: %.6g s = %.4g x the %s critical dt (%.6g s)%s", s->dt,
               s->dt / s->dte.crit[c->dt_rule], esf_dt_rule_names[c->dt_rule],
               s->dte.crit[c->dt_rule], c->dt_auto ? " (dt: auto)" : "");

@@ -89,6 +89,26 @@ double esf_walls_moved(const esf_walls *w);
 /* Records the current placement as the reference of esf_walls_moved. */
 void esf_walls_mark(esf_walls *w);
 
+/* Where a wall contact acts (docs/physics.md#contact-kinematics): the lever arm from
+ * the particle's centre to the contact point, for a particle of radius r overlapping the
+ * wall by un with its centre dist from the wall's nearest point (dist = r - un).
+ * ESF_WALL_LEVER_SEED: rA - un/2, the point halfway through the overlap, as between two
+ * particles (000 3-16); ESF_WALL_LEVER_SURFACE: dist, the wall's surface point. */
+enum { ESF_WALL_LEVER_SEED = 0, ESF_WALL_LEVER_SURFACE = 1 };
+
+static inline double esf_wall_lever(int rule, double r, double un, double dist) {
+  return rule == ESF_WALL_LEVER_SURFACE ? dist : r - 0.5 * un;
+}
+
+/* The contact point of a wall contact: the nearest point q (surface rule), or
+ * xa + la n (seed rule), with n the unit normal from the centre xa toward q. */
+static inline void esf_wall_contact_point(int rule, const double xa[3], double la,
+                                          const double n[3], const double q[3],
+                                          double pc[3]) {
+  for (int i = 0; i < 3; i++)
+    pc[i] = rule == ESF_WALL_LEVER_SURFACE ? q[i] : xa[i] + la * n[i];
+}
+
 /* Velocity of wall group g's material at point q, m/s. */
 static inline void esf_wall_point_velocity(const esf_wall_group *g, const double q[3],
                                            double v[3]) {

@@ -28,7 +28,7 @@ static inline void esf_contact_hertz_eval(const esf_pair_params *pp, double beta
   if (pp->hertz_constant) qa = esf_law_hertz_qref_s(pp->estar, sm, in->rstar, pp->v_imp);
   esf_law_hertz_dashpots_s(beta, pp->cn_factor, pp->ct_factor, sm, qa, sn, st, &cn, &ct);
   const double vn = v3_dot(in->vc, n); /* < 0 approaching */
-  const double st0 = esf_law_hertz_st0_s(pp->ht, in->rstar, in->un + in->dt * vn);
+  const double st0 = esf_law_hertz_st_s(pp->ht, in->rstar, in->un + in->dt * vn);
   double fd, xi[3];
   const double fn = esf_law_linear_normal_s(ks, cn, in->un, vn, &fd);
   esf_contact_tangential(pp, ct, tframe, 0, in, hist, first, vn, fn, st, st0, xi, out);

@@ -98,6 +98,13 @@ typedef struct esf_contact_law {
                      double rstar, double *fel);
 } esf_contact_law;
 
+/* The tangential spring's force on A of a history record xi: kt xi, or xi itself for
+ * the Hertz-Mindlin law (its record is the force), N. */
+static inline void esf_contact_ket(const esf_pair_params *pp, const double xi[3],
+                                   double ket[3]) {
+  for (int q = 0; q < 3; q++) ket[q] = pp->ht > 0 ? xi[q] : pp->kt * xi[q];
+}
+
 /* Elastic energy of the tangential spring of a touching contact with history xi at
  * overlap un, reduced radius rstar: (1/2) kt |xi|^2, or for the Hertz-Mindlin law (xi
  * the force) |xi|^2 / (2 S_t), S_t = 8 G* sqrt(R* un), J. */

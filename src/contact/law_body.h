@@ -105,11 +105,11 @@ static inline void LANE_FN(esf_law_hertz_springs)(LANE_R hn, LANE_R ht, LANE_R r
   *qa = LANE_SQRT(a);
 }
 
-/* The Hertz tangential stiffness ht sqrt(R* u0) at the last commit's overlap u0 (0 when
- * u0 <= 0), for the ledger's w_st. */
-static inline LANE_R LANE_FN(esf_law_hertz_st0)(LANE_R ht, LANE_R rs, LANE_R u0) {
+/* The Hertz tangential stiffness ht sqrt(R* u) at overlap u, 0 when u <= 0 (the ledger's
+ * st0 at the last commit's overlap; the ODE rates of forces.c). */
+static inline LANE_R LANE_FN(esf_law_hertz_st)(LANE_R ht, LANE_R rs, LANE_R u) {
   const LANE_R zero = {0};
-  return LANE_SEL(u0 > 0, ht * LANE_SQRT(rs * u0), zero);
+  return LANE_SEL(u > 0, ht * LANE_SQRT(rs * u), zero);
 }
 
 /* The Hertz law's dashpots: with Rayleigh damping (beta > 0) c = beta S; else

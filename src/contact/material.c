@@ -96,8 +96,8 @@ static void hertz_pair(const esf_materials *t, const esf_material *A,
     p->cn_factor = p->ct_factor = 0.0;
     return;
   }
-  p->gamma_n = esf_hertz_gamma(en);
-  p->gamma_t = esf_hertz_gamma(et);
+  p->gamma_n = esf_hertz_gamma_form(en, t->hertz_constant);
+  p->gamma_t = esf_hertz_gamma_form(et, t->hertz_constant);
   /* tsuji: c = 2 gamma sqrt(m* S), S = 1.5 hn a or ht a: factor sqrt(m*) sqrt(a) */
   p->cn_factor = 2.0 * p->gamma_n * sqrt(1.5 * p->hn);
   p->ct_factor = 2.0 * p->gamma_t * sqrt(p->ht);

@@ -118,6 +118,9 @@ double esf_restitution_gamma(double eta);
 double esf_hertz_gamma(double eta);
 /* The restitution of that oscillator for damping ratio gamma (>= 0). */
 double esf_hertz_restitution(double gamma);
+/* As esf_hertz_gamma for cst = 0; cst = 1: for the constant dashpot 2 gamma sqrt(m*
+ * S_n(u_p)), u_p the undamped peak overlap at the impact speed (exact at that speed). */
+double esf_hertz_gamma_form(double eta, int cst);
 
 /* Adds a material (copied); returns its index in *index. Error on a duplicate name. */
 int esf_materials_add(esf_materials *t, const esf_material *m, int32_t *index,

@@ -62,6 +62,8 @@ typedef struct esf_force_tally {
   double p_spring_t;   /* power into the tangential springs as applied (Coulomb cap
                           included), W; history as ODE state only */
   double p_fluid;      /* power delivered by the fluid force (drag.c), W */
+  double p_stiff;      /* rate of the Hertz tangential springs' energy from their
+                          stiffness's change at a fixed force, W */
 } esf_force_tally;
 
 /* The leapfrog's ledger, summed the same way on the general path and the fused step,

@@ -36,6 +36,7 @@ void esf_config_default(esf_config *c) {
   c->autod.alpha_min = -1; /* set from the contact frequency at set-up */
   c->autod.alpha_max = -1;
   c->tframe = ESF_TFRAME_ROTATE;
+  c->wall_lever = ESF_WALL_LEVER_SEED;
   c->rtol = 0;
   c->atol = 1e-9;
   c->history = ESF_HIST_FROZEN;

@@ -48,6 +48,17 @@ typedef struct esf_where {
   char place[280];
 } esf_where;
 
+/* An explicit Butcher table given in the scene (integrator.table, for method erk; read
+ * and checked by scene/scene_butcher.c against integrators/butcher.h). s = 0: none. */
+#define ESF_BUTCHER_MAX 16 /* stages */
+typedef struct esf_butcher {
+  int s;     /* stages; 0: no table given */
+  int q, p;  /* order of b; order of d (0: no embedding) */
+  int has_d; /* b_embedded given */
+  double c[ESF_BUTCHER_MAX], b[ESF_BUTCHER_MAX], d[ESF_BUTCHER_MAX];
+  double A[ESF_BUTCHER_MAX][ESF_BUTCHER_MAX]; /* strictly lower triangular */
+} esf_butcher;
+
 /* Everything a scene sets, with SI units. esf_config_default gives the defaults. */
 typedef struct esf_config {
   char name[128];
@@ -71,6 +82,7 @@ typedef struct esf_config {
   int history;       /* ODE methods: ESF_HIST_FROZEN or ESF_HIST_STATE */
   long max_steps;    /* ODE methods: step limit per call */
   int roots;         /* adaptive ERK: end steps at contact onset and separation */
+  esf_butcher table; /* method erk: the scene's Butcher table (integrator.table) */
 
   double alpha_r, alpha_t;             /* global viscous damping, 1/s */
   int local_form;                      /* ESF_LOCAL_* */
@@ -82,6 +94,7 @@ typedef struct esf_config {
   int tframe;                /* ESF_TFRAME_* */
   int hertz_damping;         /* contact.hertz_damping: 0 tsuji, 1 constant */
   double impact_speed;       /* integrator.impact_speed, m/s (the Hertz time rule) */
+  int wall_lever;            /* ESF_WALL_LEVER_* (bodies/walls.h) */
   double max_overlap;        /* failure when overlap > this x the smaller radius */
   int allow_initial_overlap; /* explicit particles may start overlapping */
   double skin;               /* m; <= 0: automatic (0.4 x mean radius, then adaptive) */

@@ -1,26 +1,20 @@
-/* timestep.c — the critical time step rules of the seeds (docs/physics.md#time-step).
+/* timestep.c — the critical time step rules (docs/physics.md#time-step).
  *
- * With m_min the smallest particle mass, k_max the largest stiffness (k_n or k_t) of any
- * material pair the scene can bring into contact (for an adhesive pair, the largest
- * tangent stiffness |df/du| of its bonded law over the bonded range, k_n max(1,
- * |1 - L e^{-alpha u_r}|), contact_adhesive.c), and FRAC = 1:
- *   cundall (000 3-27):          dt_c = sqrt(m_min / k_max)       (the seed's 0.1 is
- * FRAC) hart    (004 2.48):          dt_c = 2 sqrt(m_min / (2 k_max)) damped
- * (001 3.64, 3.66):    dt_c = 2 sqrt(m_min / k_max) (sqrt(1 + xi^2) - xi) where xi is the
- * largest damping ratio: the contact dashpots' gamma (Tsuji: gamma is the damping ratio
- * of the reduced-mass oscillator) or, with Rayleigh damping, beta omega/2, plus the
- * global damping's alpha/(2 omega), omega = sqrt(k_max / m_min). The adopted step is FRAC
- * x dt_c of the chosen rule (001 3.65).
- * Hertz-Mindlin pairs (docs/physics.md#time-step): k is the tangent stiffness
- * S = max(2 E*, 8 G*) sqrt(R* u_p) at the peak overlap u_p = (15 m* v^2 / (16 E*
- * sqrt(R*)))^(2/5) of an impact at v = integrator.impact_speed of two particles of the
- * smallest mass (m* = m/2, R* = r/2) or of one on a wall (m* = m, R* = r), and the
- * damping ratio gamma the exact map's; two more rules:
- *   rayleigh (Li et al. 2005, the Rayleigh-wave time): dt_c = pi r sqrt(rho/G) /
- *     (0.1631 nu + 0.8766), the smallest over the particles' materials at their
- *     smallest radius;
- *   collision: the undamped Hertz contact time 2.868 (m*^2/(R* E*^2 v))^(1/5) (Johnson
- *     1985, 11.24) of those impacts; for the linear law pi sqrt(m_min / (2 k_max)). */
+ * m_min the smallest particle mass, k_max the largest stiffness (k_n or k_t) of any
+ * material pair the scene can bring into contact (adhesive: the largest tangent
+ * stiffness of its bonded law, contact_adhesive.c; Hertz-Mindlin: max(2 E*, 8 G*)
+ * sqrt(R* u_p) at the peak overlap u_p = (15 m* v^2/(16 E* sqrt(R*)))^(2/5) of an impact
+ * at v = integrator.impact_speed of two particles of the smallest mass, m* = m/2,
+ * R* = r/2, or of one on a wall, m* = m, R* = r), FRAC = 1:
+ *   cundall (000 3-27): sqrt(m_min / k_max) (the seed's 0.1 is FRAC);
+ *   hart (004 2.48): 2 sqrt(m_min / (2 k_max));
+ *   damped (001 3.64, 3.66): 2 sqrt(m_min / k_max) (sqrt(1 + xi^2) - xi), xi the largest
+ *     contact damping ratio gamma (or beta omega/2 with Rayleigh damping) plus the
+ *     global damping's alpha/(2 omega), omega = sqrt(k_max / m_min);
+ *   rayleigh (Hertz only): the smallest pi r sqrt(rho/G)/(0.1631 nu + 0.8766);
+ *   collision: the Hertz contact time 2.868 (m*^2/(R* E*^2 v))^(1/5) of those impacts
+ *     (Johnson 1985 §11.4), for the linear law pi sqrt(m_min / (2 k_max)).
+ * The adopted step is FRAC x dt_c of the chosen rule (001 3.65). */
 #include <math.h>
 
 #include "contact/contact_law.h"

@@ -56,6 +56,14 @@ static void attribute(FILE *f, const char *name, const char *kind, const char *c
   fputs("        </Attribute>\n", f);
 }
 
+/* What every grid of one file needs: the HDF5 file's name, the length of its
+ * /vertex_index, and whether the file holds the particles alone. */
+typedef struct ctx {
+  const char *h5;
+  size_t nmax;
+  int solo;
+} ctx;
+
 static void grid_open(FILE *f, const char *what, const esf_xdmf_frame *fr) {
   fprintf(f, "      <Grid Name=\"%s_%06ld\" GridType=\"Uniform\">\n", what, fr->index);
   fprintf(f, "        <Time Value=\"%.17g\"/>\n", fr->time);
@@ -67,15 +75,57 @@ static void geometry(FILE *f, size_t n, const char *h5, long frame, const char *
   fputs("        </Geometry>\n", f);
 }
 
-static void particles(FILE *f, const char *h5, const esf_xdmf_frame *fr) {
+/* N vertex cells on points 0..N-1: the index's /vertex_index whole, or its first N
+ * entries as a hyperslab (start 0, stride 1, count N). A Polyvertex without this
+ * connectivity loads as points without cells in ParaView's Xdmf3 readers. */
+static void vertex_cells(FILE *f, const ctx *c, size_t n) {
+  fprintf(f,
+          "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%zu\" "
+          "NodesPerElement=\"1\">\n",
+          n);
+  const char *in = "          ";
+  if (n < c->nmax) {
+    fprintf(f,
+            "%s<DataItem ItemType=\"HyperSlab\" Dimensions=\"%zu\" Type=\"HyperSlab\">\n",
+            in, n);
+    fprintf(f, "%s  <DataItem Dimensions=\"3 1\" Format=\"XML\">0 1 %zu</DataItem>\n", in,
+            n);
+    in = "            ";
+  }
+  fprintf(f,
+          "%s<DataItem Dimensions=\"%zu\" NumberType=\"Int\" Precision=\"4\" "
+          "Format=\"HDF\">",
+          in, c->nmax);
+  put_escaped(f, c->h5);
+  fputs(":/vertex_index</DataItem>\n", f);
+  if (n < c->nmax) fputs("          </DataItem>\n", f);
+  fputs("        </Topology>\n", f);
+}
+
+/* A topology of no cells: no DataItem (an empty HDF5 dataset stops the XDMF 2 reader:
+ * "Error in Update() of Topology"), and no cell attributes. */
+static void no_cells(FILE *f, const char *type, int nodes) {
+  fprintf(f,
+          "        <Topology TopologyType=\"%s\" NumberOfElements=\"0\" "
+          "NodesPerElement=\"%d\"/>\n",
+          type, nodes);
+}
+
+static void particles(FILE *f, const ctx *c, const esf_xdmf_frame *fr) {
+  const char *h5 = c->h5;
   size_t n = fr->particles;
   long k = fr->index;
   grid_open(f, "particles", fr);
-  fprintf(f,
-          "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%zu\" "
-          "NodesPerElement=\"1\"/>\n",
-          n);
+  if (n == 0) { /* every particle gone: an empty grid (docs/output.md#paraview) */
+    no_cells(f, "Polyvertex", 1);
+    geometry(f, n, h5, k, "position");
+    fputs("      </Grid>\n", f);
+    return;
+  }
+  vertex_cells(f, c, n);
   geometry(f, n, h5, k, "position");
+  if (c->solo) /* meshio's time series gives attributes per frame, not the geometry */
+    attribute(f, "position", "Vector", "Node", n, 3, "Float", 8, h5, k, "position");
   attribute(f, "radius", "Scalar", "Node", n, 1, "Float", 8, h5, k, "radius");
   attribute(f, "velocity", "Vector", "Node", n, 3, "Float", 8, h5, k, "velocity");
   attribute(f, "angular_velocity", "Vector", "Node", n, 3, "Float", 8, h5, k,
@@ -86,59 +136,79 @@ static void particles(FILE *f, const char *h5, const esf_xdmf_frame *fr) {
   fputs("      </Grid>\n", f);
 }
 
-static void walls(FILE *f, const char *h5, const esf_xdmf_frame *fr) {
+static void walls(FILE *f, const ctx *c, const esf_xdmf_frame *fr) {
+  const char *h5 = c->h5;
   long k = fr->index;
   grid_open(f, "walls", fr);
-  fprintf(f, "        <Topology TopologyType=\"Triangle\" NumberOfElements=\"%zu\">\n",
-          fr->wall_triangles);
-  data_item(f, "          ", fr->wall_triangles, 3, "Int", 4, h5, k, "walls/triangles");
-  fputs("        </Topology>\n", f);
+  if (fr->wall_triangles == 0) {
+    no_cells(f, "Triangle", 3);
+  } else {
+    fprintf(f, "        <Topology TopologyType=\"Triangle\" NumberOfElements=\"%zu\">\n",
+            fr->wall_triangles);
+    data_item(f, "          ", fr->wall_triangles, 3, "Int", 4, h5, k, "walls/triangles");
+    fputs("        </Topology>\n", f);
+  }
   geometry(f, fr->wall_points, h5, k, "walls/points");
-  attribute(f, "group", "Scalar", "Cell", fr->wall_triangles, 1, "Int", 4, h5, k,
-            "walls/group");
-  attribute(f, "material", "Scalar", "Cell", fr->wall_triangles, 1, "Int", 4, h5, k,
-            "walls/material");
+  if (fr->wall_triangles > 0) {
+    attribute(f, "group", "Scalar", "Cell", fr->wall_triangles, 1, "Int", 4, h5, k,
+              "walls/group");
+    attribute(f, "material", "Scalar", "Cell", fr->wall_triangles, 1, "Int", 4, h5, k,
+              "walls/material");
+  }
   fputs("      </Grid>\n", f);
 }
 
-static void contacts(FILE *f, const char *h5, const esf_xdmf_frame *fr) {
+static void contacts(FILE *f, const ctx *c, const esf_xdmf_frame *fr) {
+  const char *h5 = c->h5;
   long k = fr->index;
   grid_open(f, "contacts", fr);
-  fprintf(f,
-          "        <Topology TopologyType=\"Polyline\" NumberOfElements=\"%zu\" "
-          "NodesPerElement=\"2\">\n",
-          fr->contacts);
-  data_item(f, "          ", fr->contacts, 2, "Int", 8, h5, k, "contacts/pairs");
-  fputs("        </Topology>\n", f);
+  if (fr->contacts == 0) {
+    no_cells(f, "Polyline", 2);
+  } else {
+    fprintf(f,
+            "        <Topology TopologyType=\"Polyline\" NumberOfElements=\"%zu\" "
+            "NodesPerElement=\"2\">\n",
+            fr->contacts);
+    data_item(f, "          ", fr->contacts, 2, "Int", 8, h5, k, "contacts/pairs");
+    fputs("        </Topology>\n", f);
+  }
   geometry(f, fr->particles, h5, k, "position");
-  attribute(f, "normal_force", "Scalar", "Cell", fr->contacts, 1, "Float", 8, h5, k,
-            "contacts/normal_force");
+  if (fr->contacts > 0)
+    attribute(f, "normal_force", "Scalar", "Cell", fr->contacts, 1, "Float", 8, h5, k,
+              "contacts/normal_force");
   fputs("      </Grid>\n", f);
 }
 
-typedef void (*grid_fn)(FILE *, const char *, const esf_xdmf_frame *);
+typedef void (*grid_fn)(FILE *, const ctx *, const esf_xdmf_frame *);
 
-/* One Temporal collection of the frames selected by `want` (0: all). */
-static void collection(FILE *f, const char *name, grid_fn grid, int want_walls,
-                       int want_contacts, const char *h5, const esf_xdmf_frame *frames,
-                       size_t nframes) {
+/* Whether frame fr has a grid of kind `kind`. */
+static int has(int kind, const esf_xdmf_frame *fr) {
+  return kind == ESF_XDMF_PARTICLES || (kind == ESF_XDMF_WALLS && fr->has_walls) ||
+         (kind == ESF_XDMF_CONTACTS && fr->has_contacts);
+}
+
+/* One Temporal collection of the frames that have a grid of this kind. */
+static void collection(FILE *f, const char *name, int kind, grid_fn grid, const ctx *c,
+                       const esf_xdmf_frame *frames, size_t nframes) {
   size_t count = 0;
-  for (size_t k = 0; k < nframes; k++)
-    count += (!want_walls || frames[k].has_walls) &&
-             (!want_contacts || frames[k].has_contacts);
+  for (size_t k = 0; k < nframes; k++) count += has(kind, &frames[k]);
   if (count == 0) return;
   fprintf(f,
           "    <Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
           name);
   for (size_t k = 0; k < nframes; k++)
-    if ((!want_walls || frames[k].has_walls) &&
-        (!want_contacts || frames[k].has_contacts))
-      grid(f, h5, &frames[k]);
+    if (has(kind, &frames[k])) grid(f, c, &frames[k]);
   fputs("    </Grid>\n", f);
 }
 
-int esf_xdmf_write(const char *path, const char *h5_name, const esf_xdmf_frame *frames,
-                   size_t nframes, esf_error *err) {
+int esf_xdmf_any(int kind, const esf_xdmf_frame *frames, size_t nframes) {
+  for (size_t k = 0; k < nframes; k++)
+    if (has(kind, &frames[k])) return 1;
+  return 0;
+}
+
+int esf_xdmf_write(const char *path, const char *h5_name, int kinds,
+                   const esf_xdmf_frame *frames, size_t nframes, esf_error *err) {
   char tmp[1100];
   if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp)
     return esf_fail(err, ESF_EIO, "path too long: %s", path);
@@ -147,9 +217,15 @@ int esf_xdmf_write(const char *path, const char *h5_name, const esf_xdmf_frame *
   fputs("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n"
         "<Xdmf Version=\"3.0\">\n  <Domain>\n",
         f);
-  collection(f, "particles", particles, 0, 0, h5_name, frames, nframes);
-  collection(f, "walls", walls, 1, 0, h5_name, frames, nframes);
-  collection(f, "contacts", contacts, 0, 1, h5_name, frames, nframes);
+  ctx c = {h5_name, 0, kinds == ESF_XDMF_PARTICLES};
+  for (size_t k = 0; k < nframes; k++)
+    if (frames[k].particles > c.nmax) c.nmax = frames[k].particles;
+  if (kinds & ESF_XDMF_PARTICLES)
+    collection(f, "particles", ESF_XDMF_PARTICLES, particles, &c, frames, nframes);
+  if (kinds & ESF_XDMF_WALLS)
+    collection(f, "walls", ESF_XDMF_WALLS, walls, &c, frames, nframes);
+  if (kinds & ESF_XDMF_CONTACTS)
+    collection(f, "contacts", ESF_XDMF_CONTACTS, contacts, &c, frames, nframes);
   fputs("  </Domain>\n</Xdmf>\n", f);
   int ok = fflush(f) == 0 && !ferror(f) && fsync(fileno(f)) == 0;
   int e = ok ? 0 : errno;

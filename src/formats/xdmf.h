@@ -4,12 +4,16 @@
  *
  * One Domain with up to three Temporal collections of Uniform grids, one grid per
  * frame, each with its Time:
- *   particles — Polyvertex topology on /frames/NNNNNN/position, node attributes radius,
- *               velocity, angular_velocity, force, material, id;
+ *   particles — N vertex cells (Polyvertex on the index's /vertex_index, whole or its
+ *               first N entries as a hyperslab) on /frames/NNNNNN/position, node
+ *               attributes radius, velocity, angular_velocity, force, material, id
+ *               (frames with particles);
  *   walls     — Triangle topology /frames/NNNNNN/walls/triangles on .../walls/points,
  *               cell attributes group and material (only frames with walls);
  *   contacts  — Polyline topology of 2 nodes /frames/NNNNNN/contacts/pairs on the
  *               particle positions, cell attribute normal_force (frames with contacts).
+ * An empty set of walls or contacts is a topology of no cells without data (docs/
+ * output.md#paraview says which reader shows what).
  * The file is replaced atomically (written to NAME.tmp, fsync'ed, renamed over NAME),
  * so a reader, or a run killed at any moment, sees a complete file. */
 #ifndef ESF_XDMF_H
@@ -30,10 +34,23 @@ typedef struct esf_xdmf_frame {
   size_t contacts;
 } esf_xdmf_frame;
 
-/* Writes the XDMF for nframes frames of h5_name (the HDF5 file's name as the XDMF
- * should reference it, normally its base name) to path, atomically. Errors: ESF_EIO
- * naming the path. */
-int esf_xdmf_write(const char *path, const char *h5_name, const esf_xdmf_frame *frames,
-                   size_t nframes, esf_error *err);
+/* The kinds of grid, as bits: a file may hold any of them. */
+enum {
+  ESF_XDMF_PARTICLES = 1,
+  ESF_XDMF_WALLS = 2,
+  ESF_XDMF_CONTACTS = 4,
+  ESF_XDMF_ALL = 7
+};
+
+/* Writes the XDMF of the grids of `kinds` for nframes frames of h5_name (the HDF5
+ * file's name as the XDMF should reference it, normally its base name) to path,
+ * atomically. A file of the particles alone also gives their positions as a node
+ * attribute `position` (what meshio's time series reader returns per frame). Errors:
+ * ESF_EIO naming the path. */
+int esf_xdmf_write(const char *path, const char *h5_name, int kinds,
+                   const esf_xdmf_frame *frames, size_t nframes, esf_error *err);
+
+/* Whether some frame has a grid of this kind (one bit). */
+int esf_xdmf_any(int kind, const esf_xdmf_frame *frames, size_t nframes);
 
 #endif

@@ -1,7 +1,8 @@
-/* pair_batch.c — the linear law of the fused step, ESF_BATCH pairs in vector lanes.
+/* pair_batch.c — the linear law of the fused step, ESF_BATCH pairs in vector lanes
+ * (with ctx.hertz the Hertz-Mindlin law's springs and dashpots, contact_hertz.h).
  *
  * Physics: contact_linear.c's law (docs/physics.md#linear-springdashpot-law), as the
- * fused step needs it (no ledger by-products): normal spring and dashpot without
+ * fused step needs it: normal spring and dashpot without
  * tension (004 2.9–2.12), the incremental tangential spring xi carried into the new
  * contact plane, rotated (000 3-17, 3-18: xi += (n_old x n) x xi, then the twist of the
  * mean spin about n) or projected and rescaled to its old length, the tangential
@@ -358,7 +359,7 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
       qa = esf_law_hertz_qref_v(es, sm, rs, pp[0]->v_imp);
     }
     esf_law_hertz_dashpots_v(c->beta, cnf, ctf, sm, qa, sn, st, &cn, &ct);
-    if (c->rows) st0 = esf_law_hertz_st0_v(kt, rs, un + c->dt * vn);
+    if (c->rows) st0 = esf_law_hertz_st_v(kt, rs, un + c->dt * vn);
     kn = ks;        /* the secant stiffness: fel = ks un */
     kt = zero + 1.; /* the record xi is the force */
   }

@@ -1,4 +1,5 @@
-/* pair_batch.h — the linear contact law of the fused step for ESF_BATCH pairs at once.
+/* pair_batch.h — the linear (or Hertz-Mindlin) contact law of the fused step for
+ * ESF_BATCH pairs at once.
  *
  * One function computes the contact of up to ESF_BATCH overlapping particle pairs in
  * the lanes of vectors (GCC vector extensions: AVX-512 when the build targets it, AVX

@@ -15,10 +15,9 @@
  * product (wall_overlap). Up to FAST_MAX candidates per particle the hits live on the
  * stack; more use the neighbour lists' wall scratch at k0 (as forces.c), so particles
  * run in parallel.
- * Entry: candidate lists valid for s->p.x; walls static (s->walls.moving == 0), every
- * material pair linear or every one Hertz-Mindlin (contact_hertz.h), no ledger, tally,
- * servo walls or history as ODE state (esf_wall_pass_select checks). Exit: as
- * esf_forces_wall_particle committing. Units: SI. */
+ * Entry: candidate lists valid for s->p.x; walls static, every material pair linear or
+ * every one Hertz-Mindlin (contact_hertz.h), no tally, servo walls or ODE-state history
+ * (esf_wall_pass_select checks). Exit: as esf_forces_wall_particle committing. SI. */
 #include "fused/wall_fast.h"
 
 #include <math.h>
@@ -75,9 +74,10 @@ static inline double wall_overlap(const esf_wall_elem *e, const double *x, doubl
 
 /* The contact of particle a with kept hit `hit` on element el, candidate k: the law
  * (esf_contact_linear_eval, contact_linear.h, inline: no strategy-table call) with the
- * contact velocity vc = v_wall - [vA + wA x (lA n)], lA = dist, where a static wall's
- * point velocity is +0 exactly as esf_wall_point_velocity computes it for a group with
- * zero vel and omega, and the spin (wA.n + 0.n)/2; f += force, t += lA n x ft. */
+ * contact velocity vc = v_wall - [vA + wA x (lA n)], lA = esf_wall_lever's, where a
+ * static wall's point velocity is +0 exactly as esf_wall_point_velocity computes it for a
+ * group with zero vel and omega, and the spin (wA.n + 0.n)/2; f += force, t += lA n x ft.
+ */
 static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
                                 const esf_wall_hit *hit, double un, size_t a, size_t k,
                                 double dt, size_t *nt, double *f, double *t,
@@ -88,7 +88,7 @@ static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
   esf_contact_in in;
   v3_copy(in.n, hit->n);
   in.un = un;
-  const double la = hit->dist;
+  const double la = esf_wall_lever(s->cfg.wall_lever, p->radius[a], un, hit->dist);
   double ra[3], ta[3];
   v3_scale(ra, la, in.n);
   v3_cross(ta, w, ra);
@@ -118,8 +118,7 @@ static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
   v3_axpy(t, la, m);
   if (rows) { /* the ledger, as forces.c's (a static wall: its point velocity +0) */
     double ket[3];
-    for (int q = 0; q < 3; q++)
-      ket[q] = pp->ht > 0 ? c->h[k].xi[q] : pp->kt * c->h[k].xi[q];
+    esf_contact_ket(pp, c->h[k].xi, ket);
     esf_ledger_wall_rows(rows, in.n, la, out.fd_n, out.fel, out.fd_t, ket, out.slip_work,
                          out.e_el_n, out.e_el_t, out.f, zero3, dt);
     if (pp->ht > 0) rows[ESF_LR_MET + 3] += out.w_st;

@@ -41,6 +41,11 @@ int esf_servo_setup(esf_sim *s, esf_error *err) {
   int any = 0;
   for (int k = 0; k < w->ngroups; k++) any |= w->g[k].motion.kind == ESF_MOTION_SERVO;
   if (!any) return ESF_OK;
+  if (s->mats.all_hertz) /* the gain rule needs a constant kn */
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: servo walls need the linear law's kn for their gain; the "
+                    "Hertz-Mindlin law (youngs_modulus) does not support them yet",
+                    esf_config_where(&s->cfg, "walls"));
   if (strcmp(s->cfg.method, "leapfrog") != 0)
     return esf_fail(err, ESF_EINPUT,
                     "%s: servo walls are supported by the leapfrog only (their velocity "

@@ -10,7 +10,9 @@
  *   the contact law gives the force on A; B gets the opposite (004 2.31);
  *   torques M_A = lA n x Ft, M_B = lB n x Ft (same sense, 004 2.34).
  * For a wall element: q its nearest point (wall_geom.h), un = rA - |q - xA|, n toward
- * q, lever lA = |q - xA|, vc = v_wall(q) - [vA + wA x (lA n)], m* = mA. Hits of
+ * q, lever lA = rA - un/2 to the contact point xc = xA + lA n as for pairs (000 3-16;
+ * contact.wall_lever: surface takes lA = |q - xA|, xc = q),
+ * vc = v_wall(xc) - [vA + wA x (lA n)], m* = mA. Hits of
  * one particle on edges and vertices shared by wall elements count once
  * (esf_forces_select_wall_hits, also used by the fast wall pass of wall_fast.c).
  * Gravity: f += m g. In 2D only x, z forces and the y torque act.
@@ -82,11 +84,11 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
       double *r = c->xsdot + 3 * k, sp[3], fs[3];
       v3_copy(r, in->vc);
       v3_axpy(r, -v3_dot(in->vc, in->n), in->n);
-      if (pp->ht > 0) v3_scale(r, esf_law_hertz_st0_s(pp->ht, in->rstar, in->un), r);
       if (s->tally) { /* power into the tangential spring as applied (capped) */
         v3_sub(fs, out->ft, out->fd_t);
         s->tally->p_spring_t += v3_dot(fs, r);
       }
+      if (pp->ht > 0) v3_scale(r, esf_law_hertz_st_s(pp->ht, in->rstar, in->un), r);
       v3_cross(sp, in->n, h.xi);
       v3_axpy(r, in->spin_n, sp);
     }
@@ -119,15 +121,22 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
     ty->e_el_n += out->e_el_n;
     ty->e_el_t += out->e_el_t;
     ty->slip += out->slip_work;
+    if (pp->ht > 0 && c->xs) { /* history as ODE state: the rate of |F|^2/(2 S_t) at
+                                  fixed F, |F|^2 vn / (4 S_t u); the other schemes book
+                                  the law's w_st at their commits */
+      double fs[3];
+      v3_sub(fs, out->ft, out->fd_t);
+      const double st = esf_law_hertz_st_s(pp->ht, in->rstar, in->un);
+      ty->p_stiff += v3_norm2(fs) * v3_dot(in->vc, in->n) / (4.0 * st * in->un);
+    }
   }
   return 1;
 }
 
-/* The tangential spring's force kt xi of a committed contact, on A (the Hertz-Mindlin
- * law's record xi is that force). */
+/* The tangential spring's force of a committed contact, on A (esf_contact_ket). */
 static void spring_t(const esf_pair_params *pp, const esf_contact_hist *h,
                      double ket[3]) {
-  for (int q = 0; q < 3; q++) ket[q] = pp->ht > 0 ? h->xi[q] : pp->kt * h->xi[q];
+  esf_contact_ket(pp, h->xi, ket);
 }
 
 static int pair_forces(esf_sim *s, const double *x, const double *v, const double *w,
@@ -137,7 +146,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
   const esf_materials *mt = &s->mats;
   double *rows = commit && s->led.on ? s->led_rows : NULL; /* the leapfrog's (ledger.h) */
   const int slips = commit && s->led.on && !rows;          /* the other schemes' ledger */
-  double slip = 0;
+  double slip = 0, wst = 0;
   size_t nt = 0;
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];
@@ -180,8 +189,10 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
       if (pp->ht > 0) rows_a[ESF_LR_MET + 3] += out.w_st;
     }
     if (slips) slip += out.slip_work;
+    if (slips) wst += out.w_st;
   }
   if (slips) s->led.d_friction += slip;
+  if (slips) s->led.w_stiff += wst;
   *touching += nt;
   return ESF_OK;
 }
@@ -258,9 +269,10 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
     esf_contact_in in;
     v3_copy(in.n, hit->n);
     in.un = un[k - k0];
-    double la = hit->dist;
-    double vw[3];
-    esf_wall_point_velocity(g, hit->q, vw);
+    const double la = esf_wall_lever(s->cfg.wall_lever, r, in.un, hit->dist);
+    double vw[3], pc[3];
+    esf_wall_contact_point(s->cfg.wall_lever, x + 3 * a, la, in.n, hit->q, pc);
+    esf_wall_point_velocity(g, pc, vw);
     contact_velocity(v, w, a, vw, NULL, la, 0, in.n, in.vc);
     in.spin_n = 0.5 * (v3_dot(w + 3 * a, in.n) + v3_dot(g->omega, in.n));
     in.mstar = p->mass[a];
@@ -278,6 +290,7 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
       if (pp->ht > 0) rows[ESF_LR_MET + 3] += out.w_st;
     }
     if (slip) *slip += out.slip_work;
+    if (slip) s->led.w_stiff += out.w_st; /* the other schemes' ledger (as the slip) */
     if (s->tally) s->tally->p_walls += v3_dot(out.f, vw);
     if (commit && s->walls.gforce) /* servo walls (servo.c) */
       esf_servo_add(esf_servo_slot(&s->walls, a, el->group), &out, in.n);

@@ -69,6 +69,17 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
   if (!rc) rc = esf_walls_freeze(&s->walls, s->t, err); /* moving walls placed at t0 */
   if (rc) return rc;
 
+  if (c->dim == 2 && s->mats.all_hertz) /* disks are cylinders: another contact law */
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: the Hertz-Mindlin law (youngs_modulus) is the law of spheres; "
+                    "2D disks (dimension: 2) need kn (the linear law)",
+                    esf_config_where(c, "dimension"));
+  if (c->dt_rule == ESF_DT_RAYLEIGH && !s->mats.all_hertz)
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: integrator.dt_rule: rayleigh needs the Hertz-Mindlin law "
+                    "(materials with youngs_modulus and poisson_ratio); this scene's "
+                    "materials give kn",
+                    esf_config_where(c, "integrator.dt_rule"));
   esf_dt_estimate_compute(s, &s->dte);
   double crit = s->dte.crit[c->dt_rule];
   if (c->dt_auto) {

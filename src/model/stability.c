@@ -142,7 +142,7 @@ size_t esf_stab_contacts(const esf_sim *s, esf_stab_visit fn, void *ctx) {
       c.a = a;
       c.b = -1;
       v3_copy(c.n, hits[j].n);
-      c.la = hits[j].dist;
+      c.la = esf_wall_lever(s->cfg.wall_lever, p->radius[a], un[j], hits[j].dist);
       c.lb = 0.0;
       const esf_pair_params *par =
           &mt->pair[p->material[a] * mt->n + s->walls.e[elem[j]].material];

@@ -48,7 +48,8 @@ struct esf_frames {
   long seg_start;       /* the open segment's first frame */
   long count;
   char *path, *xdmf_path, *h5_name; /* h5_name: the base name, as the XDMF says it */
-  char *seg_dir, *seg_name;         /* DIR.d as a path and relative to the index */
+  char *kind_path[3];       /* BASE_particles.xdmf, BASE_walls.xdmf, BASE_contacts.xdmf */
+  char *seg_dir, *seg_name; /* DIR.d as a path and relative to the index */
   char *scene, *version;
   esf_wall_mesh mesh;
   esf_xdmf_frame *xf; /* one record per frame written */
@@ -81,6 +82,7 @@ static void destroy(esf_frames *fr) {
   free(fr->rows);
   free(fr->path);
   free(fr->xdmf_path);
+  for (int i = 0; i < 3; i++) free(fr->kind_path[i]);
   free(fr->h5_name);
   free(fr->seg_dir);
   free(fr->seg_name);
@@ -115,6 +117,16 @@ static int create(const char *path, const char *scene, const char *version,
   int h5 = len >= 3 && strcmp(path + len - 3, ".h5") == 0;
   if (h5) {
     fr->xdmf_path[len - 3] = fr->seg_dir[len - 3] = fr->seg_name[blen - 3] = '\0';
+  }
+  for (int i = 0; i < 3; i++) {
+    static const char *const kind[3] = {"_particles.xdmf", "_walls.xdmf",
+                                        "_contacts.xdmf"};
+    fr->kind_path[i] = malloc(strlen(fr->xdmf_path) + strlen(kind[i]) + 1);
+    if (!fr->kind_path[i]) {
+      destroy(fr);
+      return esf_fail(err, ESF_ENOMEM, "out of memory opening '%s'", path);
+    }
+    strcat(strcpy(fr->kind_path[i], fr->xdmf_path), kind[i]);
   }
   strcat(fr->xdmf_path, ".xdmf");
   strcat(fr->seg_dir, ".d");
@@ -197,11 +209,19 @@ static int publish(esf_frames *fr, int force, int durable, esf_error *err) {
   if (!force && fr->count > PUBLISH_EVERY_MAX &&
       t - fr->pub_last < PUBLISH_COST_RATIO * fr->pub_cost)
     return ESF_OK;
+  size_t nmax = 0; /* the vertex cells' index covers the largest frame */
+  for (long k = 0; k < fr->count; k++)
+    if (fr->xf[k].particles > nmax) nmax = fr->xf[k].particles;
   esf_frames_index ix = {fr->scene, fr->version, fr->seg_name, fr->count, fr->seg_of,
-                         fr->ncols, fr->names,   fr->nrows,    fr->rows};
+                         fr->ncols, fr->names,   fr->nrows,    fr->rows,  nmax};
   int rc = esf_frames_index_write(fr->path, &ix, durable, err);
+  const size_t nf = (size_t)fr->count;
   if (!rc && fr->count > 0)
-    rc = esf_xdmf_write(fr->xdmf_path, fr->h5_name, fr->xf, (size_t)fr->count, err);
+    rc = esf_xdmf_write(fr->xdmf_path, fr->h5_name, ESF_XDMF_ALL, fr->xf, nf, err);
+  /* each kind alone, for the readers that merge a file's grids into one dataset */
+  for (int i = 0; i < 3 && !rc && fr->count > 0; i++)
+    if (esf_xdmf_any(1 << i, fr->xf, nf))
+      rc = esf_xdmf_write(fr->kind_path[i], fr->h5_name, 1 << i, fr->xf, nf, err);
   if (!rc) {
     fr->pub_frames = fr->count;
     fr->pub_rows = fr->nrows;

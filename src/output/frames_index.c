@@ -1,17 +1,19 @@
 /* frames_index.c — writing and reading the frames index (frames_index.h).
  *
  * Writing: H5Fcreate on PATH.tmp, the root attributes, /frames with one external link
- * per frame (H5Lcreate_external, target DIR.d/SSSSSS.h5 and /frames/NNNNNN), the
- * /energy table through h5table.h, H5Fclose; then (durable) fsync of PATH.tmp, rename
- * over PATH and (durable) fsync of the directory. Nothing of the segments is opened.
- * Reading (a resume): each of the first nframes links must be an external link into
- * DIR.d/SSSSSS.h5; the frame is opened through it (the segment must be readable) for
- * its time attribute and the first dimensions of its datasets (the XDMF record); the
- * energy columns are read with one hyperslab each. HDF5 printing is off throughout
- * (esf_h5_quiet); every identifier is closed before returning. */
+ * per frame (H5Lcreate_external, target DIR.d/SSSSSS.h5 and /frames/NNNNNN),
+ * /vertex_index (0..N-1, int32, N the most particles of a frame: the XDMF's vertex
+ * cells), the /energy table through h5table.h, H5Fclose; then (durable) fsync of
+ * PATH.tmp, rename over PATH and (durable) fsync of the directory. Nothing of the
+ * segments is opened. Reading (a resume): each of the first nframes links must be an
+ * external link into DIR.d/SSSSSS.h5; the frame is opened through it (the segment must be
+ * readable) for its time attribute and the first dimensions of its datasets (the XDMF
+ * record); the energy columns are read with one hyperslab each. HDF5 printing is off
+ * throughout (esf_h5_quiet); every identifier is closed before returning. */
 #include "output/frames_index.h"
 
 #include <hdf5.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -37,6 +39,17 @@ static int write_file(const char *tmp, const esf_frames_index *ix, esf_error *er
     ok = H5Lcreate_external(target, obj, g, name, H5P_DEFAULT, H5P_DEFAULT) >= 0;
   }
   if (g >= 0 && H5Gclose(g) < 0) ok = 0;
+  if (ok && ix->vertices > 0) { /* the particles' vertex cells (xdmf.h) */
+    int32_t *v = malloc(ix->vertices * sizeof *v);
+    if (!v) {
+      H5Fclose(f);
+      return esf_fail(err, ESF_ENOMEM, "out of memory writing '%s'", tmp);
+    }
+    for (size_t i = 0; i < ix->vertices; i++) v[i] = (int32_t)i;
+    ok = esf_h5_dataset_write(f, "vertex_index", H5T_STD_I32LE, H5T_NATIVE_INT32,
+                              ix->vertices, 1, v) == 0;
+    free(v);
+  }
   int rc = ok ? ESF_OK : esf_h5_fail(err, "cannot write frames index", tmp);
   if (!rc && ix->ncols > 0) {
     esf_h5table *t = NULL;

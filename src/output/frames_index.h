@@ -26,6 +26,8 @@ typedef struct esf_frames_index {
   const char *const *names;
   long nrows;
   const double *rows;
+  size_t vertices; /* the most particles of any frame: /vertex_index holds 0..that - 1
+                      (int32), the particles' vertex cells in the XDMF (xdmf.h) */
 } esf_frames_index;
 
 /* Replaces the index at path with ix: written to PATH.tmp and renamed over path; with

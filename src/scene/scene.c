@@ -206,9 +206,10 @@ static int read_materials(const esf_ynode *root, esf_sim *s, esf_error *err) {
 
 static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err) {
   static const char *const keys[] = {
-      "method", "dt",        "dt_rule",         "frac",         "allow_unstable",
-      "rtol",   "atol",      "history",         "max_steps",    "roots",
-      "fused",  "stability", "stability_every", "impact_speed", NULL};
+      "method",          "dt",    "dt_rule",      "frac",
+      "allow_unstable",  "rtol",  "atol",         "history",
+      "max_steps",       "roots", "fused",        "stability",
+      "stability_every", "table", "impact_speed", NULL};
   const esf_ynode *in = esf_ymap_get(root, "integrator");
   if (!in) return ESF_OK;
   int rc = esf_ynode_require_map(in, err);
@@ -249,6 +250,7 @@ static int read_integrator(const esf_ynode *root, esf_config *c, esf_error *err)
   if (!rc && c->stability_every <= 0)
     return esf_ynode_fail(esf_ymap_get(in, "stability_every"), err,
                           "must be a positive number of steps");
+  if (!rc) rc = esf_scene_butcher(in, c, err); /* integrator.table (method erk) */
   return rc;
 }
 
@@ -314,10 +316,12 @@ static int read_damping(const esf_ynode *root, esf_config *c, esf_error *err) {
 }
 
 static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
-  static const char *const ckeys[] = {"tangential_frame", "hertz_damping", "max_overlap",
-                                      "allow_initial_overlap", NULL};
+  static const char *const ckeys[] = {"tangential_frame", "hertz_damping",
+                                      "max_overlap",      "allow_initial_overlap",
+                                      "wall_lever",       NULL};
   static const char *const frames[] = {"rotate", "project", NULL};
   static const char *const hdamp[] = {"tsuji", "constant", NULL};
+  static const char *const levers[] = {"seed", "surface", NULL}; /* ESF_WALL_LEVER_* */
   static const char *const skeys[] = {"skin", "reorder", NULL};
   static const char *const rkeys[] = {"duration", "steps", NULL};
   static const char *const okeys[] = {"every",    "energy_every",     "dir",
@@ -328,6 +332,7 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
     rc = esf_ymap_check_keys(ct, ckeys, err);
     if (!rc) rc = esf_yget_choice(ct, "tangential_frame", 0, frames, &c->tframe, err);
     if (!rc) rc = esf_yget_choice(ct, "hertz_damping", 0, hdamp, &c->hertz_damping, err);
+    if (!rc) rc = esf_yget_choice(ct, "wall_lever", 0, levers, &c->wall_lever, err);
     if (!rc) rc = esf_yget_double(ct, "max_overlap", 0, &c->max_overlap, err);
     if (!rc) rc = positive(ct, "max_overlap", c->max_overlap, 1, err);
     if (!rc)
@@ -440,7 +445,7 @@ static void record_places(const esf_ynode *root, esf_config *c) {
   static const char *const keys[] = {
       "", "materials", "particles", "walls", "events", "fluid", "damping", "integrator",
       "integrator.method", "integrator.dt", "integrator.frac", "integrator.history",
-      "integrator.roots", "integrator.rtol", "run", "run.duration", "run.steps",
+      "integrator.roots", "integrator.rtol", "integrator.table", "run", "run.duration", "run.steps",
       "output", "output.every", "output.energy_every", "output.checkpoint_every",
       "search", "search.skin", NULL};
   /* clang-format on */

@@ -28,6 +28,11 @@ int esf_scene_wall_screw(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
 int esf_scene_check_overlaps(const esf_ynode *seq, const esf_ynode *walls,
                              const esf_sim *s, const uint32_t *entry, esf_error *err);
 
+/* integrator.table (scene_butcher.c): the Butcher table of method erk into c->table,
+ * checked; with no table, method erk is an error. in: the integrator mapping (method and
+ * rtol read). */
+int esf_scene_butcher(const esf_ynode *in, esf_config *c, esf_error *err);
+
 /* Helpers shared by the readers (scene_util.c). */
 /* Re-raises err's message (set by a geometry builder) at node n's position. */
 int esf_scene_fail_at(const esf_ynode *n, esf_error *err);
