@@ -26,7 +26,9 @@ a rigid plane, or two spheres; no gravity:
 The plane is rigid: sphere and wall both get 2E and the sphere's nu, which makes
 E* = E/(1 - nu^2) and G* = G/(2 - nu) exactly those of a rigid plane. No tangential
 dashpot (tangential_restitution 1), the normal one from e (contact.hertz_damping
-default, tsuji). Leapfrog at dt = t_H/400 (t_H the elastic Hertz contact time).
+default, tsuji). The wall contact acts on the plane's surface, lever R - u
+(contact.wall_lever: surface; the default, the seed's R - u/2, puts it halfway through
+the overlap). Leapfrog at dt = t_H/400 (t_H the elastic Hertz contact time).
 
 The law's own solution ("model"): each wall impact is also integrated by
 model_reference, independently of esfera (semi-implicit Euler at t_H/4000, the dashpot's
@@ -133,7 +135,7 @@ def scene_yaml(test, mat, p, steps=STEPS_PER_CONTACT):
                   f"  - {{material: ball, radius: {R}, position: [0, 0, {R + gap!r}], "
                   f"velocity: [{vt!r}, 0, {-vn!r}], angular_velocity: [0, {-w0}, 0]}}",
                   "walls:", "  - {plane: {point: [0, 0, 0], normal: [0, 0, 1]}, "
-                  "material: rigid}"]
+                  "material: rigid}", "contact: {wall_lever: surface}"]
     lines += [f"integrator: {{method: leapfrog, dt: {dt!r}, impact_speed: {vn!r}}}",
               f"run: {{steps: {n}}}", "output: {every: 0, energy_every: 0}"]
     return "\n".join(lines) + "\n", t_h

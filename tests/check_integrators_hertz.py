@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """check_integrators_hertz.py ESFERA REPO -- studies/integrators_hertz.py: its --quick
-mode (leapfrog and DP5 on the five head-on cases, 16 .. 1024 steps per contact, two
-onset phases; about 15 s) into a temporary directory: every case measured, its CSV,
+mode (leapfrog and DP5 on the five head-on cases, 16 .. 1024 steps per contact, five
+onset phases; about 30 s) into a temporary directory: every case measured, its CSV,
 JSON, PNG and section written, the references (closed forms: the adaptive reference
 within 1e-9 of them), every curve's error falling at least 15-fold from 16 to 1024 steps
 per contact (64-fold at order 1, less the onset phase's scatter), and the clearest
