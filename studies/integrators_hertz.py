@@ -372,7 +372,7 @@ def main(argv):
                   file=sys.stderr)
             return 2
         rows = [r for r in rows if r["case"] not in measure_cases]
-        tmp = os.path.join(out, "tmp_hertz")
+        tmp = os.path.join(out, "tmp", "hertz")  # ignored by git (.gitignore)
         os.makedirs(os.path.join(tmp, "runs"), exist_ok=True)
         runner = Runner(os.path.abspath(args.esfera), tmp)
         methods = ["leapfrog", DP5] if args.quick else METHODS
