@@ -136,7 +136,8 @@ def scene_yaml(test, mat, p, steps=STEPS_PER_CONTACT):
                   f"velocity: [{vt!r}, 0, {-vn!r}], angular_velocity: [0, {-w0}, 0]}}",
                   "walls:", "  - {plane: {point: [0, 0, 0], normal: [0, 0, 1]}, "
                   "material: rigid}", "contact: {wall_lever: surface}"]
-    lines += [f"integrator: {{method: leapfrog, dt: {dt!r}, impact_speed: {vn!r}}}",
+    speed = 2 * vn if two else vn  # the approach speed
+    lines += [f"integrator: {{method: leapfrog, dt: {dt!r}, impact_speed: {speed!r}}}",
               f"run: {{steps: {n}}}", "output: {every: 0, energy_every: 0}"]
     return "\n".join(lines) + "\n", t_h
 
