@@ -36,7 +36,7 @@ int esf_forces_overlap_failure(const esf_sim *s, long long ida, long long idb, i
                     "by %.3g m, %.0f%% of its radius (limit %.0f%%); dt = %.4g s, "
                     "critical dt (%s) = %.4g s. The wall pushes faster than contacts "
                     "can respond, or dt is too large: lower integrator.frac or dt, or "
-                    "raise kn",
+                    "raise kn (youngs_modulus for the Hertz-Mindlin law)",
                     s->step, s->t, ida, idb, un, 100.0 * un / rmin,
                     100.0 * s->cfg.max_overlap, s->dt, rule, s->dte.crit[s->cfg.dt_rule]);
   return esf_fail(err, ESF_ENUMERIC,
@@ -44,7 +44,7 @@ int esf_forces_overlap_failure(const esf_sim *s, long long ida, long long idb, i
                   "m, %.0f%% of the smaller radius (limit %.0f%%); dt = %.4g s, "
                   "critical dt (%s) = %.4g s. The step is too large for the stiffness "
                   "(lower integrator.frac or dt) or the contacts are too soft for the "
-                  "loads (raise kn)",
+                  "loads (raise kn, or youngs_modulus for the Hertz-Mindlin law)",
                   s->step, s->t, ida, idb, un, 100.0 * un / rmin,
                   100.0 * s->cfg.max_overlap, s->dt, rule, s->dte.crit[s->cfg.dt_rule]);
 }
