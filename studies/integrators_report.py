@@ -1,11 +1,13 @@
 """integrators_report.py -- the integrator study's output from the scenes' rows: the
 error-against-cost plots (SCENE_rhs.png, SCENE_wall.png) and report.md (the headline, then
 per scene the cheapest method per error level, Pareto fronts, observed orders, frozen vs
-state history, roots, wall time per rhs evaluation, cost at matched accuracy).
+state history, roots, wall time per rhs evaluation, cost at matched accuracy), and at its
+end DIR/hertz.md when integrators_hertz.py has written it.
 """
 import collections
 import json
 import math
+import os
 
 import numpy as np
 
@@ -350,5 +352,9 @@ def write_report(path, scenes, args):
     lines += ["## Headline", ""] + summary_lines(scenes) + [""]
     for s in scenes:
         lines += scene_section(s)
+    hertz = os.path.join(os.path.dirname(path), "hertz.md")  # integrators_hertz.py's
+    if os.path.exists(hertz):
+        with open(hertz) as fh:
+            lines += [fh.read().rstrip("\n")]
     with open(path, "w") as fh:
         fh.write("\n".join(lines) + "\n")
