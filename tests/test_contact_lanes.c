@@ -150,8 +150,8 @@ static result scalar(const cases *c, const esf_materials *mt, double beta, int t
                            c->inertia[ib], &rs, &ir, &itw);
     esf_law_rout_s o;
     esf_contact_rolling(pp, roll == 2 ? ESF_ROLL_CDT : ESF_ROLL_EPSD,
-                        esf_contact_rolling_kn(pp, rs, in.un), rs, ir, itw, out.fn, dt, in.n,
-                        wrel, NULL, &c->roll[k], c->touch[k], &o);
+                        esf_contact_rolling_kn(pp, rs, in.un), 0, 0.0, rs, ir, itw, out.fn,
+                        dt, in.n, wrel, NULL, &c->roll[k], c->touch[k], &o);
     for (int q = 0; q < 3; q++) {
       r.ta[q] += o.md[q] + o.ms[q];
       r.tb[q] -= o.md[q] + o.ms[q];

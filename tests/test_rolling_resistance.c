@@ -10,6 +10,11 @@
  *   twisting (both models) about the normal: w(t) = w0 - (5/2) mu_tw g t / r;
  *   the energy ledger closes with rolling (a rolling sphere; spheres dropped);
  *   a scene with mu_r = mu_tw = 0 keeps no rolling state;
+ *   with the Hertz-Mindlin law (E 1e10 Pa, nu 0.3): the cdt plane, and the epsd
+ *     incline at rest with the elastic displacement la^2 F / k_r + F / S_t, k_r from
+ *     S_n = 2 E* sqrt(r u) at the static overlap, and rolling above the limit; the
+ *     ledger of the dropped spheres (the rolling springs' stiffness change booked in
+ *     work_tangential_stiffness);
  *   the live stability check's top mode is the twisting spring's (mu_tw = 1, no
  *   dashpots): w^2 = k_tw / I = 5.625 kn mu_tw^2 / m (normal kn/m, tangential-rolling
  *   3.5 kt/m). The sphere starts at its static overlap m g / kn (u/r ~ 1e-5). */
@@ -35,21 +40,39 @@ static const double g = 9.81, r = 0.01, rho = 2500, kn = 1.0e6;
 
 static int dim_ = 3; /* the scenes' dimension: 3 spheres, 2 disks (thickness 1 m) */
 
+/* hertz_: the ball (and the plane) Hertz-Mindlin, E = 1e10 Pa, nu = 0.3, so that
+ * E* = E/(2(1 - nu^2)), G* = E/(4(2 - nu)(1 + nu)), R* = r; k_r = 2.25 S_n mu_r^2 r^2
+ * with S_n = 2 E* sqrt(r u) at the static overlap u. */
+static int hertz_ = 0;
+static const double E_h = 1.0e10, nu_h = 0.3;
+static const char *const hertz_ball =
+    "materials.ball={density: 2500, youngs_modulus: 1.0e10, poisson_ratio: 0.3, "
+    "restitution: 0.3, friction: 0.5, rolling_friction: 0.1, rolling_damping: 0.5}";
+
 static double mass(void) {
   return dim_ == 3 ? 4.0 / 3.0 * ESF_PI * r * r * r * rho : ESF_PI * r * r * rho;
+}
+
+static double estar(void) { return E_h / (2.0 * (1.0 - nu_h * nu_h)); }
+
+/* The static overlap under a normal load f: f / kn, or Hertz's (3 f / (4 E* sqrt(r)))^(2/3). */
+static double overlap(double f) {
+  return hertz_ ? pow(3.0 * f / (4.0 * estar() * sqrt(r)), 2.0 / 3.0) : f / kn;
 }
 
 /* Opens the scene with the sphere at its static overlap under gravity g (cos th) and
  * the extra overrides. */
 static int open_sphere(simtest *T, double th, const char *const *extra, int nextra) {
   char z[96], gr[128], d[32];
-  const double u = mass() * g * cos(th) / kn;
+  const double u = overlap(mass() * g * cos(th));
   snprintf(d, sizeof d, "dimension=%d", dim_);
   snprintf(z, sizeof z, "particles.0.position=[0, 0, %.17g]", r - u);
   snprintf(gr, sizeof gr, "gravity=[%.17g, 0, %.17g]", g * sin(th), -g * cos(th));
-  const char *sets[9] = {z, gr, d};
-  for (int k = 0; k < nextra && k < 6; k++) sets[3 + k] = extra[k];
-  return simtest_open(T, scene, sets, 3 + nextra);
+  const char *sets[10] = {z, gr, d};
+  int ns = 3;
+  if (hertz_) sets[ns++] = hertz_ball;
+  for (int k = 0; k < nextra && k < 6; k++) sets[ns++] = extra[k];
+  return simtest_open(T, scene, sets, ns);
 }
 
 /* The ledger of a single rolling sphere: the rolling resistance's dissipation and the
@@ -76,7 +99,7 @@ static void cdt_plane(const char *method) {
   /* rolling without slip about the contact point at the lever r - u/2 (the default
      contact.wall_lever: seed) */
   snprintf(w, sizeof w, "particles.0.angular_velocity=[0, %.17g, 0]",
-           v0 / (r - 0.5 * mass() * g / kn));
+           v0 / (r - 0.5 * overlap(mass() * g)));
   const char *ex[] = {"contact.rolling=cdt", "particles.0.velocity=[1, 0, 0]", w,
                       "output.energy_every=1.0e-9", me};
   simtest T;
@@ -98,9 +121,9 @@ static void cdt_plane(const char *method) {
         method, dim_, worst);
   const double slip = p->v[0] - p->w[1] * p->x[2];
   CHECK(fabs(slip) < 1e-3 * v0, "cdt: still rolling without slip (%.2e m/s)", slip);
-  printf("cdt (%s, %dD): deceleration matches mu_r g / (1 + kI) to %.2e of the speed "
+  printf("cdt (%s, %dD%s): deceleration matches mu_r g / (1 + kI) to %.2e of the speed "
          "change\n",
-         method, dim_, worst);
+         method, dim_, hertz_ ? ", Hertz" : "", worst);
   /* velocity Verlet: cdt's torque sees the half-step spin, so the trapezoid over its
      power is first order (7.8e-6 of the dissipation at frac 0.1, half at 0.05) */
   ledger_closes(&T, method, strcmp(method, "leapfrog") ? 2e-5 : 1e-9);
@@ -127,6 +150,18 @@ static void epsd_incline(const char *method) {
     v1 = p->v[0];
     while (T.s.t < t2)
       if (simtest_step(&T)) break;
+    if (!above && hertz_) { /* at rest: the rolling spring holds F la (F = m g sin th,
+                               la = r - u/2) over k_r, the tangential one F over S_t:
+                               x = la^2 F / k_r + F / S_t */
+      const double F = mass() * g * sin(th), u = overlap(mass() * g * cos(th));
+      const double a = sqrt(r * u), sn = 2.0 * estar() * a, la = r - 0.5 * u;
+      const double st = 8.0 * E_h / (4.0 * (2.0 - nu_h) * (1.0 + nu_h)) * a;
+      const double kr = 2.25 * sn * mu_r * mu_r * r * r, xe = la * la * F / kr + F / st;
+      CHECK_NEAR(p->x[0], xe, 1e-3 * xe, "epsd (Hertz): the elastic displacement at rest");
+      printf("epsd (%s, Hertz) at tan(theta) = 0.8 mu_r: x = %.6g m (closed form %.6g, "
+             "k_r = %.4g N m/rad from S_n = %.4g N/m), v = %.3g m/s after %.1f s\n",
+             method, p->x[0], xe, kr, sn, p->v[0], T.s.t);
+    }
     if (!above) {
       CHECK(fabs(p->x[0]) < 1e-5 && fabs(p->v[0]) < 1e-4,
             "epsd (%s): tan(theta) = 0.8 mu_r: the sphere stays (x = %.3g m, v = %.3g "
@@ -197,9 +232,12 @@ static const char *pile =
 static void ledger(const char *model) {
   char set[64];
   snprintf(set, sizeof set, "contact.rolling=%s", model);
-  const char *sets[] = {set};
+  const char *sets[] = {
+      set, "materials.ball={density: 2500, youngs_modulus: 1.0e8, poisson_ratio: 0.3, "
+           "restitution: 0.5, friction: 0.4, rolling_friction: 0.2, rolling_damping: 0.3, "
+           "twisting_friction: 0.1}"};
   simtest T;
-  if (simtest_open(&T, pile, sets, 1)) {
+  if (simtest_open(&T, pile, sets, hertz_ ? 2 : 1)) {
     CHECK(0, "ledger scene failed");
     return;
   }
@@ -211,9 +249,9 @@ static void ledger(const char *model) {
         L->d_rolling, D);
   CHECK(fabs(R) < 1e-4 * D, "%s: the ledger closes: total_error %.3g J against %.3g J",
         model, R, D);
-  printf("%s ledger: dissipated %.6g J (rolling %.6g J), stored rolling %.3g J, "
-         "total_error %.3g J\n",
-         model, D, L->d_rolling, L->el_r, R);
+  printf("%s%s ledger: dissipated %.6g J (rolling %.6g J), stored rolling %.3g J, "
+         "work_tangential_stiffness %.4g J, total_error %.3g J\n",
+         model, hertz_ ? " (Hertz)" : "", D, L->d_rolling, L->el_r, L->w_stiff, R);
   simtest_close(&T);
 }
 
@@ -269,5 +307,12 @@ int main(void) {
   ledger("cdt");
   off();
   stability();
+  hertz_ = 1; /* the Hertz-Mindlin law: rolling's kn is S_n at the overlap */
+  cdt_plane("leapfrog");
+  epsd_incline("leapfrog");
+  ledger("epsd"); /* the springs' stiffness change booked (w_k): 4.4e-5 of D, 2.6e-3
+                     without it */
+  ledger("cdt");
+  hertz_ = 0;
   return check_finish("test_rolling_resistance");
 }

@@ -19,10 +19,7 @@
  * (esf_law_hertz_springs's sn: the same operations as the fused step's batches). */
 static inline double esf_contact_rolling_kn(const esf_pair_params *pp, double rstar,
                                             double un) {
-  if (!(pp->hn > 0)) return pp->kn;
-  double ks, sn, st, qa;
-  esf_law_hertz_springs_s(pp->hn, pp->ht, rstar, un, &ks, &sn, &st, &qa);
-  return sn;
+  return pp->hn > 0 ? esf_law_hertz_sn_s(pp->hn, rstar, un) : pp->kn;
 }
 
 /* The rolling resistance of a touching contact: pair parameters pp, model
@@ -30,16 +27,23 @@ static inline double esf_contact_rolling_kn(const esf_pair_params *pp, double rs
  * (esf_law_rolling_pair_s), normal force fn, relative spin wrel = wA - wB (a wall: its
  * angular velocity), wi NULL or the spin the increments integrate over dt (the ODE
  * methods' trapezoidal carry), the stored state h (live: touching at the last
- * commit). */
+ * commit). stiff: o->w_k books the springs' stiffness change from kn0, the normal
+ * stiffness at the last commit's overlap (Hertz pairs with the ledger). */
 static inline void esf_contact_rolling(const esf_pair_params *pp, int model, double kn,
-                                       double rstar, double ir, double itw, double fn,
-                                       double dt, const double n[3], const double wrel[3],
+                                       int stiff, double kn0, double rstar, double ir,
+                                       double itw, double fn, double dt,
+                                       const double n[3], const double wrel[3],
                                        const double *wi, const esf_contact_roll *h,
                                        int live, esf_law_rout_s *o) {
   esf_law_rpar_s P;
   esf_law_rolling_par_s(kn, pp->mu_r, pp->mu_tw, pp->eta_r, rstar, ir, itw, fn,
                         model == ESF_ROLL_CDT, &P);
   P.wi = wi;
+  if (stiff) {
+    P.stiff = 1;
+    P.kr0 = esf_law_rolling_stiffness_s(kn0, pp->mu_r, rstar);
+    P.ktw0 = esf_law_rolling_stiffness_s(kn0, pp->mu_tw, rstar);
+  }
   esf_law_rolling_s(&P, dt, n, wrel, h->m, h->t, live, o);
 }
 

@@ -105,6 +105,14 @@ static inline void LANE_FN(esf_law_hertz_springs)(LANE_R hn, LANE_R ht, LANE_R r
   *qa = LANE_SQRT(a);
 }
 
+/* The Hertz normal tangent stiffness S_n = (3/2) hn sqrt(R* u) at overlap u (the same
+ * operations as esf_law_hertz_springs's sn), 0 when u <= 0 (the rolling springs' kn;
+ * the ledger's at the last commit's overlap). */
+static inline LANE_R LANE_FN(esf_law_hertz_sn)(LANE_R hn, LANE_R rs, LANE_R u) {
+  const LANE_R zero = {0};
+  return LANE_SEL(u > 0, 1.5 * (hn * LANE_SQRT(rs * u)), zero);
+}
+
 /* The Hertz tangential stiffness ht sqrt(R* u) at overlap u, 0 when u <= 0 (the ledger's
  * st0 at the last commit's overlap; the ODE rates of forces.c). */
 static inline LANE_R LANE_FN(esf_law_hertz_st)(LANE_R ht, LANE_R rs, LANE_R u) {
@@ -276,6 +284,8 @@ typedef struct LANE_FN(esf_law_rpar) {
   int cdt;        /* 1: the constant directional torque (type A); 0: epsd (type C) */
   const LANE_R *wi; /* NULL, or the relative spin whose parts integrate the springs'
                        increments over dt (the ODE methods' trapezoidal carry) */
+  int stiff;        /* 1: book w_k (Hertz pairs with the ledger: kr, ktw vary) */
+  LANE_R kr0, ktw0; /* stiff: kr, ktw at the last commit's overlap (0: none) */
 } LANE_FN(esf_law_rpar);
 
 /* What the rolling resistance gives. */
@@ -287,6 +297,8 @@ typedef struct LANE_FN(esf_law_rout) {
   LANE_R ht;    /* the new twisting spring torque about n, N m */
   LANE_R slip;  /* plastic work of this evaluation (epsd), J */
   LANE_R e_el;  /* the springs' energy |hm|^2/(2 kr) + ht^2/(2 ktw), J */
+  LANE_R w_k;   /* stiff: the energy the carried torques' springs gained as their
+                   stiffnesses changed, |hm_c|^2 (1/kr - 1/kr0)/2 + alike, J */
 } LANE_FN(esf_law_rout);
 
 /* The rolling (and twisting, with mu_tw) spring of a contact whose normal stiffness
@@ -323,8 +335,9 @@ static inline void LANE_FN(esf_law_rolling_par)(LANE_R kn, LANE_R mu_r, LANE_R m
   P->mr = mu_r * rstar * f;
   P->mtw = mu_tw * rstar * f;
   P->cdt = cdt;
-  P->wi = 0; /* no carry */
-  P->kr = P->ktw = P->cr = P->ctw = zero;
+  P->wi = 0;    /* no carry */
+  P->stiff = 0; /* no stiffness-change term */
+  P->kr = P->ktw = P->cr = P->ctw = P->kr0 = P->ktw0 = zero;
   if (!cdt) {
     P->kr = LANE_FN(esf_law_rolling_stiffness)(kn, mu_r, rstar);
     P->ktw = LANE_FN(esf_law_rolling_stiffness)(kn, mu_tw, rstar);
@@ -366,7 +379,9 @@ static inline void LANE_FN(esf_law_roll_spring)(int ncomp, LANE_R k, LANE_R lim,
  * projected on the current plane and rescaled to keep |hm|, the spring increment
  * -kr dt wr, the cap mu_r R* fn, and the dashpot -cr wr switched off while the cap
  * holds; the twisting torque ht about n alike. cdt (type A): -mu_r R* fn wr/|wr|
- * and -mu_tw R* fn sign(wn), no history. */
+ * and -mu_tw R* fn sign(wn), no history. P->stiff (Hertz pairs, whose kr and ktw follow
+ * S_n): w_k books the carried torques' energy change from kr0, ktw0 to kr, ktw, as
+ * esf_law_tangential's w_st does for the Hertz tangential force. */
 static inline void LANE_FN(esf_law_rolling)(const LANE_FN(esf_law_rpar) * P, LANE_R dt,
                                             const LANE_R n[3], const LANE_R wrel[3],
                                             const LANE_R hm[3], LANE_R ht, LANE_M live,
@@ -376,6 +391,7 @@ static inline void LANE_FN(esf_law_rolling)(const LANE_FN(esf_law_rpar) * P, LAN
   LANE_R wr[3];
   for (int q = 0; q < 3; q++) wr[q] = wrel[q] - wn * n[q];
   o->slip = zero;
+  o->w_k = zero;
   if (P->cdt) {
     const LANE_R a = LANE_SQRT(LANE_FN(esf_law_dot)(wr, wr));
     const LANE_R s = LANE_SEL(a > 0, P->mr / a, zero);
@@ -397,6 +413,13 @@ static inline void LANE_FN(esf_law_rolling)(const LANE_FN(esf_law_rpar) * P, LAN
   const LANE_R r = LANE_SEL(m1 > 0, m0 / m1, zero);
   for (int q = 0; q < 3; q++) hr[q] = LANE_SEL(live, hr[q] * r, zero);
   const LANE_R h1 = LANE_SEL(live, ht, zero);
+  const LANE_R ikr = LANE_SEL(P->kr > 0, 0.5 / P->kr, zero),
+               ikt = LANE_SEL(P->ktw > 0, 0.5 / P->ktw, zero);
+  if (P->stiff) {
+    const LANE_R i0r = LANE_SEL(P->kr0 > 0, 0.5 / P->kr0, ikr),
+                 i0t = LANE_SEL(P->ktw0 > 0, 0.5 / P->ktw0, ikt);
+    o->w_k = (ikr - i0r) * LANE_FN(esf_law_dot)(hr, hr) + (ikt - i0t) * (h1 * h1);
+  }
   LANE_M fr, ft;
   LANE_R wri[3], wni = wn; /* the increments' spin: wrel's parts, or wi's */
   if (P->wi) {
@@ -412,7 +435,5 @@ static inline void LANE_FN(esf_law_rolling)(const LANE_FN(esf_law_rpar) * P, LAN
     o->md[q] = LANE_SEL(fr, zero, -P->cr * wr[q]) + dtw * n[q];
     o->ms[q] = o->hm[q] + o->ht * n[q];
   }
-  const LANE_R ikr = LANE_SEL(P->kr > 0, 0.5 / P->kr, zero),
-               ikt = LANE_SEL(P->ktw > 0, 0.5 / P->ktw, zero);
   o->e_el = ikr * LANE_FN(esf_law_dot)(o->hm, o->hm) + ikt * o->ht * o->ht;
 }

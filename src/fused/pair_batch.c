@@ -254,7 +254,8 @@ static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_
   col[1][3] = e_n;
   col[2][3] = T->e_el;
   for (int j = 3; j < nc; j++) col[j][3] = mz;
-  if (c->hertz) col[5][3] = T->w_st; /* the stiffness change's energy (ESF_LR_MET) */
+  if (c->hertz) /* the stiffness changes' energy (ESF_LR_MET), rolling's (forces.c) */
+    col[5][3] = R ? T->w_st + R->w_k : T->w_st;
   if (R) {
     col[12][3] = R->slip;
     col[13][3] = R->e_el;
@@ -294,13 +295,14 @@ static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_
 
 /* The rolling resistance of the batch's lanes (esf_law_rolling_par, esf_law_rolling),
  * the operations of model/forces.c's per contact (kn: the linear law's, or a Hertz
- * pair's S_n at the overlap, esf_contact_rolling_kn): the pairs' mu_r, mu_tw, eta_r and
+ * pair's S_n at the overlap, esf_contact_rolling_kn; kn0 S_n at the last commit's
+ * overlap, the ledger's stiffness change): the pairs' mu_r, mu_tw, eta_r and
  * stored states gathered, R* and the inertias, the torque M = md + ms added to ta (A's)
  * and subtracted from tb (B's); R receives the new states to commit. */
 static void rolling(const esf_pair_batch_ctx *c, const esf_pair_params *const *pp,
-                    const size_t *kk, const size_t *ia, const size_t *ib, vd kn, vd ra,
-                    vd rb, vd fn, const vd n[3], const vd wa[3], const vd wb[3], vm live,
-                    esf_law_rout_v *R, vd ta[4], vd tb[4]) {
+                    const size_t *kk, const size_t *ia, const size_t *ib, vd kn, vd kn0,
+                    vd ra, vd rb, vd fn, const vd n[3], const vd wa[3], const vd wb[3],
+                    vm live, esf_law_rout_v *R, vd ta[4], vd tb[4]) {
   vd mur, mutw, etar, hm[3], ht;
   for (int l = 0; l < ESF_BATCH; l++) {
     mur[l] = pp[l]->mu_r;
@@ -315,6 +317,11 @@ static void rolling(const esf_pair_batch_ctx *c, const esf_pair_params *const *p
                          gat(c->inertia, ib), &rs, &ir, &itw);
   esf_law_rpar_v P;
   esf_law_rolling_par_v(kn, mur, mutw, etar, rs, ir, itw, fn, c->roll_cdt, &P);
+  if (c->hertz && c->rows) { /* the springs' stiffness change (esf_contact_rolling) */
+    P.stiff = 1;
+    P.kr0 = esf_law_rolling_stiffness_v(kn0, mur, rs);
+    P.ktw0 = esf_law_rolling_stiffness_v(kn0, mutw, rs);
+  }
   for (int q = 0; q < 3; q++) wrel[q] = wa[q] - wb[q];
   esf_law_rolling_v(&P, ((vd){0}) + c->dt, n, wrel, hm, ht, live, R);
   for (int q = 0; q < 3; q++) {
@@ -409,7 +416,7 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   const vm bad = un > c->max_overlap * sel(ra < rb, ra, rb);
   const vd vn = dot(vc, n);
   vd st = zero, st0 = zero; /* Hertz: tangential stiffness now, at the last commit */
-  vd sn = zero;             /* Hertz: the normal tangent stiffness (rolling's kn) */
+  vd sn = zero, sn0 = zero; /* Hertz: S_n now (rolling's kn), at the last commit */
   if (c->hertz) {           /* contact_hertz.h's operations, lane-wise */
     const vd rs = ra * rb / (ra + rb);
     vd ks, qa;
@@ -422,6 +429,7 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
     }
     esf_law_hertz_dashpots_v(c->beta, cnf, ctf, sm, qa, sn, st, &cn, &ct);
     if (c->rows) st0 = esf_law_hertz_st_v(kt, rs, un + c->dt * vn);
+    if (c->rows && c->roll) sn0 = esf_law_hertz_sn_v(kn, rs, un + c->dt * vn);
     kn = ks;        /* the secant stiffness: fel = ks un */
     kt = zero + 1.; /* the record xi is the force */
   }
@@ -481,8 +489,8 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   vd tb[4] = {lb * m[0], lb * m[1], lb * m[2], zero};
   esf_law_rout_v R;
   if (c->roll)
-    rolling(c, pp, kk, ia, ib, c->hertz ? sn : kn, ra, rb, fn, n, wa, wb, tch & ~broke, &R,
-            ta, tb);
+    rolling(c, pp, kk, ia, ib, c->hertz ? sn : kn, sn0, ra, rb, fn, n, wa, wb, tch & ~broke,
+            &R, ta, tb);
   v4 rf[ESF_BATCH], rta[ESF_BATCH], rtb[ESF_BATCH];
   if (acc) {
     rows_of(f4, rf);

@@ -145,19 +145,24 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
  * rotating wall's work rate M.om) and, committing, their ledger's plastic work. ta and tb
  * are the contact's own torques (lever arm times n x ft), so that the particles receive
  * lA n x ft + M in one addition as from the fused step's batches. rstar and the
- * overlap un give a Hertz pair's kn (esf_contact_rolling_kn). */
-static void rolling(esf_sim *s, const esf_pair_params *pp, esf_candidates *c, size_t k,
-                    int commit, int live, const double n[3], const double wrel[3],
-                    double rstar, double un, double ir, double itw, double fn, double dt,
-                    double *ta, double *tb, double *ra, double *rb, const double *om) {
+ * overlap un give a Hertz pair's kn (esf_contact_rolling_kn); stiff (a Hertz pair,
+ * committing with the ledger): returns the springs' stiffness-change energy w_k from
+ * S_n at u0, the last commit's overlap (as the Hertz law's st0), else 0. */
+static double rolling(esf_sim *s, const esf_pair_params *pp, esf_candidates *c, size_t k,
+                      int commit, int live, int stiff, const double n[3],
+                      const double wrel[3], double rstar, double un, double u0, double ir,
+                      double itw, double fn, double dt, double *ta, double *tb,
+                      double *ra, double *rb, const double *om) {
   esf_law_rout_s o;
   double wm[3], *wi = NULL;
   if (c->wr0 && live) { /* ODE methods: trapezoidal increment since the commit */
     for (int q = 0; q < 3; q++) wm[q] = 0.5 * (c->wr0[3 * k + q] + wrel[q]);
     wi = wm;
   }
+  const double kn0 = stiff ? esf_law_hertz_sn_s(pp->hn, rstar, u0) : 0.0;
   esf_contact_rolling(pp, s->mats.rolling_model, esf_contact_rolling_kn(pp, rstar, un),
-                      rstar, ir, itw, fn, dt, n, wrel, wi, &c->roll[k], live, &o);
+                      stiff, kn0, rstar, ir, itw, fn, dt, n, wrel, wi, &c->roll[k], live,
+                      &o);
   if (commit) {
     v3_copy(c->roll[k].m, o.hm);
     c->roll[k].t = o.ht;
@@ -177,6 +182,7 @@ static void rolling(esf_sim *s, const esf_pair_params *pp, esf_candidates *c, si
     if (om)
       for (int q = 0; q < 3; q++) ty->p_walls += (o.md[q] + o.ms[q]) * om[q];
   }
+  return stiff ? o.w_k : 0.0;
 }
 
 /* The tangential spring's force of a committed contact, on A (esf_contact_ket). */
@@ -233,20 +239,27 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
       spring_t(pp, &c->h[k], ket);
       esf_ledger_pair_rows(rows_a, rows + ESF_LR * b, in.n, la, lb, out.fd_n, out.fel,
                            out.fd_t, ket, out.slip_work, out.e_el_n, out.e_el_t);
-      if (pp->ht > 0) rows_a[ESF_LR_MET + 3] += out.w_st;
     }
+    /* the stiffness changes' energy: the tangential spring's (Hertz), with the
+       rolling springs' added first when they follow S_n (as the fused batches) */
+    double w_st = out.w_st;
     if (c->roll) {
+      const int stiff = pp->hn > 0 && commit && s->led.on;
       double wrel[3], rs, ir, itw;
       v3_sub(wrel, wa, wb);
       esf_law_rolling_pair_s(ra, rb, p->mass[a], p->mass[b], p->inertia[a], p->inertia[b],
                              &rs, &ir, &itw);
-      rolling(s, pp, c, k, commit, live, in.n, wrel, rs, in.un, ir, itw, out.fn, dt, ma, mb,
-              rows_a, rows_a ? rows + ESF_LR * b : NULL, NULL);
+      const double u0 = in.un + dt * v3_dot(in.vc, in.n);
+      const double wk = rolling(s, pp, c, k, commit, live, stiff, in.n, wrel, rs, in.un, u0,
+                                ir, itw, out.fn, dt, ma, mb, rows_a,
+                                rows_a ? rows + ESF_LR * b : NULL, NULL);
+      if (stiff) w_st = out.w_st + wk;
     }
+    if (rows_a && pp->ht > 0) rows_a[ESF_LR_MET + 3] += w_st;
     v3_add(p->t + 3 * a, p->t + 3 * a, ma);
     v3_add(p->t + 3 * b, p->t + 3 * b, mb);
     if (slips) slip += out.slip_work;
-    if (slips) wst += out.w_st;
+    if (slips) wst += w_st;
   }
   if (slips) s->led.d_friction += slip;
   if (slips) s->led.w_stiff += wst;
@@ -345,10 +358,8 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
       spring_t(pp, &c->h[k], ket);
       esf_ledger_wall_rows(rows, in.n, la, out.fd_n, out.fel, out.fd_t, ket,
                            out.slip_work, out.e_el_n, out.e_el_t, out.f, vw, dt);
-      if (pp->ht > 0) rows[ESF_LR_MET + 3] += out.w_st;
     }
     if (slip) *slip += out.slip_work;
-    if (slip) s->led.w_stiff += out.w_st; /* the other schemes' ledger (as the slip) */
     if (s->tally) s->tally->p_walls += v3_dot(out.f, vw);
     if (commit && s->walls.gforce) /* servo walls (servo.c) */
       esf_servo_add(esf_servo_slot(&s->walls, a, el->group), &out, in.n);
@@ -356,13 +367,20 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
     double m[3], ma[3];
     v3_cross(m, in.n, out.ft);
     v3_scale(ma, la, m);
+    double w_st = out.w_st; /* with the rolling springs' (pair_forces) */
     if (c->roll) {
+      const int stiff = pp->hn > 0 && commit && s->led.on;
       const double ia = p->inertia[a];
       double wrel[3];
       v3_sub(wrel, w + 3 * a, g->omega);
-      rolling(s, pp, c, k, commit, live, in.n, wrel, r, in.un, ia + p->mass[a] * r * r, ia,
-              out.fn, dt, ma, NULL, rows, NULL, g->omega);
+      const double u0 = in.un + dt * v3_dot(in.vc, in.n);
+      const double wk = rolling(s, pp, c, k, commit, live, stiff, in.n, wrel, r, in.un, u0,
+                                ia + p->mass[a] * r * r, ia, out.fn, dt, ma, NULL, rows,
+                                NULL, g->omega);
+      if (stiff) w_st = out.w_st + wk;
     }
+    if (rows && pp->ht > 0) rows[ESF_LR_MET + 3] += w_st;
+    if (slip) s->led.w_stiff += w_st; /* the other schemes' ledger (as the slip) */
     v3_add(t, t, ma);
   }
   return ESF_OK;
