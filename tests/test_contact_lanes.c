@@ -150,8 +150,8 @@ static result scalar(const cases *c, const esf_materials *mt, double beta, int t
                            c->inertia[ib], &rs, &ir, &itw);
     esf_law_rout_s o;
     esf_contact_rolling(pp, roll == 2 ? ESF_ROLL_CDT : ESF_ROLL_EPSD,
-                        esf_contact_rolling_kn(pp, rs, in.un), 0, 0.0, rs, ir, itw, out.fn,
-                        dt, in.n, wrel, NULL, &c->roll[k], c->touch[k], &o);
+                        esf_contact_rolling_kn(pp, rs, in.un), 0, 0.0, rs, ir, itw,
+                        out.fn, dt, in.n, wrel, NULL, &c->roll[k], c->touch[k], &o);
     for (int q = 0; q < 3; q++) {
       r.ta[q] += o.md[q] + o.ms[q];
       r.tb[q] -= o.md[q] + o.ms[q];
@@ -304,8 +304,8 @@ int main(void) {
     double d[3];
     v3_sub(d, c.y + 3 * ib, c.y + 3 * ia);
     const double u = fmax(ra + rb - v3_norm(d), 0.0);
-    const double sc = mth.pair[c.material[ia] * mth.n + c.material[ib]].hn *
-                      sqrt(rs * u) / m0.kn;
+    const double sc =
+        mth.pair[c.material[ia] * mth.n + c.material[ib]].hn * sqrt(rs * u) / m0.kn;
     v3_scale(ch.roll[k].m, sc, ch.roll[k].m);
     ch.roll[k].t *= sc;
   }
@@ -338,7 +338,7 @@ int main(void) {
     }
     compared++;
     const esf_fused_kernels *K = f->k;
-    for (int law = 0; law < 3; law++) /* linear, Hertz (tsuji), Hertz (constant) */
+    for (int law = 0; law < 3; law++)      /* linear, Hertz (tsuji), Hertz (constant) */
       for (int roll = 0; roll < 3; roll++) /* none, epsd, cdt */
         for (int tf = 0; tf < 2; tf++)
           for (int rayleigh = 0; rayleigh < 2; rayleigh++)
@@ -353,33 +353,34 @@ int main(void) {
               for (size_t k = 0; k < NP; k++)
                 ref[k] = scalar(cs, ml, beta, tframe, dt, lim, roll, k);
               batched(K, cs, ml, one, beta, tframe, cohesion, dt, lim, roll, ord, got);
-            for (size_t k = 0; k < NP; k++)
-              if (!same(&ref[k], &got[k])) {
-                diff++;
-                if (first_diff == NP) first_diff = k;
-              }
-            CHECK(diff == 0,
-                  "%s law, %s, %s, %s frame, %s dashpots, %s: %zu of %d pairs differ "
-                  "(first: pair %zu)",
-                  law == 0   ? "linear"
-                  : law == 1 ? "Hertz (tsuji)"
-                             : "Hertz (constant)",
-                  isas[q],
-                  roll == 0   ? "no rolling"
-                  : roll == 1 ? "epsd"
-                              : "cdt",
-                  tf ? "projected" : "rotated", rayleigh ? "Rayleigh" : "restitution",
-                  single ? "one material" : "two materials", diff, NP, first_diff);
-            if (q == 0 && roll == 0 && tf == 0 && rayleigh == 0 && single == 0 && law < 2)
-              for (size_t k = 0; k < NP; k++) { /* what the cases cover */
-                aparts += ref[k].apart;
-                bads += ref[k].bad;
-                if (ref[k].apart || ref[k].bad) continue;
-                firsts += !c.touch[k];
-                cut += -v3_dot(ref[k].f, ref[k].h.n) == 0.0; /* fn */
-                slides += ref[k].sliding;
-              }
-          }
+              for (size_t k = 0; k < NP; k++)
+                if (!same(&ref[k], &got[k])) {
+                  diff++;
+                  if (first_diff == NP) first_diff = k;
+                }
+              CHECK(diff == 0,
+                    "%s law, %s, %s, %s frame, %s dashpots, %s: %zu of %d pairs differ "
+                    "(first: pair %zu)",
+                    law == 0   ? "linear"
+                    : law == 1 ? "Hertz (tsuji)"
+                               : "Hertz (constant)",
+                    isas[q],
+                    roll == 0   ? "no rolling"
+                    : roll == 1 ? "epsd"
+                                : "cdt",
+                    tf ? "projected" : "rotated", rayleigh ? "Rayleigh" : "restitution",
+                    single ? "one material" : "two materials", diff, NP, first_diff);
+              if (q == 0 && roll == 0 && tf == 0 && rayleigh == 0 && single == 0 &&
+                  law < 2)
+                for (size_t k = 0; k < NP; k++) { /* what the cases cover */
+                  aparts += ref[k].apart;
+                  bads += ref[k].bad;
+                  if (ref[k].apart || ref[k].bad) continue;
+                  firsts += !c.touch[k];
+                  cut += -v3_dot(ref[k].f, ref[k].h.n) == 0.0; /* fn */
+                  slides += ref[k].sliding;
+                }
+            }
     esf_fused_free(&f);
   }
   printf(

@@ -55,7 +55,8 @@ static double mass(void) {
 
 static double estar(void) { return E_h / (2.0 * (1.0 - nu_h * nu_h)); }
 
-/* The static overlap under a normal load f: f / kn, or Hertz's (3 f / (4 E* sqrt(r)))^(2/3). */
+/* The static overlap under a normal load f: f / kn, or Hertz's (3 f / (4 E*
+ * sqrt(r)))^(2/3). */
 static double overlap(double f) {
   return hertz_ ? pow(3.0 * f / (4.0 * estar() * sqrt(r)), 2.0 / 3.0) : f / kn;
 }
@@ -157,7 +158,8 @@ static void epsd_incline(const char *method) {
       const double a = sqrt(r * u), sn = 2.0 * estar() * a, la = r - 0.5 * u;
       const double st = 8.0 * E_h / (4.0 * (2.0 - nu_h) * (1.0 + nu_h)) * a;
       const double kr = 2.25 * sn * mu_r * mu_r * r * r, xe = la * la * F / kr + F / st;
-      CHECK_NEAR(p->x[0], xe, 1e-3 * xe, "epsd (Hertz): the elastic displacement at rest");
+      CHECK_NEAR(p->x[0], xe, 1e-3 * xe,
+                 "epsd (Hertz): the elastic displacement at rest");
       printf("epsd (%s, Hertz) at tan(theta) = 0.8 mu_r: x = %.6g m (closed form %.6g, "
              "k_r = %.4g N m/rad from S_n = %.4g N/m), v = %.3g m/s after %.1f s\n",
              method, p->x[0], xe, kr, sn, p->v[0], T.s.t);
@@ -233,9 +235,10 @@ static void ledger(const char *model) {
   char set[64];
   snprintf(set, sizeof set, "contact.rolling=%s", model);
   const char *sets[] = {
-      set, "materials.ball={density: 2500, youngs_modulus: 1.0e8, poisson_ratio: 0.3, "
-           "restitution: 0.5, friction: 0.4, rolling_friction: 0.2, rolling_damping: 0.3, "
-           "twisting_friction: 0.1}"};
+      set,
+      "materials.ball={density: 2500, youngs_modulus: 1.0e8, poisson_ratio: 0.3, "
+      "restitution: 0.5, friction: 0.4, rolling_friction: 0.2, rolling_damping: 0.3, "
+      "twisting_friction: 0.1}"};
   simtest T;
   if (simtest_open(&T, pile, sets, hertz_ ? 2 : 1)) {
     CHECK(0, "ledger scene failed");

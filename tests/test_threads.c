@@ -401,10 +401,10 @@ static const char *const roll_linear =
     "restitution: 0.7, friction: 0.2, rolling_friction: 0.1}}";
 static const char *const roll_hertz =
     "materials={glass: {density: 2500, youngs_modulus: 5.0e7, poisson_ratio: 0.3, "
-    "restitution: 0.4, tangential_restitution: 0.6, friction: 0.4, rolling_friction: 0.3, "
-    "rolling_damping: 0.4, twisting_friction: 0.1}, steel: {density: 7800, "
-    "youngs_modulus: 2.0e8, poisson_ratio: 0.28, restitution: 0.7, friction: 0.2, "
-    "rolling_friction: 0.1}}";
+    "restitution: 0.4, tangential_restitution: 0.6, friction: 0.4, "
+    "rolling_friction: 0.3, rolling_damping: 0.4, twisting_friction: 0.1}, "
+    "steel: {density: 7800, youngs_modulus: 2.0e8, poisson_ratio: 0.28, "
+    "restitution: 0.7, friction: 0.2, rolling_friction: 0.1}}";
 
 /* Rolling and twisting resistance, epsd and cdt, mixed (min) between the materials
  * (mats: the materials override, law: its name): the fused step on 1 to tmax threads

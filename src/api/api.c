@@ -142,9 +142,11 @@ const int64_t *esf_handle_ids(const esf_handle *h) {
 /* The ODE state's quadratures, in dem_ode.h's order: ESF_ODE_NQ in every scene, then
  * the rolling resistance's (ESF_ODE_QR) in scenes with it (esf_dem_ode.nq). */
 static const char *const quadratures[] = {
-    "dissipated_normal", "dissipated_tangential",     "dissipated_global",
-    "dissipated_local",  "work_walls",                "work_tangential_springs",
-    "work_fluid",        "work_tangential_stiffness", "dissipated_rolling"};
+    "dissipated_normal", "dissipated_tangential",
+    "dissipated_global", "dissipated_local",
+    "work_walls",        "work_tangential_springs",
+    "work_fluid",        "work_tangential_stiffness",
+    "dissipated_rolling"};
 enum { NQ_ALL = (int)(sizeof quadratures / sizeof *quadratures) };
 _Static_assert(NQ_ALL == ESF_ODE_NQ + 1 && ESF_ODE_QR == ESF_ODE_NQ,
                "a name for every quadrature of dem_ode.h");

@@ -151,8 +151,8 @@ static int check_ledger(const esf_ckpt *c, const esf_sim *s, const esf_ledger *L
     return invalid(c, err, "the energy ledger is %s in it, %s in its scene",
                    L->on ? "on" : "off", s->led.on ? "on" : "off");
   const double v[] = {
-      L->kin_t,        L->kin_r,      L->pot_g,    L->el_n,    L->el_t,     L->d_normal,
-      L->d_tangential, L->d_friction, L->d_global, L->d_local, L->w_walls,  L->e_removed,
+      L->kin_t,        L->kin_r,      L->pot_g,    L->el_n,    L->el_t,      L->d_normal,
+      L->d_tangential, L->d_friction, L->d_global, L->d_local, L->w_walls,   L->e_removed,
       L->d_bonds,      L->w_fluid,    L->e0,       L->el_r,    L->d_rolling, L->w_stiff};
   if ((L->started != 0 && L->started != 1) || !all_finite(v, sizeof v / sizeof *v))
     return invalid(c, err, "the energy ledger holds a non-finite value or flag");

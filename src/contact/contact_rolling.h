@@ -3,10 +3,10 @@
  * esf_law_rolling_s from a pair's mixed parameters, shared by the general path's pairs
  * and walls (model/forces.c); the fused step's batches run the same formulas
  * (fused/pair_batch.c). Ai, Chen, Rotter & Ooi 2011, Powder Technol. 206, 269-282:
- * type C (epsd) k_r = 2.25 kn mu_r^2 R*^2 (Hertz-Mindlin: kn = S_n at the overlap), limit mu_r R* fn, dashpot
- * C_r = eta_r 2 sqrt(I_r k_r) off at the limit; type A (cdt) the constant torque
- * mu_r R* fn against the rolling spin. Twisting: the same forms with mu_tw about the
- * normal. Units: SI; torques on A. */
+ * type C (epsd) k_r = 2.25 kn mu_r^2 R*^2 (Hertz-Mindlin: kn = S_n at the overlap), limit
+ * mu_r R* fn, dashpot C_r = eta_r 2 sqrt(I_r k_r) off at the limit; type A (cdt) the
+ * constant torque mu_r R* fn against the rolling spin. Twisting: the same forms with
+ * mu_tw about the normal. Units: SI; torques on A. */
 #ifndef ESF_CONTACT_ROLLING_H
 #define ESF_CONTACT_ROLLING_H
 

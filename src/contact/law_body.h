@@ -278,10 +278,10 @@ static inline void LANE_FN(esf_law_force)(const LANE_R n[3], LANE_R fn,
 /* The rolling and twisting resistance parameters of a contact, per lane
  * (docs/physics.md#rolling-resistance; contact/contact_rolling.h derives them). */
 typedef struct LANE_FN(esf_law_rpar) {
-  LANE_R kr, ktw; /* rolling and twisting springs, N m/rad (epsd) */
-  LANE_R cr, ctw; /* their dashpots, N m s/rad (epsd) */
-  LANE_R mr, mtw; /* the limits mu_r R* fn and mu_tw R* fn, N m */
-  int cdt;        /* 1: the constant directional torque (type A); 0: epsd (type C) */
+  LANE_R kr, ktw;   /* rolling and twisting springs, N m/rad (epsd) */
+  LANE_R cr, ctw;   /* their dashpots, N m s/rad (epsd) */
+  LANE_R mr, mtw;   /* the limits mu_r R* fn and mu_tw R* fn, N m */
+  int cdt;          /* 1: the constant directional torque (type A); 0: epsd (type C) */
   const LANE_R *wi; /* NULL, or the relative spin whose parts integrate the springs'
                        increments over dt (the ODE methods' trapezoidal carry) */
   int stiff;        /* 1: book w_k (Hertz pairs with the ledger: kr, ktw vary) */

@@ -489,8 +489,8 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   vd tb[4] = {lb * m[0], lb * m[1], lb * m[2], zero};
   esf_law_rout_v R;
   if (c->roll)
-    rolling(c, pp, kk, ia, ib, c->hertz ? sn : kn, sn0, ra, rb, fn, n, wa, wb, tch & ~broke,
-            &R, ta, tb);
+    rolling(c, pp, kk, ia, ib, c->hertz ? sn : kn, sn0, ra, rb, fn, n, wa, wb,
+            tch & ~broke, &R, ta, tb);
   v4 rf[ESF_BATCH], rta[ESF_BATCH], rtb[ESF_BATCH];
   if (acc) {
     rows_of(f4, rf);

@@ -179,7 +179,7 @@ int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_
 esf_wall_pass_fn esf_wall_pass_select(const esf_sim *s) {
   /* all pairs: wall materials may pair by a law the particles' pairs do not use */
   const int fast = (s->mats.all_linear || s->mats.all_hertz) && !s->mats.any_rolling &&
-                   !s->walls.moving &&
-                   !s->tally && !s->walls.gforce && !s->nb.pw.xs && !s->nb.pw.vc0;
+                   !s->walls.moving && !s->tally && !s->walls.gforce && !s->nb.pw.xs &&
+                   !s->nb.pw.vc0;
   return fast ? esf_wall_fast_particle : esf_wall_general_particle;
 }

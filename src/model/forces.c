@@ -250,9 +250,9 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
       esf_law_rolling_pair_s(ra, rb, p->mass[a], p->mass[b], p->inertia[a], p->inertia[b],
                              &rs, &ir, &itw);
       const double u0 = in.un + dt * v3_dot(in.vc, in.n);
-      const double wk = rolling(s, pp, c, k, commit, live, stiff, in.n, wrel, rs, in.un, u0,
-                                ir, itw, out.fn, dt, ma, mb, rows_a,
-                                rows_a ? rows + ESF_LR * b : NULL, NULL);
+      const double wk =
+          rolling(s, pp, c, k, commit, live, stiff, in.n, wrel, rs, in.un, u0, ir, itw,
+                  out.fn, dt, ma, mb, rows_a, rows_a ? rows + ESF_LR * b : NULL, NULL);
       if (stiff) w_st = out.w_st + wk;
     }
     if (rows_a && pp->ht > 0) rows_a[ESF_LR_MET + 3] += w_st;
@@ -374,9 +374,9 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
       double wrel[3];
       v3_sub(wrel, w + 3 * a, g->omega);
       const double u0 = in.un + dt * v3_dot(in.vc, in.n);
-      const double wk = rolling(s, pp, c, k, commit, live, stiff, in.n, wrel, r, in.un, u0,
-                                ia + p->mass[a] * r * r, ia, out.fn, dt, ma, NULL, rows,
-                                NULL, g->omega);
+      const double wk = rolling(s, pp, c, k, commit, live, stiff, in.n, wrel, r, in.un,
+                                u0, ia + p->mass[a] * r * r, ia, out.fn, dt, ma, NULL,
+                                rows, NULL, g->omega);
       if (stiff) w_st = out.w_st + wk;
     }
     if (rows && pp->ht > 0) rows[ESF_LR_MET + 3] += w_st;

@@ -157,7 +157,7 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
   if (rc) return rc;
   rc = esf_neighbor_init(&s->nb, c->skin, s->led.on, err);
   if (rc) return rc;
-  s->nb.bonds = s->bonds.on; /* the lists keep bond states (bonds.c) */
+  s->nb.bonds = s->bonds.on;           /* the lists keep bond states (bonds.c) */
   s->nb.rolling = s->mats.any_rolling; /* and rolling states (contact_rolling.h) */
   if (c->has_domain) {
     s->nb.dom_lo = c->domain_min;

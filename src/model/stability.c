@@ -113,8 +113,8 @@ static void roll_springs(const esf_sim *s, const esf_pair_params *par, size_t a,
   else
     rs = ra, ir = ia + p->mass[a] * ra * ra, itw = ia;
   esf_law_rpar_s P;
-  esf_law_rolling_par_s(esf_contact_rolling_kn(par, rs, un), par->mu_r, par->mu_tw, par->eta_r, rs, ir, itw, 1.0, 0,
-                        &P);
+  esf_law_rolling_par_s(esf_contact_rolling_kn(par, rs, un), par->mu_r, par->mu_tw,
+                        par->eta_r, rs, ir, itw, 1.0, 0, &P);
   c->kr[0] = P.kr;
   c->kr[1] = P.ktw;
   c->kr[2] = P.cr;

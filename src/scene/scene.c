@@ -341,10 +341,9 @@ static int read_damping(const esf_ynode *root, esf_config *c, esf_error *err) {
 }
 
 static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
-  static const char *const ckeys[] = {"tangential_frame", "hertz_damping",
-                                      "max_overlap",      "allow_initial_overlap",
-                                      "wall_lever",       "rolling",
-                                      NULL};
+  static const char *const ckeys[] = {
+      "tangential_frame", "hertz_damping", "max_overlap", "allow_initial_overlap",
+      "wall_lever",       "rolling",       NULL};
   static const char *const frames[] = {"rotate", "project", NULL};
   static const char *const hdamp[] = {"tsuji", "constant", NULL};
   static const char *const levers[] = {"seed", "surface", NULL}; /* ESF_WALL_LEVER_* */
