@@ -309,6 +309,24 @@ static void check_leave(void) {
   }
 }
 
+/* The fused step on 1 to tmax threads against the general path's run gen, bit for bit
+ * (floor moving or still, burst steps per call); what names the case. */
+static void fused_vs_general(const snapshot *gen, int tmax, int moving, long burst,
+                             const char *what0) {
+  for (int t = 1; t <= tmax; t++) {
+    snapshot b;
+    char what[192];
+    snprintf(what, sizeof what, "%s, %d threads", what0, t);
+    CHECK(run(t, 1, "rotate", moving, burst, &b) == 0, "%s", what);
+    if (check_failures_) break;
+#ifndef ESF_MINIMAL
+    CHECK(b.fused, "%s: the fused step must run it", what);
+#endif
+    check_same(&b, gen, what);
+    release(&b);
+  }
+}
+
 /* With the energy ledger on (every column booked each step from per-particle rows and
  * fixed blocks, core/ledger.h): the fused step on 1, 2 and 3 threads, in bursts of 32
  * steps with the floor still and of 1 with it moving, gives the general path's state
@@ -316,7 +334,7 @@ static void check_leave(void) {
 static void check_ledger(void) {
   ledger_ = 1;
   for (int round = 0; round < 3; round++) {
-    snapshot gen, b;
+    snapshot gen;
     const int moving = round == 1;
     const long burst = moving ? 1 : 32;
     /* the third round: adaptive global damping (alpha after every step, from the
@@ -334,18 +352,10 @@ static void check_ledger(void) {
            moving ? "oscillating" : "still", extra_ ? ", adaptive damping" : "",
            gen.led.d_normal, gen.led.d_tangential, gen.led.d_friction, gen.led.d_global,
            gen.led.d_local, gen.led.w_walls);
-    for (int t = 1; t <= 3; t++) {
-      char what[96];
-      snprintf(what, sizeof what, "ledger, floor %s%s, %d threads",
-               moving ? "oscillating" : "still", extra_ ? ", adaptive damping" : "", t);
-      CHECK(run(t, 1, "rotate", moving, burst, &b) == 0, "%s", what);
-      if (check_failures_) break;
-#ifndef ESF_MINIMAL
-      CHECK(b.fused, "%s: the fused step must run it", what);
-#endif
-      check_same(&b, &gen, what);
-      release(&b);
-    }
+    char what[96];
+    snprintf(what, sizeof what, "ledger, floor %s%s", moving ? "oscillating" : "still",
+             extra_ ? ", adaptive damping" : "");
+    fused_vs_general(&gen, 3, moving, burst, what);
     release(&gen);
   }
   ledger_ = 0;
@@ -359,7 +369,7 @@ static void check_ledger(void) {
 static void check_hertz(void) {
   hertz_ = 1;
   for (int round = 0; round < 2; round++) {
-    snapshot gen, b;
+    snapshot gen;
     const int moving = round == 0;
     ledger_ = round == 1;
     if (run(1, 0, "rotate", moving, 1, &gen) != 0) {
@@ -374,18 +384,10 @@ static void check_hertz(void) {
              gen.led.d_normal, gen.led.d_friction, gen.led.w_stiff);
     CHECK(gen.contacts_mean > 0.05 * (double)gen.n, "Hertz: collisions all along");
     CHECK(!ledger_ || gen.led.w_stiff != 0.0, "Hertz: the stiffness column books");
-    for (int t = 1; t <= 2; t++) {
-      char what[96];
-      snprintf(what, sizeof what, "Hertz, floor %s%s, %d threads",
-               moving ? "oscillating" : "still", ledger_ ? ", ledger" : "", t);
-      CHECK(run(t, 1, "rotate", moving, moving ? 1 : 32, &b) == 0, "%s", what);
-      if (check_failures_) break;
-#ifndef ESF_MINIMAL
-      CHECK(b.fused, "%s: the fused step must run it", what);
-#endif
-      check_same(&b, &gen, what);
-      release(&b);
-    }
+    char what[96];
+    snprintf(what, sizeof what, "Hertz, floor %s%s", moving ? "oscillating" : "still",
+             ledger_ ? ", ledger" : "");
+    fused_vs_general(&gen, 2, moving, moving ? 1 : 32, what);
     release(&gen);
   }
   hertz_ = 0;
@@ -416,7 +418,7 @@ static void check_rolling(const char *mats, const char *law, int q0, int tmax) {
   for (int q = q0; q < 4; q++) {
     extra2_ = models[q % 2];
     ledger_ = q >= 2;
-    snapshot gen, b;
+    snapshot gen;
     if (run(1, 0, "rotate", 1, 1, &gen) != 0) {
       CHECK(0, "rolling, %s law: general path (%s)", law, extra2_);
       break;
@@ -431,18 +433,9 @@ static void check_rolling(const char *mats, const char *law, int q0, int tmax) {
       mmax = fmax(mmax, fabs(gen.roll[k].m[0]) + fabs(gen.roll[k].m[1]) +
                             fabs(gen.roll[k].m[2]) + fabs(gen.roll[k].t));
     if (q % 2 == 0) CHECK(mmax > 0, "epsd: rolling springs loaded (%.3g N m)", mmax);
-    for (int t = 1; t <= tmax; t++) {
-      char what[128];
-      snprintf(what, sizeof what, "%s law, %s%s, %d threads", law, extra2_,
-               ledger_ ? ", ledger" : "", t);
-      CHECK(run(t, 1, "rotate", 1, 1, &b) == 0, "%s", what);
-      if (check_failures_) break;
-#ifndef ESF_MINIMAL
-      CHECK(b.fused, "%s: the fused step must run it", what);
-#endif
-      check_same(&b, &gen, what);
-      release(&b);
-    }
+    char what[128];
+    snprintf(what, sizeof what, "%s law, %s%s", law, extra2_, ledger_ ? ", ledger" : "");
+    fused_vs_general(&gen, tmax, 1, 1, what);
     printf("%s law, %s%s: fused on 1-%d threads = general path; %.1f contacts per step, "
            "largest stored rolling torque %.3g N m; rolling dissipated %.4g J, total "
            "error %.3g J\n",
