@@ -170,16 +170,16 @@ static void epsd_incline(const char *method) {
             "m/s)",
             method, p->x[0], p->v[0]);
       printf(
-          "epsd (%s) at tan(theta) = 0.8 mu_r: x = %.3g m, v = %.3g m/s after %.1f s\n",
-          method, p->x[0], p->v[0], T.s.t);
+          "epsd (%s%s) at tan(theta) = 0.8 mu_r: x = %.3g m, v = %.3g m/s after %.1f s\n",
+          method, hertz_ ? ", Hertz" : "", p->x[0], p->v[0], T.s.t);
     } else {
       const double ae = 5.0 / 7.0 * g * (sin(th) - mu_r * cos(th));
       const double am = (p->v[0] - v1) / (t2 - t1);
       CHECK_NEAR(am, ae, 0.01 * ae, "epsd: tan(theta) = 1.25 mu_r: rolling acceleration");
       const double slip = p->v[0] - p->w[1] * p->x[2];
       CHECK(fabs(slip) < 1e-3 * p->v[0], "epsd: rolls without slip (%.2e m/s)", slip);
-      printf("epsd (%s) at tan(theta) = 1.25 mu_r: a = %.6f m/s^2 (closed form %.6f)\n",
-             method, am, ae);
+      printf("epsd (%s%s) at tan(theta) = 1.25 mu_r: a = %.6f m/s^2 (closed form %.6f)\n",
+             method, hertz_ ? ", Hertz" : "", am, ae);
       ledger_closes(&T, method, strcmp(method, "leapfrog") ? 1e-6 : 1e-9);
     }
     simtest_close(&T);
