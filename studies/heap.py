@@ -12,7 +12,8 @@ by repose.py (the median surface profile around the heap, fitted between 20% and
 its height). The cases cross rolling friction mu_r in {0, 0.05, 0.1, 0.2} with sliding
 friction mu in {0.3, 0.5}, for the linear law (kn = 2e4 N/m, kt = 2/7 kn) and for
 Hertz-Mindlin (E = 5e7 Pa, nu = 0.25: contacts of similar stiffness at these overlaps),
-restitution 0.5, the elastic-plastic rolling model (contact.rolling: epsd).
+restitution 0.5, the elastic-plastic rolling model (contact.rolling: epsd). The Hertz
+case at mu = 0.5, mu_r = 0.1 is scenes/heap.yaml (heap-quick.yaml with --quick).
 --quick runs 400 spheres (the scene heap-quick.yaml) instead of 2000 (heap.yaml).
 Writes OUT/cases.csv and OUT/report.md (the table, the runs' costs)."""
 import argparse
@@ -69,6 +70,8 @@ def heap_scene(law="hertz", mu=0.5, mu_r=0.1, count=2000, seed=3):
     }
     if not scene["contact"]:
         del scene["contact"]
+    if law == "hertz":  # the time-step rule's stiffness at the pour's impact speed
+        scene["integrator"]["impact_speed"] = round(float(np.sqrt(2 * 9.81 * top)), 1)
     return scene
 
 
