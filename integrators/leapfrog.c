@@ -111,7 +111,7 @@ static void kick(esf_sim *s, double *blk) {
     if (blk)
       esf_ledger_kick_particle(&K, p->mass[i], p->inertia[i], x, v0, v, w0, w,
                                loc ? fd : NULL, loc ? md : NULL, ff ? ff + 3 * i : NULL,
-                               rows ? rows + ESF_LR * i : NULL,
+                               rows ? rows + s->led_lr * i : NULL,
                                blk + ESF_LB_N * (i / ESF_LEDGER_BLOCK));
   }
 }
@@ -124,7 +124,7 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   int rebuilt = 0;
   int rc = esf_sim_refresh(s, &rebuilt, err);
   if (!rc && rebuilt) rc = esf_stability_runaway(s, err); /* no particle runs away */
-  if (!rc) rc = esf_stability_guard(s, 0, err);             /* every stability_every */
+  if (!rc) rc = esf_stability_guard(s, 0, err);           /* every stability_every */
   if (rc) return rc;
   if (!lf->started) {
     rc = start(s, err);
@@ -203,8 +203,8 @@ const esf_integrator_type esf_integrator_leapfrog = {
     .summary = "central differences (leapfrog), velocities at half steps, with global "
                "(1 -+ alpha dt/2) and local damping; the production scheme",
     .order = 2,
-    .flags = ESF_INTEG_FIXED_STEP | ESF_INTEG_HALF_STEP_V | ESF_INTEG_HISTORY_INCREMENTAL |
-             ESF_INTEG_STABILITY_CHECK,
+    .flags = ESF_INTEG_FIXED_STEP | ESF_INTEG_HALF_STEP_V |
+             ESF_INTEG_HISTORY_INCREMENTAL | ESF_INTEG_STABILITY_CHECK,
     .create = lf_create,
     .step = lf_step,
     .destroy = lf_destroy,

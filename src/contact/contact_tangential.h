@@ -13,12 +13,11 @@
 
 /* st > 0: the Hertz-Mindlin force record (law_body.h), stiffness st now and st0 at the
  * last commit's overlap (0: unknown); st = 0: the linear spring kt. */
-static inline void esf_contact_tangential(const esf_pair_params *pp, double ct,
-                                          int tframe, int tension,
-                                          const esf_contact_in *in,
-                                          const esf_contact_hist *hist, int first,
-                                          double vn, double fn, double st, double st0,
-                                          double xi_new[3], esf_contact_out *out) {
+static inline __attribute__((always_inline)) void
+esf_contact_tangential(const esf_pair_params *pp, double ct, int tframe, int tension,
+                       const esf_contact_in *in, const esf_contact_hist *hist, int first,
+                       double vn, double fn, double st, double st0, double xi_new[3],
+                       esf_contact_out *out) {
   const esf_law_tpar_s P = {.kt = st > 0 ? 1.0 : pp->kt,
                             .hertz = st > 0,
                             .st = st,

@@ -9,7 +9,10 @@
 #ifndef ESF_LEDGER_H
 #define ESF_LEDGER_H
 
+#include <stddef.h>
 #include <stdio.h>
+
+#include "util/vec4.h"
 
 typedef struct esf_ledger {
   int on;
@@ -89,7 +92,8 @@ typedef struct esf_force_tally {
  * in blocks of ESF_LEDGER_BLOCK (channels ESF_LB_*), and the blocks in order
  * (esf_ledger_step): the fused step's ranges hold whole blocks, so no sum depends on
  * how the particles are cut. */
-#define ESF_LR           40 /* ledger rows per particle: ten rows of four */
+#define ESF_LR           40 /* ledger rows per particle with rolling resistance */
+#define ESF_LR_PLAIN     32 /* without: the rolling rows (ESF_LR_RD, _RE) are absent */
 #define ESF_LEDGER_BLOCK 64 /* particles per block of the ledger's sums */
 enum {                      /* row offsets (xyz, then the scalar lane) */
        ESF_LR_DN = 0,       /* normal dashpot force | slip work (J) */
@@ -99,16 +103,30 @@ enum {                      /* row offsets (xyz, then the scalar lane) */
        ESF_LR_ET = 16,  /* tangential spring force | energy of ruptured bonds (J) */
        ESF_LR_MET = 20, /* tangential spring torque | the energy a Hertz tangential
                            spring gained from its stiffness's change (J) */
-       ESF_LR_RD = 24,  /* rolling resistance's dissipative torque | its plastic work */
-       ESF_LR_RE = 28,  /* rolling resistance's spring torque | the springs' energy */
-       ESF_LR_W = 32    /* a moving wall's side of the dashpots' power: normal -fd vw.n,
+       ESF_LR_W = 24,   /* a moving wall's side of the dashpots' power: normal -fd vw.n,
                            tangential fdt.vw (W) | rolling md.omega (W) | 0 */
+       ESF_LR_RD = 32,  /* rolling resistance's dissipative torque | its plastic work */
+       ESF_LR_RE = 36   /* rolling resistance's spring torque | the springs' energy */
 };
-/* A pair contact's rows of one particle: the first ESF_LR_PAIR doubles (through
- * ESF_LR_MET), or ESF_LR_PAIR_ROLL with the rolling resistance (the fused step's
- * batches write them as one block). */
+/* A particle's rows: esf_ledger_lr(roll) doubles, roll 1 when the scene has rolling
+ * resistance (the rows of a scene without it hold no rolling rows: it neither stores
+ * nor streams them). */
+static inline size_t esf_ledger_lr(int roll) { return roll ? ESF_LR : ESF_LR_PLAIN; }
+/* A pair contact's rows of one particle, as the fused step's batches and slots write a
+ * side: the first ESF_LR_PAIR doubles (through ESF_LR_MET), then with rolling
+ * resistance its two rows (ESF_LR_PAIR_ROLL in all), which go to ESF_LR_RD and
+ * ESF_LR_RE of the particle's rows (esf_ledger_side_add). */
 #define ESF_LR_PAIR      24
 #define ESF_LR_PAIR_ROLL 32
+
+/* Adds a pair side's rows s (ESF_LR_PAIR doubles, then with roll the two rolling rows)
+ * to a particle's rows r; four at a time, in order. */
+static inline void esf_ledger_side_add(double *r, const double *s, int roll) {
+  for (int j = 0; j < ESF_LR_PAIR; j += 4) v4_acc(r + j, s + j);
+  if (roll)
+    for (int j = 0; j < ESF_LR_PAIR_ROLL - ESF_LR_PAIR; j += 4)
+      v4_acc(r + ESF_LR_RD + j, s + ESF_LR_PAIR + j);
+}
 enum {            /* channels of a block's sums */
        ESF_LB_KT, /* kinetic, translational, at v_{n+1/2}, J */
        ESF_LB_KR, /* kinetic, rotational */

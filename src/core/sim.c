@@ -136,9 +136,11 @@ int esf_sim_remove_escaped(esf_sim *s, esf_error *err) {
 
 int esf_sim_ledger_room(esf_sim *s, int zero, esf_error *err) {
   const size_t n = s->p.n;
+  s->led_lr = esf_ledger_lr(s->mats.any_rolling);
   if (n > s->led_cap || !s->led_rows) {
     const size_t cap = n > 64 ? n + n / 4 : 64;
     double *r = esf_lines_realloc(s->led_rows, 0, cap * ESF_LR * sizeof(double));
+    /* (room for the rolling rows; a scene uses esf_ledger_lr of them a particle) */
     if (!r) return esf_fail(err, ESF_ENOMEM, "out of memory for the energy ledger");
     s->led_rows = r;
     double *b = realloc(s->led_blocks, esf_ledger_nblocks(cap) * ESF_LB_N * sizeof *b);
@@ -147,7 +149,7 @@ int esf_sim_ledger_room(esf_sim *s, int zero, esf_error *err) {
     s->led_cap = cap;
   }
   if (!zero) return ESF_OK;
-  memset(s->led_rows, 0, n * ESF_LR * sizeof(double));
+  memset(s->led_rows, 0, n * s->led_lr * sizeof(double));
   memset(s->led_blocks, 0, esf_ledger_nblocks(n) * ESF_LB_N * sizeof(double));
   return ESF_OK;
 }

@@ -195,6 +195,7 @@ typedef struct esf_sim {
    */
   double *led_rows, *led_blocks;
   size_t led_cap; /* particles they have room for */
+  size_t led_lr;  /* a particle's rows in led_rows: esf_ledger_lr(mats.any_rolling) */
 } esf_sim;
 
 #define ESF_FT_STRIDE 8

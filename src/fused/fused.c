@@ -266,6 +266,7 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
       .hertz = ESF_FUSED_FEATURES && s->mats.all_hertz,
       .hertz_cst = s->mats.hertz_constant,
       .rows = ledger ? s->led_rows : NULL,
+      .lr = s->led_lr,
       .bond = s->bonds.on ? cp->bond : NULL,
       .roll = cp->roll,
       .mass = p->mass,

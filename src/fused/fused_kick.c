@@ -35,7 +35,7 @@ static int walls_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *K, 
     k1 = f->wstart[i + 1];
     double *fi = f->acc + ESF_FUSED_ACC * i;
     if (wall_pass(s, k, k1, K->dt, nt_pw, fi, fi + 4,
-                  K->rows ? K->rows + ESF_LR * i : NULL)) {
+                  K->rows ? K->rows + s->led_lr * i : NULL)) {
       if (i < *bad_part) *bad_part = i;
       fail = 1;
     }
@@ -156,7 +156,7 @@ static inline void kick_one(const esf_sim *s, esf_particles *p, const esf_fused_
                              ESF_FUSED_FEATURES && K->loc ? fl : NULL,
                              ESF_FUSED_FEATURES && K->loc ? ml : NULL,
                              ESF_FUSED_FEATURES && K->drag ? K->drag->f + 3 * i : NULL,
-                             K->rows ? K->rows + ESF_LR * i : NULL, blk);
+                             K->rows ? K->rows + s->led_lr * i : NULL, blk);
   }
 }
 

@@ -265,7 +265,8 @@ static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_
   col[4][3] = sel(broke, e_brk, mz); /* ...but the energy its bond held */
   v4 r[16][ESF_BATCH];
   for (int j = 0; j < nc; j++) rows_of(col[j], r[j]);
-  /* the columns' offsets in a side's rows (A's, B's from ESF_BATCH_LSIDE in lout) */
+  /* the columns' offsets in a particle's rows; in lout, a side's rows are contiguous
+     (A's, B's from ESF_BATCH_LSIDE: the rolling rows follow ESF_LR_PAIR) */
   const int ra_off[8] = {0, 4, 8, 12, 16, 20, ESF_LR_RD, ESF_LR_RE};
   const int na = nc / 2; /* rows a side */
   for (int l = 0; l < nl; l++) {
@@ -276,12 +277,12 @@ static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_
         v4_st(lout[l] + ESF_BATCH_LSIDE + 4 * j, r[6 + j][l]);
       }
       for (int j = 6; j < na; j++) {
-        v4_st(lout[l] + ra_off[j], r[6 + j][l]);
-        v4_st(lout[l] + ESF_BATCH_LSIDE + ra_off[j], r[8 + j][l]);
+        v4_st(lout[l] + 4 * j, r[6 + j][l]);
+        v4_st(lout[l] + ESF_BATCH_LSIDE + 4 * j, r[8 + j][l]);
       }
       continue;
     }
-    double *ra = c->rows + ESF_LR * ia[l], *rb = c->rows + ESF_LR * ib[l];
+    double *ra = c->rows + c->lr * ia[l], *rb = c->rows + c->lr * ib[l];
     for (int j = 0; j < 6; j++) {
       v4_st(ra + 4 * j, v4_ld(ra + 4 * j) + r[j][l]);
       v4_st(rb + 4 * j, v4_ld(rb + 4 * j) + r[6 + j][l]);

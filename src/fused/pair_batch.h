@@ -54,6 +54,7 @@ typedef struct esf_pair_batch_ctx {
   double *rows;               /* the ledger's rows (core/ledger.h, ESF_LR a particle;
                                  line-aligned), or NULL: no ledger */
   esf_contact_bond *bond;     /* per pair: the bond state, or NULL: no bonds */
+  size_t lr;                  /* with rows: a particle's rows, esf_ledger_lr */
   esf_contact_roll *roll;     /* per pair: the rolling resistance state (committed), or
                                  NULL: no rolling resistance (contact_rolling.h) */
   const double *mass;         /* n, kg (with roll) */
@@ -75,16 +76,13 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *ctx, const uint32_t *k,
                                double out[ESF_BATCH][ESF_BATCH_OUT],
                                double lout[ESF_BATCH][ESF_BATCH_LOUT], unsigned *apart);
 
-/* Adds one pair's ledger rows lout (esf_pair_batch_linear's, A's then B's) to the rows
- * of its particles a and b (ESF_LR a particle), nr of them a side (ESF_LR_PAIR, or
- * ESF_LR_PAIR_ROLL with rolling resistance). */
-static inline void esf_pair_batch_led_add(double *rows, size_t a, size_t b,
-                                          const double *lout, int nr) {
-  double *ra = rows + ESF_LR * a, *rb = rows + ESF_LR * b;
-  for (int j = 0; j < nr; j += 4) {
-    v4_st(ra + j, v4_ld(ra + j) + v4_ld(lout + j));
-    v4_st(rb + j, v4_ld(rb + j) + v4_ld(lout + ESF_BATCH_LSIDE + j));
-  }
+/* Adds one pair's ledger rows lout (esf_pair_batch_linear's, A's side then B's from
+ * ESF_BATCH_LSIDE) to the rows of its particles a and b (lr doubles a particle;
+ * esf_ledger_side_add, roll 1 with rolling resistance). */
+static inline void esf_pair_batch_led_add(double *rows, size_t lr, size_t a, size_t b,
+                                          const double *lout, int roll) {
+  esf_ledger_side_add(rows + lr * a, lout, roll);
+  esf_ledger_side_add(rows + lr * b, lout + ESF_BATCH_LSIDE, roll);
 }
 
 /* The ledger rows a pair writes per side in the batches of ctx. */

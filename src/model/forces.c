@@ -224,7 +224,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
     in.dt = dt;
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];
     esf_contact_out out;
-    double *rows_a = rows ? rows + ESF_LR * a : NULL;
+    double *rows_a = rows ? rows + s->led_lr * a : NULL;
     const int live = c->touch[k]; /* before the commit (rolling) */
     if (!eval_contact(s, pp, &in, c, k, commit, rows_a, &out)) continue;
     nt++;
@@ -237,7 +237,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
     if (rows_a) {
       double ket[3];
       spring_t(pp, &c->h[k], ket);
-      esf_ledger_pair_rows(rows_a, rows + ESF_LR * b, in.n, la, lb, out.fd_n, out.fel,
+      esf_ledger_pair_rows(rows_a, rows + s->led_lr * b, in.n, la, lb, out.fd_n, out.fel,
                            out.fd_t, ket, out.slip_work, out.e_el_n, out.e_el_t);
     }
     /* the stiffness changes' energy: the tangential spring's (Hertz), with the
@@ -252,7 +252,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
       const double u0 = in.un + dt * v3_dot(in.vc, in.n);
       const double wk =
           rolling(s, pp, c, k, commit, live, stiff, in.n, wrel, rs, in.un, u0, ir, itw,
-                  out.fn, dt, ma, mb, rows_a, rows_a ? rows + ESF_LR * b : NULL, NULL);
+                  out.fn, dt, ma, mb, rows_a, rows_a ? rows + s->led_lr * b : NULL, NULL);
       if (stiff) w_st = out.w_st + wk;
     }
     if (rows_a && pp->ht > 0) rows_a[ESF_LR_MET + 3] += w_st;
@@ -398,7 +398,7 @@ static int wall_forces(esf_sim *s, const double *x, const double *v, const doubl
     uint32_t a = c->a[k0];
     for (k1 = k0; k1 < c->n && c->a[k1] == a; k1++) continue;
     int rc = esf_forces_wall_particle(
-        s, k0, k1, x, v, w, dt, commit, rows ? rows + ESF_LR * a : NULL,
+        s, k0, k1, x, v, w, dt, commit, rows ? rows + s->led_lr * a : NULL,
         slips ? &slip : NULL, &nt, p->f + 3 * a, p->t + 3 * a, err);
     if (rc) return rc;
   }
