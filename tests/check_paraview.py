@@ -12,8 +12,10 @@ angular_velocity, force, material, id), the walls as the mesh's triangles, and t
 contacts as many lines as frames.h5 has pairs, none failing on the empty first set;
 the times are the frames' times; XDMFReader keeps the block names. The particles are
 then rendered as Point Gaussian scaled by radius (docs/output.md#paraview), under
-xvfb-run when there is no display (neither: no image), and the image must show them:
-at least 5% of its pixels differ from the white background."""
+xvfb-run when there is no display (neither: no image; the readers need no display),
+with up to three attempts (a virtual X server can fail to start on a loaded machine),
+and the image must show them: at least 5% of its pixels differ from the white
+background."""
 import json
 import os
 import shutil
@@ -49,24 +51,31 @@ def main():
     if not pvbatch:
         print("check_paraview: skipped (no pvbatch: ParaView is not installed)")
         return 77
-    cmd, render = [pvbatch], True
+    render = [pvbatch]
     if not os.environ.get("DISPLAY"):  # reading needs no display; rendering does
         xvfb = shutil.which("xvfb-run")
-        if xvfb:
-            cmd = [xvfb, "-a", pvbatch]
-        else:
-            render = False
+        render = [xvfb, "-a", pvbatch] if xvfb else None
+        if not xvfb:
             print("check_paraview: no display and no xvfb-run: the readers only, no image")
     here = os.path.dirname(os.path.abspath(__file__))
+    script = os.path.join(here, "paraview_readers.py")
     with tempfile.TemporaryDirectory() as tmp:
         # half the floor is missing: spheres fall out while others settle on the rest
         out = run_scene(esfera, tmp, SCENE.replace("open: [top]", "open: [top, bottom]"))
         js, png = os.path.join(tmp, "r.json"), os.path.join(tmp, "p.png")
-        r = subprocess.run(cmd + [os.path.join(here, "paraview_readers.py"), out, js]
-                           + ([png] if render else []),
-                           capture_output=True, text=True, timeout=600)
+        r = subprocess.run([pvbatch, script, out, js], capture_output=True, text=True,
+                           timeout=600)
         check(r.returncode == 0 and os.path.exists(js),
               f"pvbatch exit {r.returncode}: {r.stderr[-2000:]}")
+        # the image: a virtual X server may fail to come up on a loaded machine (the
+        # render then aborts on "bad X server connection"): up to three attempts
+        for attempt in range(3 if render else 0):
+            rr = subprocess.run(render + [script, out, js + ".render", png],
+                                capture_output=True, text=True, timeout=600)
+            if rr.returncode == 0 and os.path.exists(png):
+                break
+            print(f"render attempt {attempt + 1}: exit {rr.returncode}: "
+                  f"{rr.stderr.strip().splitlines()[-1:] if rr.stderr.strip() else ''}")
         if not os.path.exists(js):
             return finish("check_paraview")
         with open(js) as fh:
@@ -109,7 +118,7 @@ def main():
             check(frac > 0.05, f"Point Gaussian image: {frac:.3f} of its pixels drawn")
             print(f"Point Gaussian image: {frac:.3f} of the pixels show particles")
         elif render:
-            check(False, "no image rendered")
+            check(False, "no image rendered in three attempts")
         print("readers:", ", ".join(rep))
     return finish("check_paraview")
 
