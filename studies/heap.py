@@ -3,7 +3,7 @@
 and the contact law (scenes/heap.yaml's set-up).
 
     /usr/bin/python3 studies/heap.py [--esfera build/esfera] [--out studies/results/heap]
-                                     [--quick] [--only LAW]
+                                     [--quick] [--only LAW] [--report-only]
 
 A cylinder-lift test: spheres (diameters 4-5 mm, density 2500) released at random in
 a cylinder standing on a square plate settle while the cylinder rises at 5 cm/s, and
@@ -86,7 +86,12 @@ def main(argv):
     ap.add_argument("--out", default=os.path.join(ROOT, "studies", "results", "heap"))
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--only", default=None, help="one law: linear or hertz")
+    ap.add_argument("--report-only", action="store_true",
+                    help="rewrite report.md and heap.png from OUT/cases.csv")
     a = ap.parse_args(argv)
+    if a.report_only:
+        report_only(a.out)
+        return 0
     os.makedirs(a.out, exist_ok=True)
     count = 1000 if a.quick else 2000
     rows = []

@@ -191,12 +191,10 @@ def validate(xdmf, complete=True, kinds=("particles", "walls", "contacts"), forc
         check(times == sorted(times), f"{name}: times in order")
     h5 = next(iter(h5files.values()))
     nframes = len(h5["frames"])
-    if "particles" not in kinds:
-        pass
-    elif complete:
+    if "particles" in kinds and complete:
         check(counts.get("particles") == nframes,
               f"{counts.get('particles')} particle grids for {nframes} frames")
-    else:
+    elif "particles" in kinds:
         check(0 < counts.get("particles", 0) <= nframes,
               f"{counts.get('particles')} particle grids, {nframes} frames in the file")
     names = {a.get("Name") for a in root.iter("Attribute")}

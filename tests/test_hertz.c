@@ -112,10 +112,9 @@ static double impact(int wall, double v, double eta, double *dur, double *umax,
   return impact_at(wall, v, v, eta, dur, umax, t_ref, u_ref);
 }
 
-/* The force record: xi is the force; pressing harder keeps it. */
-static void record_case(void) {
-  esf_materials mt = {0};
-  esf_mixing_default(&mt.mixing);
+/* The pair table of one Hertz material "ball" (E1, NU1, restitution 0.5, friction
+ * 0.5) into mt, whose mixing and options the caller set. */
+static void ball_table(esf_materials *mt) {
   esf_material m = {.name = "ball",
                     .density = 2500,
                     .youngs_modulus = E1,
@@ -127,8 +126,15 @@ static void record_case(void) {
   esf_error err;
   esf_error_clear(&err);
   int32_t idx;
-  CHECK_OK(esf_materials_add(&mt, &m, &idx, &err), err);
-  CHECK_OK(esf_materials_mix(&mt, &err), err);
+  CHECK_OK(esf_materials_add(mt, &m, &idx, &err), err);
+  CHECK_OK(esf_materials_mix(mt, &err), err);
+}
+
+/* The force record: xi is the force; pressing harder keeps it. */
+static void record_case(void) {
+  esf_materials mt = {0};
+  esf_mixing_default(&mt.mixing);
+  ball_table(&mt);
   const esf_pair_params *pp = &mt.pair[0];
   CHECK(pp->law == &esf_contact_hertz, "a Hertz material pair uses the Hertz law");
   const double gs = 1.0 / (4 * (2 - NU1) * (1 + NU1) / E1);
@@ -175,19 +181,7 @@ static void constant_case(void) {
   esf_mixing_default(&mt.mixing);
   mt.hertz_constant = 1;
   mt.impact_speed = 0.5;
-  esf_material m = {.name = "ball",
-                    .density = 2500,
-                    .youngs_modulus = E1,
-                    .poisson_ratio = NU1,
-                    .restitution = 0.5,
-                    .tangential_restitution = 0.5,
-                    .friction = 0.5,
-                    .tensile_limit = -1};
-  esf_error err;
-  esf_error_clear(&err);
-  int32_t idx;
-  CHECK_OK(esf_materials_add(&mt, &m, &idx, &err), err);
-  CHECK_OK(esf_materials_mix(&mt, &err), err);
+  ball_table(&mt);
   const esf_pair_params *pp = &mt.pair[0];
   const double ms = 1e-3, rs = 2.5e-3, v = 0.5, es = pp->estar;
   const double up = pow(15 * ms * v * v / (16 * es * sqrt(rs)), 0.4);

@@ -17,11 +17,7 @@ static inline void esf_contact_hertz_eval(const esf_pair_params *pp, double beta
                                           esf_contact_hist *hist_out,
                                           esf_contact_out *out) {
   const double *n = in->n;
-  if (in->un <= 0.0) {
-    *out = (esf_contact_out){0};
-    if (hist_out) *hist_out = (esf_contact_hist){{0, 0, 0}, {n[0], n[1], n[2]}};
-    return;
-  }
+  if (esf_contact_apart(in, hist_out, out)) return;
   const double sm = sqrt(in->mstar);
   double ks, sn, st, qa, cn, ct;
   esf_law_hertz_springs_s(pp->hn, pp->ht, in->rstar, in->un, &ks, &sn, &st, &qa);

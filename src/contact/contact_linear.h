@@ -18,11 +18,7 @@ static inline void esf_contact_linear_eval(const esf_pair_params *pp, double bet
                                            esf_contact_hist *hist_out,
                                            esf_contact_out *out) {
   const double *n = in->n;
-  if (in->un <= 0.0) {
-    *out = (esf_contact_out){0};
-    if (hist_out) *hist_out = (esf_contact_hist){{0, 0, 0}, {n[0], n[1], n[2]}};
-    return;
-  }
+  if (esf_contact_apart(in, hist_out, out)) return;
   const double sm = sqrt(in->mstar);
   const double cn = beta > 0 ? beta * pp->kn : pp->cn_factor * sm;
   const double ct = beta > 0 ? beta * pp->kt : pp->ct_factor * sm;

@@ -42,6 +42,17 @@ esf_contact_tangential(const esf_pair_params *pp, double ct, int tframe, int ten
   out->w_st = T.w_st;
 }
 
+/* A contact that does not overlap (un <= 0): no force, the history restarts from
+ * xi = 0 in the current normal. Returns 1 then (the law is done), else 0. */
+static inline int esf_contact_apart(const esf_contact_in *in, esf_contact_hist *hist_out,
+                                    esf_contact_out *out) {
+  if (in->un > 0.0) return 0;
+  const double *n = in->n;
+  *out = (esf_contact_out){0};
+  if (hist_out) *hist_out = (esf_contact_hist){{0, 0, 0}, {n[0], n[1], n[2]}};
+  return 1;
+}
+
 static inline void esf_contact_finish(const esf_contact_in *in, double fn, double fd_n,
                                       const double xi[3], esf_contact_hist *hist_out,
                                       esf_contact_out *out) {
