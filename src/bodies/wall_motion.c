@@ -1,18 +1,19 @@
 /* wall_motion.c — prescribed rigid motions of wall groups
  * (docs/physics.md#walls-and-prescribed-motion: walls are never integrated; their
- * motion is a function of time).
- *
- * translate: d(t) = vel t;  velocity vel.
- * rotate:    angle(t) = rate t about the axis through pivot; a point x0 of the
- *            reference geometry is at pivot + R(angle)(x0 - pivot); velocity at q is
- *            omega x (q - pivot), omega = rate axis (Rodrigues' formula for R).
- * oscillate: d(t) = amp sin(2 pi freq t + phase) dir; velocity its derivative.
+ * motion is a function of time, each term on its clock tau = clamp(t, start, stop) -
+ * start when windowed, else tau = t; velocity zero outside [start, stop)).
+ * translate: d = vel tau.  rotate: angle = rate tau about the axis through pivot, a
+ *   reference point x0 at pivot + d + R(angle)(x0 - pivot) (Rodrigues), velocity at q
+ *   omega x (q - center).  oscillate: d = amp sin(2 pi freq tau + phase) dir.
+ * table: d piecewise linear between rows, held before the first, d_last + tail (tau -
+ *   t_last) after the last; velocity the slope of the segment holding tau (right-
+ *   continuous), so a row's time gives its row exactly.  A sequence sums its terms.
  * Elements are re-made from their transformed reference vertices (plane: point and
  * normal) with the wall_geom constructors, so edge normals and bounds stay exact. The
  * group's vel, omega and center feed esf_wall_point_velocity, hence the contact's
  * relative velocity and the work walls do in the energy ledger.
- * servo:     not a function of time: the group drifts by vel (t - t_prev), vel set
- *            after each committed force evaluation by servo.c (leapfrog only).
+ * servo: not a function of time: the group drifts by vel (t - t_prev), vel set after
+ *   each committed force evaluation by servo.c (leapfrog only).
  * Candidate lists: esf_walls_moved bounds the displacement of any wall point since the
  * last list build by |d - d_mark| + |angle - angle_mark| reach. Units: SI. */
 #include <math.h>
