@@ -15,7 +15,11 @@
  *    at rest before and in the leapfrog's free fall after (x_n+k = x_n - g dt^2
  *    k(k+1)/2 to 1e-12 m; against g t^2/2 within g t dt/2), the ledger closed (its
  *    released contact energy in energy_removed);
- * 5. a silo filled with 60 spheres, its gate removed at 0.05 s, with static walls (the
+ * 5. a lid added at 0.06 s: a sphere starting inside its place falls through before
+ *    (the leapfrog's free fall from rest, x_k = x_0 - g dt^2 k^2/2, to 1e-12 m), another
+ *    lands on it after, the ledger closed to 1%; adding it over a sphere stops
+ *    the run (ESF_ENUMERIC naming the particle);
+ * 6. a silo filled with 60 spheres, its gate removed at 0.05 s, with static walls (the
  *    fused step's fast wall pass) and with a side plate following a velocity table:
  *    the fused step on 1, 2 and 3 threads and the general path give the same state
  *    bit for bit (memcmp); the ledger closes to 2% of the energy flow. */
@@ -244,6 +248,56 @@ static void gate(void) {
   simtest_close(&T);
 }
 
+/* a plate added at 0.06 s: sphere A starts inside its place and falls through before,
+ * sphere B lands on it after; adding it at 0.01 s, over A, stops the run */
+static void added(void) {
+  const double dt = 1.52587890625e-05, g = 9.81;
+  char yaml[2048];
+  const char *fmt = "name: lid\ngravity: [0, 0, -9.81]\n" MAT "particles:\n"
+                    "  - {material: g, radius: 0.005, position: [0.02, 0.02, 0.003]}\n"
+                    "  - {material: g, radius: 0.005, position: [0.05, 0.05, 0.05]}\n"
+                    "walls:\n  - {name: lid, polygon: [[0,0,0], [0.1,0,0], [0.1,0.1,0], "
+                    "[0,0.1,0]], material: g}\n"
+                    "events: [{at: %g, add_wall: lid}]\n"
+                    "integrator: {dt: %.17g}\n"
+                    "output: {energy_every: 1.0e-3}\n"
+                    "run: {duration: 0.2}\n";
+  snprintf(yaml, sizeof yaml, fmt, 0.06, dt);
+  simtest T;
+  int rc = simtest_open(&T, yaml, NULL, 0);
+  CHECK(rc == 0 && T.s.walls.g[0].absent, "lid scene opens, the lid absent at first");
+  if (rc) return;
+  double fall = 0, zb = 1;
+  long cand_before = 0;
+  while (!rc && T.s.step < 13000) {
+    rc = simtest_step(&T);
+    const double k = (double)T.s.step, za = 0.003 - g * dt * dt * k * k / 2;
+    for (size_t i = 0; i < T.s.p.n; i++) {
+      if (T.s.p.id[i] == 0) fall = fmax(fall, fabs(T.s.p.x[3 * i + 2] - za));
+      if (T.s.p.id[i] == 1) zb = fmin(zb, T.s.p.x[3 * i + 2]);
+    }
+    if (!T.s.events->e[0].done) cand_before += (long)T.s.nb.pw.n;
+  }
+  CHECK(rc == 0, "lid run");
+  CHECK(cand_before == 0 && !T.s.walls.g[0].absent, "no wall candidate before the add");
+  CHECK(fall < 1e-12, "sphere A falls through the lid's place freely (%.3g m off)", fall);
+  CHECK(zb > 0.004 && zb < 0.005, "sphere B lands on the added lid (lowest z %.4g m)",
+        zb);
+  const esf_ledger *L = &T.s.led;
+  const double e_rel = fabs(esf_ledger_total_error(L)) / esf_ledger_dissipated(L);
+  printf("lid: sphere B's lowest centre %.5g m (radius 0.005); total_error %.3g of the "
+         "dissipated energy\n",
+         zb, e_rel);
+  CHECK(e_rel < 0.01, "lid: ledger closed (%.3g of the dissipated energy)", e_rel);
+  simtest_close(&T);
+  snprintf(yaml, sizeof yaml, fmt, 0.01, dt);
+  rc = simtest_open(&T, yaml, NULL, 0);
+  while (!rc && T.s.step < 1000) rc = T.it->step(&T.s, T.ist, INFINITY, &T.err);
+  CHECK(rc == ESF_ENUMERIC && strstr(T.err.msg, "adds wall 'lid' where particle 0"),
+        "adding the lid over sphere A stops the run: %s", T.err.msg);
+  simtest_close(&T);
+}
+
 /* a filled silo: gate removed at 0.05 s; %s: a side plate on a velocity table, or
  * nothing (static walls: the fused step's fast wall pass) */
 static const char *const plate =
@@ -319,6 +373,7 @@ int main(void) {
   windows();
   ledger_table();
   gate();
+  added();
   silo_threads(0);
   silo_threads(1);
   return check_finish("wall_timing");
