@@ -218,6 +218,12 @@ int esf_events_apply(esf_sim *s, esf_error *err) {
   return ESF_OK;
 }
 
+int esf_events_pending(const esf_events *E) {
+  for (int k = 0; E && k < E->n; k++)
+    if (!E->e[k].done) return 1;
+  return 0;
+}
+
 void esf_events_free(esf_events **ev) {
   if (!*ev) return;
   free((*ev)->e);

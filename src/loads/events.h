@@ -56,6 +56,10 @@ void esf_events_wall_state(esf_sim *s);
 /* 1 when event b comes before event a of the same list in time (ties: list order). */
 int esf_event_before(const esf_events *E, int b, int a);
 
+/* 1 when an event is still to come (E may be NULL): the fused step then takes one step
+ * a call, so that each step's refresh sees it. */
+int esf_events_pending(const esf_events *E);
+
 void esf_events_free(esf_events **ev);
 
 #endif
