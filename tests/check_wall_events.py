@@ -5,7 +5,8 @@ frame and energy.csv bit for bit (the fused step checkpointed on 2 threads, resu
 1); the frames' wall mesh loses the gate's triangles after t1 and the fill falls below
 it; the log names the removal. Bad input (table times out of order, a stop before its
 start, an unknown wall name, a wall removed twice, a table's row count, rotations
-about two axes, a servo in a sequence, events under an ODE method) exits 2 with
+about two axes, a servo in a sequence, a servo wall removed, events under an ODE
+method) exits 2 with
 file:line:column. Usage: check_wall_events.py ESFERA"""
 import os
 import shutil
@@ -121,6 +122,9 @@ def main():
             "    motion: [{servo: {stress: 1, direction: [1, 0, 0], max_speed: 1}},\n"
             "             {translate: {velocity: [0, 0, 1]}}]\n")),
             "cannot be part of a sequence")
+        bad(exe, tmp, "servo_gate", SILO.replace("{name: gate, polygon:", (
+            "{name: gate, motion: {servo: {stress: 1, direction: [0, 0, 1], "
+            "max_speed: 1, area: 0.01}}, polygon:")), "cannot be removed or added")
         bad(exe, tmp, "ode", SILO.replace("method: leapfrog", "method: erk:rk4"),
             "supported by the leapfrog only")
     finally:

@@ -107,6 +107,11 @@ static int read_wall_event(const esf_ynode *e, const esf_sim *s, esf_event *ev,
     return esf_ynode_fail(rm ? rm : ad, err,
                           "no wall is named '%s' (give the wall a `name: %s`)", name,
                           name);
+  if (s->walls.g[ev->group].motion.kind == ESF_MOTION_SERVO)
+    return esf_ynode_fail(rm ? rm : ad, err,
+                          "wall '%s' is a servo: its feedback needs its contacts, so it "
+                          "cannot be removed or added",
+                          name);
   return ESF_OK;
 }
 
