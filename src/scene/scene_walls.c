@@ -7,11 +7,9 @@
  * it (scene_loads.c). Mesh walls (an STL file, a cylinder, a screw) are read in
  * scene_meshes.c. */
 #include <stdio.h>
-#include <math.h>
 #include <string.h>
 
 #include "scene/scene.h"
-#include "scene/scene_loads.h"
 #include "scene/scene_parts.h"
 #include "util/vec3.h"
 
