@@ -198,7 +198,7 @@ expect "servo refused by an ODE method" 2 "servo walls are supported by the leap
   -- run "$tmp/s34.yaml" --out "$tmp/o35" --set walls.0.motion.servo.area=1 --set integrator.method=rk4
 
 good "" "events: [{at: 0.0, delete: {box: {min: [-1, -1, -1], max: [1, 1, 1]}}}]" > "$tmp/s36.yaml"
-expect "events refused by an ODE method" 2 "events \(deleting particles\) are supported by the leapfrog only" \
+expect "events refused by an ODE method" 2 "events \(deleting particles, removing or adding walls\) are supported by the leapfrog only" \
   -- run "$tmp/s36.yaml" --out "$tmp/o36" --set integrator.method=verlet
 
 sed 's|- {plane: {point: \[0, 0, 0\], normal: \[0, 0, 1\]}, material: glass}|- {box: {min: [-1, -1, 0], max: [1, 1, 1]}, material: glass, motion: {servo: {stress: 1, direction: [0, 0, 1], max_speed: 1}}}|' "$tmp/ok.yaml" > "$tmp/s37.yaml"

@@ -118,6 +118,7 @@ int esf_wall_mesh_build(const esf_walls *walls, double t, const double *box_lo,
   if (rc) return rc;
   size_t np = 0, nt = 0;
   for (size_t k = 0; k < w->n; k++) {
+    if (w->g[w->e[k].group].absent) continue; /* removed by an event */
     int nv = w->e[k].kind == ESF_WALL_PLANE ? 4 : w->e[k].nv;
     np += (size_t)nv;
     nt += (size_t)(nv - 2);
@@ -128,6 +129,7 @@ int esf_wall_mesh_build(const esf_walls *walls, double t, const double *box_lo,
   int have_box = sizing_box(w, box_lo, box_hi, blo, bhi);
   for (size_t k = 0; k < w->n; k++) {
     const esf_wall_elem *e = &w->e[k];
+    if (w->g[e->group].absent) continue;
     double quad[4][3];
     int nv = e->nv;
     const double(*verts)[3] = e->v;

@@ -1,18 +1,19 @@
 /* wall_motion.c — prescribed rigid motions of wall groups
  * (docs/physics.md#walls-and-prescribed-motion: walls are never integrated; their
- * motion is a function of time).
- *
- * translate: d(t) = vel t;  velocity vel.
- * rotate:    angle(t) = rate t about the axis through pivot; a point x0 of the
- *            reference geometry is at pivot + R(angle)(x0 - pivot); velocity at q is
- *            omega x (q - pivot), omega = rate axis (Rodrigues' formula for R).
- * oscillate: d(t) = amp sin(2 pi freq t + phase) dir; velocity its derivative.
+ * motion is a function of time, each term on its clock tau = clamp(t, start, stop) -
+ * start when windowed, else tau = t; velocity zero outside [start, stop)).
+ * translate: d = vel tau.  rotate: angle = rate tau about the axis through pivot, a
+ *   reference point x0 at pivot + d + R(angle)(x0 - pivot) (Rodrigues), velocity at q
+ *   omega x (q - center).  oscillate: d = amp sin(2 pi freq tau + phase) dir.
+ * table: d piecewise linear between rows, held before the first, d_last + tail (tau -
+ *   t_last) after the last; velocity the slope of the segment holding tau (right-
+ *   continuous), so a row's time gives its row exactly.  A sequence sums its terms.
  * Elements are re-made from their transformed reference vertices (plane: point and
  * normal) with the wall_geom constructors, so edge normals and bounds stay exact. The
  * group's vel, omega and center feed esf_wall_point_velocity, hence the contact's
  * relative velocity and the work walls do in the energy ledger.
- * servo:     not a function of time: the group drifts by vel (t - t_prev), vel set
- *            after each committed force evaluation by servo.c (leapfrog only).
+ * servo: not a function of time: the group drifts by vel (t - t_prev), vel set after
+ *   each committed force evaluation by servo.c (leapfrog only).
  * Candidate lists: esf_walls_moved bounds the displacement of any wall point since the
  * last list build by |d - d_mark| + |angle - angle_mark| reach. Units: SI. */
 #include <math.h>
@@ -22,28 +23,81 @@
 #include "bodies/walls.h"
 #include "util/vec3.h"
 
-static void motion_at(const esf_wall_motion *m, double t, double d[3], double v[3],
-                      double *angle) {
-  v3_set(d, 0, 0, 0);
-  v3_set(v, 0, 0, 0);
-  *angle = 0;
+/* table displacement and velocity at tau (rows: t increasing): the row segment
+ * [t_i, t_i+1) holding tau, right-continuous; d(tau) = d_0 before the first row, then
+ * linear; after the last row d_last + tail (tau - t_last). */
+static void table_at(const esf_wall_motion *m, double tau, double d[3], double v[3]) {
+  const double *T = m->row_t, *D = m->row_d;
+  const int n = m->nrow;
+  if (tau < T[0]) {
+    v3_copy(d, D);
+    return;
+  }
+  if (tau >= T[n - 1]) {
+    const double h = tau - T[n - 1];
+    for (int q = 0; q < 3; q++) d[q] = D[3 * (n - 1) + q] + m->tail[q] * h;
+    v3_copy(v, m->tail);
+    return;
+  }
+  int lo = 0, hi = n - 1; /* T[lo] <= tau < T[hi] */
+  while (hi - lo > 1) {
+    int mid = (lo + hi) / 2;
+    if (T[mid] <= tau)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  const double *d0 = D + 3 * lo, *d1 = D + 3 * hi, h = T[hi] - T[lo];
+  const double s = (tau - T[lo]) / h;
+  for (int q = 0; q < 3; q++) {
+    d[q] = d0[q] + s * (d1[q] - d0[q]);
+    v[q] = (d1[q] - d0[q]) / h;
+  }
+}
+
+/* one term at time t: adds its displacement, velocity, angle and angular speed */
+static void term_at(const esf_wall_motion *m, double t, double d[3], double v[3],
+                    double *angle, double *rate) {
+  double tau = t, dd[3] = {0, 0, 0}, vv[3] = {0, 0, 0};
+  int on = 1;
+  if (m->timed) { /* the window: the motion sees clamp(t, start, stop) - start */
+    on = t >= m->start && t < m->stop;
+    tau = (t < m->start ? m->start : t > m->stop ? m->stop : t) - m->start;
+  }
   switch (m->kind) {
   case ESF_MOTION_TRANSLATE:
-    v3_scale(d, t, m->vel);
-    v3_copy(v, m->vel);
+    v3_scale(dd, tau, m->vel);
+    v3_copy(vv, m->vel);
     break;
   case ESF_MOTION_ROTATE:
-    *angle = m->rate * t;
+    *angle += m->rate * tau;
+    if (on) *rate += m->rate;
     break;
   case ESF_MOTION_OSCILLATE: {
-    double w = 2 * ESF_PI * m->freq, ph = w * t + m->phase;
-    v3_scale(d, m->amp * sin(ph), m->dir);
-    v3_scale(v, m->amp * w * cos(ph), m->dir);
+    double w = 2 * ESF_PI * m->freq, ph = w * tau + m->phase;
+    v3_scale(dd, m->amp * sin(ph), m->dir);
+    v3_scale(vv, m->amp * w * cos(ph), m->dir);
     break;
   }
+  case ESF_MOTION_TABLE:
+    table_at(m, tau, dd, vv);
+    break;
   default:
     break;
   }
+  v3_add(d, d, dd);
+  if (on) v3_add(v, v, vv);
+}
+
+/* the group's motion at time t: the sum of its terms (rotations share one axis) */
+static void motion_at(const esf_wall_group *g, double t, double d[3], double v[3],
+                      double *angle, double *rate) {
+  v3_set(d, 0, 0, 0);
+  v3_set(v, 0, 0, 0);
+  *angle = 0;
+  *rate = 0;
+  term_at(&g->motion, t, d, v, angle, rate);
+  for (int k = 0; k < g->nmore; k++) term_at(&g->more[k], t, d, v, angle, rate);
 }
 
 /* reference point x0 placed with displacement d and rotation angle about the axis */
@@ -96,9 +150,10 @@ void esf_walls_set_time(esf_walls *w, double t) {
       if (isfinite(t_prev)) v3_axpy(g->disp, t - t_prev, g->vel);
       continue;
     }
-    motion_at(&g->motion, t, g->disp, g->vel, &g->angle);
+    double rate = 0;
+    motion_at(g, t, g->disp, g->vel, &g->angle, &rate);
     if (g->motion.kind == ESF_MOTION_ROTATE) {
-      v3_scale(g->omega, g->motion.rate, g->motion.axis);
+      v3_scale(g->omega, rate, g->motion.axis);
       v3_add(g->center, g->motion.pivot, g->disp);
     }
   }

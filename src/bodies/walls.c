@@ -29,7 +29,26 @@ int esf_walls_add_elem(esf_walls *w, const esf_wall_elem *e, esf_error *err) {
   return ESF_OK;
 }
 
+int esf_walls_own(esf_walls *w, void *block, esf_error *err) {
+  void **o = block ? realloc(w->own, (size_t)(w->nown + 1) * sizeof *o) : NULL;
+  if (!o) {
+    free(block);
+    return esf_fail(err, ESF_ENOMEM, "out of memory for wall motions");
+  }
+  w->own = o;
+  o[w->nown++] = block;
+  return ESF_OK;
+}
+
+int esf_walls_find(const esf_walls *w, const char *name) {
+  for (int k = 0; k < w->ngroups; k++)
+    if (w->g[k].named && strcmp(w->g[k].label, name) == 0) return k;
+  return -1;
+}
+
 void esf_walls_release(esf_walls *w) {
+  for (int k = 0; k < w->nown; k++) free(w->own[k]);
+  free(w->own);
   free(w->e);
   free(w->e0);
   free(w->g);

@@ -16,7 +16,8 @@ enum {
   ESF_MOTION_TRANSLATE,
   ESF_MOTION_ROTATE,
   ESF_MOTION_OSCILLATE,
-  ESF_MOTION_SERVO /* velocity set by stress feedback each step (servo.h) */
+  ESF_MOTION_SERVO, /* velocity set by stress feedback each step (servo.h) */
+  ESF_MOTION_TABLE  /* tabulated displacement, piecewise linear in time */
 };
 
 typedef struct esf_wall_motion {
@@ -37,18 +38,31 @@ typedef struct esf_wall_motion {
   double area;   /* servo: loaded area, m^2 (0: from the elements) */
   double kn;     /* servo: largest wall-particle normal stiffness, N/m */
   double sigma;  /* servo: measured stress at the last committed evaluation, Pa */
+  /* the time window of a prescribed motion (not servo): when timed, the motion sees
+     tau = clamp(t, start, stop) - start and moves only for start <= t < stop */
+  int timed;
+  double start, stop; /* s (stop: INFINITY when not given) */
+  /* table: nrow times (s, increasing, from start) and displacements (m, 3 a row);
+     after the last row the wall moves on at `tail` (m/s; a velocity table's last) */
+  int nrow;
+  const double *row_t, *row_d; /* owned by the esf_walls (esf_walls_own) */
+  double tail[3];
 } esf_wall_motion;
 
 typedef struct esf_wall_group {
-  char label[32];   /* "plane", "box", "polygon" + index, for messages */
-  int moving;       /* 0: static (vel, omega zero) */
-  double vel[3];    /* translational velocity, m/s */
-  double omega[3];  /* angular velocity about `center`, rad/s */
-  double center[3]; /* m */
-  esf_wall_motion motion;
-  double disp[3]; /* displacement at the current time, m */
-  double angle;   /* rotation angle at the current time, rad */
-  double reach;   /* largest distance of its vertices from the rotation axis, m */
+  char label[32];              /* "plane", "box", "polygon" + index, for messages */
+  int moving;                  /* 0: static (vel, omega zero) */
+  double vel[3];               /* translational velocity, m/s */
+  double omega[3];             /* angular velocity about `center`, rad/s */
+  double center[3];            /* m */
+  esf_wall_motion motion;      /* the first term (a rotation if any term rotates) */
+  int nmore;                   /* further terms of a sequence, summed with the first */
+  const esf_wall_motion *more; /* owned by the esf_walls (esf_walls_own) */
+  int named;                   /* label is the scene's `name:` */
+  int absent;                  /* removed by an event (or not yet added): no contacts */
+  double disp[3];              /* displacement at the current time, m */
+  double angle;                /* rotation angle at the current time, rad */
+  double reach; /* largest distance of its vertices from the rotation axis, m */
   double disp_mark[3], angle_mark; /* the same at the last candidate-list build */
 } esf_wall_group;
 
@@ -67,6 +81,8 @@ typedef struct esf_walls {
   double *gforce_blk; /* the same per block of ESF_LEDGER_BLOCK particles, 4 ngroups a
                          block, summed in order into gforce (servo.c) */
   size_t gforce_nb;   /* blocks it has room for */
+  void **own;         /* allocations the motions point into (tables, sequences) */
+  int nown;
 } esf_walls;
 
 /* Adds a group; returns its index. */
@@ -74,6 +90,10 @@ int esf_walls_add_group(esf_walls *w, const char *label, int *group, esf_error *
 /* Adds an element (copied; its group must exist). */
 int esf_walls_add_elem(esf_walls *w, const esf_wall_elem *e, esf_error *err);
 void esf_walls_release(esf_walls *w);
+/* Makes w own a block from malloc (freed by esf_walls_release); on failure frees it. */
+int esf_walls_own(esf_walls *w, void *block, esf_error *err);
+/* The group named `name` (scene key `name:`), or -1. */
+int esf_walls_find(const esf_walls *w, const char *name);
 
 /* After the scene is read: keeps the reference geometry when a group moves and places
  * the walls at time t0. */

@@ -72,6 +72,7 @@ int esf_loads_ckpt_restore(esf_sim *s, esf_blob_in *in) {
     ev->done = done;
     ev->deleted = (long)del;
   }
+  if (ne > 0) esf_events_wall_state(s); /* the walls the applied events removed */
   int32_t fl[2] = {-1, 0};
   esf_blob_get(in, fl, sizeof fl);
   if (fl[0] != (s->drag != NULL)) return -1;

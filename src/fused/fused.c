@@ -26,6 +26,7 @@
 #endif
 
 #include "loads/drag.h"
+#include "loads/events.h"
 #include "loads/servo.h"
 #include "model/forces.h"
 
@@ -299,8 +300,9 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
   K.lk.roll = s->mats.any_rolling; /* the rows carry rolling resistance */
   /* more than one step only when the lists' check between steps needs nothing but
      the displacements (esf_neighbor_check) and nothing else happens between them */
-  const int many = s->nb.xref && s->nb.nref == p->n && !s->walls.moving && !s->events &&
-                   !autod && !s->drag; /* alpha, the porosity: updated after every step */
+  const int many = s->nb.xref && s->nb.nref == p->n && !s->walls.moving &&
+                   !esf_events_pending(s->events) && !autod &&
+                   !s->drag; /* alpha, the porosity: updated after every step */
   const esf_fused_burst B = {.bc = &bc,
                              .K = &K,
                              .e0 = f->epoch + 1,

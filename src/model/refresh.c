@@ -9,11 +9,13 @@
 #include "loads/events.h"
 
 int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
-  int rebuild = 0;
+  int rebuild = 0, walls_changed = 0;
   if (rebuilt) *rebuilt = 0;
   if (s->events) { /* scene events due now (events.c) */
     int rc = esf_events_apply(s, err);
     if (rc) return rc;
+    walls_changed = s->events->walls_changed; /* a wall removed or added: rebuild */
+    s->events->walls_changed = 0;
   }
   int rc = esf_neighbor_check(&s->nb, &s->p, esf_walls_moved(&s->walls), &rebuild, err);
   s->nb.disp_valid = 0;
@@ -23,7 +25,7 @@ int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
                      s->t, s->dt, s->dte.crit[s->cfg.dt_rule]);
     return rc;
   }
-  if (!rebuild) return ESF_OK;
+  if (!rebuild && !walls_changed) return ESF_OK;
   esf_neighbor_skin_tune(&s->nb, s->p.n, s->step); /* before particles go or move */
   rc = esf_sim_remove_escaped(s, err);
   int moved = 0;

@@ -1,6 +1,8 @@
 /* scene_loads.c — scene keys for servo walls, events and the fluid force (docs/scene.md):
  *   walls[i].motion: {servo: {stress, direction, max_speed, gain | alpha, area}}
- *   events: [{at, delete: {cylinder: {center, axis, radius}} | {box: {min, max}}}]
+ *   events: [{at, delete: {cylinder: {center, axis, radius}} | {box: {min, max}}
+ *             | remove_wall: NAME | add_wall: NAME}]; a wall's events alternate
+ *             (remove, add, ...) in time; one whose first event adds it starts absent
  *   fluid: {start, porosity, viscosity, density, permeability,
  *           radial: {center, axis, well_radius, drainage_radius, pressure_drop} |
  *           uniform: {velocity, pressure_gradient}}
@@ -92,8 +94,49 @@ static int read_region(const esf_ynode *del, esf_region *r, esf_error *err) {
   return rc;
 }
 
+/* remove_wall: NAME | add_wall: NAME into ev */
+static int read_wall_event(const esf_ynode *e, const esf_sim *s, esf_event *ev,
+                           esf_error *err) {
+  const esf_ynode *rm = esf_ymap_get(e, "remove_wall"), *ad = esf_ymap_get(e, "add_wall");
+  const char *name = NULL;
+  ev->kind = rm ? ESF_EVENT_REMOVE_WALL : ESF_EVENT_ADD_WALL;
+  int rc = esf_ynode_string(rm ? rm : ad, &name, err);
+  if (rc) return rc;
+  ev->group = esf_walls_find(&s->walls, name);
+  if (ev->group < 0)
+    return esf_ynode_fail(rm ? rm : ad, err,
+                          "no wall is named '%s' (give the wall a `name: %s`)", name,
+                          name);
+  if (s->walls.g[ev->group].motion.kind == ESF_MOTION_SERVO)
+    return esf_ynode_fail(rm ? rm : ad, err,
+                          "wall '%s' is a servo: its feedback needs its contacts, so it "
+                          "cannot be removed or added",
+                          name);
+  return ESF_OK;
+}
+
+/* a wall's events alternate in time: removed, added, removed... */
+static int check_wall_order(const esf_ynode *seq, const esf_events *E, esf_error *err) {
+  for (int k = 0; k < E->n; k++) {
+    const esf_event *ev = &E->e[k];
+    if (ev->kind == ESF_EVENT_DELETE) continue;
+    int prev = -1; /* the same wall's event just before k */
+    for (int j = 0; j < E->n; j++)
+      if (j != k && E->e[j].kind != ESF_EVENT_DELETE && E->e[j].group == ev->group &&
+          esf_event_before(E, j, k) && (prev < 0 || esf_event_before(E, prev, j)))
+        prev = j;
+    if (prev >= 0 && E->e[prev].kind == ev->kind)
+      return esf_ynode_fail(seq->items[k], err,
+                            "the wall is %s twice in a row (at %g s and %g s): its "
+                            "events must alternate between remove_wall and add_wall",
+                            ev->kind == ESF_EVENT_ADD_WALL ? "added" : "removed",
+                            E->e[prev].at, ev->at);
+  }
+  return ESF_OK;
+}
+
 static int read_events(const esf_ynode *seq, esf_sim *s, esf_error *err) {
-  static const char *const keys[] = {"at", "delete", NULL};
+  static const char *const keys[] = {"at", "delete", "remove_wall", "add_wall", NULL};
   int rc = esf_ynode_require_seq(seq, err);
   if (rc || seq->n == 0) return rc;
   esf_events *E = calloc(1, sizeof *E);
@@ -112,9 +155,16 @@ static int read_events(const esf_ynode *seq, esf_sim *s, esf_error *err) {
     if (!rc && !(ev->at >= 0))
       return esf_ynode_fail(esf_ymap_get(e, "at"), err, "must be a time >= 0 s");
     const esf_ynode *del = esf_ymap_get(e, "delete");
-    if (!rc && !del) return esf_ynode_fail(e, err, "missing key 'delete'");
-    if (!rc) rc = read_region(del, &ev->region, err);
+    const int nact = (del != NULL) + (esf_ymap_get(e, "remove_wall") != NULL) +
+                     (esf_ymap_get(e, "add_wall") != NULL);
+    if (!rc && nact != 1)
+      return esf_ynode_fail(e, err,
+                            "an event is exactly one of delete, remove_wall, add_wall");
+    if (!rc)
+      rc = del ? read_region(del, &ev->region, err) : read_wall_event(e, s, ev, err);
   }
+  if (!rc) rc = check_wall_order(seq, E, err);
+  if (!rc) esf_events_wall_state(s); /* walls added later start absent */
   return rc;
 }
 

@@ -74,6 +74,7 @@ static int check_walls(const esf_ynode *seq, const esf_ynode *walls, const esf_s
     size_t ne = 0;
     esf_wall_index_query(idx, &w, x, r, scratch, &el, &ne);
     for (size_t q = 0; q < ne && !rc; q++) {
+      if (w.g[w.e[el[q]].group].absent) continue; /* added later by an event */
       esf_wall_hit hit;
       esf_wall_nearest(&w.e[el[q]], x, &hit);
       const double un = r - hit.dist;

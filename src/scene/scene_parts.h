@@ -12,6 +12,8 @@
 int esf_scene_particles(const esf_ynode *seq, const char *dir, esf_sim *s,
                         uint32_t **entry, esf_error *err);
 int esf_scene_walls(const esf_ynode *seq, const char *dir, esf_sim *s, esf_error *err);
+/* A wall's `motion:` (scene_motion.c): one motion or a sequence into group. */
+int esf_scene_motion(const esf_ynode *mo, esf_walls *w, int group, esf_error *err);
 /* Mesh walls (scene_meshes.c): entry e's `mesh`, `cylinder` or `screw` into group. */
 int esf_scene_wall_stl(const esf_ynode *e, const char *dir, esf_sim *s, int group,
                        int32_t mat, esf_error *err);

@@ -2,16 +2,14 @@
  * (docs/scene.md#walls-a-list-each-entry-is-one-wall): an infinite plane, a polygon
  * (triangle or quadrilateral) and the box helper (inward quadrilaterals less the open
  * faces). Each entry becomes one wall group; its material must be defined.
- * Prescribed motion (`motion:`): translate {velocity}, rotate {axis, center, rpm or
- * omega}, oscillate {direction, frequency, amplitude or acceleration in g, phase (rad)};
- * the whole wall (a box: all its faces) moves rigidly (wall_motion.c). Mesh walls (an
- * STL file, a cylinder, a screw) are read in scene_meshes.c. */
+ * Prescribed motion (`motion:`, scene_motion.c): the whole wall (a box: all its faces)
+ * moves rigidly (wall_motion.c). `name:` names a wall for the events that remove or add
+ * it (scene_loads.c). Mesh walls (an STL file, a cylinder, a screw) are read in
+ * scene_meshes.c. */
 #include <stdio.h>
-#include <math.h>
 #include <string.h>
 
 #include "scene/scene.h"
-#include "scene/scene_loads.h"
 #include "scene/scene_parts.h"
 #include "util/vec3.h"
 
@@ -94,74 +92,27 @@ static int read_polygon(const esf_ynode *e, esf_sim *s, int group, int32_t mat,
   return esf_walls_add_elem(&s->walls, &el, err);
 }
 
-/* motion: {translate: {velocity}} | {rotate: {axis, center, rpm | omega}} |
- * {oscillate: {direction, frequency, amplitude | acceleration (peak, in g), phase}} */
-static int read_motion(const esf_ynode *mo, esf_wall_motion *m, esf_error *err) {
-  static const char *const kinds[] = {"translate", "rotate", "oscillate",
-                                      "servo", /* scene_loads.c */
-                                      NULL};
-  static const char *const tkeys[] = {"velocity", NULL};
-  static const char *const rkeys[] = {"axis", "center", "rpm", "omega", NULL};
-  static const char *const okeys[] = {"direction",    "frequency", "amplitude",
-                                      "acceleration", "phase",     NULL};
-  int rc = esf_ynode_require_map(mo, err);
-  if (!rc) rc = esf_ymap_check_keys(mo, kinds, err);
+/* name: a wall's unique name (the events' remove_wall, add_wall) into label */
+static int wall_name(const esf_ynode *nm, const esf_walls *w, char *label, size_t len,
+                     esf_error *err) {
+  const char *name = NULL;
+  int rc = esf_ynode_string(nm, &name, err);
   if (rc) return rc;
-  if (mo->n != 1)
-    return esf_ynode_fail(
-        mo, err, "a motion is exactly one of translate, rotate, oscillate, servo");
-  if (esf_ymap_get(mo, "servo"))
-    return esf_scene_servo(esf_ymap_get(mo, "servo"), m, err);
-  memset(m, 0, sizeof *m);
-  const esf_ynode *t = esf_ymap_get(mo, "translate"), *r = esf_ymap_get(mo, "rotate"),
-                  *o = esf_ymap_get(mo, "oscillate");
-  if (t) {
-    m->kind = ESF_MOTION_TRANSLATE;
-    rc = esf_ynode_require_map(t, err);
-    if (!rc) rc = esf_ymap_check_keys(t, tkeys, err);
-    if (!rc) rc = esf_yget_doubles(t, "velocity", 1, m->vel, 3, err);
-  } else if (r) {
-    m->kind = ESF_MOTION_ROTATE;
-    rc = esf_ynode_require_map(r, err);
-    if (!rc) rc = esf_ymap_check_keys(r, rkeys, err);
-    if (!rc) rc = esf_scene_unit_vector(r, "axis", 1, m->axis, err);
-    if (!rc) rc = esf_yget_doubles(r, "center", 0, m->pivot, 3, err);
-    const esf_ynode *rpm = esf_ymap_get(r, "rpm"), *om = esf_ymap_get(r, "omega");
-    if (!rc && (rpm != NULL) == (om != NULL))
-      return esf_ynode_fail(r, err,
-                            "give the angular speed as exactly one of rpm, omega");
-    double v = 0;
-    if (!rc) rc = esf_yget_double(r, rpm ? "rpm" : "omega", 1, &v, err);
-    m->rate = rpm ? v * 2.0 * ESF_PI / 60.0 : v;
-  } else {
-    m->kind = ESF_MOTION_OSCILLATE;
-    rc = esf_ynode_require_map(o, err);
-    if (!rc) rc = esf_ymap_check_keys(o, okeys, err);
-    if (!rc) rc = esf_scene_unit_vector(o, "direction", 1, m->dir, err);
-    if (!rc) rc = esf_yget_double(o, "frequency", 1, &m->freq, err);
-    if (!rc && !(m->freq > 0))
-      return esf_ynode_fail(esf_ymap_get(o, "frequency"), err, "must be positive (Hz)");
-    const esf_ynode *am = esf_ymap_get(o, "amplitude"),
-                    *ac = esf_ymap_get(o, "acceleration");
-    if (!rc && (am != NULL) == (ac != NULL))
-      return esf_ynode_fail(o, err,
-                            "give exactly one of amplitude (m) or acceleration (peak, in "
-                            "units of g = 9.81 m/s^2)");
-    double v = 0;
-    if (!rc) rc = esf_yget_double(o, am ? "amplitude" : "acceleration", 1, &v, err);
-    double w = 2.0 * ESF_PI * m->freq;
-    m->amp = am ? v : v * 9.81 / (w * w);
-    if (!rc) rc = esf_yget_double(o, "phase", 0, &m->phase, err);
-  }
-  return rc;
+  if (!name[0] || strlen(name) >= len)
+    return esf_ynode_fail(nm, err, "a wall name has 1 to %zu characters", len - 1);
+  if (esf_walls_find(w, name) >= 0)
+    return esf_ynode_fail(nm, err, "a wall named '%s' exists already", name);
+  snprintf(label, len, "%s", name);
+  return ESF_OK;
 }
 
 /* the mesh wall kinds (scene_meshes.c) */
 static const char *const mesh_kinds[] = {"mesh", "cylinder", "screw", NULL};
 
 int esf_scene_walls(const esf_ynode *seq, const char *dir, esf_sim *s, esf_error *err) {
-  static const char *const keys[] = {"box",    "plane", "polygon",  "open",  "material",
-                                     "motion", "mesh",  "cylinder", "screw", NULL};
+  static const char *const keys[] = {"box",      "plane",  "polygon", "open",
+                                     "material", "motion", "mesh",    "cylinder",
+                                     "screw",    "name",   NULL};
   if (!seq || seq->kind == ESF_YN_NULL) return ESF_OK;
   int rc = esf_ynode_require_seq(seq, err);
   for (size_t k = 0; k < (seq ? seq->n : 0) && !rc; k++) {
@@ -189,9 +140,12 @@ int esf_scene_walls(const esf_ynode *seq, const char *dir, esf_sim *s, esf_error
                        : mesh                     ? mesh
                                                   : "polygon";
     snprintf(label, sizeof label, "%s %zu", kind, k);
+    const esf_ynode *nm = esf_ymap_get(e, "name");
+    if (nm) rc = wall_name(nm, &s->walls, label, sizeof label, err);
     int group = 0;
-    rc = esf_walls_add_group(&s->walls, label, &group, err);
+    if (!rc) rc = esf_walls_add_group(&s->walls, label, &group, err);
     if (rc) break;
+    s->walls.g[group].named = nm != NULL;
     if (mesh && mesh[0] == 'm')
       rc = esf_scene_wall_stl(e, dir, s, group, mat, err);
     else if (mesh && mesh[0] == 'c')
@@ -206,7 +160,7 @@ int esf_scene_walls(const esf_ynode *seq, const char *dir, esf_sim *s, esf_error
       rc = read_polygon(e, s, group, mat, err);
     const esf_ynode *mo = esf_ymap_get(e, "motion");
     if (!rc && mo) {
-      rc = read_motion(mo, &s->walls.g[group].motion, err);
+      rc = esf_scene_motion(mo, &s->walls, group, err);
       if (!rc && kind[1] == 'l' && s->walls.g[group].motion.kind == ESF_MOTION_ROTATE)
         return esf_ynode_fail(mo, err,
                               "an infinite plane cannot rotate; use a polygon or a box");

@@ -320,7 +320,8 @@ static int wall_candidates_range(const esf_neighbor *nb, const esf_particles *p,
     for (size_t c = 0; c < ncand; c++) {
       const size_t e = cand[c];
       const esf_wall_elem *el = &w->e[e];
-      if (el->kind == ESF_WALL_POLYGON) { /* cheap rejects: bounding sphere, plane */
+      if (w->g[el->group].absent) continue; /* removed by an event (events.c) */
+      if (el->kind == ESF_WALL_POLYGON) {   /* cheap rejects: bounding sphere, plane */
         double d[3];
         v3_sub(d, x, el->p);
         double lim = el->bound_r + reach;
