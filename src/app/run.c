@@ -27,6 +27,7 @@
 #include "model/stability.h"
 #include "output/contact_net.h"
 #include "output/frames.h"
+#include "output/wall_loads.h"
 #include "util/vec3.h"
 #include "util/version.h"
 
@@ -369,6 +370,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   FILE *logf = NULL, *ef = NULL;
   esf_frames *fr = NULL;
   esf_contact_net net = {0};
+  esf_load_out lo = {0}; /* walls.csv, stress.csv (wall_loads.h) */
   void *ist = NULL;
   esf_ckpt_run cr = {0};
   if (!o->resume) { /* a new run: the scheme is set up before any file is written, so
@@ -423,6 +425,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, &fr, err);
     if (!rc) rc = write_frame(s, fr, &net, err);
   }
+  if (!rc) rc = esf_load_out_open(o->out_dir, s, o->resume ? cr.erows : -1, &lo, err);
   if (rc) goto done;
 
   long every_e = steps_in(s->cfg.energy_every, s->dt);
@@ -485,6 +488,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     }
     if (row) {
       rc = energy_row(s, ef, fr, err);
+      if (!rc) rc = esf_load_out_row(s, &lo, err);
       if (!rc) rc = check_energy(s, &resid_warned, err);
       if (rc) break;
     }
@@ -507,7 +511,8 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       cr.next_f = next_f;
       cr.next_c = next_c;
       cr.psum = psum;
-      rc = esf_run_ckpt_save(o->out_dir, s, it, ist, o->scene, &cr, ef, fr, err);
+      rc = esf_load_out_sync(&lo, err); /* the rows the checkpoint counts */
+      if (!rc) rc = esf_run_ckpt_save(o->out_dir, s, it, ist, o->scene, &cr, ef, fr, err);
       if (rc) break;
       st->checkpoints++;
       st->stop_checkpoint = stop;
@@ -602,6 +607,7 @@ done:
     }
   }
   esf_contact_net_release(&net);
+  esf_load_out_close(&lo);
   if (ef && (ferror(ef) | fclose(ef)) != 0 && !rc)
     rc = esf_fail(err, ESF_EIO, "cannot finish energy.csv: %s", strerror(errno));
   if (rc) esf_sim_log(s, "FAILED: %s", err->msg);

@@ -6,7 +6,10 @@
  * itself (history read, nothing written), and reports each touching contact: its
  * particles (or particle and wall group), contact point, force on the first particle,
  * its tangential part and torque. This file keeps them as arrays. With the leapfrog the
- * velocities are the half-step ones, as in the frames. Cost: one pass over the
+ * velocities are the half-step ones, as in the frames. With the wall contacts, moving
+ * walls are first placed at the state's time s->t (esf_walls_set_time; each step does
+ * so before its forces, with the same result): a wall turning by omega dt between the
+ * last evaluation and the row moves by more than the overlaps of stiff contacts. Cost: one pass over the
  * candidate lists per call, only when an output asks. Entry: candidate lists valid for
  * the positions; exit: net holds the touching contacts; the sim's state is unchanged. */
 #include "output/contact_net.h"
@@ -14,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/sim.h"
 #include "model/forces.h"
 #include "util/vec3.h"
 
@@ -56,6 +60,8 @@ static void keep(void *ctx, const esf_probe_contact *o) {
 int esf_contact_net_build(struct esf_sim *s, int walls, esf_contact_net *net,
                           esf_error *err) {
   net->pp.n = net->pw.n = 0;
+  if (walls) /* moving walls at the state's time, where the next step puts them */
+    esf_walls_set_time(&s->walls, s->t);
   collect cl = {net, ESF_OK};
   const esf_contact_probe pr = {keep, &cl};
   int rc = esf_forces_probe(s, 1, walls, &pr, err);

@@ -32,7 +32,8 @@ typedef struct esf_contact_net {
 
 /* Fills net (reusing its storage) from the sim's candidate lists, evaluating the
  * contact law without committing anything (esf_forces_probe): the sim's state is not
- * changed. walls: also the particle-wall contacts (else net->pw.n = 0). */
+ * changed, but for the walls' placement: walls: also the particle-wall contacts (else
+ * net->pw.n = 0), with moving walls placed at the state's time s->t first. */
 int esf_contact_net_build(struct esf_sim *s, int walls, esf_contact_net *net,
                           esf_error *err);
 
