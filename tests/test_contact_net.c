@@ -47,6 +47,43 @@ static double expected_fn(const esf_sim *s, size_t a, size_t b) {
   return fn > 0 ? fn : 0.0;
 }
 
+/* The ODE methods commit their forces at the state a step ends on: the network's
+ * contact forces plus gravity give p.f of every particle (1e-12). (Verlet commits at
+ * x_{n+1} with the half-kicked velocities; the network uses the state's v_{n+1}, so
+ * its dashpot forces differ from p.f's.) */
+static void schemes_commit(const char *method) {
+  const char *sets[2] = {method, "gravity=[0,0,-9.81]"};
+  simtest T;
+  if (simtest_open(&T, scene, sets, 2)) {
+    CHECK(0, "%s: scene failed: %s", method, T.err.msg);
+    return;
+  }
+  for (int k = 0; k < 5; k++) simtest_step(&T);
+  esf_sim *s = &T.s;
+  esf_sim_forces_sync(s);
+  esf_contact_net net = {0};
+  esf_error err = {0};
+  CHECK_OK(esf_contact_net_build(s, 1, &net, &err), err);
+  const esf_particles *p = &s->p;
+  double *f = calloc(3 * p->n, sizeof *f), worst = 0;
+  for (size_t i = 0; i < p->n; i++) v3_scale(f + 3 * i, p->mass[i], s->cfg.gravity);
+  for (size_t k = 0; k < net.pp.n; k++) {
+    v3_add(f + 3 * net.pp.pair[2 * k], f + 3 * net.pp.pair[2 * k], net.pp.f + 3 * k);
+    v3_sub(f + 3 * net.pp.pair[2 * k + 1], f + 3 * net.pp.pair[2 * k + 1],
+           net.pp.f + 3 * k);
+  }
+  for (size_t k = 0; k < net.pw.n; k++)
+    v3_add(f + 3 * net.pw.pair[2 * k], f + 3 * net.pw.pair[2 * k], net.pw.f + 3 * k);
+  for (size_t q = 0; q < 3 * p->n; q++) worst = fmax(worst, fabs(f[q] - p->f[q]));
+  CHECK(net.pp.n == 1 && net.pw.n == 1 && worst <= 1e-12 * v3_norm(p->f + 3),
+        "%s: %zu pairs, %zu wall contacts; contact forces + gravity vs p.f: %.3g N",
+        method, net.pp.n, net.pw.n, worst);
+  printf("%s: the network's forces give p.f to %.3g N\n", method, worst);
+  free(f);
+  esf_contact_net_release(&net);
+  simtest_close(&T);
+}
+
 int main(void) {
   simtest T;
   if (simtest_open(&T, scene, NULL, 0)) {
@@ -120,5 +157,6 @@ int main(void) {
   free(touch);
   free(h);
   simtest_close(&T);
+  schemes_commit("integrator.method=rk4");
   return check_finish("test_contact_net");
 }

@@ -471,7 +471,10 @@ int esf_forces_probe(esf_sim *s, int pairs, int walls, const esf_contact_probe *
   esf_force_tally *ty = s->tally;
   s->tally = NULL; /* nothing is booked */
   size_t nt = 0;
-  int rc = pairs ? pair_forces(s, p->x, p->v, p->w, s->dt, 0, &nt, probe, err) : ESF_OK;
+  /* the increment since the last commit: the leapfrog's next step integrates it over
+     dt; Verlet and the ODE methods committed at this very state */
+  const double dt = strcmp(s->cfg.method, "leapfrog") == 0 ? s->dt : 0.0;
+  int rc = pairs ? pair_forces(s, p->x, p->v, p->w, dt, 0, &nt, probe, err) : ESF_OK;
   const esf_candidates *c = &s->nb.pw;
   for (size_t k0 = 0, k1; walls && !rc && k0 < c->n; k0 = k1) {
     const uint32_t a = c->a[k0];

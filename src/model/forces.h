@@ -66,9 +66,12 @@ typedef struct esf_contact_probe {
 } esf_contact_probe;
 
 /* For output: evaluates every touching pair (pairs != 0) and particle-wall contact
- * (walls != 0) at the current state (s->p.x, v, w over s->dt) in trial mode, in list
- * order (one thread), and passes each to probe. Writes nothing to p.f, p.t, the
- * histories, the touching flags or the ledger (only the lists' wall scratch). */
+ * (walls != 0) at the current state (s->p.x, v, w) in trial mode, in list order (one
+ * thread), and passes each to probe. The history's increment covers s->dt for the
+ * leapfrog (the force its next step applies at this state) and nothing for the schemes
+ * that commit at the state itself (Verlet, the ODE methods: the committed force). Writes
+ * nothing to p.f, p.t, the histories, the touching flags or the ledger (only the lists'
+ * wall scratch). */
 int esf_forces_probe(esf_sim *s, int pairs, int walls, const esf_contact_probe *probe,
                      esf_error *err);
 
