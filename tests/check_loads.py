@@ -9,7 +9,8 @@ against numbers:
     bottom one -N^2 f, their moments about the origin are N^2 f (+-y_mean, -+x_mean, 0)
     (to 1e-9); the stress of the box over the lattice is szz = f / A, A = (2r')^2 the
     column's cross-section, the other components 0, and so is that of a box cut at the
-    contact plane between the first two layers (pairs split at the contact point);
+    contact plane between the first two layers (pairs split at the contact point); with
+    the top plane a servo wall holding that stress, its row gives target x area;
   * a bed of 200 spheres settled in a box: the vertical forces on the walls add up to
     the bed's weight within 1% (mean of the last 5 rows);
   * the helical screw's quick scene (0.2 s, rows every step): the power -M . omega of
@@ -33,7 +34,7 @@ N, R, D, KN = 3, 1.0e-3, 1.0e-6, 1.0e4
 SP = 2 * R * (1 + 1e-6)  # lateral spacing: the columns do not touch
 
 
-def lattice_scene():
+def lattice_scene(servo=False):
     zs = [(R - D) + k * (2 * R - D) for k in range(N)]  # every overlap d
     h = zs[-1] + R - D  # the top plane
     parts = []
@@ -51,7 +52,10 @@ def lattice_scene():
         "particles:", *parts,
         "walls:",
         "  - {plane: {point: [0, 0, 0], normal: [0, 0, 1]}, material: g}",
-        f"  - {{plane: {{point: [0, 0, {h!r}], normal: [0, 0, -1]}}, material: g}}",
+        f"  - {{plane: {{point: [0, 0, {h!r}], normal: [0, 0, -1]}}, material: g"
+        + (f", motion: {{servo: {{stress: {N * N * KN * D / (N * SP) ** 2!r}, "
+           f"direction: [0, 0, -1], area: {(N * SP) ** 2!r}, max_speed: 0.01}}}}}}"
+           if servo else "}"),
         "contact: {allow_initial_overlap: true}",
         "integrator: {method: leapfrog, dt: auto, frac: 0.1}",
         "run: {steps: 20}",
@@ -120,6 +124,16 @@ def lattice(exe, tmp):
     gen = os.path.join(tmp, "lat_gen")
     run_sets(exe, scene, gen, "integrator.fused=false")
     same_bytes(out, gen, "lattice: fused vs general path")
+    # the top plane as a servo wall holding the lattice's own stress: it stays, and
+    # walls.csv gives it the target stress times its area
+    with open(scene, "w") as fh:
+        fh.write(lattice_scene(servo=True))
+    out = os.path.join(tmp, "lat_servo")
+    run_sets(exe, scene, out)
+    top = load(out, "walls.csv")[-1]
+    check(int(top[1]) == 1 and abs(top[4] / (N * N * f) - 1) < 1e-9,
+          f"lattice, servo lid: fz {top[4]!r} vs target stress x area {N * N * f!r}")
+    print(f"lattice, servo lid: fz = {top[4]:.12g} N, target x area {N * N * f:.12g} N")
 
 
 def bed(exe, tmp):
