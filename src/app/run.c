@@ -316,9 +316,9 @@ static int plan(const esf_sim *s, int adaptive, long *nsteps, double *t_end,
 /* A new run refuses a folder holding another run's results unless told to overwrite
  * them (--overwrite); --resume continues the run they belong to. */
 static int check_out_dir(const char *dir, int overwrite, esf_error *err) {
-  static const char *const names[] = {"frames.h5",  "frames.d", "frames.xdmf",
-                                      "energy.csv", "log.txt",  ESF_CKPT_NAME,
-                                      NULL};
+  static const char *const names[] = {"frames.h5",  "frames.d",   "frames.xdmf",
+                                      "energy.csv", "log.txt",    ESF_CKPT_NAME,
+                                      "walls.csv",  "stress.csv", NULL};
   char found[256] = "", path[1200];
   struct stat sb;
   int ckpt = 0;

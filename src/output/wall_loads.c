@@ -140,6 +140,12 @@ int esf_load_out_open(const char *dir, const esf_sim *s, long erows, esf_load_ou
   memset(o, 0, sizeof *o);
   const long nw = s->walls.ngroups, ns = s->cfg.n_stress;
   int rc = ESF_OK;
+  const char *names[2] = {"walls.csv", "stress.csv"};
+  for (int k = 0; k < 2 && erows < 0; k++) { /* a new run: no earlier run's file stays */
+    char path[1200];
+    snprintf(path, sizeof path, "%s/%s", dir, names[k]);
+    if (!(k ? ns : s->cfg.out_walls)) unlink(path);
+  }
   if (s->cfg.out_walls) {
     o->fm = calloc(6 * (size_t)(nw ? nw : 1), sizeof *o->fm);
     if (!o->fm) return esf_fail(err, ESF_ENOMEM, "out of memory for walls.csv");

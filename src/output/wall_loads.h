@@ -34,7 +34,8 @@ typedef struct esf_load_out {
   double *fm; /* 6 per wall group */
 } esf_load_out;
 
-/* Opens the files the scene asks for: a new run (erows < 0) writes their headers; a
+/* Opens the files the scene asks for: a new run (erows < 0) writes their headers (and
+ * removes an earlier run's file the scene does not ask for, in an overwritten folder); a
  * resumed one keeps their header and the rows of the checkpoint's erows energy rows
  * (ESF_EINPUT when a file is shorter) and appends. Nothing when neither is asked. */
 int esf_load_out_open(const char *dir, const esf_sim *s, long erows, esf_load_out *o,
