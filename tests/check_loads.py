@@ -2,21 +2,22 @@
 """check_loads.py ESFERA SOURCE_ROOT -- walls.csv and stress.csv (output.walls,
 output.stress; docs/output.md#wallscsv, docs/physics.md#wall-loads-and-region-stress)
 against numbers:
-  * a simple cubic lattice of N^3 spheres (radius r, lateral spacing 2r(1 + 1e-6), no
-    gravity) pressed between two planes with the same overlap d at every contact, at
-    rest: every contact carries f = kn d; the box over the lattice from the bottom
-    wall contacts' points to the top ones' (z = -d/2 and h + d/2, the seed lever); the top plane takes +N^2 f along z, the
-    bottom one -N^2 f, their moments about the origin are N^2 f (+-y_mean, -+x_mean, 0)
-    (to 1e-9); the stress of the box over the lattice is szz = f / A, A = (2r')^2 the
+  * a simple cubic lattice of N^3 spheres (radius r, lateral spacing 2r' = 2r(1 + 1e-6),
+    no gravity) pressed between two planes with the same overlap d at every contact, at
+    rest: every contact carries f = kn d; the top plane takes +N^2 f along z, the
+    bottom one -N^2 f, their moments about the origin are N^2 f (+-y_mean, -+x_mean, 0);
+    the stress of the box over the lattice (from the bottom wall contacts' points to the
+    top ones', z = -d/2 and h + d/2 with the seed lever) is szz = f / A, A = (2r')^2 the
     column's cross-section, the other components 0, and so is that of a box cut at the
-    contact plane between the first two layers (pairs split at the contact point); with
-    the top plane a servo wall holding that stress, its row gives target x area;
+    contact plane between the first two layers (pairs split at the contact point); all
+    to 1e-9, with the leapfrog and with rk4; with the top plane a servo wall holding
+    that stress, its row gives target x area (1e-9);
   * a bed of 200 spheres settled in a box: the vertical forces on the walls add up to
     the bed's weight within 1% (mean of the last 5 rows);
   * the helical screw's quick scene (0.2 s, rows every step): the power -M . omega of
     the screw's moment about its axis point, summed over the rows times dt, equals the
     wall work in energy.csv (the ledger's, booked from the same contact forces) to 1e-9
-    relative, and is not small;
+    relative, and is not small (> 0.1 J);
   * walls.csv and stress.csv are the same bytes on 1, 2 and 3 threads and on the
     general path (integrator.fused: false), and a run resumed from its half-way
     checkpoint writes the same bytes as the uninterrupted one."""
@@ -100,27 +101,10 @@ def lattice(exe, tmp):
         fh.write(lattice_scene())
     out = os.path.join(tmp, "lat")
     run_sets(exe, scene, out)
-    w, s = load(out, "walls.csv"), load(out, "stress.csv")
-    f = KN * D
-    last = w[-2:]  # the last row's two walls
-    xm = ym = N * SP / 2
-    want = {0: [0, 0, -N * N * f, -N * N * f * ym, N * N * f * xm, 0],
-            1: [0, 0, N * N * f, N * N * f * ym, -N * N * f * xm, 0]}
-    for row in last:
-        g = int(row[1])
-        err = np.abs(row[2:] - want[g]).max() / (N * N * f * xm)
-        check(err < 1e-9, f"lattice wall {g}: {row[2:]} vs {want[g]} (rel {err:.2e})")
-        print(f"lattice wall {g}: F = {row[2:5]}, M = {row[5:]}; closed form {want[g]}")
-    a = SP * SP
-    for row in s[-2:]:
-        r = int(row[1])
-        szz, others = row[5], np.abs(np.r_[row[3:5], row[6:9]]).max()
-        check(row[2] == (N ** 3 if r == 0 else N * N), f"region {r}: {row[2]} particles")
-        check(abs(szz / (f / a) - 1) < 1e-9 and others < 1e-9 * f / a,
-              f"lattice region {r}: szz {szz!r} vs f/A {f / a!r}, others {others:.2e}")
-        check(abs(row[9] - szz / 3) < 1e-9 * szz and abs(row[10] - szz) < 1e-9 * szz,
-              f"lattice region {r}: p {row[9]}, q {row[10]} (want szz/3, szz)")
-        print(f"lattice region {r}: szz = {szz:.12g} Pa, f/A = {f / a:.12g} Pa")
+    lattice_rows(out, "leapfrog")
+    rk = os.path.join(tmp, "lat_rk4")
+    run_sets(exe, scene, rk, "integrator.method=rk4")
+    lattice_rows(rk, "rk4")
     gen = os.path.join(tmp, "lat_gen")
     run_sets(exe, scene, gen, "integrator.fused=false")
     same_bytes(out, gen, "lattice: fused vs general path")
@@ -131,9 +115,34 @@ def lattice(exe, tmp):
     out = os.path.join(tmp, "lat_servo")
     run_sets(exe, scene, out)
     top = load(out, "walls.csv")[-1]
+    f = KN * D
     check(int(top[1]) == 1 and abs(top[4] / (N * N * f) - 1) < 1e-9,
           f"lattice, servo lid: fz {top[4]!r} vs target stress x area {N * N * f!r}")
     print(f"lattice, servo lid: fz = {top[4]:.12g} N, target x area {N * N * f:.12g} N")
+
+
+def lattice_rows(out, how):
+    w, s = load(out, "walls.csv"), load(out, "stress.csv")
+    f = KN * D
+    last = w[-2:]  # the last row's two walls
+    xm = ym = N * SP / 2
+    want = {0: [0, 0, -N * N * f, -N * N * f * ym, N * N * f * xm, 0],
+            1: [0, 0, N * N * f, N * N * f * ym, -N * N * f * xm, 0]}
+    for row in last:
+        g = int(row[1])
+        err = np.abs(row[2:] - want[g]).max() / (N * N * f * xm)
+        check(err < 1e-9, f"{how}: lattice wall {g}: {row[2:]} vs {want[g]} (rel {err:.2e})")
+        print(f"{how}: lattice wall {g}: F = {row[2:5]}, M = {row[5:]}; closed form {want[g]}")
+    a = SP * SP
+    for row in s[-2:]:
+        r = int(row[1])
+        szz, others = row[5], np.abs(np.r_[row[3:5], row[6:9]]).max()
+        check(row[2] == (N ** 3 if r == 0 else N * N), f"region {r}: {row[2]} particles")
+        check(abs(szz / (f / a) - 1) < 1e-9 and others < 1e-9 * f / a,
+              f"{how}: lattice region {r}: szz {szz!r} vs f/A {f / a!r}, others {others:.2e}")
+        check(abs(row[9] - szz / 3) < 1e-9 * szz and abs(row[10] - szz) < 1e-9 * szz,
+              f"{how}: lattice region {r}: p {row[9]}, q {row[10]} (want szz/3, szz)")
+        print(f"{how}: lattice region {r}: szz = {szz:.12g} Pa, f/A = {f / a:.12g} Pa")
 
 
 def bed(exe, tmp):
