@@ -91,6 +91,17 @@ expect "unknown --set key" 2 "^esfera: --set integrator.fracc=0.2: unknown key '
 expect "--set wrong type" 2 "--set gravity=\[0,0\]: gravity: expected a sequence of 3 numbers, got 2 items" \
   -- run "$tmp/ok.yaml" --set 'gravity=[0,0]' --out "$tmp/o9"
 
+# walls.csv and stress.csv (output.walls, output.stress) need energy rows; regions
+# are boxes with min < max
+expect "output.walls without energy rows" 2 "--set output.walls=true: output.walls: written at the energy rows: needs output.energy_every > 0" \
+  -- run "$tmp/ok.yaml" --set output.walls=true --out "$tmp/o9w"
+expect "stress region min > max" 2 "output.stress.0.region: min must be below max in every direction" \
+  -- run "$tmp/ok.yaml" --set output.energy_every=1e-4 \
+  --set 'output.stress=[{region: {min: [0,0,1], max: [1,1,0]}}]' --out "$tmp/o9s"
+expect "stress entry without region" 2 "unknown key 'box' in output.stress.0 \(expected one of: region\)" \
+  -- run "$tmp/ok.yaml" --set output.energy_every=1e-4 --set 'output.stress=[{box: 1}]' \
+  --out "$tmp/o9t"
+
 good "" "integrator: {dt: 1.0}" > "$tmp/s10.yaml"
 expect "dt above critical" 2 "above the critical step of the 'hart' rule" \
   -- run "$tmp/s10.yaml" --out "$tmp/o10"

@@ -10,7 +10,8 @@ particles are N vertex cells 0..N-1 (/vertex_index, whole or as a hyperslab); an
 set has a topology without data or cell attributes. The files of one kind each
 (frames_particles.xdmf, frames_walls.xdmf, frames_contacts.xdmf) hold that kind alone,
 and meshio's time series reader reads the particles' file: the first frame's vertex
-cells, every frame's positions and radii as in frames.h5. A run whose particles leave
+cells, every frame's positions and radii as in frames.h5 and, with contacts, the
+coordination number (its sum: two per pair plus the wall contacts). A run whose particles leave
 the domain (hyperslabs, empty contact sets) passes the same checks. Then a run killed
 (SIGKILL) in the middle leaves XDMF files that still parse and describe only frames
 present in frames.h5, in order."""
@@ -82,6 +83,12 @@ def check_meshio(out):
             check(np.array_equal(pd["position"], g["position"][()]) and
                   np.array_equal(pd["radius"], g["radius"][()]),
                   f"meshio step {k}: positions and radii as in frames.h5")
+            if "contacts" in g:  # the coordination number: each contact's ends
+                z = g["coordination"][()]
+                want = 2 * len(g["contacts/pairs"]) + len(g["contacts/wall_pairs"])
+                check(np.array_equal(pd.get("coordination"), z) and int(z.sum()) == want,
+                      f"meshio step {k}: coordination as in frames.h5, sum {z.sum()} "
+                      f"(2 pairs + wall contacts {want})")
         return r.num_steps
 
 
@@ -201,7 +208,7 @@ def validate(xdmf, complete=True, kinds=("particles", "walls", "contacts"), forc
     wanted = {"particles": ("radius", "velocity", "angular_velocity", "force",
                             "material", "id"),
               "walls": ("group", "material"),
-              "contacts": ("normal_force",) if forces else ()}
+              "contacts": ("normal_force", "tangential_force") if forces else ()}
     for k in kinds:
         for want in wanted[k]:
             check(want in names, f"attribute {want} present")

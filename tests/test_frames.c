@@ -304,8 +304,9 @@ static void test_walls_contacts_energy(void) {
   esf_particles p;
   CHECK_OK(esf_particles_alloc(&p, 5, &err), err);
   int64_t pairs[4] = {0, 1, 2, 4};
-  double fn[2] = {1.5, 0.0};
-  esf_contact_net net = {2, pairs, fn, 2}, empty = {0, NULL, NULL, 0};
+  double fn[2] = {1.5, 0.0}, ft[6] = {0.1, 0.2, 0.3, 0, 0, 0};
+  esf_contact_net net = {0}, empty = {0};
+  net.pp = (esf_contact_set){.n = 2, .cap = 2, .pair = pairs, .fn = fn, .ft = ft};
   const esf_contact_net *nets[3] = {&net, NULL, &empty};
   const char *cols[3] = {"time", "a", "b"};
   esf_frames *fr = NULL;
@@ -350,7 +351,7 @@ static void test_walls_contacts_energy(void) {
     CHECK_OK(esf_wall_mesh_build(&w, 0.5 * f, blo, bhi, &m, &err), err);
     char name[64];
     snprintf(name, sizeof name, "/frames/%06d", f);
-    check_frame(file, name, &p, 0.5 * f, nets[f] ? 9 : 8);
+    check_frame(file, name, &p, 0.5 * f, nets[f] ? 10 : 8); /* + contacts, coordination */
     hid_t g = H5Gopen2(file, name, H5P_DEFAULT);
     hid_t wg = H5Gopen2(g, "walls", H5P_DEFAULT);
     CHECK(m.np == 24 && m.nt == 12, "mesh: %zu points, %zu triangles", m.np, m.nt);
@@ -361,9 +362,10 @@ static void test_walls_contacts_energy(void) {
     H5Gclose(wg);
     if (nets[f]) {
       hid_t cg = H5Gopen2(g, "contacts", H5P_DEFAULT);
-      check_exact(cg, "pairs", H5T_NATIVE_INT64, nets[f]->pair, nets[f]->n, 2, name);
-      check_exact(cg, "normal_force", H5T_NATIVE_DOUBLE, nets[f]->fn, nets[f]->n, 1,
-                  name);
+      const esf_contact_set *cs = &nets[f]->pp;
+      check_exact(cg, "pairs", H5T_NATIVE_INT64, cs->pair, cs->n, 2, name);
+      check_exact(cg, "normal_force", H5T_NATIVE_DOUBLE, cs->fn, cs->n, 1, name);
+      check_exact(cg, "tangential_force", H5T_NATIVE_DOUBLE, cs->ft, cs->n, 3, name);
       H5Gclose(cg);
     }
     H5Gclose(g);
@@ -417,8 +419,14 @@ static void test_id_order(void) {
         "permute: particle k is the old shuffle[k]");
   int64_t pairs[6] = {0, 1, 2, 4, 3, 0};      /* q's numbers */
   const int64_t rows[6] = {3, 0, 4, 2, 1, 3}; /* p's (id order) */
-  double fn[3] = {1.5, 2.5, 0.5};
-  esf_contact_net net = {3, pairs, fn, 3};
+  double fn[3] = {1.5, 2.5, 0.5}, ft[9] = {0};
+  int64_t wpairs[2] = {4, 1}; /* q's particle 4 (p's row 2) on wall 1 */
+  const int64_t wrows[2] = {2, 1};
+  double wfn[1] = {0.75}, wft[3] = {0.1, 0, 0}, wpc[3] = {1, 2, 3};
+  esf_contact_net net = {0};
+  net.pp = (esf_contact_set){.n = 3, .cap = 3, .pair = pairs, .fn = fn, .ft = ft};
+  net.pw = (esf_contact_set){
+      .n = 1, .cap = 1, .pair = wpairs, .fn = wfn, .ft = wft, .pc = wpc};
   esf_frames *fr = NULL;
   CHECK_OK(esf_frames_open(path, "order", "9.9", &fr, &err), err);
   if (!fr) return;
@@ -427,11 +435,20 @@ static void test_id_order(void) {
   hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   CHECK(file >= 0, "cannot reopen %s", path);
   if (file >= 0) {
-    check_frame(file, "/frames/000000", &p, 0.25, 8);
+    check_frame(file, "/frames/000000", &p, 0.25, 9);
     hid_t cg = H5Gopen2(file, "/frames/000000/contacts", H5P_DEFAULT);
     check_exact(cg, "pairs", H5T_NATIVE_INT64, rows, 3, 2, "order");
     check_exact(cg, "normal_force", H5T_NATIVE_DOUBLE, fn, 3, 1, "order");
+    check_exact(cg, "wall_pairs", H5T_NATIVE_INT64, wrows, 1, 2, "order");
+    check_exact(cg, "wall_normal_force", H5T_NATIVE_DOUBLE, wfn, 1, 1, "order");
+    check_exact(cg, "wall_tangential_force", H5T_NATIVE_DOUBLE, wft, 1, 3, "order");
+    check_exact(cg, "wall_point", H5T_NATIVE_DOUBLE, wpc, 1, 3, "order");
     H5Gclose(cg);
+    /* coordination by row: p's rows 3 0 4 2 1 3 in pairs, row 2 on a wall */
+    const int32_t z[5] = {1, 1, 2, 2, 1};
+    hid_t fg = H5Gopen2(file, "/frames/000000", H5P_DEFAULT);
+    check_exact(fg, "coordination", H5T_NATIVE_INT32, z, 5, 1, "order");
+    H5Gclose(fg);
     H5Fclose(file);
   }
   esf_particles_release(&p);

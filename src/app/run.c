@@ -27,6 +27,7 @@
 #include "model/stability.h"
 #include "output/contact_net.h"
 #include "output/frames.h"
+#include "output/wall_loads.h"
 #include "util/vec3.h"
 #include "util/version.h"
 
@@ -194,7 +195,7 @@ static int check_energy(esf_sim *s, int *warned, esf_error *err) {
  * scene asks for it (output.contacts). */
 static int write_frame(esf_sim *s, esf_frames *fr, esf_contact_net *net, esf_error *err) {
   esf_sim_forces_sync(s);
-  int rc = s->cfg.out_contacts ? esf_contact_net_build(s, net, err) : ESF_OK;
+  int rc = s->cfg.out_contacts ? esf_contact_net_build(s, 1, net, err) : ESF_OK;
   if (!rc)
     rc = esf_frames_write(fr, s->t, &s->p, &s->walls, s->cfg.out_contacts ? net : NULL,
                           err);
@@ -315,9 +316,9 @@ static int plan(const esf_sim *s, int adaptive, long *nsteps, double *t_end,
 /* A new run refuses a folder holding another run's results unless told to overwrite
  * them (--overwrite); --resume continues the run they belong to. */
 static int check_out_dir(const char *dir, int overwrite, esf_error *err) {
-  static const char *const names[] = {"frames.h5",  "frames.d", "frames.xdmf",
-                                      "energy.csv", "log.txt",  ESF_CKPT_NAME,
-                                      NULL};
+  static const char *const names[] = {"frames.h5",  "frames.d",   "frames.xdmf",
+                                      "energy.csv", "log.txt",    ESF_CKPT_NAME,
+                                      "walls.csv",  "stress.csv", NULL};
   char found[256] = "", path[1200];
   struct stat sb;
   int ckpt = 0;
@@ -369,6 +370,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   FILE *logf = NULL, *ef = NULL;
   esf_frames *fr = NULL;
   esf_contact_net net = {0};
+  esf_load_out lo = {0}; /* walls.csv, stress.csv (wall_loads.h) */
   void *ist = NULL;
   esf_ckpt_run cr = {0};
   if (!o->resume) { /* a new run: the scheme is set up before any file is written, so
@@ -423,6 +425,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, &fr, err);
     if (!rc) rc = write_frame(s, fr, &net, err);
   }
+  if (!rc) rc = esf_load_out_open(o->out_dir, s, o->resume ? cr.erows : -1, &lo, err);
   if (rc) goto done;
 
   long every_e = steps_in(s->cfg.energy_every, s->dt);
@@ -485,6 +488,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     }
     if (row) {
       rc = energy_row(s, ef, fr, err);
+      if (!rc) rc = esf_load_out_row(s, &lo, err);
       if (!rc) rc = check_energy(s, &resid_warned, err);
       if (rc) break;
     }
@@ -507,7 +511,8 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       cr.next_f = next_f;
       cr.next_c = next_c;
       cr.psum = psum;
-      rc = esf_run_ckpt_save(o->out_dir, s, it, ist, o->scene, &cr, ef, fr, err);
+      rc = esf_load_out_sync(&lo, err); /* the rows the checkpoint counts */
+      if (!rc) rc = esf_run_ckpt_save(o->out_dir, s, it, ist, o->scene, &cr, ef, fr, err);
       if (rc) break;
       st->checkpoints++;
       st->stop_checkpoint = stop;
@@ -602,6 +607,7 @@ done:
     }
   }
   esf_contact_net_release(&net);
+  esf_load_out_close(&lo);
   if (ef && (ferror(ef) | fclose(ef)) != 0 && !rc)
     rc = esf_fail(err, ESF_EIO, "cannot finish energy.csv: %s", strerror(errno));
   if (rc) esf_sim_log(s, "FAILED: %s", err->msg);

@@ -42,7 +42,8 @@ enum { ESF_LOCAL_OFF = 0, ESF_LOCAL_COMPONENT = 1, ESF_LOCAL_VECTOR = 2 };
 
 /* The place in the scene of a key that set-up, the integrators and the run driver check
  * after reading ("scene.yaml:12:5", or "--set KEY=VALUE"), for located messages. */
-#define ESF_WHERE_N 32
+#define ESF_WHERE_N    32
+#define ESF_STRESS_MAX 16 /* output.stress: regions at most */
 typedef struct esf_where {
   char key[40];
   char place[280];
@@ -108,7 +109,10 @@ typedef struct esf_config {
   double energy_every; /* s between energy rows; 0: no ledger */
   int energy_off;      /* energy_every: 0 given explicitly */
   int out_contacts;    /* output.contacts: the contact network in every frame */
-  double ckpt_every;   /* output.checkpoint_every: s between checkpoints; 0: none */
+  int out_walls;       /* output.walls: walls.csv at every energy row (wall_loads.h) */
+  int n_stress;        /* output.stress: regions of stress.csv (wall_loads.h) */
+  double stress_box[ESF_STRESS_MAX][6]; /* each region's min (3) and max (3), m */
+  double ckpt_every; /* output.checkpoint_every: s between checkpoints; 0: none */
   char out_dir[1024];
   int threads;      /* worker threads (results independent of it); 0: all available,
                       esf_sim_setup then sets the count (util/threads.h) */

@@ -133,6 +133,8 @@ static void particles(FILE *f, const ctx *c, const esf_xdmf_frame *fr) {
   attribute(f, "force", "Vector", "Node", n, 3, "Float", 8, h5, k, "force");
   attribute(f, "material", "Scalar", "Node", n, 1, "Int", 4, h5, k, "material");
   attribute(f, "id", "Scalar", "Node", n, 1, "Int", 8, h5, k, "id");
+  if (fr->has_contacts) /* written with the contact network */
+    attribute(f, "coordination", "Scalar", "Node", n, 1, "Int", 4, h5, k, "coordination");
   fputs("      </Grid>\n", f);
 }
 
@@ -173,9 +175,12 @@ static void contacts(FILE *f, const ctx *c, const esf_xdmf_frame *fr) {
     fputs("        </Topology>\n", f);
   }
   geometry(f, fr->particles, h5, k, "position");
-  if (fr->contacts > 0)
+  if (fr->contacts > 0) {
     attribute(f, "normal_force", "Scalar", "Cell", fr->contacts, 1, "Float", 8, h5, k,
               "contacts/normal_force");
+    attribute(f, "tangential_force", "Vector", "Cell", fr->contacts, 3, "Float", 8, h5, k,
+              "contacts/tangential_force");
+  }
   fputs("      </Grid>\n", f);
 }
 

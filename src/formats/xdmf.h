@@ -7,11 +7,12 @@
  *   particles — N vertex cells (Polyvertex on the index's /vertex_index, whole or its
  *               first N entries as a hyperslab) on /frames/NNNNNN/position, node
  *               attributes radius, velocity, angular_velocity, force, material, id
- *               (frames with particles);
+ *               and, in frames with contacts, coordination (frames with particles);
  *   walls     — Triangle topology /frames/NNNNNN/walls/triangles on .../walls/points,
  *               cell attributes group and material (only frames with walls);
  *   contacts  — Polyline topology of 2 nodes /frames/NNNNNN/contacts/pairs on the
- *               particle positions, cell attribute normal_force (frames with contacts).
+ *               particle positions, cell attributes normal_force and tangential_force
+ *               (frames with contacts).
  * An empty set of walls or contacts is a topology of no cells without data (docs/
  * output.md#paraview says which reader shows what).
  * The file is replaced atomically (written to NAME.tmp, fsync'ed, renamed over NAME),

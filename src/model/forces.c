@@ -192,7 +192,8 @@ static void spring_t(const esf_pair_params *pp, const esf_contact_hist *h,
 }
 
 static int pair_forces(esf_sim *s, const double *x, const double *v, const double *w,
-                       double dt, int commit, size_t *touching, esf_error *err) {
+                       double dt, int commit, size_t *touching,
+                       const esf_contact_probe *probe, esf_error *err) {
   esf_particles *p = &s->p;
   esf_candidates *c = &s->nb.pp;
   const esf_materials *mt = &s->mats;
@@ -202,6 +203,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
   size_t nt = 0;
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];
+    if (probe && (a >= p->n || b >= p->n)) continue; /* stale entries (output) */
     const double ra = p->radius[a], rb = p->radius[b];
     double d[3], d2;
     if (!esf_law_pair_overlap_s(x + 3 * a, x + 3 * b, ra, rb, d, &d2) &&
@@ -228,8 +230,6 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
     const int live = c->touch[k]; /* before the commit (rolling) */
     if (!eval_contact(s, pp, &in, c, k, commit, rows_a, &out)) continue;
     nt++;
-    v3_add(p->f + 3 * a, p->f + 3 * a, out.f);
-    v3_sub(p->f + 3 * b, p->f + 3 * b, out.f);
     double m[3], ma[3], mb[3];
     v3_cross(m, in.n, out.ft);
     v3_scale(ma, la, m);
@@ -256,6 +256,15 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
       if (stiff) w_st = out.w_st + wk;
     }
     if (rows_a && pp->ht > 0) rows_a[ESF_LR_MET + 3] += w_st;
+    if (probe) { /* output (esf_forces_probe): reported, not added */
+      esf_probe_contact pc = {a, b, -1, {0}, out.f, out.ft, {0}, out.fn};
+      for (int q = 0; q < 3; q++) pc.pc[q] = x[3 * a + q] + la * in.n[q];
+      v3_copy(pc.ta, ma);
+      probe->fn(probe->ctx, &pc);
+      continue;
+    }
+    v3_add(p->f + 3 * a, p->f + 3 * a, out.f);
+    v3_sub(p->f + 3 * b, p->f + 3 * b, out.f);
     v3_add(p->t + 3 * a, p->t + 3 * a, ma);
     v3_add(p->t + 3 * b, p->t + 3 * b, mb);
     if (slips) slip += out.slip_work;
@@ -305,10 +314,10 @@ void esf_forces_select_wall_hits(const esf_walls *walls, const uint32_t *elem,
   }
 }
 
-int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
-                             const double *v, const double *w, double dt, int commit,
-                             double *rows, double *slip, size_t *nt, double *f, double *t,
-                             esf_error *err) {
+static int wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
+                         const double *v, const double *w, double dt, int commit,
+                         double *rows, double *slip, size_t *nt, double *f, double *t,
+                         const esf_contact_probe *probe, esf_error *err) {
   esf_particles *p = &s->p;
   esf_candidates *c = &s->nb.pw;
   const esf_materials *mt = &s->mats;
@@ -382,8 +391,21 @@ int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
     if (rows && pp->ht > 0) rows[ESF_LR_MET + 3] += w_st;
     if (slip) s->led.w_stiff += w_st; /* the other schemes' ledger (as the slip) */
     v3_add(t, t, ma);
+    if (probe) { /* output (esf_forces_probe) */
+      esf_probe_contact o = {a, c->b[k], el->group, {0}, out.f, out.ft, {0}, out.fn};
+      v3_copy(o.pc, pc);
+      v3_copy(o.ta, ma);
+      probe->fn(probe->ctx, &o);
+    }
   }
   return ESF_OK;
+}
+
+int esf_forces_wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
+                             const double *v, const double *w, double dt, int commit,
+                             double *rows, double *slip, size_t *nt, double *f, double *t,
+                             esf_error *err) {
+  return wall_particle(s, k0, k1, x, v, w, dt, commit, rows, slip, nt, f, t, NULL, err);
 }
 
 static int wall_forces(esf_sim *s, const double *x, const double *v, const double *w,
@@ -426,7 +448,7 @@ int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *
     int rc = esf_servo_blocks(s, 1, err);
     if (rc) return rc;
   }
-  int rc = pair_forces(s, x, v, w, dt, commit, &nt, err);
+  int rc = pair_forces(s, x, v, w, dt, commit, &nt, NULL, err);
   if (!rc) rc = wall_forces(s, x, v, w, dt, commit, &nt, err);
   if (!rc && s->drag) rc = esf_drag_apply(s, x, v, err); /* fluid drag (drag.c) */
   if (rc) return rc;
@@ -441,4 +463,27 @@ int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *
   s->rhs_evals++;
   if (touching) *touching = nt;
   return ESF_OK;
+}
+
+int esf_forces_probe(esf_sim *s, int pairs, int walls, const esf_contact_probe *probe,
+                     esf_error *err) {
+  esf_particles *p = &s->p;
+  esf_force_tally *ty = s->tally;
+  s->tally = NULL; /* nothing is booked */
+  size_t nt = 0;
+  /* the increment since the last commit: the leapfrog's next step integrates it over
+     dt; Verlet and the ODE methods committed at this very state */
+  const double dt = strcmp(s->cfg.method, "leapfrog") == 0 ? s->dt : 0.0;
+  int rc = pairs ? pair_forces(s, p->x, p->v, p->w, dt, 0, &nt, probe, err) : ESF_OK;
+  const esf_candidates *c = &s->nb.pw;
+  for (size_t k0 = 0, k1; walls && !rc && k0 < c->n; k0 = k1) {
+    const uint32_t a = c->a[k0];
+    for (k1 = k0; k1 < c->n && c->a[k1] == a; k1++) continue;
+    if (a >= p->n) continue; /* stale entries (as contact_net.c's) */
+    double f[3] = {0, 0, 0}, t[3] = {0, 0, 0};
+    rc = wall_particle(s, k0, k1, p->x, p->v, p->w, s->dt, 0, NULL, NULL, &nt, f, t,
+                       probe, err);
+  }
+  s->tally = ty;
+  return rc;
 }

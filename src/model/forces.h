@@ -46,4 +46,33 @@ void esf_forces_select_wall_hits(const esf_walls *walls, const uint32_t *elem,
                                  const esf_wall_hit *hits, const double *un, size_t m,
                                  double r, unsigned char *keep);
 
+/* One touching contact as esf_forces_probe reports it: particles a and b (a pair), or
+ * particle a and wall element b of wall group `group` (the scene's walls index; -1 for a
+ * pair); pc the contact point (m); f the force on a and ft its tangential part (N; the
+ * law's output, valid during the call); ta the torque on a about its centre (N m: lever
+ * arm x ft plus rolling and twisting resistance); fn the normal force's magnitude. */
+typedef struct esf_probe_contact {
+  uint32_t a, b;
+  int group;
+  double pc[3];
+  const double *f, *ft;
+  double ta[3];
+  double fn;
+} esf_probe_contact;
+
+typedef struct esf_contact_probe {
+  void (*fn)(void *ctx, const esf_probe_contact *c);
+  void *ctx;
+} esf_contact_probe;
+
+/* For output: evaluates every touching pair (pairs != 0) and particle-wall contact
+ * (walls != 0) at the current state (s->p.x, v, w) in trial mode, in list order (one
+ * thread), and passes each to probe. The history's increment covers s->dt for the
+ * leapfrog (the force its next step applies at this state) and nothing for the schemes
+ * that commit at the state itself (Verlet, the ODE methods: the committed force). Writes
+ * nothing to p.f, p.t, the histories, the touching flags or the ledger (only the lists'
+ * wall scratch). */
+int esf_forces_probe(esf_sim *s, int pairs, int walls, const esf_contact_probe *probe,
+                     esf_error *err);
+
 #endif

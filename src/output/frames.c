@@ -338,22 +338,41 @@ static int write_walls(hid_t frame, const esf_wall_mesh *m) {
   return bad ? -1 : 0;
 }
 
-/* The contact pairs name particles by their rows in the frame. */
-static int write_contacts(hid_t frame, const esf_contact_net *c, const id_order *o) {
-  int64_t *pr = NULL;
-  if (o->row && c->n) {
-    pr = malloc(2 * c->n * sizeof *pr);
-    if (!pr) return -1;
-    for (size_t k = 0; k < 2 * c->n; k++) pr[k] = (int64_t)o->row[c->pair[k]];
+/* The contact pairs name particles by their rows in the frame; particle-wall contacts
+ * by the particle's row and the wall's index in the scene. Beside them, each
+ * particle's coordination number (contacts with particles and walls). */
+static int write_contacts(hid_t frame, const esf_particles *p, const esf_contact_net *c,
+                          const id_order *o) {
+  const esf_contact_set *pp = &c->pp, *pw = &c->pw;
+  const size_t n = p->n, np = 2 * pp->n;
+  int64_t *pr = malloc((np + 2 * pw->n + 1) * sizeof *pr);
+  int32_t *z = malloc((n + 1) * sizeof *z);
+  if (!pr || !z) {
+    free(pr);
+    free(z);
+    return -1;
   }
-  hid_t g = H5Gcreate2(frame, "contacts", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  int bad = g < 0 ||
-            esf_h5_dataset_write(g, "pairs", H5T_STD_I64LE, H5T_NATIVE_INT64, c->n, 2,
-                                 pr ? pr : c->pair) ||
-            esf_h5_dataset_write(g, "normal_force", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
-                                 c->n, 1, c->fn);
+  for (size_t k = 0; k < np; k++)
+    pr[k] = o->row ? (int64_t)o->row[pp->pair[k]] : pp->pair[k];
+  for (size_t k = 0; k < 2 * pw->n; k++) /* particle rows, wall indices */
+    pr[np + k] = o->row && !(k & 1) ? (int64_t)o->row[pw->pair[k]] : pw->pair[k];
+  esf_contact_net_coordination(c, n, z);
+  hid_t i64 = H5T_STD_I64LE, ni64 = H5T_NATIVE_INT64, f64 = H5T_IEEE_F64LE,
+        d = H5T_NATIVE_DOUBLE;
+  int bad = esf_h5_dataset_write(frame, "coordination", H5T_STD_I32LE, H5T_NATIVE_INT32,
+                                 n, 1, rows(o, z, n, 1, sizeof *z));
+  hid_t g =
+      bad ? -1 : H5Gcreate2(frame, "contacts", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  bad = g < 0 || esf_h5_dataset_write(g, "pairs", i64, ni64, pp->n, 2, pr) ||
+        esf_h5_dataset_write(g, "normal_force", f64, d, pp->n, 1, pp->fn) ||
+        esf_h5_dataset_write(g, "tangential_force", f64, d, pp->n, 3, pp->ft) ||
+        esf_h5_dataset_write(g, "wall_pairs", i64, ni64, pw->n, 2, pr + np) ||
+        esf_h5_dataset_write(g, "wall_normal_force", f64, d, pw->n, 1, pw->fn) ||
+        esf_h5_dataset_write(g, "wall_tangential_force", f64, d, pw->n, 3, pw->ft) ||
+        esf_h5_dataset_write(g, "wall_point", f64, d, pw->n, 3, pw->pc);
   if (g >= 0 && H5Gclose(g) < 0) bad = 1;
   free(pr);
+  free(z);
   return bad ? -1 : 0;
 }
 
@@ -404,7 +423,7 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
   int ok = g >= 0 && esf_h5_attr_write_double(g, "time", time) == 0 &&
            write_particles(g, p, &o) == 0 &&
            (!with_walls || write_walls(g, &fr->mesh) == 0) &&
-           (!contacts || write_contacts(g, contacts, &o) == 0);
+           (!contacts || write_contacts(g, p, contacts, &o) == 0);
   id_order_free(&o);
   if (!ok) {
     char what[96];
@@ -420,7 +439,7 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
     fr->xf[fr->count].wall_points = with_walls ? fr->mesh.np : 0;
     fr->xf[fr->count].wall_triangles = with_walls ? fr->mesh.nt : 0;
     fr->xf[fr->count].has_contacts = contacts != NULL;
-    fr->xf[fr->count].contacts = contacts ? contacts->n : 0;
+    fr->xf[fr->count].contacts = contacts ? contacts->pp.n : 0;
     fr->count++;
     rc = publish(fr, 0, 0, err);
   } else if (g >= 0) {

@@ -15,7 +15,10 @@
  *                int32, rows of points), group and material (K, int32); planes are
  *                square patches covering the frame's particle bounding box
  *     contacts/  (when asked for) pairs (C x 2, int64, rows of the frame's particle
- *                datasets) and normal_force (C, double, N) of touching particle pairs
+ *                datasets), normal_force (C, double, N) and tangential_force (C x 3) of
+ *                touching particle pairs; wall_pairs (W x 2: particle row, wall index),
+ *                wall_normal_force, wall_tangential_force, wall_point of the particle-
+ *                wall contacts; beside it coordination (N, int32) per particle
  *   /energy      (when energy rows are written) one 1-D double dataset per column of
  *                energy.csv, in the attribute `columns`' order (h5table.h)
  * frames.h5 is only ever replaced whole and atomically; segments are appended to only

@@ -349,8 +349,9 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
   static const char *const levers[] = {"seed", "surface", NULL}; /* ESF_WALL_LEVER_* */
   static const char *const skeys[] = {"skin", "reorder", NULL};
   static const char *const rkeys[] = {"duration", "steps", NULL};
-  static const char *const okeys[] = {"every",    "energy_every",     "dir",
-                                      "contacts", "checkpoint_every", NULL};
+  static const char *const okeys[] = {
+      "every", "energy_every", "dir", "contacts", "checkpoint_every",
+      "walls", "stress",       NULL};
   int rc = ESF_OK;
   const esf_ynode *ct = esf_ymap_get(root, "contact");
   if (ct) {
@@ -405,6 +406,7 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
     /* checkpoints (checkpoint.h) */
     if (!rc) rc = esf_yget_double(ou, "checkpoint_every", 0, &c->ckpt_every, err);
     if (!rc) rc = positive(ou, "checkpoint_every", c->ckpt_every, 0, err);
+    if (!rc) rc = esf_scene_outputs(ou, c, err); /* walls, stress (scene_outputs.c) */
   }
   return rc;
 }

@@ -35,6 +35,10 @@ int esf_scene_check_overlaps(const esf_ynode *seq, const esf_ynode *walls,
  * rtol read). */
 int esf_scene_butcher(const esf_ynode *in, esf_config *c, esf_error *err);
 
+/* output.walls and output.stress (scene_outputs.c) from the output mapping ou, after
+ * energy_every was read (both need energy rows). */
+int esf_scene_outputs(const esf_ynode *ou, esf_config *c, esf_error *err);
+
 /* Helpers shared by the readers (scene_util.c). */
 /* Re-raises err's message (set by a geometry builder) at node n's position. */
 int esf_scene_fail_at(const esf_ynode *n, esf_error *err);
