@@ -24,6 +24,7 @@
 
 #include "ckpt/checkpoint_format.h"
 #include "ckpt/loads_ckpt.h"
+#include "loads/insert.h"
 #include "scene/scene.h"
 
 int esf_ckpt_load_scene(const esf_ckpt *c, const char *const *extra, int nextra,
@@ -331,6 +332,9 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
   in = esf_ckpt_sec(c, "SAND"); /* servo walls, events, fluid (loads_ckpt.c) */
   if (esf_loads_ckpt_restore(s, &in))
     return mismatch(c, err, "the servo walls, events or fluid force (SAND section)");
+  in = esf_ckpt_sec(c, "INSERT"); /* insertion (loads/insert.c) */
+  if (esf_inserts_restore(s, &in))
+    return mismatch(c, err, "the insert entries (INSERT section)");
   s->walls.t = NAN; /* so that set_time places moving walls at the saved time */
   esf_walls_set_time(&s->walls, cs.walls_t);
   s->walls.t = cs.walls_t;

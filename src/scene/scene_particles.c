@@ -1,5 +1,6 @@
 /* scene_particles.c — the `particles:` list of a scene: explicit particles, CSV files
- * and generators (docs/scene.md#particles-a-list-ids-follow-the-order-of-definition).
+ * and generators (docs/scene.md#particles-a-list-ids-follow-the-order-of-definition);
+ * insert entries go to scene_insert.c.
  * Entries are read in order; ids follow that order. Explicit particles that overlap
  * each other are an error (naming both entries) unless contact.allow_initial_overlap
  * is true; packings from files and generators are taken as they are (a settled packing
@@ -71,8 +72,7 @@ static int read_file(const esf_ynode *e, const char *dir, esf_sim *s,
   return rc;
 }
 
-static int read_size(const esf_ynode *r, esf_size_dist *sd, double **buf,
-                     esf_error *err) {
+int esf_scene_size(const esf_ynode *r, esf_size_dist *sd, double **buf, esf_error *err) {
   static const char *const keys[] = {"uniform", "uniform_diameter", "values", "fractions",
                                      NULL};
   if (r->kind == ESF_YN_SCALAR) {
@@ -125,8 +125,8 @@ static int read_size(const esf_ynode *r, esf_size_dist *sd, double **buf,
   return rc;
 }
 
-static int read_mix(const esf_ynode *mn, const esf_sim *s, esf_material_mix *mix,
-                    int32_t **mats, double **fr, esf_error *err) {
+int esf_scene_mix(const esf_ynode *mn, const esf_sim *s, esf_material_mix *mix,
+                  int32_t **mats, double **fr, esf_error *err) {
   *mats = NULL;
   *fr = NULL;
   if (mn->kind == ESF_YN_SCALAR) {
@@ -198,8 +198,8 @@ static int read_generate(const esf_ynode *e, esf_sim *s, esf_particle_defs *defs
   if (rc) return rc;
   double *sbuf = NULL, *fr = NULL;
   int32_t *mats = NULL;
-  rc = read_size(rn, &sp.size, &sbuf, err);
-  if (!rc) rc = read_mix(mn, s, &sp.mix, &mats, &fr, err);
+  rc = esf_scene_size(rn, &sp.size, &sbuf, err);
+  if (!rc) rc = esf_scene_mix(mn, s, &sp.mix, &mats, &fr, err);
   if (!rc) {
     rc = kind == 0 ? esf_generate_random(&sp, defs, defs, err)
                    : esf_generate_lattice(&sp, defs, err);
@@ -258,7 +258,9 @@ int esf_scene_particles(const esf_ynode *seq, const char *dir, esf_sim *s,
     const esf_ynode *e = seq->items[k];
     rc = esf_ynode_require_map(e, err);
     if (rc) break;
-    if (esf_ymap_get(e, "generate")) {
+    if (esf_ymap_get(e, "insert")) {
+      rc = esf_scene_insert(e, s, err); /* during the run (scene_insert.c) */
+    } else if (esf_ymap_get(e, "generate")) {
       rc = read_generate(e, s, &defs, err);
     } else if (esf_ymap_get(e, "file")) {
       rc = read_file(e, dir, s, &defs, err);
@@ -270,7 +272,8 @@ int esf_scene_particles(const esf_ynode *seq, const char *dir, esf_sim *s,
   }
   if (!rc && !s->cfg.allow_initial_overlap)
     rc = check_explicit_overlap(&defs, first, src, nexp, err);
-  if (!rc && defs.n == 0) rc = esf_ynode_fail(seq, err, "the scene defines no particles");
+  if (!rc && defs.n == 0 && !s->insert)
+    rc = esf_ynode_fail(seq, err, "the scene defines no particles");
   if (!rc) rc = esf_particles_alloc(&s->p, defs.n, err);
   if (!rc && !(*entry = malloc((defs.n ? defs.n : 1) * sizeof **entry)))
     rc = esf_fail(err, ESF_ENOMEM, "out of memory");
