@@ -96,7 +96,9 @@ static int check_sim(const esf_ckpt *c, const esf_sim *s, const esf_integrator_t
     return invalid(c, err, "t = %.17g s is not within the run (0 to %.17g s)", cs->t,
                    t_end);
   if (cs->removed < 0 || n + (uint64_t)cs->removed != n_scene)
-    return invalid(c, err, "%llu particles and %lld removed do not make the %zu the scene defined and inserted",
+    return invalid(c, err,
+                   "%llu particles and %lld removed do not make the %zu the scene "
+                   "defined and inserted",
                    (unsigned long long)n, (long long)cs->removed, n_scene);
   if (cs->rhs_evals < 0 || cs->builds < 0 || cs->bonds_formed < 0 ||
       cs->bonds_broken < 0 || cs->bonds_broken > cs->bonds_formed)
@@ -310,7 +312,8 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
   const int64_t next_id = s->insert ? s->insert->next_id : (int64_t)n_ids;
   if (next_id < (int64_t)n_ids ||
       (uint64_t)(next_id - (int64_t)n_ids) != (uint64_t)esf_inserts_total(s))
-    return invalid(c, err, "the next id %lld and %lld inserted do not make the scene's %zu",
+    return invalid(c, err,
+                   "the next id %lld and %lld inserted do not make the scene's %zu",
                    (long long)next_id, esf_inserts_total(s), n_ids);
   int rc = check_sim(c, s, it, &cs, n, (size_t)next_id, err);
   if (rc) return rc;
