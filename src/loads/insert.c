@@ -316,25 +316,28 @@ int esf_inserts_apply(esf_sim *s, size_t *added, esf_error *err) {
 }
 
 /* INSERT section, per entry: rr, rm, rp (12 uint64), int64 inserted, double mass_in,
- * int32 pending, int32 m_next, double r_next, int32 logged, int32 spare, int64
- * short_batches; after the entries int64 next_id. */
+ * int32 pending, int32 m_next, double r_next, int32 logged, int64 short_batches;
+ * after the entries int64 next_id. Its fields, in that order, for save and restore: */
+enum { NFIELDS = 10 };
+static void state_fields(esf_insert *e, void *at[NFIELDS], size_t len[NFIELDS]) {
+  void *const a[NFIELDS] = {e->rr.s,     e->rm.s,          e->rp.s,    &e->inserted,
+                            &e->mass_in, &e->pending,      &e->m_next, &e->r_next,
+                            &e->logged,  &e->short_batches};
+  const size_t l[NFIELDS] = {
+      sizeof e->rr.s, sizeof e->rm.s, sizeof e->rp.s, 8, 8, 4, 4, 8, 4, 8};
+  memcpy(at, a, sizeof a);
+  memcpy(len, l, sizeof l);
+}
+
 void esf_inserts_save(const esf_sim *s, esf_blob *b) {
   const esf_inserts *L = s->insert;
-  int32_t n = L ? L->n : 0, spare = 0;
+  int32_t n = L ? L->n : 0;
   esf_blob_put(b, &n, 4);
   for (int k = 0; k < n; k++) {
-    const esf_insert *e = &L->e[k];
-    esf_blob_put(b, e->rr.s, sizeof e->rr.s);
-    esf_blob_put(b, e->rm.s, sizeof e->rm.s);
-    esf_blob_put(b, e->rp.s, sizeof e->rp.s);
-    esf_blob_put(b, &e->inserted, 8);
-    esf_blob_put(b, &e->mass_in, 8);
-    esf_blob_put(b, &e->pending, 4);
-    esf_blob_put(b, &e->m_next, 4);
-    esf_blob_put(b, &e->r_next, 8);
-    esf_blob_put(b, &e->logged, 4);
-    esf_blob_put(b, &spare, 4);
-    esf_blob_put(b, &e->short_batches, 8);
+    void *at[NFIELDS];
+    size_t len[NFIELDS];
+    state_fields(&L->e[k], at, len);
+    for (int f = 0; f < NFIELDS; f++) esf_blob_put(b, at[f], len[f]);
   }
   int64_t next = L ? L->next_id : 0;
   esf_blob_put(b, &next, 8);
@@ -342,22 +345,15 @@ void esf_inserts_save(const esf_sim *s, esf_blob *b) {
 
 int esf_inserts_restore(esf_sim *s, esf_blob_in *in) {
   esf_inserts *L = s->insert;
-  int32_t n = -1, spare = 0;
+  int32_t n = -1;
   esf_blob_get(in, &n, 4);
   if (n != (L ? L->n : 0)) return -1;
   for (int k = 0; k < n; k++) {
     esf_insert *e = &L->e[k];
-    esf_blob_get(in, e->rr.s, sizeof e->rr.s);
-    esf_blob_get(in, e->rm.s, sizeof e->rm.s);
-    esf_blob_get(in, e->rp.s, sizeof e->rp.s);
-    esf_blob_get(in, &e->inserted, 8);
-    esf_blob_get(in, &e->mass_in, 8);
-    esf_blob_get(in, &e->pending, 4);
-    esf_blob_get(in, &e->m_next, 4);
-    esf_blob_get(in, &e->r_next, 8);
-    esf_blob_get(in, &e->logged, 4);
-    esf_blob_get(in, &spare, 4);
-    esf_blob_get(in, &e->short_batches, 8);
+    void *at[NFIELDS];
+    size_t len[NFIELDS];
+    state_fields(e, at, len);
+    for (int f = 0; f < NFIELDS; f++) esf_blob_get(in, at[f], len[f]);
     if (e->inserted < 0 || !isfinite(e->mass_in) || (e->pending != 0 && e->pending != 1))
       return -1;
     if (e->pending) {
