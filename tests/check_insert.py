@@ -260,6 +260,30 @@ def check_refused(exe, tmp):
           f"rate and mass_rate: exit {r.returncode}: {r.stderr}")
 
 
+def check_module(tmp):
+    """The Python module (the library's handle): steps insert, the ODE view refuses."""
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    sys.path.insert(0, os.path.join(root, "python"))
+    try:
+        import esfera
+    except Exception as e:  # the library not found: say so, as a failure
+        check(False, f"module: import esfera: {e}")
+        return
+    scene = write(tmp, "fall_mod.yaml", FALL.replace("RATE", "rate: 5000"))
+    sim = esfera.Sim(scene)
+    sim.step(1001)
+    row = sim.energies
+    check(row["energy_inserted"] > 0 and abs(row["total_error"]) < 1e-9 *
+          row["energy_inserted"], f"module: ledger {row}")
+    try:
+        esfera.Sim(scene).y0()
+        check(False, "module: the ODE view accepted an insert entry")
+    except esfera.Error as e:
+        check("fall_mod.yaml:" in str(e) and "fixed" in str(e), f"module: {e}")
+    print(f"module: energy_inserted {row['energy_inserted']:.4g} J after 1001 steps; "
+          "the ODE view refuses")
+
+
 def main():
     exe = sys.argv[1]
     tmp = tempfile.mkdtemp(prefix="esf_insert_")
@@ -269,6 +293,7 @@ def main():
         check_fall(exe, tmp)
         check_2d(exe, tmp)
         check_refused(exe, tmp)
+        check_module(tmp)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return finish("insert")

@@ -20,13 +20,13 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "loads/insert.h"
 #include "app/generate_copies.h"
 #include "app/info.h"
 #include "app/modes.h"
 #include "app/run.h"
 #include "ckpt/checkpoint.h"
 #include "integrators/integrator.h"
+#include "loads/insert.h"
 #include "model/model.h"
 #include "scene/scene.h"
 #include "util/atomic_file.h"

@@ -79,6 +79,13 @@ int esf_inserts_probes(const esf_sim *s, esf_particles *q, esf_error *err) {
   for (int k = 0; k < L->n; k++) {
     const esf_insert *e = &L->e[k];
     for (size_t j = 0; j < 2 * e->fill.mix.n; j++, i++) {
+      const esf_material *mt = &s->mats.m[e->fill.mix.material[j / 2]];
+      if (!(mt->density > 0)) {
+        esf_particles_release(q);
+        return esf_fail(err, ESF_EINPUT,
+                        "%s: insert: material '%s' needs a positive density", e->where,
+                        mt->name);
+      }
       q->material[i] = e->fill.mix.material[j / 2];
       q->radius[i] = j % 2 ? e->rmax : e->rmin;
       esf_particle_mass(s->cfg.dim, q->radius[i], s->mats.m[q->material[i]].density,
@@ -105,10 +112,6 @@ int esf_inserts_setup(esf_sim *s, esf_error *err) {
   if (L->next_id <= top) L->next_id = top + 1;
   for (int k = 0; k < L->n; k++) {
     esf_insert *e = &L->e[k];
-    for (size_t j = 0; j < e->fill.mix.n; j++)
-      if (!(s->mats.m[e->fill.mix.material[j]].density > 0))
-        return esf_fail(err, ESF_EINPUT, "%s: insert: material '%s' needs a density",
-                        e->where, s->mats.m[e->fill.mix.material[j]].name);
     if (s->cfg.has_domain)
       for (int q = 0; q < 3; q++) {
         if (s->cfg.dim == 2 && q == 1) continue;
