@@ -12,7 +12,9 @@
 - mass_rate: the inserted mass is within one particle below mass_rate x time;
 - the ledger closes: free fall with insertion, |total_error| against energy_inserted;
 - 2D: disks at y = 0, no overlaps;
-- an ODE method (and velocity Verlet) refuses an insert entry with a located error.
+- an ODE method (and velocity Verlet) refuses an insert entry with a located error, as
+  do the library's ODE view and bad keys and values;
+- the Python module steps an insert scene with its ledger closed.
 Usage: check_insert.py ESFERA"""
 import math
 import os
@@ -258,6 +260,16 @@ def check_refused(exe, tmp):
                os.path.join(tmp, "bad"), "--quiet")
     check(r.returncode == 2 and "bad.yaml:9:" in r.stderr and "mass_rate" in r.stderr,
           f"rate and mass_rate: exit {r.returncode}: {r.stderr}")
+    for what, old, new, where in (
+            ("unknown key", "seed: 5", "sead: 5", "bad.yaml:14:7"),
+            ("stop before start", "stop: 0.03", "stop: 0.03\n      start: 0.05",
+             "bad.yaml:15:13"),
+            ("region outside the domain", "max: [0.02, 0.02, 0.06]",
+             "max: [0.02, 0.02, 0.09]", "bad.yaml:9:")):
+        r = esfera(exe, "run", write(tmp, "bad.yaml", BOX.replace(old, new)), "--out",
+                   os.path.join(tmp, "bad"), "--quiet")
+        check(r.returncode == 2 and where in r.stderr,
+              f"{what}: exit {r.returncode}, expected {where}: {r.stderr}")
 
 
 def check_module(tmp):
