@@ -181,19 +181,30 @@ static int prepare(const esf_sim *s, const esf_insert *e, esf_fill_grid *g, size
                    size_t *nn, esf_error *err) {
   const esf_particles *p = &s->p;
   const int dim = s->cfg.dim;
-  int rc = esf_fill_grid_init(g, e->fill.min, e->fill.max, dim, e->rmax, 64, err);
-  for (size_t i = 0; !rc && i < p->n; i++) {
-    const double *x = p->x + 3 * i;
-    int meets = 1;
-    for (int k = 0; k < 3; k++) {
-      if (dim == 2 && k == 1) continue;
-      if (x[k] + p->radius[i] <= e->fill.min[k] || x[k] - p->radius[i] >= e->fill.max[k])
-        meets = 0;
+  size_t nmeet = 0; /* first their count, for the grid's size */
+  for (int pass = 0; pass < 2; pass++) {
+    if (pass == 1) {
+      int rc =
+          esf_fill_grid_init(g, e->fill.min, e->fill.max, dim, e->rmax, nmeet + 64, err);
+      if (rc) return rc;
     }
-    if (!meets) continue;
-    esf_fill_sphere sp = {{x[0], x[1], x[2]}, p->radius[i]};
-    rc = esf_fill_grid_add(g, &sp, err);
+    for (size_t i = 0; i < p->n; i++) {
+      const double *x = p->x + 3 * i;
+      int meets = 1;
+      for (int k = 0; k < 3; k++) {
+        if (dim == 2 && k == 1) continue;
+        if (x[k] + p->radius[i] <= e->fill.min[k] ||
+            x[k] - p->radius[i] >= e->fill.max[k])
+          meets = 0;
+      }
+      if (!meets) continue;
+      nmeet++;
+      esf_fill_sphere sp = {{x[0], x[1], x[2]}, p->radius[i]};
+      int rc = pass == 1 ? esf_fill_grid_add(g, &sp, err) : ESF_OK;
+      if (rc) return rc;
+    }
   }
+  int rc = ESF_OK;
   double c[3], half = 0.0;
   for (int k = 0; k < 3; k++) {
     const int flat = dim == 2 && k == 1;
@@ -232,6 +243,8 @@ static int batch(esf_sim *s, esf_insert *e, size_t *added, esf_error *err) {
   const int axes[3] = {1, dim == 3, 1};
   int full = 0;
   const int64_t before = e->inserted;
+  int32_t *mat = NULL; /* the newborns' materials */
+  size_t nmat = 0, capmat = 0;
   while (!rc && due(e, t)) {
     draw_next(e);
     double m, inertia;
@@ -256,19 +269,8 @@ static int batch(esf_sim *s, esf_insert *e, size_t *added, esf_error *err) {
       full = 1;
       break;
     }
-    rc = esf_fill_grid_add(&g, &sp, err);
-    if (!rc) rc = esf_particles_append(p, 1, err);
+    rc = esf_fill_grid_add(&g, &sp, err); /* the grid keeps the batch's newborns */
     if (rc) break;
-    const size_t i = p->n - 1;
-    v3_copy(p->x + 3 * i, sp.x);
-    v3_copy(p->v + 3 * i, e->fill.velocity);
-    p->radius[i] = r;
-    p->material[i] = e->m_next;
-    p->mass[i] = m;
-    p->inertia[i] = inertia;
-    p->inv_mass[i] = 1.0 / m;
-    p->inv_inertia[i] = 1.0 / inertia;
-    p->id[i] = s->insert->next_id++;
     if (s->led.started) { /* before, e0 counts them */
       double xo[3];       /* the ledger's gravity of v_{n-1/2}: at x_n - v dt/2 */
       v3_copy(xo, sp.x);
@@ -276,13 +278,40 @@ static int batch(esf_sim *s, esf_insert *e, size_t *added, esf_error *err) {
       s->led.e_inserted +=
           0.5 * m * v3_norm2(e->fill.velocity) - m * v3_dot(s->cfg.gravity, xo);
     }
+    if (nmat == capmat) {
+      capmat = capmat ? 2 * capmat : 64;
+      int32_t *mm = realloc(mat, capmat * sizeof *mat);
+      if (!mm) {
+        rc = esf_fail(err, ESF_ENOMEM, "out of memory");
+        break;
+      }
+      mat = mm;
+    }
+    mat[nmat++] = e->m_next;
     e->inserted++;
     e->mass_in += m;
     e->pending = 0;
     (*added)++;
   }
+  /* the newborns, appended in placement order (the grid's spheres from nold on) */
+  const size_t nnew = (size_t)(e->inserted - before), n0 = p->n, nold = g.nsp - nnew;
+  if (!rc && nnew) rc = esf_particles_append(p, nnew, err);
+  for (size_t j = 0; !rc && j < nnew; j++) {
+    const size_t i = n0 + j;
+    const esf_fill_sphere *sp = &g.sp[nold + j];
+    v3_copy(p->x + 3 * i, sp->x);
+    v3_copy(p->v + 3 * i, e->fill.velocity);
+    p->radius[i] = sp->r;
+    p->material[i] = mat[j];
+    esf_particle_mass(dim, sp->r, s->mats.m[mat[j]].density, s->cfg.disk_thickness,
+                      &p->mass[i], &p->inertia[i]);
+    p->inv_mass[i] = 1.0 / p->mass[i];
+    p->inv_inertia[i] = 1.0 / p->inertia[i];
+    p->id[i] = s->insert->next_id++;
+  }
   esf_fill_grid_release(&g);
   free(near);
+  free(mat);
   if (!rc && full) {
     e->short_batches++;
     if (!e->logged) {
