@@ -260,6 +260,12 @@ def check_refused(exe, tmp):
                os.path.join(tmp, "bad"), "--quiet")
     check(r.returncode == 2 and "bad.yaml:9:" in r.stderr and "mass_rate" in r.stderr,
           f"rate and mass_rate: exit {r.returncode}: {r.stderr}")
+    gen = BOX.replace("integrator:", "generate: {box: {min: [0, 0, 0], max: [0.02, 0.02, "
+                      "0.07]}, copies: [2, 1, 1], material: steel}\nintegrator:")
+    r = esfera(exe, "generate", write(tmp, "gen.yaml", gen), "--out",
+               os.path.join(tmp, "gen.csv"))
+    check(r.returncode == 2 and "gen.yaml:9:" in r.stderr and "generate" in r.stderr,
+          f"esfera generate: exit {r.returncode}: {r.stderr}")
     for what, old, new, where in (
             ("unknown key", "seed: 5", "sead: 5", "bad.yaml:14:7"),
             ("stop before start", "stop: 0.03", "stop: 0.03\n      start: 0.05",
