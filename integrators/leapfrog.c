@@ -25,6 +25,7 @@
 #include "integrators/dem_ode.h"
 #include "integrators/integrator.h"
 #include "loads/drag.h"
+#include "loads/insert.h"
 #include "model/forces.h"
 #include "model/model.h"
 #include "model/stability.h"
@@ -145,6 +146,10 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     long taken = 0; /* them at most in one go, up to the next stability check */
     long burst = esf_stability_steps_left(s);
     if (s->burst < burst) burst = s->burst;
+    if (s->insert) { /* up to the next insertion batch (insert.c) */
+      const long left = esf_inserts_steps_left(s);
+      if (left < burst) burst = left;
+    }
     rc = esf_fused_run(s, lf->fast, burst, &taken, err);
     if (taken > 0) lf->started = 1;
     return rc;

@@ -81,7 +81,7 @@ def main():
         check(n0 == 41 and n1 == 40, f"h5py: {n0} then {n1} particles (one leaves)")
         check(kv.get("particles") == f"{n0} (first frame), {n1} (last frame)",
               f"particles {kv.get('particles')}")
-        check(kv.get("energy rows", "").startswith(f"{rows} (23 columns"),
+        check(kv.get("energy rows", "").startswith(f"{rows} (24 columns"),
               f"energy rows {kv.get('energy rows')} vs {rows}")
         shown = dict(re.findall(r"^  (\S+): (.*)$", text, re.M))
         check(shown == listing, f"datasets {shown} vs {listing}")

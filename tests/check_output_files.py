@@ -58,7 +58,7 @@ def kill_rows(exe, tmp, scene, rng):
         p.wait()
         data = open(os.path.join(out, "energy.csv"), "rb").read()
         lines = data.split(b"\n")
-        whole = data.endswith(b"\n") and all(ln.count(b",") == 22 for ln in lines[:-1])
+        whole = data.endswith(b"\n") and all(ln.count(b",") == 23 for ln in lines[:-1])
         bad += not whole
         print(f"SIGKILL {k}: energy.csv {len(data)} bytes, {len(lines) - 1} lines, "
               f"{'whole rows' if whole else 'a row cut: ' + repr(lines[-1][-30:])}")

@@ -3,7 +3,7 @@
 scripts/render.py on a real run: load_frames gives every frame in order with the
 frames' times and every dataset (shapes N x 3 and N, walls, contacts), select=[-1]
 the last one; load_energy from frames.h5's /energy, from energy.csv and from the
-result directory give the same 23 columns and rows, equal within the CSV's printed
+result directory give the same 24 columns and rows, equal within the CSV's printed
 precision (relative 1e-9: time has 10 significant digits, energies 13);
 the CLI summary exits 0 and names the frame count, a missing file exits 2; render.py
 writes a PNG of the last frame that is not blank (hundreds of distinct colours); the
@@ -83,7 +83,7 @@ def main():
         e_h5 = esfera_h5.load_energy(h5)
         e_csv = esfera_h5.load_energy(os.path.join(out, "energy.csv"))
         e_dir = esfera_h5.load_energy(out)
-        check(list(e_h5) == list(e_csv) and len(e_h5) == 23, f"columns {list(e_h5)}")
+        check(list(e_h5) == list(e_csv) and len(e_h5) == 24, f"columns {list(e_h5)}")
         check(len(e_h5["time"]) == len(e_csv["time"]) >= 140, "row counts")
         worst = 0.0
         for k in e_h5:

@@ -15,6 +15,7 @@
 #include "core/sim.h"
 #include "integrators/dem_ode.h"
 #include "integrators/integrator.h"
+#include "loads/insert.h"
 #include "model/model.h"
 #include "scene/scene.h"
 #include "util/esf_error.h"
@@ -231,6 +232,12 @@ static int ode_enter(esf_handle *h) {
   if (h->mode == MODE_STEP) return mode_conflict(h, MODE_ODE);
   esf_sim *s = &h->s;
   h->mode = MODE_ODE;
+  if (s->insert) /* the count would change under the ODE solver */
+    return poison(h, esf_fail(&h->err, ESF_EINPUT,
+                              "%s: particles inserted during the run change the "
+                              "particle count, which the ODE view keeps fixed; take "
+                              "steps with esf_handle_step (the leapfrog)",
+                              s->insert->e[0].where));
   esf_dem_ode_init(&h->ode, s);
   int rc = esf_sim_refresh(s, NULL, &h->err);
   if (rc) return poison(h, rc);

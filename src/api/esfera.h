@@ -105,7 +105,7 @@ const int64_t *esf_handle_ids(const esf_handle *h);
 /* This version's count: later versions add columns at the end (a program built
  * against an older header reads a prefix of the row; a binding counts them with
  * esf_energy_column). */
-#define ESF_ENERGY_COLUMNS 23
+#define ESF_ENERGY_COLUMNS 24
 const char *esf_energy_column(int k); /* NULL outside 0..ESF_ENERGY_COLUMNS-1 */
 int esf_handle_energies(esf_handle *h, double row[ESF_ENERGY_COLUMNS]);
 

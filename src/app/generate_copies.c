@@ -26,6 +26,7 @@
 #include <time.h>
 
 #include "integrators/integrator.h"
+#include "loads/insert.h"
 #include "model/model.h"
 #include "scene/scene.h"
 #include "util/atomic_file.h"
@@ -284,7 +285,14 @@ static int stage_sim(esf_ydoc *doc, const char *path, esf_sim *s, esf_error *err
   memset(s, 0, sizeof *s);
   esf_config_default(&s->cfg);
   snprintf(s->cfg.source, sizeof s->cfg.source, "%s", path);
-  return esf_scene_read(doc, s, err);
+  int rc = esf_scene_read(doc, s, err);
+  if (!rc && s->insert) /* the copies would each insert */
+    rc = esf_fail(err, ESF_EINPUT,
+                  "%s: esfera generate builds its packing from the scene's particles at "
+                  "t = 0: an insert entry (particles added during a run) has no place "
+                  "in it; give the primary set as a generator",
+                  s->insert->e[0].where);
+  return rc;
 }
 
 static int check_inside(const esf_sim *s, const gen_spec *gs, esf_error *err) {

@@ -26,6 +26,7 @@
 #include "app/run.h"
 #include "ckpt/checkpoint.h"
 #include "integrators/integrator.h"
+#include "loads/insert.h"
 #include "model/model.h"
 #include "scene/scene.h"
 #include "util/atomic_file.h"
@@ -223,8 +224,8 @@ static int cmd_modes(int argc, char **argv) {
          "lambda_live=%.10g dt_live=%.10g\n",
          s.p.n, m.dofs, m.contacts, m.omega_max, m.xi_max, m.dt_undamped, m.dt_damped,
          s.dte.crit[ESF_DT_CUNDALL], s.dte.crit[ESF_DT_HART], s.dte.crit[ESF_DT_DAMPED],
-         m.dofs ? m.argmax_dof / (m.dofs / s.p.n) : 0, m.xi_mode, m.dt_mode, s.dt, m.lambda,
-         m.lambda_live, m.dt_live);
+         m.dofs ? m.argmax_dof / (m.dofs / s.p.n) : 0, m.xi_mode, m.dt_mode, s.dt,
+         m.lambda, m.lambda_live, m.dt_live);
   esf_sim_release(&s);
   return 0;
 }
@@ -314,13 +315,13 @@ static void print_summary(const esf_sim *s, const esf_run_stats *st, const char 
          "energy_error=%.6g dissipated=%.6g removed=%ld method=%s rejected=%ld "
          "acc_limited=%ld stab_limited=%ld h_last=%.6g events=%ld restarts=%ld "
          "checkpoints=%ld bonds=%ld bonds_broken=%ld threads=%d resumed_from_step=%ld "
-         "stability=%.4g stability_checks=%ld exit=%d\n",
+         "stability=%.4g stability_checks=%ld exit=%d inserted=%lld n_end=%zu\n",
          st->steps, st->particles_mean, st->contacts_mean, st->wall_s, st->rate, s->dt,
          s->nb.builds, st->integ.rhs_evals, st->energy_error, st->dissipated, s->removed,
          s->cfg.method, st->integ.rejected, st->integ.acc_limited, st->integ.stab_limited,
          st->integ.h_last, st->integ.events, st->integ.restarts, st->checkpoints_total,
          s->bonds.formed, s->bonds.broken, s->cfg.threads, st->resumed_step,
-         s->stab.worst, s->stab.checks, status);
+         s->stab.worst, s->stab.checks, status, esf_inserts_total(s), s->p.n);
   if (st->resumed_step)
     printf("resumed at step %ld: wall_s and particle_steps_per_s cover steps %ld to %ld; "
            "checkpoints=%ld counts every checkpoint since the run's start (%ld written "

@@ -1,5 +1,5 @@
-/* particles.c — allocation and compaction of the structure-of-arrays particle store.
- * Invariant on exit of every function: x, v, w point into the single block y of 9n
+/* particles.c — allocation, growth and compaction of the structure-of-arrays particle
+ * store. Invariant on exit of every function: x, v, w point into the single block y of 9n
  * doubles, in that order, so the block is one contiguous ODE state vector. */
 #include "bodies/particles.h"
 
@@ -119,4 +119,26 @@ int esf_particles_compact(esf_particles *p, const unsigned char *keep, size_t *r
 int esf_particles_permute(esf_particles *p, const size_t *src, int threads,
                           esf_error *err) {
   return gather(p, src, p->n, threads, err);
+}
+
+int esf_particles_append(esf_particles *p, size_t k, esf_error *err) {
+  const size_t n = p->n;
+  esf_particles q;
+  int rc = alloc_arrays(&q, n + k, 1, err);
+  if (rc) return rc;
+  memcpy(q.x, p->x, 3 * n * sizeof(double));
+  memcpy(q.v, p->v, 3 * n * sizeof(double));
+  memcpy(q.w, p->w, 3 * n * sizeof(double));
+  memcpy(q.f, p->f, 3 * n * sizeof(double));
+  memcpy(q.t, p->t, 3 * n * sizeof(double));
+  memcpy(q.radius, p->radius, n * sizeof(double));
+  memcpy(q.mass, p->mass, n * sizeof(double));
+  memcpy(q.inv_mass, p->inv_mass, n * sizeof(double));
+  memcpy(q.inertia, p->inertia, n * sizeof(double));
+  memcpy(q.inv_inertia, p->inv_inertia, n * sizeof(double));
+  memcpy(q.material, p->material, n * sizeof(int32_t));
+  memcpy(q.id, p->id, n * sizeof(int64_t));
+  esf_particles_release(p);
+  *p = q;
+  return ESF_OK;
 }

@@ -32,6 +32,24 @@ typedef struct esf_particles {
   int64_t *id;         /* n, stable identifier (the order particles were defined in) */
 } esf_particles;
 
+/* Mass (kg) and moment of inertia (kg m^2) of a sphere (dim 3: m = 4/3 pi r^3 rho,
+ * I = 2/5 m r^2, 000 3-4..3-5) or a disk (dim 2: m = pi r^2 rho thickness,
+ * I = 1/2 m r^2) of radius r (m) and density rho (kg/m^3). */
+static inline void esf_particle_mass(int dim, double r, double rho, double thickness,
+                                     double *m, double *inertia) {
+  const double pi = 3.14159265358979323846;
+  if (dim == 2) {
+    *m = pi * r * r * thickness * rho;
+    *inertia = 0.5 * *m * r * r;
+  } else {
+    *m = 4.0 / 3.0 * pi * r * r * r * rho;
+    *inertia = 0.4 * *m * r * r;
+  }
+}
+
+/* Grows p by k particles at the end, zeroed (the others keep their index). */
+int esf_particles_append(esf_particles *p, size_t k, esf_error *err);
+
 /* One particle's definition, as scene sources produce them. */
 typedef struct esf_particle_def {
   double x[3], v[3], w[3]; /* m, m/s, rad/s */

@@ -22,6 +22,7 @@
 
 #include "ckpt/checkpoint_format.h"
 #include "ckpt/loads_ckpt.h"
+#include "loads/insert.h"
 #include "util/atomic_file.h"
 #include "util/blob.h"
 #include "util/version.h"
@@ -36,8 +37,9 @@ _Static_assert(sizeof(esf_contact_hist) == 6 * sizeof(double) &&
                    sizeof(esf_contact_roll) == 4 * sizeof(double),
                "esf_contact_hist, _bond or _roll changed: update HIST_LAYOUT");
 
-/* 2: bond states apart; 3: rolling states apart */
-enum { CK_VERSION = 3, CK_BOM = 0x01020304 };
+/* 2: bond states apart; 3: rolling states apart; 4: INSERT section (particles
+ * inserted during the run), the ledger's energy_inserted */
+enum { CK_VERSION = 4, CK_BOM = 0x01020304 };
 static const char ck_magic[8] = "ESFCKPT";
 
 static uint32_t crc32(const unsigned char *p, size_t n) {
@@ -177,6 +179,9 @@ int esf_ckpt_write(const char *path, esf_sim *s, const esf_integrator_type *it, 
   sec_end(&b, st);
   st = sec_begin(&b, "SAND"); /* servo walls, events, fluid (loads_ckpt.c) */
   esf_loads_ckpt_save(s, &b);
+  sec_end(&b, st);
+  st = sec_begin(&b, "INSERT"); /* insertion's streams and counts (loads/insert.c) */
+  esf_inserts_save(s, &b);
   sec_end(&b, st);
 
   st = sec_begin(&b, "MATS");
@@ -321,9 +326,9 @@ int esf_ckpt_load(const char *path, esf_ckpt **out, esf_error *err) {
                (int)c->sec[k].len, (const char *)c->sec[k].p, lay);
       return bad(c, err, m);
     }
-  const char *str_secs[] = {"META", "SCENE",  "SCNPATH", "METHOD", "SETS",
-                            "SIM",  "LEDGER", "RUN",     "WALLS",  "MATS",
-                            "PART", "CONTPP", "CONTPW",  "NBREF",  "INTEG"};
+  const char *str_secs[] = {"META",   "SCENE", "SCNPATH", "METHOD", "SETS", "SIM",
+                            "LEDGER", "RUN",   "WALLS",   "MATS",   "PART", "CONTPP",
+                            "CONTPW", "NBREF", "INTEG",   "INSERT"};
   for (size_t k = 0; k < sizeof str_secs / sizeof *str_secs; k++) {
     esf_blob_in in = esf_ckpt_sec(c, str_secs[k]);
     char m[96];

@@ -24,6 +24,7 @@
 
 #include "ckpt/checkpoint_format.h"
 #include "ckpt/loads_ckpt.h"
+#include "loads/insert.h"
 #include "scene/scene.h"
 
 int esf_ckpt_load_scene(const esf_ckpt *c, const char *const *extra, int nextra,
@@ -95,7 +96,9 @@ static int check_sim(const esf_ckpt *c, const esf_sim *s, const esf_integrator_t
     return invalid(c, err, "t = %.17g s is not within the run (0 to %.17g s)", cs->t,
                    t_end);
   if (cs->removed < 0 || n + (uint64_t)cs->removed != n_scene)
-    return invalid(c, err, "%llu particles and %lld removed do not make the scene's %zu",
+    return invalid(c, err,
+                   "%llu particles and %lld removed do not make the %zu the scene "
+                   "defined and inserted",
                    (unsigned long long)n, (long long)cs->removed, n_scene);
   if (cs->rhs_evals < 0 || cs->builds < 0 || cs->bonds_formed < 0 ||
       cs->bonds_broken < 0 || cs->bonds_broken > cs->bonds_formed)
@@ -111,25 +114,41 @@ static int check_sim(const esf_ckpt *c, const esf_sim *s, const esf_integrator_t
 /* The particles read (p) against the scene's (sc; ids 0 to n_ids - 1, those that
  * started outside the domain already removed): every id once, each particle's radius,
  * mass, inertia and material its id's; finite state. */
+/* The saved particles against the scene's sc (ids below n_ids), and those inserted
+ * during the run (ids n_ids .. next_id - 1: radius, mass, inertia and material
+ * plausible; each id once). */
 static int check_particles(const esf_ckpt *c, const esf_particles *p,
-                           const esf_particles *sc, size_t n_ids, esf_error *err) {
+                           const esf_particles *sc, size_t n_ids, size_t next_id,
+                           int nmat, esf_error *err) {
   if (!all_finite(p->y, 9 * p->n) || !all_finite(p->f, 3 * p->n) ||
       !all_finite(p->t, 3 * p->n))
     return invalid(c, err,
                    "a particle's position, velocity, spin, force or torque is "
                    "not finite");
-  size_t *at = malloc((n_ids ? n_ids : 1) * sizeof *at); /* id -> scene index + 1 */
+  size_t *at = calloc(next_id ? next_id : 1, sizeof *at); /* id -> scene index + 1 */
   if (!at) return esf_fail(err, ESF_ENOMEM, "out of memory");
-  memset(at, 0, (n_ids ? n_ids : 1) * sizeof *at);
+  for (size_t j = n_ids; j < next_id; j++) at[j] = SIZE_MAX; /* inserted, not seen */
   for (size_t j = 0; j < sc->n; j++)
     if (sc->id[j] >= 0 && (uint64_t)sc->id[j] < n_ids) at[sc->id[j]] = j + 1;
   int rc = ESF_OK;
   for (size_t i = 0; i < p->n && !rc; i++) {
     const int64_t id = p->id[i];
-    if (id < 0 || (uint64_t)id >= n_ids || !at[id]) {
+    if (id < 0 || (uint64_t)id >= next_id || !at[id]) {
       rc = invalid(c, err, "particle id %lld is unknown to the scene or repeated",
                    (long long)id);
       break;
+    }
+    if (at[id] == SIZE_MAX) { /* inserted during the run */
+      at[id] = 0;
+      const double r = p->radius[i], m = p->mass[i], I = p->inertia[i];
+      if (!(r > 0) || !(m > 0) || !(I > 0) || !isfinite(r) || !isfinite(m) ||
+          !isfinite(I) || p->inv_mass[i] != 1.0 / m || p->inv_inertia[i] != 1.0 / I ||
+          p->material[i] < 0 || p->material[i] >= nmat)
+        rc = invalid(c, err,
+                     "inserted particle id %lld has an invalid radius, mass, inertia "
+                     "or material",
+                     (long long)id);
+      continue;
     }
     const size_t j = at[id] - 1;
     at[id] = 0; /* seen */
@@ -287,7 +306,16 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
     return mismatch(c, err, "the particle section's size");
   /* the scene's particles, less those the scheme's set-up found outside the domain */
   const size_t n_ids = s->p.n + (size_t)s->removed;
-  int rc = check_sim(c, s, it, &cs, n, n_ids, err);
+  esf_blob_in ins = esf_ckpt_sec(c, "INSERT"); /* insertion (loads/insert.c) */
+  if (esf_inserts_restore(s, &ins))
+    return mismatch(c, err, "the insert entries (INSERT section)");
+  const int64_t next_id = s->insert ? s->insert->next_id : (int64_t)n_ids;
+  if (next_id < (int64_t)n_ids ||
+      (uint64_t)(next_id - (int64_t)n_ids) != (uint64_t)esf_inserts_total(s))
+    return invalid(c, err,
+                   "the next id %lld and %lld inserted do not make the scene's %zu",
+                   (long long)next_id, esf_inserts_total(s), n_ids);
+  int rc = check_sim(c, s, it, &cs, n, (size_t)next_id, err);
   if (rc) return rc;
   esf_particles *p = &s->p, scene = *p; /* the scene's, to check the saved ones by */
   memset(p, 0, sizeof *p);
@@ -304,7 +332,7 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
   for (int k = 0; k < 5; k++) esf_blob_get(&in, cols[k], n * sizeof(double));
   esf_blob_get(&in, p->material, n * sizeof *p->material);
   esf_blob_get(&in, p->id, n * sizeof *p->id);
-  rc = check_particles(c, p, &scene, n_ids, err);
+  rc = check_particles(c, p, &scene, n_ids, (size_t)next_id, s->mats.n, err);
   esf_particles_release(&scene);
   if (rc) return rc;
 

@@ -2,8 +2,8 @@
  * table of frames.h5): esf_ledger_columns names the columns, esf_ledger_values gives
  * them, esf_ledger_header and esf_ledger_row print them as CSV (time with 10
  * significant digits, energies in J with 13, alpha in 1/s with 7). Columns added
- * later (work_fluid, work_tangential_stiffness) go at the end, so readers by position
- * keep working. */
+ * later (work_fluid, work_tangential_stiffness, energy_inserted) go at the end, so
+ * readers by position keep working. */
 #include "core/ledger.h"
 
 const char *const esf_ledger_columns[ESF_LEDGER_NCOLS] = {"time",
@@ -28,7 +28,8 @@ const char *const esf_ledger_columns[ESF_LEDGER_NCOLS] = {"time",
                                                           "work_fluid",
                                                           "elastic_rolling",
                                                           "dissipated_rolling",
-                                                          "work_tangential_stiffness"};
+                                                          "work_tangential_stiffness",
+                                                          "energy_inserted"};
 
 double esf_ledger_stored(const esf_ledger *l) {
   return l->kin_t + l->kin_r + l->pot_g + l->el_n + l->el_t + l->el_r;
@@ -41,7 +42,7 @@ double esf_ledger_dissipated(const esf_ledger *l) {
 
 double esf_ledger_total_error(const esf_ledger *l) {
   return esf_ledger_stored(l) - l->e0 - l->w_walls - l->w_fluid - l->w_stiff +
-         esf_ledger_dissipated(l) + l->e_removed;
+         esf_ledger_dissipated(l) + l->e_removed - l->e_inserted;
 }
 
 void esf_ledger_values(double t, const esf_ledger *l, double alpha,
@@ -68,7 +69,8 @@ void esf_ledger_values(double t, const esf_ledger *l, double alpha,
                                       l->w_fluid,
                                       l->el_r,
                                       l->d_rolling,
-                                      l->w_stiff};
+                                      l->w_stiff,
+                                      l->e_inserted};
   for (int k = 0; k < ESF_LEDGER_NCOLS; k++) row[k] = v[k];
 }
 

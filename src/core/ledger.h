@@ -4,7 +4,7 @@
  * Stored energies are measured from the state; dissipation and wall work are tallied
  * every step along each path. The balance residual
  *   total_error = (kinetic + gravity + elastic) - e0 - work_walls - work_fluid
- *                 - work_tangential_stiffness + dissipated + removed
+ *                 - work_tangential_stiffness + dissipated + removed - inserted
  * is zero for an exact integration; what is left is the integrator's energy error. */
 #ifndef ESF_LEDGER_H
 #define ESF_LEDGER_H
@@ -34,6 +34,8 @@ typedef struct esf_ledger {
                           the constant torques' work, J (cumulative) */
   double w_stiff;      /* energy the Hertz-Mindlin tangential springs gained as their
                           stiffness changed under a carried force, J (cumulative) */
+  double e_inserted;   /* energy brought in by particles inserted during the run
+                          (kinetic and gravitational, loads/insert.c), J */
   double e0;           /* stored energy at the start, J */
   int started;         /* e0 set */
 } esf_ledger;
@@ -43,7 +45,7 @@ double esf_ledger_dissipated(const esf_ledger *l);
 double esf_ledger_total_error(const esf_ledger *l);
 
 /* The columns of an energy row (energy.csv and /energy in frames.h5), in order. */
-enum { ESF_LEDGER_NCOLS = 23 };
+enum { ESF_LEDGER_NCOLS = 24 };
 extern const char *const esf_ledger_columns[ESF_LEDGER_NCOLS];
 enum { ESF_LEDGER_ALPHA = 17 }; /* the column of alpha_global */
 

@@ -186,6 +186,8 @@ typedef struct esf_sim {
   FILE *log;                     /* the run's log, or NULL */
   struct esf_force_tally *tally; /* filled by force evaluations when not NULL */
   struct esf_events *events;     /* scene events (events.c), or NULL */
+  struct esf_inserts *insert;    /* particles inserted during the run (insert.c), or
+                                    NULL: no cost */
   struct esf_drag *drag;         /* fluid force (drag.c), or NULL: no cost */
   int reorder_ok; /* the scheme keeps no per-particle state of its own between steps, so
                      particles may be renumbered at rebuilds (set by its create) */

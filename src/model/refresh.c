@@ -1,12 +1,14 @@
 /* refresh.c — keeping the candidate lists valid between steps (model.h): the scene
- * events due, the lists' displacement check and, when it asks, the tuned skin, the
- * particles that left the domain removed, the particles renumbered along the cells,
- * the lists rebuilt and, at the first build, the start's bonds formed. */
+ * events due, the particles inserted (a new count asks for a rebuild), the lists'
+ * displacement check and, when it asks, the tuned skin, the particles that left the
+ * domain removed, the particles renumbered along the cells, the lists rebuilt and, at the
+ * first build, the start's bonds formed. */
 #include "model/model.h"
 
 #include "core/bonds.h"
 #include "core/reorder.h"
 #include "loads/events.h"
+#include "loads/insert.h"
 
 int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
   int rebuild = 0, walls_changed = 0;
@@ -16,6 +18,11 @@ int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
     if (rc) return rc;
     walls_changed = s->events->walls_changed; /* a wall removed or added: rebuild */
     s->events->walls_changed = 0;
+  }
+  if (s->insert) { /* the batch due now (insert.c): the count changes, lists rebuild */
+    size_t added = 0;
+    int rc = esf_inserts_apply(s, &added, err);
+    if (rc) return rc;
   }
   int rc = esf_neighbor_check(&s->nb, &s->p, esf_walls_moved(&s->walls), &rebuild, err);
   s->nb.disp_valid = 0;

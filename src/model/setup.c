@@ -15,6 +15,7 @@
 #include "core/bonds.h"
 #include "loads/drag.h"
 #include "loads/events.h"
+#include "loads/insert.h"
 #include "loads/servo.h"
 #include "util/threads.h"
 #include "util/vec3.h"
@@ -29,9 +30,9 @@ static int set_masses(esf_sim *s, esf_error *err) {
                       "%s: material '%s' of particle id %lld needs a positive density",
                       esf_config_where(&s->cfg, "materials"), m->name,
                       (long long)p->id[i]);
+    esf_particle_mass(s->cfg.dim, r, m->density, s->cfg.disk_thickness, &p->mass[i],
+                      &p->inertia[i]);
     if (s->cfg.dim == 2) {
-      p->mass[i] = ESF_PI * r * r * s->cfg.disk_thickness * m->density;
-      p->inertia[i] = 0.5 * p->mass[i] * r * r;
       if (p->x[3 * i + 1] != 0.0 || p->v[3 * i + 1] != 0.0 || p->w[3 * i] != 0.0 ||
           p->w[3 * i + 2] != 0.0)
         return esf_fail(
@@ -39,9 +40,6 @@ static int set_masses(esf_sim *s, esf_error *err) {
             "%s: particle id %lld: a 2D scene moves disks in the x-z plane, so y, "
             "vy, wx and wz must be 0",
             esf_config_where(&s->cfg, "particles"), (long long)p->id[i]);
-    } else {
-      p->mass[i] = 4.0 / 3.0 * ESF_PI * r * r * r * m->density;
-      p->inertia[i] = 0.4 * p->mass[i] * r * r;
     }
     p->inv_mass[i] = 1.0 / p->mass[i];
     p->inv_inertia[i] = 1.0 / p->inertia[i];
@@ -81,7 +79,23 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
                     "(materials with youngs_modulus and poisson_ratio); this scene's "
                     "materials give kn",
                     esf_config_where(c, "integrator.dt_rule"));
-  esf_dt_estimate_compute(s, &s->dte);
+  if (s->insert) { /* the critical step with the particles it may insert too */
+    esf_particles probes;
+    rc = esf_inserts_probes(s, &probes, err);
+    if (rc) return rc;
+    esf_sim *tmp = malloc(sizeof *tmp);
+    if (!tmp) {
+      esf_particles_release(&probes);
+      return esf_fail(err, ESF_ENOMEM, "out of memory");
+    }
+    *tmp = *s;
+    tmp->p = probes;
+    esf_dt_estimate_compute(tmp, &s->dte);
+    free(tmp);
+    esf_particles_release(&probes);
+  } else {
+    esf_dt_estimate_compute(s, &s->dte);
+  }
   double crit = s->dte.crit[c->dt_rule];
   if (c->dt_auto) {
     if (!isfinite(crit))
@@ -144,16 +158,20 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
   if (skin_auto) {
     double rsum = 0;
     for (size_t i = 0; i < s->p.n; i++) rsum += s->p.radius[i];
-    c->skin = sref = s->p.n ? ESF_SKIN_DEFAULT * rsum / (double)s->p.n : 1e-3;
+    double rmean = s->p.n ? rsum / (double)s->p.n : 0.0;
+    if (!s->p.n && s->insert) /* only inserted particles: their mean size */
+      rmean = 0.5 * (s->insert->e[0].rmin + s->insert->e[0].rmax);
+    c->skin = sref = rmean > 0 ? ESF_SKIN_DEFAULT * rmean : 1e-3;
   }
   rc = esf_bonds_setup(s, skin_auto, err);
   if (rc) return rc;
   c->skin_auto = skin_auto && !s->bonds.on; /* a bond's reach fixes the skin */
   if (c->skin_auto) c->skin = ESF_SKIN_START * sref;
   s->led.on = c->energy_every > 0;
-  rc = esf_servo_setup(s, err);           /* servo walls (servo.c) */
-  if (!rc) rc = esf_events_setup(s, err); /* scene events (events.c) */
-  if (!rc) rc = esf_drag_setup(s, err);   /* fluid force (drag.c) */
+  rc = esf_servo_setup(s, err);            /* servo walls (servo.c) */
+  if (!rc) rc = esf_events_setup(s, err);  /* scene events (events.c) */
+  if (!rc) rc = esf_inserts_setup(s, err); /* insertion (insert.c) */
+  if (!rc) rc = esf_drag_setup(s, err);    /* fluid force (drag.c) */
   if (rc) return rc;
   rc = esf_neighbor_init(&s->nb, c->skin, s->led.on, err);
   if (rc) return rc;
@@ -173,6 +191,7 @@ void esf_sim_release(esf_sim *s) {
   esf_walls_release(&s->walls);
   esf_neighbor_release(&s->nb);
   esf_events_free(&s->events);
+  esf_inserts_free(&s->insert);
   esf_drag_free(&s->drag);
   free(s->led_rows);
   free(s->led_blocks);

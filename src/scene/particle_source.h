@@ -7,6 +7,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "bodies/fill.h"
 #include "bodies/particles.h"
 #include "util/esf_error.h"
 
@@ -24,37 +25,6 @@ typedef int (*esf_material_lookup_fn)(void *ctx, const char *name, int32_t *inde
 int esf_particles_read_csv(const char *path, int32_t default_material,
                            esf_material_lookup_fn lookup, void *lookup_ctx,
                            esf_particle_defs *out, esf_error *err);
-
-enum {
-  ESF_SIZE_FIXED = 0,   /* every radius = a */
-  ESF_SIZE_UNIFORM = 1, /* radius uniform in [a, b] (by number) */
-  ESF_SIZE_DISCRETE = 2 /* radius values[k] with number fractions[k] */
-};
-
-typedef struct esf_size_dist {
-  int kind;
-  double a, b; /* m */
-  size_t nvalues;
-  const double *values;    /* m */
-  const double *fractions; /* sum to 1 (normalised by the generator if not) */
-} esf_size_dist;
-
-typedef struct esf_material_mix {
-  size_t n; /* 1 for a single material */
-  const int32_t *material;
-  const double *fraction; /* number fractions, normalised if they do not sum to 1 */
-} esf_material_mix;
-
-typedef struct esf_fill_spec {
-  double min[3], max[3]; /* region, m; particles lie entirely inside it */
-  size_t count;          /* particles wanted (random: required; lattice: 0 = fill) */
-  double spacing;        /* lattice: centre spacing, m (0: 2 r_max) */
-  esf_size_dist size;
-  esf_material_mix mix;
-  uint64_t seed;
-  int dim;            /* 3, or 2: centres in the x-z plane at y = 0 */
-  double velocity[3]; /* initial velocity of every generated particle, m/s */
-} esf_fill_spec;
 
 /* Random non-overlapping fill: radii are drawn first and placed largest first at random
  * positions, rejecting overlaps with each other and with `existing` (may be NULL);

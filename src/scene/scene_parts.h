@@ -4,6 +4,7 @@
 #ifndef ESF_SCENE_PARTS_H
 #define ESF_SCENE_PARTS_H
 
+#include "bodies/fill.h"
 #include "core/sim.h"
 #include "formats/yaml_tree.h"
 
@@ -11,6 +12,15 @@
  * the caller frees it) to the index in seq of the entry each particle came from. */
 int esf_scene_particles(const esf_ynode *seq, const char *dir, esf_sim *s,
                         uint32_t **entry, esf_error *err);
+/* A size distribution (`radius`: a number or {uniform | uniform_diameter | values,
+ * fractions}; *buf owns the values) and a material mix (`material`: a name or
+ * {mix: {name: fraction}}; *mats, *fr own its arrays), as generators and insert
+ * entries give them (scene_particles.c). */
+int esf_scene_size(const esf_ynode *r, esf_size_dist *sd, double **buf, esf_error *err);
+int esf_scene_mix(const esf_ynode *mn, const esf_sim *s, esf_material_mix *mix,
+                  int32_t **mats, double **fr, esf_error *err);
+/* An entry {insert: {...}} of the particles list into s->insert (scene_insert.c). */
+int esf_scene_insert(const esf_ynode *e, esf_sim *s, esf_error *err);
 int esf_scene_walls(const esf_ynode *seq, const char *dir, esf_sim *s, esf_error *err);
 /* A wall's `motion:` (scene_motion.c): one motion or a sequence into group. */
 int esf_scene_motion(const esf_ynode *mo, esf_walls *w, int group, esf_error *err);
