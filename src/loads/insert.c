@@ -215,6 +215,7 @@ static int prepare(const esf_sim *s, const esf_insert *e, esf_fill_grid *g, size
   half = sqrt(half);
   *nn = 0;
   for (size_t j = 0; !rc && j < s->walls.n; j++) {
+    if (s->walls.g[s->walls.e[j].group].absent) continue; /* removed by an event */
     esf_wall_hit hit;
     esf_wall_nearest(&s->walls.e[j], c, &hit);
     if (hit.dist - half < e->rmax) near[(*nn)++] = j;
