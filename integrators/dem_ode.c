@@ -10,9 +10,42 @@
 #include "model/model.h"
 #include "util/vec3.h"
 
-void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s) {
+int esf_eval_forces(esf_eval_path *ep, esf_sim *s, const double *x, const double *v,
+                    const double *w, double dt, int mode, size_t *touching,
+                    esf_error *err) {
+  const char *why = esf_fused_eval_refusal(s, ep->ode);
+  if (!why && !ep->fast) {
+    int rc = esf_fused_create(&ep->fast, s->cfg.isa, err);
+    if (rc) return rc;
+  }
+  if (!ep->logged || (why == NULL) != (ep->logged == 1)) { /* the path, when it changes */
+    if (why)
+      esf_sim_log(s,
+                  "t = %.6g s: %s's force evaluations on the general path, one "
+                  "thread (%s)",
+                  s->t, ep->name, why);
+    else
+      esf_sim_log(s,
+                  "t = %.6g s: %s's force evaluations on the fused step's kernels, "
+                  "%s, %d threads",
+                  s->t, ep->name, esf_fused_isa(ep->fast), s->cfg.threads);
+    ep->logged = why ? 2 : 1;
+  }
+  if (why) return esf_forces_eval(s, x, v, w, dt, mode, touching, err);
+  const esf_fused_eval ev = {
+      .x = x, .v = v, .w = w, .dt = dt, .trial = mode == ESF_FORCES_TRIAL};
+  return esf_fused_forces(s, ep->fast, &ev, touching, err);
+}
+
+void esf_eval_path_free(esf_eval_path *ep) { esf_fused_free(&ep->fast); }
+
+void esf_dem_ode_free(esf_dem_ode *o) { esf_eval_path_free(&o->path); }
+
+void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s, const char *name) {
   memset(o, 0, sizeof *o);
   o->s = s;
+  o->path.name = name;
+  o->path.ode = 1;
   o->n = s->p.n;
   o->state = s->cfg.history == ESF_HIST_STATE;
   o->t_commit = s->t;
@@ -176,7 +209,8 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   s->tally = s->led.on ? &ty : NULL; /* the quadratures only feed the ledger */
   attach_xi(o, y, ydot);
   esf_walls_set_time(&s->walls, t);
-  int rc = esf_forces_eval(s, x, v, w, t - o->t_commit, ESF_FORCES_TRIAL, NULL, &o->err);
+  int rc = esf_eval_forces(&o->path, s, x, v, w, t - o->t_commit, ESF_FORCES_TRIAL, NULL,
+                           &o->err);
   detach_xi(o);
   s->tally = NULL;
   o->nrhs++;
@@ -219,8 +253,8 @@ int esf_dem_ode_commit(esf_dem_ode *o, double t, const double *y, esf_error *err
   size_t touching = 0;
   attach_xi(o, y, NULL);
   esf_walls_set_time(&s->walls, t);
-  int rc = esf_forces_eval(s, s->p.x, s->p.v, s->p.w, t - o->t_commit, ESF_FORCES_COMMIT,
-                           &touching, err);
+  int rc = esf_eval_forces(&o->path, s, s->p.x, s->p.v, s->p.w, t - o->t_commit,
+                           ESF_FORCES_COMMIT, &touching, err);
   detach_xi(o);
   s->tally = NULL;
   o->ncommit++;

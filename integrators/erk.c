@@ -282,7 +282,7 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
                     "%s: integrator.method: %s has no embedded error estimate: it runs "
                     "with a fixed step only (set integrator.rtol: 0 and give dt or frac)",
                     esf_config_where(c, "integrator.method"), c->method);
-  esf_dem_ode_init(&e->ode, s);
+  esf_dem_ode_init(&e->ode, s, e->name);
   int rc = esf_sim_refresh(s, NULL, err);
   if (rc) return rc;
   e->y = esf_dem_ode_vector(esf_dem_ode_layout(&e->ode), e->ctx);
@@ -581,6 +581,7 @@ static void erk_destroy(void **state) {
     if (e->ysave) N_VDestroy(e->ysave);
     if (e->table) ARKodeButcherTable_Free(e->table);
     if (e->ctx) SUNContext_Free(&e->ctx);
+    esf_dem_ode_free(&e->ode);
   }
   free(e);
   *state = NULL;

@@ -29,6 +29,7 @@ typedef struct verlet {
   double p_prev[7]; /* normal, tangential, global, local, walls, fluid, rolling powers
                        at t_n */
   int started;
+  esf_eval_path path; /* the force evaluation's (dem_ode.h) */
 } verlet;
 
 static int vv_create(esf_sim *s, void **state, esf_error *err) {
@@ -36,6 +37,7 @@ static int vv_create(esf_sim *s, void **state, esf_error *err) {
   if (rc) return rc;
   verlet *vv = calloc(1, sizeof *vv);
   if (!vv) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  vv->path.name = "verlet";
   *state = vv;
   return ESF_OK;
 }
@@ -45,6 +47,7 @@ static void vv_destroy(void **state) {
   if (vv) {
     free(vv->a);
     free(vv->dw);
+    esf_eval_path_free(&vv->path);
   }
   free(vv);
   *state = NULL;
@@ -67,7 +70,8 @@ static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[7], esf_error *
   esf_force_tally ty = {0};
   s->tally = s->led.on ? &ty : NULL;
   size_t touching = 0;
-  int rc = esf_forces_eval(s, p->x, p->v, p->w, dt, ESF_FORCES_COMMIT, &touching, err);
+  int rc = esf_eval_forces(&vv->path, s, p->x, p->v, p->w, dt, ESF_FORCES_COMMIT,
+                           &touching, err);
   s->tally = NULL;
   if (rc) return rc;
   s->contacts_sum += (double)touching;

@@ -468,18 +468,26 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
     }
   }
   const vd spin = 0.5 * (dot(wa, n) + dot(wb, n));
-  const esf_law_tpar_v P = {.kt = kt,
-                            .ct = ct,
-                            .mu = mu,
-                            .coh = coh,
-                            .tl = tl,
-                            .rotate = c->rotate,
-                            .tension = c->bond != NULL, /* only bonds pull */
-                            .ledger = c->rows != NULL,
-                            .hertz = c->hertz,
-                            .st = st,
-                            .st0 = st0,
-                            .vi = NULL};
+  esf_law_tpar_v P = {.kt = kt,
+                      .ct = ct,
+                      .mu = mu,
+                      .coh = coh,
+                      .tl = tl,
+                      .rotate = c->rotate,
+                      .tension = c->bond != NULL, /* only bonds pull */
+                      .ledger = c->rows != NULL,
+                      .hertz = c->hertz,
+                      .st = st,
+                      .st0 = st0,
+                      .vi = NULL};
+  vd vim[3]; /* the ODE methods' carry (forces.c's eval_contact): (vc0 + vc)/2 live */
+  if (c->vc0) {
+    vd c0[3];
+    for (int l = 0; l < ESF_BATCH; l++)
+      for (int q = 0; q < 3; q++) c0[q][l] = c->vc0[3 * kk[l] + q];
+    for (int q = 0; q < 3; q++) vim[q] = sel(tch, 0.5 * (c0[q] + vc[q]), vc[q]);
+    P.vi = vim;
+  }
   esf_law_tout_v T;
   esf_law_tangential_v(&P, zero + c->dt, n, spin, vc, vn, fn, hx, hn, tch & ~broke, &T);
   vd m[3], f[3];
@@ -511,6 +519,7 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   for (int l = 0; l < nl; l++) {
     if (!keep[l]) { /* apart: the contact ended */
       gone |= 1u << l;
+      if (c->trial) continue;
       c->touch[kk[l]] = 0;
       if (broke[l]) { /* as the linear law at un <= 0 commits: xi = 0, the normal */
         char *h = (char *)c->h + hk[l];
@@ -525,6 +534,9 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
       badmask |= 1u << l;
       continue;
     }
+    if (c->trial) continue;
+    if (c->vc0)
+      for (int q = 0; q < 3; q++) c->vc0[3 * kk[l] + q] = vc[q][l];
     char *h = (char *)c->h + hk[l];
     memcpy(h + HXI, rows[l], 4 * sizeof(double));
     const double n12[2] = {n[1][l], n[2][l]};
