@@ -3,7 +3,6 @@
 #include "integrators/dem_ode.h"
 
 #include <math.h>
-#include <nvector/nvector_serial.h>
 #include <string.h>
 
 #include "model/forces.h"
@@ -133,40 +132,6 @@ void esf_dem_ode_atol(const esf_dem_ode *o, double *a, double rtol, double atol)
   for (size_t j = 0; j < 9 * o->n; j++) a[j] = atol;
   for (size_t q = 0; q < o->nq; q++) a[9 * o->n + q] = esf_dem_ode_qtol(o, rtol);
   for (size_t j = 0; j < o->nxi; j++) a[9 * o->n + o->nq + j] = atol; /* m */
-}
-
-/* sqrt(sum (x w)^2 / n) as W sqrt(sum (x w/W)^2 / n), W the largest weight: ARKODE
- * sets every weight to DBL_MIN in fixed-step runs, whose products with the state are
- * subnormal and cost a microcode assist each (SUNDIALS' own norm took a fifth of an rk4
- * run on S1); scaled, they are the state itself. Four interleaved partial sums, added
- * pairwise, so that the loop vectorises. */
-static realtype wrms_norm(N_Vector x, N_Vector w) {
-  const sunindextype n = N_VGetLength_Serial(x);
-  const realtype *a = N_VGetArrayPointer_Serial(x), *b = N_VGetArrayPointer_Serial(w);
-  realtype big = 0;
-  for (sunindextype i = 0; i < n; i++) big = fabs(b[i]) > big ? fabs(b[i]) : big;
-  if (!(big > 0) || n == 0) return 0.0;
-  const realtype inv = 1.0 / big;
-  realtype s[4] = {0, 0, 0, 0};
-  sunindextype i = 0;
-  for (; i + 4 <= n; i += 4)
-    for (int k = 0; k < 4; k++) {
-      const realtype p = a[i + k] * (b[i + k] * inv);
-      s[k] += p * p;
-    }
-  for (; i < n; i++) {
-    const realtype p = a[i] * (b[i] * inv);
-    s[0] += p * p;
-  }
-  return big * sqrt(((s[0] + s[1]) + (s[2] + s[3])) / (realtype)n);
-}
-
-N_Vector esf_dem_ode_vector(size_t len, SUNContext ctx) {
-  N_Vector v = N_VNew_Serial((sunindextype)len, ctx);
-  if (!v) return NULL;
-  N_VEnableFusedOps_Serial(v, SUNTRUE);
-  v->ops->nvwrmsnorm = wrms_norm;
-  return v;
 }
 
 void esf_sundials_silent(int code, const char *module, const char *function, char *msg,

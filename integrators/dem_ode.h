@@ -116,12 +116,14 @@ double esf_dem_ode_qtol(const esf_dem_ode *o, double rtol);
  * esf_dem_ode_qtol on the quadratures. */
 void esf_dem_ode_atol(const esf_dem_ode *o, double *a, double rtol, double atol);
 
-/* A serial SUNDIALS vector of length len for the ODE methods' state: fused vector
- * operations on (one pass for a stage's linear combination instead of one per term)
- * and a WRMS norm scaled by the largest weight, without the subnormal products of
- * ARKODE's fixed-step weights (DBL_MIN), vectorised (ARKODE takes the state's norm at
- * every step, even with a fixed step). NULL when out of memory. Clones keep both. */
-N_Vector esf_dem_ode_vector(size_t len, SUNContext ctx);
+/* A SUNDIALS vector of length len for the ODE methods' state (ode_vector.c): OpenMP's
+ * on `threads` threads, fused vector operations on, its linear combinations, sums,
+ * scalings and constants blocked for the cache and the same bits on any thread count
+ * (SUNDIALS' serial operations block by block), and a serial WRMS norm scaled by the
+ * largest weight, without the subnormal products of ARKODE's fixed-step weights
+ * (DBL_MIN), vectorised (ARKODE takes the state's norm at every step, even with a
+ * fixed step). NULL when out of memory. Clones keep all of it. */
+N_Vector esf_dem_ode_vector(size_t len, int threads, SUNContext ctx);
 
 /* A SUNDIALS error handler that prints nothing: failures reach the user through
  * esfera's own messages (ARKErrHandlerFn and CVErrHandlerFn have this signature). */
