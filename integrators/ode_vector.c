@@ -1,43 +1,24 @@
 /* ode_vector.c — the ODE methods' state vector (dem_ode.h: esf_dem_ode_vector):
  * SUNDIALS' OpenMP vector, its thread count the run's, with the operations ARKODE and
- * CVODE spend their vector time in replaced by blocked ones.
+ * CVODE spend their vector time in replaced.
  *
  * Algorithm: a linear combination z = sum c_i X_i (a Runge-Kutta stage, a step's
  * solution), a linear sum, a scaling (a copy) and a constant run block by block over
- * BLOCK entries, each block by SUNDIALS' own serial operation on views of the
- * vectors' entries there, so that every entry gets SUNDIALS' operations in SUNDIALS'
- * order (the same bits as the serial vector), while the several passes a serial
- * linear combination makes over z stay within a block in the cache; the blocks are
- * shared among the threads (each entry computed by one thread, whatever their number:
- * the same bits on any thread count). The weighted RMS norm is esfera's own, serial
- * (a sum whose order must not depend on the threads), scaled by the largest weight.
+ * BLOCK entries, every entry with the operations of SUNDIALS' serial vector in their
+ * order, case by case (the same bits), written out here: the SUNDIALS 6.4.1 library
+ * of the distribution is built without optimisation, and its combination makes one
+ * pass over z per term, which here stays within a block in the cache. The blocks are
+ * shared among the threads, each entry computed by one thread whatever their number:
+ * the same bits on any thread count. The weighted RMS norm is esfera's own, serial (a
+ * sum whose order must not depend on the threads), scaled by the largest weight.
  * Entry: len entries, threads >= 1. Units: those of y (dem_ode.h). */
 #include <math.h>
 #include <nvector/nvector_openmp.h>
-#include <nvector/nvector_serial.h>
 
 #include "integrators/dem_ode.h"
 
 #define BLOCK  2048 /* entries per block: 16 kB a vector, a 13-stage sum in L2 */
-#define MAXV   32   /* vectors a blocked combination takes (more: SUNDIALS' own) */
 #define SERIAL 8192 /* below this length, one thread */
-
-/* A serial vector viewing n entries of data (the content and the generic record on
- * the caller's stack: SUNDIALS' serial operations read only the content). */
-typedef struct view {
-  struct _generic_N_Vector v;
-  struct _N_VectorContent_Serial c;
-} view;
-
-static inline N_Vector view_of(view *w, realtype *data, sunindextype n) {
-  w->c.length = n;
-  w->c.own_data = SUNFALSE;
-  w->c.data = data;
-  w->v.content = &w->c;
-  w->v.ops = NULL;
-  w->v.sunctx = NULL;
-  return &w->v;
-}
 
 static inline int threads_of(N_Vector z) { return NV_NUM_THREADS_OMP(z); }
 
@@ -51,18 +32,97 @@ static inline sunindextype block_len(N_Vector z, sunindextype b) {
   return n - lo < BLOCK ? n - lo : BLOCK;
 }
 
+/* z = c x over m entries, as SUNDIALS' N_VScale: a copy for c = 1, else c x (for
+ * c = -1 the same bits as its negation). z may be x. */
+static inline void scale_m(double c, const double *x, double *z, sunindextype m) {
+  if (c == 1.0) {
+    if (z != x)
+      for (sunindextype j = 0; j < m; j++) z[j] = x[j];
+    return;
+  }
+  for (sunindextype j = 0; j < m; j++) z[j] = c * x[j];
+}
+
+/* z = a x + b y over m entries, as SUNDIALS' N_VLinearSum computes it, case by case
+ * in its order (its special cases round differently from a x + b y only where
+ * written out below: a (x + y) for a = b, a (x - y) for a = -b, a difference's sign of
+ * zero). z may be x or y. */
+static inline void linsum_m(double a, const double *x, double b, const double *y,
+                            double *z, sunindextype m) {
+  if ((b == 1.0 && z == y) || (a == 1.0 && z == x)) { /* y += a x, or x += b y */
+    const double c = z == y && b == 1.0 ? a : b;
+    const double *v = z == y && b == 1.0 ? x : y;
+    if (c == 1.0)
+      for (sunindextype j = 0; j < m; j++) z[j] = z[j] + v[j];
+    else if (c == -1.0)
+      for (sunindextype j = 0; j < m; j++) z[j] = z[j] - v[j];
+    else
+      for (sunindextype j = 0; j < m; j++) z[j] = z[j] + c * v[j];
+    return;
+  }
+  if (a == 1.0 && b == 1.0) {
+    for (sunindextype j = 0; j < m; j++) z[j] = x[j] + y[j];
+    return;
+  }
+  if ((a == 1.0 && b == -1.0) || (a == -1.0 && b == 1.0)) { /* v2 - v1 */
+    const double *v1 = a == 1.0 ? y : x, *v2 = a == 1.0 ? x : y;
+    for (sunindextype j = 0; j < m; j++) z[j] = v2[j] - v1[j];
+    return;
+  }
+  if (a == 1.0 || b == 1.0) { /* c v1 + v2 */
+    const double c = a == 1.0 ? b : a;
+    const double *v1 = a == 1.0 ? y : x, *v2 = a == 1.0 ? x : y;
+    for (sunindextype j = 0; j < m; j++) z[j] = c * v1[j] + v2[j];
+    return;
+  }
+  if (a == -1.0 || b == -1.0) { /* c v1 - v2 */
+    const double c = a == -1.0 ? b : a;
+    const double *v1 = a == -1.0 ? y : x, *v2 = a == -1.0 ? x : y;
+    for (sunindextype j = 0; j < m; j++) z[j] = c * v1[j] - v2[j];
+    return;
+  }
+  if (a == b) {
+    for (sunindextype j = 0; j < m; j++) z[j] = a * (x[j] + y[j]);
+    return;
+  }
+  if (a == -b) {
+    for (sunindextype j = 0; j < m; j++) z[j] = a * (x[j] - y[j]);
+    return;
+  }
+  for (sunindextype j = 0; j < m; j++) z[j] = a * x[j] + b * y[j];
+}
+
+/* z = sum c_i X_i over m entries from offset lo, as SUNDIALS' N_VLinearCombination:
+ * one or two vectors as a scaling or a linear sum; else z (or c_0 z, or c_0 X_0) then
+ * z += c_i X_i term by term, each pass over the block (in the cache). */
+static inline void lincomb_m(int nvec, const double *c, N_Vector *X, N_Vector z,
+                             sunindextype lo, sunindextype m) {
+  double *zd = NV_DATA_OMP(z) + lo;
+  const double *x0 = NV_DATA_OMP(X[0]) + lo;
+  if (nvec == 1) {
+    scale_m(c[0], x0, zd, m);
+    return;
+  }
+  if (nvec == 2) {
+    linsum_m(c[0], x0, c[1], NV_DATA_OMP(X[1]) + lo, zd, m);
+    return;
+  }
+  if (X[0] != z)
+    for (sunindextype j = 0; j < m; j++) zd[j] = c[0] * x0[j];
+  else if (c[0] != 1.0)
+    for (sunindextype j = 0; j < m; j++) zd[j] *= c[0];
+  for (int i = 1; i < nvec; i++) {
+    const double *xd = NV_DATA_OMP(X[i]) + lo, ci = c[i];
+    for (sunindextype j = 0; j < m; j++) zd[j] += ci * xd[j];
+  }
+}
+
 static int lincomb(int nvec, realtype *c, N_Vector *X, N_Vector z) {
-  if (nvec < 1 || nvec > MAXV) return N_VLinearCombination_OpenMP(nvec, c, X, z);
+  if (nvec < 1) return -1;
   const sunindextype nb = nblocks(z);
 #pragma omp parallel for num_threads(threads_of(z)) schedule(static)
-  for (sunindextype b = 0; b < nb; b++) {
-    const sunindextype lo = b * BLOCK, m = block_len(z, b);
-    view vz, vx[MAXV];
-    N_Vector Z = view_of(&vz, NV_DATA_OMP(z) + lo, m), V[MAXV];
-    for (int i = 0; i < nvec; i++) /* X[i] == z stays z (SUNDIALS tests it) */
-      V[i] = X[i] == z ? Z : view_of(vx + i, NV_DATA_OMP(X[i]) + lo, m);
-    N_VLinearCombination_Serial(nvec, c, V, Z);
-  }
+  for (sunindextype b = 0; b < nb; b++)
+    lincomb_m(nvec, c, X, z, b * BLOCK, block_len(z, b));
   return 0;
 }
 
@@ -70,11 +130,9 @@ static void linsum(realtype a, N_Vector x, realtype b, N_Vector y, N_Vector z) {
   const sunindextype nb = nblocks(z);
 #pragma omp parallel for num_threads(threads_of(z)) schedule(static)
   for (sunindextype k = 0; k < nb; k++) {
-    const sunindextype lo = k * BLOCK, m = block_len(z, k);
-    view vx, vy, vz; /* aliases stay aliases (SUNDIALS tests them) */
-    N_Vector Z = view_of(&vz, NV_DATA_OMP(z) + lo, m);
-    N_VLinearSum_Serial(a, x == z ? Z : view_of(&vx, NV_DATA_OMP(x) + lo, m), b,
-                        y == z ? Z : view_of(&vy, NV_DATA_OMP(y) + lo, m), Z);
+    const sunindextype lo = k * BLOCK;
+    linsum_m(a, NV_DATA_OMP(x) + lo, b, NV_DATA_OMP(y) + lo, NV_DATA_OMP(z) + lo,
+             block_len(z, k));
   }
 }
 
@@ -82,10 +140,8 @@ static void scale(realtype c, N_Vector x, N_Vector z) {
   const sunindextype nb = nblocks(z);
 #pragma omp parallel for num_threads(threads_of(z)) schedule(static)
   for (sunindextype k = 0; k < nb; k++) {
-    const sunindextype lo = k * BLOCK, m = block_len(z, k);
-    view vx, vz;
-    N_Vector Z = view_of(&vz, NV_DATA_OMP(z) + lo, m);
-    N_VScale_Serial(c, x == z ? Z : view_of(&vx, NV_DATA_OMP(x) + lo, m), Z);
+    const sunindextype lo = k * BLOCK;
+    scale_m(c, NV_DATA_OMP(x) + lo, NV_DATA_OMP(z) + lo, block_len(z, k));
   }
 }
 
@@ -93,8 +149,9 @@ static void constant(realtype c, N_Vector z) {
   const sunindextype nb = nblocks(z);
 #pragma omp parallel for num_threads(threads_of(z)) schedule(static)
   for (sunindextype k = 0; k < nb; k++) {
-    view vz;
-    N_VConst_Serial(c, view_of(&vz, NV_DATA_OMP(z) + k * BLOCK, block_len(z, k)));
+    double *zd = NV_DATA_OMP(z) + k * BLOCK;
+    const sunindextype m = block_len(z, k);
+    for (sunindextype j = 0; j < m; j++) zd[j] = c;
   }
 }
 
