@@ -131,6 +131,8 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   }
   const double dt = s->dt, h = 0.5 * dt;
   const double ar = s->alpha_r, at = s->alpha_t;
+  const int nth = s->cfg.threads > 1 ? s->cfg.threads : 1; /* entry by entry: no bits */
+#pragma omp parallel for num_threads(nth) if (nth > 1 && p->n >= 4096) schedule(static)
   for (size_t j = 0; j < 3 * p->n; j++) {
     p->v[j] += h * (vv->a[j] - ar * p->v[j]);
     p->w[j] += h * (vv->dw[j] - at * p->w[j]);
@@ -149,6 +151,7 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   /* the second half kick treats global damping implicitly (trapezoidal over the step:
      second order, unconditionally stable for the damping term) */
   const double cr = 1.0 / (1.0 + h * ar), ct = 1.0 / (1.0 + h * at);
+#pragma omp parallel for num_threads(nth) if (nth > 1 && p->n >= 4096) schedule(static)
   for (size_t j = 0; j < 3 * p->n; j++) {
     p->v[j] = (p->v[j] + h * vv->a[j]) * cr;
     p->w[j] = (p->w[j] + h * vv->dw[j]) * ct;
