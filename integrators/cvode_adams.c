@@ -58,8 +58,8 @@ static int cv_create(esf_sim *s, void **state, esf_error *err) {
   int rc = esf_sim_refresh(s, NULL, err);
   if (rc) return rc;
   sunindextype len = (sunindextype)esf_dem_ode_layout(&c->ode);
-  c->y = esf_dem_ode_vector((size_t)len, s->cfg.threads, c->ctx);
-  c->atol = esf_dem_ode_vector((size_t)len, s->cfg.threads, c->ctx);
+  c->y = esf_dem_ode_vector((size_t)len, &c->ode.path.threads, c->ctx);
+  c->atol = esf_dem_ode_vector((size_t)len, &c->ode.path.threads, c->ctx);
   if (!c->y || !c->atol) return esf_fail(err, ESF_ENOMEM, "out of memory");
   esf_dem_ode_pack(&c->ode, NULL, N_VGetArrayPointer(c->y));
   rc = esf_dem_ode_start(&c->ode, N_VGetArrayPointer(c->y), err);

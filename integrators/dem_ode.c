@@ -30,10 +30,13 @@ int esf_eval_forces(esf_eval_path *ep, esf_sim *s, const double *x, const double
                   s->t, ep->name, esf_fused_isa(ep->fast), s->cfg.threads);
     ep->logged = why ? 2 : 1;
   }
+  ep->threads = 1;
   if (why) return esf_forces_eval(s, x, v, w, dt, mode, touching, err);
   const esf_fused_eval ev = {
       .x = x, .v = v, .w = w, .dt = dt, .trial = mode == ESF_FORCES_TRIAL};
-  return esf_fused_forces(s, ep->fast, &ev, touching, err);
+  const int rc = esf_fused_forces(s, ep->fast, &ev, touching, err);
+  ep->threads = esf_fused_threads(ep->fast);
+  return rc;
 }
 
 void esf_eval_path_free(esf_eval_path *ep) { esf_fused_free(&ep->fast); }
@@ -45,6 +48,7 @@ void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s, const char *name) {
   o->s = s;
   o->path.name = name;
   o->path.ode = 1;
+  o->path.threads = 1;
   o->n = s->p.n;
   o->state = s->cfg.history == ESF_HIST_STATE;
   o->t_commit = s->t;
@@ -185,7 +189,8 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   }
   memcpy(ydot, v, 3 * n * sizeof(double));
   double pd[2] = {0, 0};
-  esf_sim_accel(s, v, w, ydot + 3 * n, ydot + 6 * n, s->led.on ? pd : NULL, 1);
+  esf_sim_accel(s, v, w, ydot + 3 * n, ydot + 6 * n, s->led.on ? pd : NULL, 1,
+                o->path.threads);
   /* orientations are not tracked: spheres need only w */
   for (size_t j = 3 * n; j < 9 * n; j++)
     if (!isfinite(ydot[j])) {

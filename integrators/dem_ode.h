@@ -61,6 +61,9 @@ typedef struct esf_eval_path {
   const char *name; /* the method, for the log */
   int ode;          /* 1: an ODE method (esf_fused_eval_refusal) */
   int logged;       /* the path last logged: 1 fused, 2 general, 0 none yet */
+  int threads;      /* the threads the last evaluation ran on (esf_fused_threads; 1 on
+                       the general path): the method's other loops take as many, so
+                       that they follow the fused step's back-off on a busy machine */
 } esf_eval_path;
 
 /* As esf_forces_eval(s, x, v, w, dt, mode, touching, err), by the path ep takes. */
@@ -117,13 +120,14 @@ double esf_dem_ode_qtol(const esf_dem_ode *o, double rtol);
 void esf_dem_ode_atol(const esf_dem_ode *o, double *a, double rtol, double atol);
 
 /* A SUNDIALS vector of length len for the ODE methods' state (ode_vector.c): OpenMP's
- * on `threads` threads, fused vector operations on, its linear combinations, sums,
- * scalings and constants blocked for the cache and the same bits on any thread count
- * (SUNDIALS' serial operations block by block), and a serial WRMS norm scaled by the
- * largest weight, without the subnormal products of ARKODE's fixed-step weights
- * (DBL_MIN), vectorised (ARKODE takes the state's norm at every step, even with a
- * fixed step). NULL when out of memory. Clones keep all of it. */
-N_Vector esf_dem_ode_vector(size_t len, int threads, SUNContext ctx);
+ * on *threads threads (read at every operation: the evaluation path's count), fused
+ * vector operations on, its linear combinations, sums, scalings and constants blocked for
+ * the cache and the same bits on any thread count (SUNDIALS' serial operations block by
+ * block), and a serial WRMS norm scaled by the largest weight, without the subnormal
+ * products of ARKODE's fixed-step weights (DBL_MIN), vectorised (ARKODE takes the state's
+ * norm at every step, even with a fixed step). NULL when out of memory. Clones keep all
+ * of it. */
+N_Vector esf_dem_ode_vector(size_t len, const int *threads, SUNContext ctx);
 
 /* A SUNDIALS error handler that prints nothing: failures reach the user through
  * esfera's own messages (ARKErrHandlerFn and CVErrHandlerFn have this signature). */

@@ -9,10 +9,13 @@
  * of the distribution is built without optimisation, and its combination makes one
  * pass over z per term, which here stays within a block in the cache. The blocks are
  * shared among the threads, each entry computed by one thread whatever their number:
- * the same bits on any thread count. The weighted RMS norm is esfera's own, serial (a
- * sum whose order must not depend on the threads), scaled by the largest weight.
- * Entry: len entries, threads >= 1. Units: those of y (dem_ode.h). */
+ * the same bits on any thread count; the threads are those the force evaluation ran
+ * on last (fewer while other programs keep them waiting: fused.c). The weighted RMS norm
+ * is esfera's own, serial (a sum whose order must not depend on the threads), scaled by
+ * the largest weight. Entry: len entries, threads >= 1. Units: those of y (dem_ode.h). */
 #include <math.h>
+#include <stdlib.h>
+#include <string.h>
 #include <nvector/nvector_openmp.h>
 
 #include "integrators/dem_ode.h"
@@ -20,7 +23,44 @@
 #define BLOCK  2048 /* entries per block: 16 kB a vector, a 13-stage sum in L2 */
 #define SERIAL 8192 /* below this length, one thread */
 
-static inline int threads_of(N_Vector z) { return NV_NUM_THREADS_OMP(z); }
+/* The OpenMP vector's content, extended with the thread count the operations follow
+ * (the evaluation path's: esf_eval_path.threads); its own num_threads stays 1, for
+ * the operations of SUNDIALS' OpenMP vector not replaced here. Freed with free() by
+ * N_VDestroy_OpenMP, as its own. */
+typedef struct xcontent {
+  struct _N_VectorContent_OpenMP c; /* first: SUNDIALS' macros read it */
+  const int *threads;
+} xcontent;
+
+static inline int threads_of(N_Vector z) {
+  const int t = *((const xcontent *)z->content)->threads;
+  return t > 1 && NV_LENGTH_OMP(z) >= SERIAL ? t : 1;
+}
+
+/* Replaces v's content by an extended copy following *threads; NULL (v destroyed) when
+ * out of memory. */
+static N_Vector extend(N_Vector v, const int *threads) {
+  if (!v) return NULL;
+  xcontent *x = malloc(sizeof *x);
+  if (!x) {
+    N_VDestroy(v);
+    return NULL;
+  }
+  memcpy(&x->c, v->content, sizeof x->c);
+  x->c.num_threads = 1;
+  x->threads = threads;
+  free(v->content);
+  v->content = x;
+  return v;
+}
+
+static N_Vector clone(N_Vector w) {
+  return extend(N_VClone_OpenMP(w), ((const xcontent *)w->content)->threads);
+}
+
+static N_Vector clone_empty(N_Vector w) {
+  return extend(N_VCloneEmpty_OpenMP(w), ((const xcontent *)w->content)->threads);
+}
 
 /* The blocks of z's length: [b BLOCK, min((b + 1) BLOCK, n)). */
 static inline sunindextype nblocks(N_Vector z) {
@@ -182,13 +222,12 @@ static realtype wrms_norm(N_Vector x, N_Vector w) {
   return big * sqrt(((s[0] + s[1]) + (s[2] + s[3])) / (realtype)n);
 }
 
-N_Vector esf_dem_ode_vector(size_t len, int threads, SUNContext ctx) {
-  /* short vectors on one thread: SUNDIALS' own OpenMP operations (those not replaced
-     here) would otherwise open a team for a few thousand entries */
-  const int t = threads > 1 && len >= SERIAL ? threads : 1;
-  N_Vector v = N_VNew_OpenMP((sunindextype)len, t, ctx);
+N_Vector esf_dem_ode_vector(size_t len, const int *threads, SUNContext ctx) {
+  N_Vector v = extend(N_VNew_OpenMP((sunindextype)len, 1, ctx), threads);
   if (!v) return NULL;
   N_VEnableFusedOps_OpenMP(v, SUNTRUE);
+  v->ops->nvclone = clone;
+  v->ops->nvcloneempty = clone_empty;
   v->ops->nvwrmsnorm = wrms_norm;
   v->ops->nvlinearcombination = lincomb;
   v->ops->nvlinearsum = linsum;

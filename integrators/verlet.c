@@ -38,6 +38,7 @@ static int vv_create(esf_sim *s, void **state, esf_error *err) {
   verlet *vv = calloc(1, sizeof *vv);
   if (!vv) return esf_fail(err, ESF_ENOMEM, "out of memory");
   vv->path.name = "verlet";
+  vv->path.threads = 1;
   *state = vv;
   return ESF_OK;
 }
@@ -78,7 +79,7 @@ static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[7], esf_error *
   rc = reserve(vv, p->n, err);
   if (rc) return rc;
   double pd[2] = {0, 0};
-  esf_sim_accel(s, p->v, p->w, vv->a, vv->dw, s->led.on ? pd : NULL, 0);
+  esf_sim_accel(s, p->v, p->w, vv->a, vv->dw, s->led.on ? pd : NULL, 0, vv->path.threads);
   if (s->led.on) {
     pw[0] = ty.p_normal;
     pw[1] = ty.p_tangential;
@@ -131,7 +132,7 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   }
   const double dt = s->dt, h = 0.5 * dt;
   const double ar = s->alpha_r, at = s->alpha_t;
-  const int nth = s->cfg.threads > 1 ? s->cfg.threads : 1; /* entry by entry: no bits */
+  const int nth = vv->path.threads; /* the evaluation's; entry by entry: no bits */
 #pragma omp parallel for num_threads(nth) if (nth > 1 && p->n >= 4096) schedule(static)
   for (size_t j = 0; j < 3 * p->n; j++) {
     p->v[j] += h * (vv->a[j] - ar * p->v[j]);

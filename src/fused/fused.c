@@ -383,7 +383,6 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
                                   ESF_FORCES_TRIAL, NULL, NULL, &nt, fi, ti, err);
     return rc ? rc : esf_fail(err, ESF_EINTERNAL, "wall contact failure not reproduced");
   }
-  if (ev) return ESF_OK;
   if (ledger) s->led_time = (double)(s->step - 1) * s->dt; /* the last step's t_n */
   if (f->cap_logged == 1) {                                /* the first time only */
     esf_sim_log(s,
@@ -396,9 +395,11 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   }
   if (autod && n > 0) esf_sim_adapt_damping(s, s->led_blocks, B.nblocks);
   if (s->walls.gforce && n > 0) esf_servo_update(s); /* the walls' velocities */
-  s->nb.max_disp2 = r.max2;
-  s->nb.escaped = r.escaped;
-  s->nb.disp_valid = K.xref && !r.nonfinite;
+  if (!ev) { /* an evaluation moved nothing */
+    s->nb.max_disp2 = r.max2;
+    s->nb.escaped = r.escaped;
+    s->nb.disp_valid = K.xref && !r.nonfinite;
+  }
 #ifdef _OPENMP
   f->t_left = omp_get_wtime();
   f->t_step = (f->t_left - t_start) / (double)(n > 0 ? n : 1);
@@ -440,3 +441,5 @@ int esf_fused_forces(esf_sim *s, esf_fused *f, const esf_fused_eval *ev, size_t 
   if (touching) *touching = nt;
   return rc;
 }
+
+int esf_fused_threads(const esf_fused *f) { return f->nth > 1 ? f->nth : 1; }

@@ -63,4 +63,8 @@ const char *esf_fused_eval_refusal(const esf_sim *s, int ode);
 int esf_fused_forces(esf_sim *s, esf_fused *f, const esf_fused_eval *ev, size_t *touching,
                      esf_error *err);
 
+/* The threads the last call ran on (its ranges: fewer than asked on a small scene, or
+ * while other programs kept them waiting, fused.c), >= 1. */
+int esf_fused_threads(const esf_fused *f);
+
 #endif
