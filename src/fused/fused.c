@@ -14,7 +14,9 @@
  * order of the serial scatter in model/forces.c, whatever T (incoming slots, interior
  * batches and outgoing slots are merged in k), and every other sum is per particle;
  * so the results are the same bits on any thread count. Failures are reported for the
- * lowest pair or particle index, and a range with a failing pair does not move. */
+ * lowest pair or particle index, and a range with a failing pair does not move.
+ * esf_fused_forces: the same passes for one evaluation at a given state (Verlet, the
+ * ODE methods), without kick and drift, committing or as a trial. */
 #include "fused/fused_impl.h"
 
 #include <math.h>
@@ -395,7 +397,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   }
   if (autod && n > 0) esf_sim_adapt_damping(s, s->led_blocks, B.nblocks);
   if (s->walls.gforce && n > 0) esf_servo_update(s); /* the walls' velocities */
-  if (!ev) { /* an evaluation moved nothing */
+  if (!ev) {                                         /* an evaluation moved nothing */
     s->nb.max_disp2 = r.max2;
     s->nb.escaped = r.escaped;
     s->nb.disp_valid = K.xref && !r.nonfinite;

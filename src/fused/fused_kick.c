@@ -8,7 +8,8 @@
  * (1 + alpha h), h = dt/2, the same for w with the moment and the inertia, and
  * x_{n+1} = x_n + v_{n+1/2} dt. The wall pass (wall_fast.h) reads and adds to its own
  * particle only, so doing all of a range's walls before its kicks changes no operation.
- * The accumulators keep F_n, M_n (s->ft_lazy, for esf_sim_forces_sync).
+ * The accumulators keep F_n, M_n (s->ft_lazy, for esf_sim_forces_sync). An evaluation
+ * (esf_fused_forces, K->forces_only) stops after the walls: the totals to p.f, p.t.
  * Entry: the range's pair forces summed (fused_pairs.c). Units: SI. */
 #include "fused/fused_impl.h"
 

@@ -1,23 +1,23 @@
 /* pair_batch.c — the linear law of the fused step, ESF_BATCH pairs in vector lanes
  * (with ctx.hertz the Hertz-Mindlin law's springs and dashpots, contact_hertz.h).
  *
- * Physics: contact_linear.c's law (docs/physics.md#linear-springdashpot-law), as the
- * fused step needs it: normal spring and dashpot without
- * tension (004 2.9–2.12), the incremental tangential spring xi carried into the new
- * contact plane, rotated (000 3-17, 3-18: xi += (n_old x n) x xi, then the twist of the
- * mean spin about n) or projected and rescaled to its old length, the tangential
- * dashpot while sticking and the Mohr-Coulomb cap with radial return (004 2.13–2.16).
- * The contact point divides the overlap equally: lever arms la = ra - un/2,
- * lb = rb - un/2; the relative contact velocity is vc = (vB - vA) - (la wA + lb wB) x n
- * (000 3-21). Rolling resistance (some mu_r or mu_tw): esf_law_rolling, its torque
- * added to A's, subtracted from B's (as model/forces.c). Every lane runs the same
- * instructions (the order per batch: batch). Entry: the pairs overlapped at their last
- * screening or step; their touch flag says whether the history is live.
- * Exit: a pair whose spheres no longer overlap (the screening's test, |d|^2 < (ra +
- * rb)^2, computed in the same order) has its touch flag cleared and nothing else; for
- * the others out holds force on A, torque on A, torque on B (N, N m), or these were
- * added, lane by lane, to the accumulators of A and B (B's force with the opposite
- * sign); history committed. Units: SI. */
+ * Physics: contact_linear.c's law (docs/physics.md#linear-springdashpot-law): normal
+ * spring and dashpot without tension (004 2.9–2.12), the incremental tangential spring
+ * xi carried into the new contact plane, rotated (000 3-17, 3-18: xi += (n_old x n) x
+ * xi, then the twist of the mean spin about n) or projected and rescaled to its old
+ * length, the tangential dashpot while sticking and the Mohr-Coulomb cap with radial
+ * return (004 2.13–2.16). Lever arms la = ra - un/2, lb = rb - un/2; the relative
+ * contact velocity vc = (vB - vA) - (la wA + lb wB) x n (000 3-21). Rolling resistance
+ * (some mu_r or mu_tw): esf_law_rolling, its torque added to A's, subtracted from B's
+ * (as model/forces.c). Every lane runs the same instructions (the order: batch).
+ * Entry: the pairs overlapped at their last screening or step; their touch flag says
+ * whether the history is live. Exit: a pair whose spheres no longer overlap (the
+ * screening's test, |d|^2 < (ra + rb)^2, in the same order) has its touch flag cleared
+ * and nothing else; for the others out holds force on A, torque on A, torque on B (N,
+ * N m), or these were added, lane by lane, to the accumulators of A and B (B's force
+ * negated); history committed. A trial (ctx.trial: the ODE methods' stages) writes
+ * nothing; with ctx.vc0 (the ODE methods) a live contact's increment integrates
+ * (vc0 + vc)/2 (forces.c's eval_contact) and a commit stores vc. Units: SI. */
 #include "fused/pair_batch.h"
 
 #include "util/vec4.h"
