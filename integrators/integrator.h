@@ -17,9 +17,9 @@
 #include "util/esf_error.h"
 
 enum {
-  ESF_INTEG_FIXED_STEP = 1u << 0,          /* uses s->dt */
-  ESF_INTEG_ADAPTIVE = 1u << 1,            /* chooses its own steps */
-  ESF_INTEG_HALF_STEP_V = 1u << 2,         /* velocities in the state are at half steps */
+  ESF_INTEG_FIXED_STEP = 1u << 0,         /* uses s->dt */
+  ESF_INTEG_ADAPTIVE = 1u << 1,           /* chooses its own steps */
+  ESF_INTEG_HALF_STEP_V = 1u << 2,        /* velocities in the state are at half steps */
   ESF_INTEG_HISTORY_INCREMENTAL = 1u << 3, /* contact history committed once per step */
   ESF_INTEG_STABILITY_CHECK = 1u << 4 /* checks its stability live (model/stability.h);
                                          the driver asks once more at the run's end */
