@@ -54,12 +54,12 @@ static int cv_create(esf_sim *s, void **state, esf_error *err) {
   if (hc) return hc;
   if (SUNContext_Create(NULL, &c->ctx))
     return esf_fail(err, ESF_EINTERNAL, "cannot create a SUNDIALS context");
-  esf_dem_ode_init(&c->ode, s);
+  esf_dem_ode_init(&c->ode, s, "cvode-adams");
   int rc = esf_sim_refresh(s, NULL, err);
   if (rc) return rc;
   sunindextype len = (sunindextype)esf_dem_ode_layout(&c->ode);
-  c->y = esf_dem_ode_vector((size_t)len, c->ctx);
-  c->atol = esf_dem_ode_vector((size_t)len, c->ctx);
+  c->y = esf_dem_ode_vector((size_t)len, &c->ode.path.threads, c->ctx);
+  c->atol = esf_dem_ode_vector((size_t)len, &c->ode.path.threads, c->ctx);
   if (!c->y || !c->atol) return esf_fail(err, ESF_ENOMEM, "out of memory");
   esf_dem_ode_pack(&c->ode, NULL, N_VGetArrayPointer(c->y));
   rc = esf_dem_ode_start(&c->ode, N_VGetArrayPointer(c->y), err);
@@ -129,6 +129,7 @@ static void cv_destroy(void **state) {
     if (c->y) N_VDestroy(c->y);
     if (c->atol) N_VDestroy(c->atol);
     if (c->ctx) SUNContext_Free(&c->ctx);
+    esf_dem_ode_free(&c->ode);
   }
   free(c);
   *state = NULL;

@@ -3,16 +3,52 @@
 #include "integrators/dem_ode.h"
 
 #include <math.h>
-#include <nvector/nvector_serial.h>
 #include <string.h>
 
 #include "model/forces.h"
 #include "model/model.h"
 #include "util/vec3.h"
 
-void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s) {
+int esf_eval_forces(esf_eval_path *ep, esf_sim *s, const double *x, const double *v,
+                    const double *w, double dt, int mode, size_t *touching,
+                    esf_error *err) {
+  const char *why = esf_fused_eval_refusal(s, ep->ode);
+  if (!why && !ep->fast) {
+    int rc = esf_fused_create(&ep->fast, s->cfg.isa, err);
+    if (rc) return rc;
+  }
+  if (!ep->logged || (why == NULL) != (ep->logged == 1)) { /* the path, when it changes */
+    if (why)
+      esf_sim_log(s,
+                  "t = %.6g s: %s's force evaluations on the general path, one "
+                  "thread (%s)",
+                  s->t, ep->name, why);
+    else
+      esf_sim_log(s,
+                  "t = %.6g s: %s's force evaluations on the fused step's kernels, "
+                  "%s, %d threads",
+                  s->t, ep->name, esf_fused_isa(ep->fast), s->cfg.threads);
+    ep->logged = why ? 2 : 1;
+  }
+  ep->threads = 1;
+  if (why) return esf_forces_eval(s, x, v, w, dt, mode, touching, err);
+  const esf_fused_eval ev = {
+      .x = x, .v = v, .w = w, .dt = dt, .trial = mode == ESF_FORCES_TRIAL};
+  const int rc = esf_fused_forces(s, ep->fast, &ev, touching, err);
+  ep->threads = esf_fused_threads(ep->fast);
+  return rc;
+}
+
+void esf_eval_path_free(esf_eval_path *ep) { esf_fused_free(&ep->fast); }
+
+void esf_dem_ode_free(esf_dem_ode *o) { esf_eval_path_free(&o->path); }
+
+void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s, const char *name) {
   memset(o, 0, sizeof *o);
   o->s = s;
+  o->path.name = name;
+  o->path.ode = 1;
+  o->path.threads = 1;
   o->n = s->p.n;
   o->state = s->cfg.history == ESF_HIST_STATE;
   o->t_commit = s->t;
@@ -102,40 +138,6 @@ void esf_dem_ode_atol(const esf_dem_ode *o, double *a, double rtol, double atol)
   for (size_t j = 0; j < o->nxi; j++) a[9 * o->n + o->nq + j] = atol; /* m */
 }
 
-/* sqrt(sum (x w)^2 / n) as W sqrt(sum (x w/W)^2 / n), W the largest weight: ARKODE
- * sets every weight to DBL_MIN in fixed-step runs, whose products with the state are
- * subnormal and cost a microcode assist each (SUNDIALS' own norm took a fifth of an rk4
- * run on S1); scaled, they are the state itself. Four interleaved partial sums, added
- * pairwise, so that the loop vectorises. */
-static realtype wrms_norm(N_Vector x, N_Vector w) {
-  const sunindextype n = N_VGetLength_Serial(x);
-  const realtype *a = N_VGetArrayPointer_Serial(x), *b = N_VGetArrayPointer_Serial(w);
-  realtype big = 0;
-  for (sunindextype i = 0; i < n; i++) big = fabs(b[i]) > big ? fabs(b[i]) : big;
-  if (!(big > 0) || n == 0) return 0.0;
-  const realtype inv = 1.0 / big;
-  realtype s[4] = {0, 0, 0, 0};
-  sunindextype i = 0;
-  for (; i + 4 <= n; i += 4)
-    for (int k = 0; k < 4; k++) {
-      const realtype p = a[i + k] * (b[i + k] * inv);
-      s[k] += p * p;
-    }
-  for (; i < n; i++) {
-    const realtype p = a[i] * (b[i] * inv);
-    s[0] += p * p;
-  }
-  return big * sqrt(((s[0] + s[1]) + (s[2] + s[3])) / (realtype)n);
-}
-
-N_Vector esf_dem_ode_vector(size_t len, SUNContext ctx) {
-  N_Vector v = N_VNew_Serial((sunindextype)len, ctx);
-  if (!v) return NULL;
-  N_VEnableFusedOps_Serial(v, SUNTRUE);
-  v->ops->nvwrmsnorm = wrms_norm;
-  return v;
-}
-
 void esf_sundials_silent(int code, const char *module, const char *function, char *msg,
                          void *data) {
   (void)code;
@@ -176,7 +178,8 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   s->tally = s->led.on ? &ty : NULL; /* the quadratures only feed the ledger */
   attach_xi(o, y, ydot);
   esf_walls_set_time(&s->walls, t);
-  int rc = esf_forces_eval(s, x, v, w, t - o->t_commit, ESF_FORCES_TRIAL, NULL, &o->err);
+  int rc = esf_eval_forces(&o->path, s, x, v, w, t - o->t_commit, ESF_FORCES_TRIAL, NULL,
+                           &o->err);
   detach_xi(o);
   s->tally = NULL;
   o->nrhs++;
@@ -186,7 +189,8 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   }
   memcpy(ydot, v, 3 * n * sizeof(double));
   double pd[2] = {0, 0};
-  esf_sim_accel(s, v, w, ydot + 3 * n, ydot + 6 * n, s->led.on ? pd : NULL, 1);
+  esf_sim_accel(s, v, w, ydot + 3 * n, ydot + 6 * n, s->led.on ? pd : NULL, 1,
+                o->path.threads);
   /* orientations are not tracked: spheres need only w */
   for (size_t j = 3 * n; j < 9 * n; j++)
     if (!isfinite(ydot[j])) {
@@ -219,8 +223,8 @@ int esf_dem_ode_commit(esf_dem_ode *o, double t, const double *y, esf_error *err
   size_t touching = 0;
   attach_xi(o, y, NULL);
   esf_walls_set_time(&s->walls, t);
-  int rc = esf_forces_eval(s, s->p.x, s->p.v, s->p.w, t - o->t_commit, ESF_FORCES_COMMIT,
-                           &touching, err);
+  int rc = esf_eval_forces(&o->path, s, s->p.x, s->p.v, s->p.w, t - o->t_commit,
+                           ESF_FORCES_COMMIT, &touching, err);
   detach_xi(o);
   s->tally = NULL;
   o->ncommit++;

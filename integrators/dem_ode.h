@@ -36,6 +36,7 @@
 #include <sundials/sundials_nvector.h>
 
 #include "core/sim.h"
+#include "fused/fused.h"
 
 enum {
   ESF_ODE_QN,
@@ -51,24 +52,48 @@ enum {
                              power its dashpots and constant torques dissipate */
 };
 
+/* The force evaluation of velocity Verlet and the ODE methods: the fused step's
+ * kernels, threaded (esf_fused_forces), when the sim's settings allow
+ * (esf_fused_eval_refusal), else model/forces.c's general path; the same bits either
+ * way. The path taken is logged when it changes. */
+typedef struct esf_eval_path {
+  esf_fused *fast;  /* NULL until the first evaluation */
+  const char *name; /* the method, for the log */
+  int ode;          /* 1: an ODE method (esf_fused_eval_refusal) */
+  int logged;       /* the path last logged: 1 fused, 2 general, 0 none yet */
+  int threads;      /* the threads the last evaluation ran on (esf_fused_threads; 1 on
+                       the general path): the method's other loops take as many, so
+                       that they follow the fused step's back-off on a busy machine */
+} esf_eval_path;
+
+/* As esf_forces_eval(s, x, v, w, dt, mode, touching, err), by the path ep takes. */
+int esf_eval_forces(esf_eval_path *ep, esf_sim *s, const double *x, const double *v,
+                    const double *w, double dt, int mode, size_t *touching,
+                    esf_error *err);
+
+void esf_eval_path_free(esf_eval_path *ep);
+
 typedef struct esf_dem_ode {
   esf_sim *s;
-  size_t n;        /* particles in the layout */
-  size_t nxi;      /* entries of the XI block (0 for frozen history) */
-  size_t nq;       /* quadratures: ESF_ODE_NQ, + 1 with rolling resistance (QR) */
-  size_t len;      /* length of y: 9 n + nq + nxi */
-  int state;       /* 1: history as ODE state */
-  double t_commit; /* time the committed history refers to, s */
-  long nrhs;       /* right-hand-side evaluations */
-  long ncommit;    /* commit evaluations */
-  long nfail;      /* recoverable failures returned */
-  double el_t0;    /* tangential elastic energy at the start, J (history as state) */
-  double slip_r;   /* plastic rolling work booked at the commits, J (rolling) */
-  esf_error err;   /* the last failure inside f */
+  esf_eval_path path; /* the force evaluation's */
+  size_t n;           /* particles in the layout */
+  size_t nxi;         /* entries of the XI block (0 for frozen history) */
+  size_t nq;          /* quadratures: ESF_ODE_NQ, + 1 with rolling resistance (QR) */
+  size_t len;         /* length of y: 9 n + nq + nxi */
+  int state;          /* 1: history as ODE state */
+  double t_commit;    /* time the committed history refers to, s */
+  long nrhs;          /* right-hand-side evaluations */
+  long ncommit;       /* commit evaluations */
+  long nfail;         /* recoverable failures returned */
+  double el_t0;       /* tangential elastic energy at the start, J (history as state) */
+  double slip_r;      /* plastic rolling work booked at the commits, J (rolling) */
+  esf_error err;      /* the last failure inside f */
 } esf_dem_ode;
 
-/* Prepares the ODE view of the sim; call before the first candidate-list build. */
-void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s);
+/* Prepares the ODE view of the sim, for the method `name` (the log); call before the
+ * first candidate-list build. esf_dem_ode_free releases it. */
+void esf_dem_ode_init(esf_dem_ode *o, esf_sim *s, const char *name);
+void esf_dem_ode_free(esf_dem_ode *o);
 
 /* Sets o->n, o->nxi and o->len for the current particles and candidate lists (after
  * each build: the first may have removed particles that start outside the domain);
@@ -94,12 +119,15 @@ double esf_dem_ode_qtol(const esf_dem_ode *o, double rtol);
  * esf_dem_ode_qtol on the quadratures. */
 void esf_dem_ode_atol(const esf_dem_ode *o, double *a, double rtol, double atol);
 
-/* A serial SUNDIALS vector of length len for the ODE methods' state: fused vector
- * operations on (one pass for a stage's linear combination instead of one per term)
- * and a WRMS norm scaled by the largest weight, without the subnormal products of
- * ARKODE's fixed-step weights (DBL_MIN), vectorised (ARKODE takes the state's norm at
- * every step, even with a fixed step). NULL when out of memory. Clones keep both. */
-N_Vector esf_dem_ode_vector(size_t len, SUNContext ctx);
+/* A SUNDIALS vector of length len for the ODE methods' state (ode_vector.c): OpenMP's
+ * on *threads threads (read at every operation: the evaluation path's count), fused
+ * vector operations on, its linear combinations, sums, scalings and constants blocked for
+ * the cache and the same bits on any thread count (SUNDIALS' serial operations block by
+ * block), and a serial WRMS norm scaled by the largest weight, without the subnormal
+ * products of ARKODE's fixed-step weights (DBL_MIN), vectorised (ARKODE takes the state's
+ * norm at every step, even with a fixed step). NULL when out of memory. Clones keep all
+ * of it. */
+N_Vector esf_dem_ode_vector(size_t len, const int *threads, SUNContext ctx);
 
 /* A SUNDIALS error handler that prints nothing: failures reach the user through
  * esfera's own messages (ARKErrHandlerFn and CVErrHandlerFn have this signature). */

@@ -282,10 +282,10 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
                     "%s: integrator.method: %s has no embedded error estimate: it runs "
                     "with a fixed step only (set integrator.rtol: 0 and give dt or frac)",
                     esf_config_where(c, "integrator.method"), c->method);
-  esf_dem_ode_init(&e->ode, s);
+  esf_dem_ode_init(&e->ode, s, e->name);
   int rc = esf_sim_refresh(s, NULL, err);
   if (rc) return rc;
-  e->y = esf_dem_ode_vector(esf_dem_ode_layout(&e->ode), e->ctx);
+  e->y = esf_dem_ode_vector(esf_dem_ode_layout(&e->ode), &e->ode.path.threads, e->ctx);
   if (!e->y) return esf_fail(err, ESF_ENOMEM, "out of memory");
   esf_dem_ode_pack(&e->ode, NULL, N_VGetArrayPointer(e->y));
   rc = esf_dem_ode_start(&e->ode, N_VGetArrayPointer(e->y), err);
@@ -295,7 +295,8 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   e->r_stab = r;
   e->h_stab = (r > 0.05 && w2 > 0) ? r / sqrt(w2) : -1.0;
   if (adaptive) {
-    e->atol = esf_dem_ode_vector((size_t)N_VGetLength(e->y), e->ctx);
+    e->atol =
+        esf_dem_ode_vector((size_t)N_VGetLength(e->y), &e->ode.path.threads, e->ctx);
     e->ysave = N_VClone(e->y);
     if (!e->atol || !e->ysave) return esf_fail(err, ESF_ENOMEM, "out of memory");
     esf_dem_ode_atol(&e->ode, N_VGetArrayPointer(e->atol), c->rtol, c->atol);
@@ -320,7 +321,8 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
 static int erk_sync(erk *e, int *restarted, esf_error *err) {
   esf_sim *s = e->ode.s;
   size_t old = e->ode.len, len = esf_dem_ode_layout(&e->ode);
-  N_Vector yn = len == old ? N_VClone(e->y) : esf_dem_ode_vector(len, e->ctx);
+  N_Vector yn =
+      len == old ? N_VClone(e->y) : esf_dem_ode_vector(len, &e->ode.path.threads, e->ctx);
   if (!yn) return esf_fail(err, ESF_ENOMEM, "out of memory");
   const double *y = N_VGetArrayPointer(e->y);
   double *ny = N_VGetArrayPointer(yn);
@@ -506,7 +508,7 @@ static int erk_restore(esf_sim *s, void *state, esf_blob_in *in, esf_error *err)
     return esf_fail(err, ESF_EINPUT,
                     "%s: the saved step, times or counters are out of range", e->name);
   N_VDestroy(e->y);
-  e->y = esf_dem_ode_vector(len, e->ctx);
+  e->y = esf_dem_ode_vector(len, &e->ode.path.threads, e->ctx);
   if (!e->y) return esf_fail(err, ESF_ENOMEM, "out of memory");
   esf_blob_get(in, N_VGetArrayPointer(e->y), len * sizeof(double));
   const double *y = N_VGetArrayPointer(e->y);
@@ -581,6 +583,7 @@ static void erk_destroy(void **state) {
     if (e->ysave) N_VDestroy(e->ysave);
     if (e->table) ARKodeButcherTable_Free(e->table);
     if (e->ctx) SUNContext_Free(&e->ctx);
+    esf_dem_ode_free(&e->ode);
   }
   free(e);
   *state = NULL;

@@ -29,6 +29,7 @@ typedef struct verlet {
   double p_prev[7]; /* normal, tangential, global, local, walls, fluid, rolling powers
                        at t_n */
   int started;
+  esf_eval_path path; /* the force evaluation's (dem_ode.h) */
 } verlet;
 
 static int vv_create(esf_sim *s, void **state, esf_error *err) {
@@ -36,6 +37,8 @@ static int vv_create(esf_sim *s, void **state, esf_error *err) {
   if (rc) return rc;
   verlet *vv = calloc(1, sizeof *vv);
   if (!vv) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  vv->path.name = "verlet";
+  vv->path.threads = 1;
   *state = vv;
   return ESF_OK;
 }
@@ -45,6 +48,7 @@ static void vv_destroy(void **state) {
   if (vv) {
     free(vv->a);
     free(vv->dw);
+    esf_eval_path_free(&vv->path);
   }
   free(vv);
   *state = NULL;
@@ -67,14 +71,15 @@ static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[7], esf_error *
   esf_force_tally ty = {0};
   s->tally = s->led.on ? &ty : NULL;
   size_t touching = 0;
-  int rc = esf_forces_eval(s, p->x, p->v, p->w, dt, ESF_FORCES_COMMIT, &touching, err);
+  int rc = esf_eval_forces(&vv->path, s, p->x, p->v, p->w, dt, ESF_FORCES_COMMIT,
+                           &touching, err);
   s->tally = NULL;
   if (rc) return rc;
   s->contacts_sum += (double)touching;
   rc = reserve(vv, p->n, err);
   if (rc) return rc;
   double pd[2] = {0, 0};
-  esf_sim_accel(s, p->v, p->w, vv->a, vv->dw, s->led.on ? pd : NULL, 0);
+  esf_sim_accel(s, p->v, p->w, vv->a, vv->dw, s->led.on ? pd : NULL, 0, vv->path.threads);
   if (s->led.on) {
     pw[0] = ty.p_normal;
     pw[1] = ty.p_tangential;
@@ -127,6 +132,8 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   }
   const double dt = s->dt, h = 0.5 * dt;
   const double ar = s->alpha_r, at = s->alpha_t;
+  const int nth = vv->path.threads; /* the evaluation's; entry by entry: no bits */
+#pragma omp parallel for num_threads(nth) if (nth > 1 && p->n >= 4096) schedule(static)
   for (size_t j = 0; j < 3 * p->n; j++) {
     p->v[j] += h * (vv->a[j] - ar * p->v[j]);
     p->w[j] += h * (vv->dw[j] - at * p->w[j]);
@@ -145,6 +152,7 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   /* the second half kick treats global damping implicitly (trapezoidal over the step:
      second order, unconditionally stable for the damping term) */
   const double cr = 1.0 / (1.0 + h * ar), ct = 1.0 / (1.0 + h * at);
+#pragma omp parallel for num_threads(nth) if (nth > 1 && p->n >= 4096) schedule(static)
   for (size_t j = 0; j < 3 * p->n; j++) {
     p->v[j] = (p->v[j] + h * vv->a[j]) * cr;
     p->w[j] = (p->w[j] + h * vv->dw[j]) * ct;

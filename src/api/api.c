@@ -88,6 +88,7 @@ void esf_handle_close(esf_handle **hp) {
   if (!hp || !*hp) return;
   esf_handle *h = *hp;
   if (h->ist) h->it->destroy(&h->ist);
+  if (h->mode == MODE_ODE) esf_dem_ode_free(&h->ode);
   esf_sim_release(&h->s);
   free(h);
   *hp = NULL;
@@ -238,7 +239,7 @@ static int ode_enter(esf_handle *h) {
                               "particle count, which the ODE view keeps fixed; take "
                               "steps with esf_handle_step (the leapfrog)",
                               s->insert->e[0].where));
-  esf_dem_ode_init(&h->ode, s);
+  esf_dem_ode_init(&h->ode, s, "the ODE view");
   int rc = esf_sim_refresh(s, NULL, &h->err);
   if (rc) return poison(h, rc);
   size_t len = esf_dem_ode_layout(&h->ode);

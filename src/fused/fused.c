@@ -14,7 +14,9 @@
  * order of the serial scatter in model/forces.c, whatever T (incoming slots, interior
  * batches and outgoing slots are merged in k), and every other sum is per particle;
  * so the results are the same bits on any thread count. Failures are reported for the
- * lowest pair or particle index, and a range with a failing pair does not move. */
+ * lowest pair or particle index, and a range with a failing pair does not move.
+ * esf_fused_forces: the same passes for one evaluation at a given state (Verlet, the
+ * ODE methods), without kick and drift, committing or as a trial. */
 #include "fused/fused_impl.h"
 
 #include <math.h>
@@ -210,7 +212,11 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
   }
 }
 
-int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *err) {
+/* esf_fused_run's steps, or with ev one force evaluation (esf_fused_forces): ev's
+ * interval and mode, the particle pass writing p.f, p.t (no kick, no drift), *nt the
+ * touching contacts, none of the step's counters advanced. */
+static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
+                     const esf_fused_eval *ev, size_t *nt, esf_error *err) {
   esf_particles *p = &s->p;
   int rc;
   *taken = 0;
@@ -244,7 +250,7 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
     if (rc) return rc;
   }
   const size_t T = (size_t)nth;
-  const double dt = s->dt, h = 0.5 * dt;
+  const double dt = ev ? ev->dt : s->dt, h = 0.5 * s->dt;
   const esf_candidates *cp = &s->nb.pp;
   const esf_pair_batch_ctx bc = {
       .x = p->x,
@@ -273,7 +279,9 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
       .mass = p->mass,
       .inertia = p->inertia,
       .roll_cdt = s->mats.rolling_model == ESF_ROLL_CDT,
-      .broken = &f->broken};
+      .broken = &f->broken,
+      .trial = ev && ev->trial,
+      .vc0 = ev ? cp->vc0 : NULL};
   const double cr0 = 1.0 - s->alpha_r * h, cr1 = 1.0 / (1.0 + s->alpha_r * h),
                ct0 = 1.0 - s->alpha_t * h, ct1 = 1.0 / (1.0 + s->alpha_t * h);
   esf_fused_kick K = {
@@ -286,7 +294,8 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
       .dim2 = s->cfg.dim == 2,
       .plain = cr0 == 1.0 && cr1 == 1.0 && ct0 == 1.0 && ct1 == 1.0 && !s->local &&
                s->cfg.dim == 3 && !ledger && !autod && !s->drag,
-      .wall_pass = esf_wall_pass_select(s),
+      .wall_pass = ev ? esf_wall_pass_eval(s, ev->trial) : esf_wall_pass_select(s),
+      .forces_only = ev != NULL,
       .loc = s->local,
       .xref = s->nb.xref,
       .dom_lo = s->nb.dom_lo,
@@ -306,7 +315,7 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
   const esf_fused_burst B = {.bc = &bc,
                              .K = &K,
                              .e0 = f->epoch + 1,
-                             .steps = many && nmax > 1 ? nmax : 1,
+                             .steps = many && nmax > 1 && !ev ? nmax : 1,
                              .lim2 = esf_neighbor_limit2(&s->nb),
                              .led = ledger ? &s->led : NULL,
                              .nblocks = esf_ledger_nblocks(p->n)};
@@ -347,15 +356,20 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
     esf_fused_balance(f, T);
   }
   const long ok = fail ? n - 1 : n; /* steps completed without failure */
-  s->step += ok;
-  s->t = (double)s->step * s->dt;
-  s->rhs_evals += ok;
-  s->contacts_sum += (double)f->nt_sum;
+  if (ev) {
+    s->rhs_evals++;
+    *nt = f->nt_sum;
+  } else {
+    s->step += ok;
+    s->t = (double)s->step * s->dt;
+    s->rhs_evals += ok;
+    s->contacts_sum += (double)f->nt_sum;
+  }
   s->bonds.broken += atomic_load_explicit(&f->broken, memory_order_relaxed);
   *taken = ok;
   /* the accumulators hold F_n, M_n; on failure they are partly overwritten, and p.f,
-   * p.t keep what the last sync left */
-  s->ft_lazy = fail ? NULL : f->acc;
+   * p.t keep what the last sync left (an evaluation wrote p.f, p.t itself) */
+  s->ft_lazy = fail || ev ? NULL : f->acc;
   if (r.bad_pair != SIZE_MAX) {
     const esf_candidates *c = &s->nb.pp;
     uint32_t a = c->a[r.bad_pair], b = c->b[r.bad_pair];
@@ -385,9 +399,11 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
   }
   if (autod && n > 0) esf_sim_adapt_damping(s, s->led_blocks, B.nblocks);
   if (s->walls.gforce && n > 0) esf_servo_update(s); /* the walls' velocities */
-  s->nb.max_disp2 = r.max2;
-  s->nb.escaped = r.escaped;
-  s->nb.disp_valid = K.xref && !r.nonfinite;
+  if (!ev) {                                         /* an evaluation moved nothing */
+    s->nb.max_disp2 = r.max2;
+    s->nb.escaped = r.escaped;
+    s->nb.disp_valid = K.xref && !r.nonfinite;
+  }
 #ifdef _OPENMP
   f->t_left = omp_get_wtime();
   f->t_step = (f->t_left - t_start) / (double)(n > 0 ? n : 1);
@@ -396,3 +412,38 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
 #endif
   return ESF_OK;
 }
+
+int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *err) {
+  return run_calls(s, f, nmax, taken, NULL, NULL, err);
+}
+
+const char *esf_fused_eval_refusal(const esf_sim *s, int ode) {
+  if (!s->cfg.fused) return "integrator.fused: false";
+  if (s->led.on) return "the energy ledger (its tallies: the general path's)";
+  if (s->cfg.history == ESF_HIST_STATE) return "integrator.history: state";
+  if (!s->mats.particles_fused) return "a contact law the fused step has no kernel for";
+  if (s->bonds.on || s->walls.gforce || s->drag)
+    return "bonds, servo walls or the fluid force";
+  if (ode && s->mats.any_rolling) return "rolling resistance (its carry)";
+  if (!ESF_FUSED_FEATURES && !minimal_ok(s)) return "a feature of a minimal build";
+  return NULL;
+}
+
+int esf_fused_forces(esf_sim *s, esf_fused *f, const esf_fused_eval *ev, size_t *touching,
+                     esf_error *err) {
+  esf_particles *p = &s->p;
+  double *const x = p->x, *const v = p->v, *const w = p->w;
+  p->x = (double *)ev->x; /* the passes read the state there (restored below) */
+  p->v = (double *)ev->v;
+  p->w = (double *)ev->w;
+  long taken;
+  size_t nt = 0;
+  const int rc = run_calls(s, f, 1, &taken, ev, &nt, err);
+  p->x = x;
+  p->v = v;
+  p->w = w;
+  if (touching) *touching = nt;
+  return rc;
+}
+
+int esf_fused_threads(const esf_fused *f) { return f->nth > 1 ? f->nth : 1; }

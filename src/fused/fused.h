@@ -41,4 +41,30 @@ const char *esf_fused_refusal(const esf_sim *s);
  * (overlap past the limit) is reported for the step it happened in, s->step naming it. */
 int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *err);
 
+/* One force evaluation for velocity Verlet and the ODE methods (the fused step's
+ * passes without kick and drift): forces and torques at the state (x, v, w) into p.f,
+ * p.t, as model/forces.c's esf_forces_eval gives them bit for bit, threaded, the same
+ * bits on any thread count. dt: the interval the tangential increment integrates over;
+ * trial: history read, not written (ESF_FORCES_TRIAL), else committed (with the
+ * lists' carry vc0 when they keep it). */
+typedef struct esf_fused_eval {
+  const double *x, *v, *w; /* 3n each; one double past w readable (esf_particles' y, an
+                              ODE state with its quadratures) */
+  double dt;               /* s */
+  int trial;
+} esf_fused_eval;
+
+/* Why esf_fused_forces cannot take the sim's settings (for the log), or NULL; ode: for
+ * the ODE methods (their rolling carry is the general path's). */
+const char *esf_fused_eval_refusal(const esf_sim *s, int ode);
+
+/* The evaluation: as esf_forces_eval (s->rhs_evals advanced, *touching may be NULL;
+ * an overlap past the limit gives its message). */
+int esf_fused_forces(esf_sim *s, esf_fused *f, const esf_fused_eval *ev, size_t *touching,
+                     esf_error *err);
+
+/* The threads the last call ran on (its ranges: fewer than asked on a small scene, or
+ * while other programs kept them waiting, fused.c), >= 1. */
+int esf_fused_threads(const esf_fused *f);
+
 #endif

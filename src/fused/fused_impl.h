@@ -167,6 +167,7 @@ typedef struct esf_fused_kick {
   int dim2;
   int plain;                  /* 1: no damping of either form, 3D (a vectorised loop) */
   esf_wall_pass_fn wall_pass; /* wall_fast.h, chosen once per call */
+  int forces_only;            /* 1: walls, then F, M to p.f, p.t (esf_fused_forces) */
   const esf_local_damping *loc;
   const double *xref;            /* positions at the lists' build, or NULL */
   const double *dom_lo, *dom_hi; /* the domain, or NULL */

@@ -8,7 +8,8 @@
  * (1 + alpha h), h = dt/2, the same for w with the moment and the inertia, and
  * x_{n+1} = x_n + v_{n+1/2} dt. The wall pass (wall_fast.h) reads and adds to its own
  * particle only, so doing all of a range's walls before its kicks changes no operation.
- * The accumulators keep F_n, M_n (s->ft_lazy, for esf_sim_forces_sync).
+ * The accumulators keep F_n, M_n (s->ft_lazy, for esf_sim_forces_sync). An evaluation
+ * (esf_fused_forces, K->forces_only) stops after the walls: the totals to p.f, p.t.
  * Entry: the range's pair forces summed (fused_pairs.c). Units: SI. */
 #include "fused/fused_impl.h"
 
@@ -167,6 +168,20 @@ static inline void kick_one(const esf_sim *s, esf_particles *p, const esf_fused_
 void esf_fused_kick_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *K,
                           size_t lo, size_t hi, esf_fused_out *o, size_t *nt_pw) {
   if (walls_range(s, f, K, lo, hi, nt_pw, &o->bad_part)) return;
+  if (K->forces_only) { /* an evaluation (esf_fused_forces): the totals to p.f, p.t */
+    esf_particles *p = &s->p;
+    for (size_t i = lo; i < hi; i++) {
+      const double *fi = f->acc + ESF_FUSED_ACC * i;
+      v3_copy(p->f + 3 * i, fi);
+      v3_copy(p->t + 3 * i, fi + 4);
+      if (ESF_FUSED_FEATURES && K->dim2) { /* as forces.c's, at the end */
+        p->f[3 * i + 1] = 0.0;
+        p->t[3 * i] = 0.0;
+        p->t[3 * i + 2] = 0.0;
+      }
+    }
+    return;
+  }
   if (K->plain && K->xref) {
     const double inf3[2][3] = {{-INFINITY, -INFINITY, -INFINITY},
                                {INFINITY, INFINITY, INFINITY}};

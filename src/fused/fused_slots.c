@@ -70,8 +70,9 @@ size_t esf_fused_boundary(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc
       const size_t k = f->bk[j], a = c->a[k], b = c->b[k];
       if (!esf_fused_overlap(p->x, p->radius, a, b) &&
           !(c->touch[k] && esf_candidates_bonded(c, k))) { /* bonds pull */
-        if (c->touch[k]) {
-          c->touch[k] = 0;
+        if (c->touch[k] || bc->vc0 || bc->trial) {         /* the ODE methods: a trial may
+                                                               have filled a flagless slot */
+          if (!bc->trial) c->touch[k] = 0;
           esf_fused_slot_clear(f, j);
         }
         if (bc->rows) /* a bond that broke last step left its energy here */

@@ -1,23 +1,23 @@
 /* pair_batch.c — the linear law of the fused step, ESF_BATCH pairs in vector lanes
  * (with ctx.hertz the Hertz-Mindlin law's springs and dashpots, contact_hertz.h).
  *
- * Physics: contact_linear.c's law (docs/physics.md#linear-springdashpot-law), as the
- * fused step needs it: normal spring and dashpot without
- * tension (004 2.9–2.12), the incremental tangential spring xi carried into the new
- * contact plane, rotated (000 3-17, 3-18: xi += (n_old x n) x xi, then the twist of the
- * mean spin about n) or projected and rescaled to its old length, the tangential
- * dashpot while sticking and the Mohr-Coulomb cap with radial return (004 2.13–2.16).
- * The contact point divides the overlap equally: lever arms la = ra - un/2,
- * lb = rb - un/2; the relative contact velocity is vc = (vB - vA) - (la wA + lb wB) x n
- * (000 3-21). Rolling resistance (some mu_r or mu_tw): esf_law_rolling, its torque
- * added to A's, subtracted from B's (as model/forces.c). Every lane runs the same
- * instructions (the order per batch: batch). Entry: the pairs overlapped at their last
- * screening or step; their touch flag says whether the history is live.
- * Exit: a pair whose spheres no longer overlap (the screening's test, |d|^2 < (ra +
- * rb)^2, computed in the same order) has its touch flag cleared and nothing else; for
- * the others out holds force on A, torque on A, torque on B (N, N m), or these were
- * added, lane by lane, to the accumulators of A and B (B's force with the opposite
- * sign); history committed. Units: SI. */
+ * Physics: contact_linear.c's law (docs/physics.md#linear-springdashpot-law): normal
+ * spring and dashpot without tension (004 2.9–2.12), the incremental tangential spring
+ * xi carried into the new contact plane, rotated (000 3-17, 3-18: xi += (n_old x n) x
+ * xi, then the twist of the mean spin about n) or projected and rescaled to its old
+ * length, the tangential dashpot while sticking and the Mohr-Coulomb cap with radial
+ * return (004 2.13–2.16). Lever arms la = ra - un/2, lb = rb - un/2; the relative
+ * contact velocity vc = (vB - vA) - (la wA + lb wB) x n (000 3-21). Rolling resistance
+ * (some mu_r or mu_tw): esf_law_rolling, its torque added to A's, subtracted from B's
+ * (as model/forces.c). Every lane runs the same instructions (the order: batch).
+ * Entry: the pairs overlapped at their last screening or step; their touch flag says
+ * whether the history is live. Exit: a pair whose spheres no longer overlap (the
+ * screening's test, |d|^2 < (ra + rb)^2, in the same order) has its touch flag cleared
+ * and nothing else; for the others out holds force on A, torque on A, torque on B (N,
+ * N m), or these were added, lane by lane, to the accumulators of A and B (B's force
+ * negated); history committed. A trial (ctx.trial: the ODE methods' stages) writes
+ * nothing; with ctx.vc0 (the ODE methods) a live contact's increment integrates
+ * (vc0 + vc)/2 (forces.c's eval_contact) and a commit stores vc. Units: SI. */
 #include "fused/pair_batch.h"
 
 #include "util/vec4.h"
@@ -468,18 +468,26 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
     }
   }
   const vd spin = 0.5 * (dot(wa, n) + dot(wb, n));
-  const esf_law_tpar_v P = {.kt = kt,
-                            .ct = ct,
-                            .mu = mu,
-                            .coh = coh,
-                            .tl = tl,
-                            .rotate = c->rotate,
-                            .tension = c->bond != NULL, /* only bonds pull */
-                            .ledger = c->rows != NULL,
-                            .hertz = c->hertz,
-                            .st = st,
-                            .st0 = st0,
-                            .vi = NULL};
+  esf_law_tpar_v P = {.kt = kt,
+                      .ct = ct,
+                      .mu = mu,
+                      .coh = coh,
+                      .tl = tl,
+                      .rotate = c->rotate,
+                      .tension = c->bond != NULL, /* only bonds pull */
+                      .ledger = c->rows != NULL,
+                      .hertz = c->hertz,
+                      .st = st,
+                      .st0 = st0,
+                      .vi = NULL};
+  vd vim[3]; /* the ODE methods' carry (forces.c's eval_contact): (vc0 + vc)/2 live */
+  if (c->vc0) {
+    vd c0[3];
+    for (int l = 0; l < ESF_BATCH; l++)
+      for (int q = 0; q < 3; q++) c0[q][l] = c->vc0[3 * kk[l] + q];
+    for (int q = 0; q < 3; q++) vim[q] = sel(tch, 0.5 * (c0[q] + vc[q]), vc[q]);
+    P.vi = vim;
+  }
   esf_law_tout_v T;
   esf_law_tangential_v(&P, zero + c->dt, n, spin, vc, vn, fn, hx, hn, tch & ~broke, &T);
   vd m[3], f[3];
@@ -511,6 +519,7 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   for (int l = 0; l < nl; l++) {
     if (!keep[l]) { /* apart: the contact ended */
       gone |= 1u << l;
+      if (c->trial) continue;
       c->touch[kk[l]] = 0;
       if (broke[l]) { /* as the linear law at un <= 0 commits: xi = 0, the normal */
         char *h = (char *)c->h + hk[l];
@@ -525,6 +534,9 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
       badmask |= 1u << l;
       continue;
     }
+    if (c->trial) continue;
+    if (c->vc0)
+      for (int q = 0; q < 3; q++) c->vc0[3 * kk[l] + q] = vc[q][l];
     char *h = (char *)c->h + hk[l];
     memcpy(h + HXI, rows[l], 4 * sizeof(double));
     const double n12[2] = {n[1][l], n[2][l]};

@@ -61,6 +61,12 @@ typedef struct esf_pair_batch_ctx {
   const double *inertia;      /* n, kg m^2 (with roll) */
   int roll_cdt;               /* with roll: 1 the cdt model, 0 epsd */
   _Atomic long *broken;       /* bonds broken (with bond) */
+  int trial;                  /* 1: nothing committed (history, touch flags, bonds,
+                                 rolling states): the ODE methods' stage evaluations */
+  double *vc0;                /* per pair, 3: the relative contact velocity at the last
+                                 commit (the ODE methods' trapezoidal carry: a live
+                                 contact's increment integrates (vc0 + vc)/2 over dt;
+                                 committing writes vc), or NULL */
 } esf_pair_batch_ctx;
 
 /* The contacts of pairs k[0 .. nl) (1 <= nl <= ESF_BATCH). A pair whose spheres do
@@ -68,10 +74,11 @@ typedef struct esf_pair_batch_ctx {
  * same operations) is apart: its touch flag is cleared, nothing else is written, and
  * its lane's bit is set in *apart. For the others, writes out[lane][0 ..
  * ESF_BATCH_OUT) and, with the ledger (ctx->rows), lout[lane][0 .. ESF_BATCH_LOUT),
- * and commits each pair's history and touch flag. Returns a bit mask of the lanes whose
- * overlap exceeds the limit: nothing is committed for those. The particle arrays x, v,
- * w are read four doubles at a time, so one double past the last w must be readable
- * (esf_particles' y has it). */
+ * and commits each pair's history and touch flag (not in a trial, ctx->trial; with
+ * ctx->vc0 also its contact velocity, the increment then integrating the carry). Returns
+ * a bit mask of the lanes whose overlap exceeds the limit: nothing is committed for
+ * those. The particle arrays x, v, w are read four doubles at a time, so one double past
+ * the last w must be readable (esf_particles' y has it). */
 unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *ctx, const uint32_t *k, int nl,
                                double out[ESF_BATCH][ESF_BATCH_OUT],
                                double lout[ESF_BATCH][ESF_BATCH_LOUT], unsigned *apart);

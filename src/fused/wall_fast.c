@@ -176,6 +176,18 @@ int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_
                                   rows, NULL, nt, f, t, NULL);
 }
 
+/* esf_forces_wall_particle without committing (an ODE method's stage). */
+static int wall_trial_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
+                               double *f, double *t, double *rows) {
+  const esf_particles *p = &s->p;
+  return esf_forces_wall_particle(s, k0, k1, p->x, p->v, p->w, dt, ESF_FORCES_TRIAL, rows,
+                                  NULL, nt, f, t, NULL);
+}
+
+esf_wall_pass_fn esf_wall_pass_eval(const esf_sim *s, int trial) {
+  return trial ? wall_trial_particle : esf_wall_pass_select(s);
+}
+
 esf_wall_pass_fn esf_wall_pass_select(const esf_sim *s) {
   /* all pairs: wall materials may pair by a law the particles' pairs do not use */
   const int fast = (s->mats.all_linear || s->mats.all_hertz) && !s->mats.any_rolling &&

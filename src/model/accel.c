@@ -1,17 +1,24 @@
 /* accel.c — accelerations from the forces with the damping forms as force terms, and
  * the stored energies of a state (model.h): what the ODE methods and velocity Verlet
- * integrate (the leapfrog applies global damping in its own (1 -+ alpha dt/2) form). */
+ * integrate (the leapfrog applies global damping in its own (1 -+ alpha dt/2) form).
+ * The accelerations run on the caller's threads when no power is asked for (each
+ * particle's by one thread: the same bits on any count). */
 #include "model/model.h"
 
 #include "util/vec3.h"
 
+#define ESF_ACCEL_PAR 4096 /* particles from which the accelerations are threaded */
+
 void esf_sim_accel(const esf_sim *s, const double *v, const double *w, double *acc,
-                   double *dw, double p_damp[2], int with_global) {
+                   double *dw, double p_damp[2], int with_global, int threads) {
   const esf_particles *p = &s->p;
   const esf_local_damping *loc = s->local;
   const double lc = s->cfg.local_coef;
   const double ar = with_global ? s->alpha_r : 0.0, at = with_global ? s->alpha_t : 0.0;
   double pg = 0, pl = 0;
+  /* particle by particle, so threads change no bits; the powers' sums serially */
+  const int nth = !p_damp && threads > 1 && p->n >= ESF_ACCEL_PAR ? threads : 1;
+#pragma omp parallel for num_threads(nth) if (nth > 1) schedule(static)
   for (size_t i = 0; i < p->n; i++) {
     const double *vi = v + 3 * i, *wi = w + 3 * i;
     double f[3], m[3], fd[3] = {0, 0, 0}, md[3] = {0, 0, 0};

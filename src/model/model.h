@@ -20,10 +20,11 @@ int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err);
  *   a = (F + F_local(F, v) - alpha_r m v) / m,  dw = (M + M_local(M, w) - alpha_t I w) /
  * I (global damping as a force term: the form the Runge-Kutta methods integrate). With
  * with_global = 0 the global term is left out (the caller treats it itself). Writes 3n
- * values to acc and dw. When p_damp is not NULL it receives the powers dissipated by
- * global and local damping (W) at this state. */
+ * values to acc and dw, on `threads` threads when p_damp is NULL (else one). When p_damp
+ * is not NULL it receives the powers dissipated by global and local damping (W) at this
+ * state. */
 void esf_sim_accel(const esf_sim *s, const double *v, const double *w, double *acc,
-                   double *dw, double p_damp[2], int with_global);
+                   double *dw, double p_damp[2], int with_global, int threads);
 
 /* Stored energies of the state (x, v, w): kinetic (translational, rotational) and
  * gravitational potential. */

@@ -1,0 +1,159 @@
+/* test_ode_threads.c — velocity Verlet and the ODE methods (rk4 with a fixed step,
+ * Dormand-Prince adaptive, CVODE Adams) evaluate their forces on the fused step's
+ * kernels (fused.h: esf_fused_forces, trial and committing, with the ODE methods'
+ * trapezoidal carry) and give, bit for bit, the state and contact histories of the
+ * general path (model/forces.c, integrator.fused: false) on 1, 2 and 3 threads.
+ *
+ * The scene: 400 polydisperse spheres of two materials falling into a box with a
+ * tilted polygon floor under global and local damping (the damping forms act outside
+ * the force evaluation, esf_sim_accel), linear law with both tangential frames, and
+ * the Hertz-Mindlin law. Each run takes a fixed number of the scheme's steps; every
+ * run on the fused kernels is checked to have taken them (esf_fused_eval_refusal). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "fused/fused.h"
+#include "simtest.h"
+
+static const char *const scene =
+    "name: ode_threads\n"
+    "materials:\n"
+    "  glass: {density: 2500, kn: 2.0e4, restitution: 0.4, tangential_restitution: 0.6,"
+    " friction: 0.4}\n"
+    "  steel: {density: 7800, kn: 4.0e4, restitution: 0.7, friction: 0.2}\n"
+    "particles:\n"
+    "  - generate: random\n"
+    "    region: {min: [0.001, 0.001, 0.0030], max: [0.029, 0.029, 0.016]}\n"
+    "    count: 400\n"
+    "    radius: {uniform: [0.0008, 0.0016]}\n"
+    "    material: {mix: {glass: 0.6, steel: 0.4}}\n"
+    "    seed: 5\n"
+    "    velocity: [0.05, -0.03, -1.5]\n"
+    "walls:\n"
+    "  - {box: {min: [0, 0, 0], max: [0.03, 0.03, 0.06]}, open: [top], material: steel}\n"
+    "  - {polygon: [[0, 0, 0.001], [0.03, 0, 0.002], [0.03, 0.03, 0.002],"
+    " [0, 0.03, 0.001]], material: glass}\n"
+    "damping: {global: {translation: 2.0, rotation: 1.0},"
+    " local: {coefficient: 0.05, form: component}}\n"
+    "integrator: {method: leapfrog, dt: auto, frac: 0.3}\n"
+    "run: {steps: 100000}\n"
+    "output: {energy_every: 0}\n";
+
+static const char *const hertz_sets[] = {
+    "materials.glass={density: 2500, youngs_modulus: 5.0e7, poisson_ratio: 0.3, "
+    "restitution: 0.4, tangential_restitution: 0.6, friction: 0.4}",
+    "materials.steel={density: 7800, youngs_modulus: 2.0e8, poisson_ratio: 0.28, "
+    "restitution: 0.7, friction: 0.2}"};
+
+typedef struct snapshot {
+  size_t n, m;
+  double *y;
+  esf_contact_hist *h;
+  double *vc0; /* the ODE methods' carry, or NULL */
+  double t, contacts;
+  int fused; /* the evaluations took the fused kernels */
+} snapshot;
+
+/* `steps` calls of the scheme's step with method (and its overrides), threads, fused
+ * or the general path. */
+static int run(const char *const *msets, int nm, int hertz, int threads, int fused,
+               long steps, snapshot *out) {
+  const char *sets[12];
+  int n = 0;
+  for (int k = 0; k < nm; k++) sets[n++] = msets[k];
+  sets[n++] = fused ? "integrator.fused=true" : "integrator.fused=false";
+  if (hertz) {
+    sets[n++] = hertz_sets[0];
+    sets[n++] = hertz_sets[1];
+  }
+  simtest T;
+  int rc = simtest_open(&T, scene, sets, n);
+  if (rc) return rc;
+  T.s.cfg.threads = threads;
+  T.s.cfg.range_work = 1; /* one range per thread, however small the scene */
+  const int ode = strcmp(T.s.cfg.method, "verlet") != 0;
+  for (long i = 0; i < steps && !rc; i++) rc = simtest_step(&T);
+  if (!rc) {
+    out->n = T.s.p.n;
+    out->m = T.s.nb.pp.n;
+    out->y = malloc(9 * out->n * sizeof(double));
+    out->h = malloc((out->m ? out->m : 1) * sizeof *out->h);
+    memcpy(out->y, T.s.p.y, 9 * out->n * sizeof(double));
+    memcpy(out->h, T.s.nb.pp.h, out->m * sizeof *out->h);
+    out->vc0 = NULL;
+    if (T.s.nb.pp.vc0) {
+      out->vc0 = malloc((out->m ? out->m : 1) * 3 * sizeof(double));
+      memcpy(out->vc0, T.s.nb.pp.vc0, out->m * 3 * sizeof(double));
+    }
+    out->t = T.s.t;
+    out->contacts = T.s.contacts_sum;
+    out->fused = esf_fused_eval_refusal(&T.s, ode) == NULL;
+  }
+  simtest_close(&T);
+  return rc;
+}
+
+static void release(snapshot *a) {
+  free(a->y);
+  free(a->h);
+  free(a->vc0);
+}
+
+static void check_same(const snapshot *a, const snapshot *ref, const char *what) {
+  CHECK(a->n == ref->n && a->m == ref->m, "%s: same sizes", what);
+  if (a->n != ref->n || a->m != ref->m) return;
+  CHECK(memcmp(a->y, ref->y, 9 * ref->n * sizeof(double)) == 0, "%s: state differs",
+        what);
+  CHECK(memcmp(a->h, ref->h, ref->m * sizeof *ref->h) == 0, "%s: contact history differs",
+        what);
+  CHECK(!a->vc0 == !ref->vc0 &&
+            (!a->vc0 || memcmp(a->vc0, ref->vc0, 3 * ref->m * sizeof(double)) == 0),
+        "%s: the carried contact velocities differ", what);
+  CHECK(a->t == ref->t && a->contacts == ref->contacts,
+        "%s: t = %.17g s, %.0f contacts summed (reference %.17g, %.0f)", what, a->t,
+        a->contacts, ref->t, ref->contacts);
+}
+
+static void check_method(const char *name, const char *const *msets, int nm, int hertz,
+                         long steps) {
+  snapshot gen = {0};
+  int rc = run(msets, nm, hertz, 1, 0, steps, &gen);
+  CHECK(rc == 0, "%s: general path ran", name);
+  if (rc) return;
+  CHECK(!gen.fused, "%s: integrator.fused: false takes the general path", name);
+  CHECK(gen.contacts > 0, "%s: contacts formed (%.0f)", name, gen.contacts);
+  printf("%s: %ld steps to t = %.4g s, %.1f contacts per step\n", name, steps, gen.t,
+         gen.contacts / (double)steps);
+  for (int th = 1; th <= 3; th++) {
+    snapshot b = {0};
+    char what[160];
+    snprintf(what, sizeof what, "%s, fused kernels on %d threads", name, th);
+    rc = run(msets, nm, hertz, th, 1, steps, &b);
+    CHECK(rc == 0, "%s: ran", what);
+    if (rc) continue;
+    CHECK(b.fused, "%s: took the fused kernels", what);
+    check_same(&b, &gen, what);
+    release(&b);
+  }
+  release(&gen);
+}
+
+int main(void) {
+  const char *verlet[] = {"integrator.method=verlet"};
+  const char *rk4[] = {"integrator.method=rk4"};
+  const char *rk4p[] = {"integrator.method=rk4", "contact.tangential_frame=project"};
+  const char *dp5[] = {"integrator.method=erk:ARKODE_DORMAND_PRINCE_7_4_5",
+                       "integrator.rtol=1.0e-5", "integrator.atol=1.0e-9"};
+  const char *adams[] = {"integrator.method=cvode-adams", "integrator.rtol=1.0e-5",
+                         "integrator.atol=1.0e-9"};
+  check_method("verlet", verlet, 1, 0, 1500);
+  check_method("rk4", rk4, 1, 0, 1500);
+  check_method("rk4, projected frame", rk4p, 2, 0, 1500);
+  check_method("rk4, Hertz-Mindlin", rk4, 1, 1, 1500);
+  check_method("erk DP5 adaptive", dp5, 3, 0, 1000);
+  check_method("cvode-adams", adams, 3, 0, 2000);
+  return check_finish("ode_threads");
+}
