@@ -232,6 +232,24 @@ static int get_contacts(const esf_ckpt *c, const char *tag, esf_candidates *dst,
   return rc;
 }
 
+/* The PERIODIC section (periodic axes only): the particles' image counters, the
+ * particle pairs' images (each in {-1, 0, 1}). */
+static int get_periodic(const esf_ckpt *c, esf_sim *s, esf_error *err) {
+  esf_blob_in in = esf_ckpt_sec(c, "PERIODIC");
+  if (!s->cfg.per.any) return in.short_read ? ESF_OK : mismatch(c, err, "periodic axes");
+  const size_t n = s->p.n, m = s->nb.pp.n;
+  if (in.short_read || !s->p.img || !s->nb.pp.img ||
+      in.n != 3 * n * sizeof *s->p.img + 3 * m * sizeof *s->nb.pp.img)
+    return mismatch(c, err, "the PERIODIC section");
+  esf_blob_get(&in, s->p.img, 3 * n * sizeof *s->p.img);
+  esf_blob_get(&in, s->nb.pp.img, 3 * m * sizeof *s->nb.pp.img);
+  for (size_t k = 0; k < 3 * m; k++)
+    if (s->nb.pp.img[k] < -1 || s->nb.pp.img[k] > 1 ||
+        (s->nb.pp.img[k] && !s->cfg.per.on[k % 3]))
+      return invalid(c, err, "a pair's periodic image is out of range");
+  return ESF_OK;
+}
+
 int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *it,
                      void *ist, esf_ckpt_run *run, esf_error *err) {
   esf_blob_in in = esf_ckpt_sec(c, "METHOD");
@@ -292,6 +310,7 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
   esf_particles *p = &s->p, scene = *p; /* the scene's, to check the saved ones by */
   memset(p, 0, sizeof *p);
   rc = esf_particles_alloc(p, (size_t)n, err);
+  if (!rc && s->cfg.per.any) rc = esf_particles_images(p, err);
   if (rc) {
     esf_particles_release(&scene);
     return rc;
@@ -346,6 +365,7 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
   if (!rc) rc = esf_neighbor_reserve(&s->nb, (size_t)npp, (size_t)npw, err);
   if (!rc) rc = get_contacts(c, "CONTPP", &s->nb.pp, p->n, p->n, err);
   if (!rc) rc = get_contacts(c, "CONTPW", &s->nb.pw, p->n, s->walls.n, err);
+  if (!rc) rc = get_periodic(c, s, err);
   if (rc) return rc;
   in = esf_ckpt_sec(c, "NBREF");
   uint64_t nref = 0;

@@ -67,8 +67,8 @@ size_t esf_fused_boundary(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc
   const size_t lb = (size_t)ESF_PAIR_BATCH_LROWS(bc) * sizeof(double);
   for (size_t j = j0; j < j1 || m > 0;) {
     if (j < j1) {
-      const size_t k = f->bk[j], a = c->a[k], b = c->b[k];
-      if (!esf_fused_overlap(p->x, p->radius, a, b) &&
+      const size_t k = f->bk[j];
+      if (!esf_fused_overlap_k(p->x, p->radius, c, k) &&
           !(c->touch[k] && esf_candidates_bonded(c, k))) { /* bonds pull */
         if (c->touch[k]) {
           c->touch[k] = 0;

@@ -402,6 +402,10 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   vd xa[4], xb[4], va[4], vb[4], wa[4], wb[4], h0[4], h1[4], d[3], n[3];
   load_cols_n(c->x, a3, xa, 3);
   load_cols_n(c->x, b3, xb, 3);
+  if (c->img) /* B's periodic image, esf_periodic_image's operations lane-wise */
+    for (int q = 0; q < 3; q++)
+      for (int l = 0; l < ESF_BATCH; l++)
+        xb[q][l] = xb[q][l] + (double)c->img[3 * kk[l] + q] * c->plen[q];
   load_cols_n(c->v, a3, va, 3);
   load_cols_n(c->v, b3, vb, 3);
   load_cols_n(c->w, a3, wa, 3);

@@ -203,8 +203,9 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];
     const double ra = p->radius[a], rb = p->radius[b];
-    double d[3], d2;
-    if (!esf_law_pair_overlap_s(x + 3 * a, x + 3 * b, ra, rb, d, &d2) &&
+    double d[3], d2, xi[3];
+    if (!esf_law_pair_overlap_s(x + 3 * a, esf_candidates_xb(c, k, x, xi), ra, rb, d,
+                                &d2) &&
         !(c->touch[k] && esf_candidates_bonded(c, k))) { /* bonds pull */
       if (commit) c->touch[k] = 0;
       continue;

@@ -25,6 +25,11 @@ int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
   }
   if (!rebuild) return ESF_OK;
   esf_neighbor_skin_tune(&s->nb, s->p.n, s->step); /* before particles go or move */
+  if (s->cfg.per
+          .any) { /* into the periodic box: each pair's image follows (periodic.c) */
+    esf_sim_forces_sync(s);
+    esf_periodic_wrap(&s->cfg.per, s->p.n, s->p.x, s->p.img);
+  }
   rc = esf_sim_remove_escaped(s, err);
   int moved = 0;
   if (!rc && s->reorder_ok && s->cfg.reorder) rc = esf_reorder_particles(s, &moved, err);

@@ -70,8 +70,8 @@ int esf_contact_net_build(const esf_sim *s, esf_contact_net *net, esf_error *err
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];
     if (a >= p->n || b >= p->n) continue; /* stale list entry: not a pair of this state */
-    double d[3];
-    v3_sub(d, p->x + 3 * b, p->x + 3 * a);
+    double d[3], xb[3];
+    v3_sub(d, esf_candidates_xb(c, k, p->x, xb), p->x + 3 * a);
     double R = p->radius[a] + p->radius[b], d2 = v3_norm2(d);
     if (d2 >= R * R && !(c->touch[k] && esf_candidates_bonded(c, k)))
       continue; /* bonds in tension */

@@ -322,7 +322,9 @@ static int write_particles(hid_t g, const esf_particles *p, const id_order *o) {
          esf_h5_dataset_write(g, "force", f64, d, n, 3, rows(o, p->f, n, 3, D)) ||
          esf_h5_dataset_write(g, "radius", f64, d, n, 1, rows(o, p->radius, n, 1, D)) ||
          esf_h5_dataset_write(g, "material", H5T_STD_I32LE, H5T_NATIVE_INT32, n, 1,
-                              rows(o, p->material, n, 1, sizeof *p->material));
+                              rows(o, p->material, n, 1, sizeof *p->material)) ||
+         (p->img && esf_h5_dataset_write(g, "image", H5T_STD_I32LE, H5T_NATIVE_INT32, n,
+                                         3, rows(o, p->img, n, 3, sizeof *p->img)));
 }
 
 static int write_walls(hid_t frame, const esf_wall_mesh *m) {

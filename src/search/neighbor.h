@@ -16,6 +16,7 @@
 #include "bodies/walls.h"
 #include "contact/contact_law.h"
 #include "search/cells.h"
+#include "search/periodic.h"
 
 /* A build's cost in screened candidates per particle (the adaptive skin), from timings
  * of both (docs/performance.md#lists-and-rebuilds). */
@@ -53,6 +54,9 @@ typedef struct esf_candidates {
   const double *xs; /* history as ODE state (dem_ode.h): 3 per contact, the live
                        tangential displacement, m; NULL otherwise (not owned) */
   double *xsdot;    /* its rate, m/s, written by evaluations when not NULL */
+  int8_t *img;      /* 3 per candidate: the image of B (periodic.h), or NULL: the
+                       particle list of a scene with periodic axes only */
+  double plen[3];   /* with img: the periods, m (B's image is x_b + img plen) */
 } esf_candidates;
 
 typedef struct esf_neighbor {
@@ -83,6 +87,10 @@ typedef struct esf_neighbor {
   /* the scene's domain (particles leaving it are removed at the next build, which
    * esf_neighbor_check then asks for), or NULL, m */
   const double *dom_lo, *dom_hi;
+  /* the periodic box (periodic.h), or NULL: no periodic axis; its image scratch */
+  const esf_periodic *per;
+  int8_t *pimg;
+  size_t pimg_cap;
   /* the wall element index (wall_index.h) */
   struct esf_wall_index *widx;
   int threads; /* threads for the build's per-particle passes (>= 1; set by the caller) */
@@ -156,6 +164,16 @@ static inline const esf_contact_bond *esf_candidates_bond(const esf_candidates *
 static inline int esf_candidates_bonded(const esf_candidates *c, size_t k) {
   const esf_contact_bond *b = esf_candidates_bond(c, k);
   return b && b->on;
+}
+
+/* The position of candidate k's B as the pair's geometry uses it: x_b itself, or its
+ * periodic image (tmp filled) when the list has images. */
+static inline const double *esf_candidates_xb(const esf_candidates *c, size_t k,
+                                              const double *x, double tmp[3]) {
+  const double *xb = x + 3 * (size_t)c->b[k];
+  if (!c->img) return xb;
+  esf_periodic_image(xb, c->img + 3 * k, c->plen, tmp);
+  return tmp;
 }
 
 /* Number of contacts touching at the last committed evaluation. */
