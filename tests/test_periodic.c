@@ -1,6 +1,9 @@
 /* test_periodic.c — periodic boundaries (domain.periodic; docs/physics.md#periodic-
  * boundaries) against numbers.
  *
+ * Search: random polydisperse sets (positions up to 0.2 L outside the box, wrapped
+ * first) with 1, 2 and 3 periodic axes: the pairs and images are brute force's at the
+ * nearest image.
  * Pair across the face: an oblique frictional impact whose B crosses the periodic face
  * x = L during the contact (the wrap at a rebuild, the history carried), against the
  * same pair in mid-domain without periodic axes: the relative velocity, spins and
@@ -18,8 +21,85 @@
  * Input: a box too small for the minimum image, or an ODE method, is refused with the
  * domain's place. */
 #include "simtest.h"
+#include "search/cells_grid.h"
+#include "search/periodic.h"
 #include "util/rng.h"
 
+/* ---- the search against brute force ------------------------------------------ */
+
+/* Every pair within skin at its nearest image, by brute force, against
+ * esf_periodic_pairs: the same pairs with the same images (n particles, radii 1:3,
+ * periodic axes per mask, positions wrapped first). */
+static void check_search(unsigned mask, size_t n, uint64_t seed) {
+  esf_periodic pb = {0};
+  const double L[3] = {0.02, 0.025, 0.03}, skin = 0.0004;
+  for (int q = 0; q < 3; q++)
+    if (mask >> q & 1) {
+      pb.on[q] = pb.any = 1;
+      pb.len[q] = L[q];
+    }
+  esf_rng r;
+  esf_rng_seed(&r, seed);
+  double *x = malloc(3 * n * sizeof *x), *rad = malloc(n * sizeof *rad);
+  int32_t *img = calloc(3 * n, sizeof *img);
+  for (size_t i = 0; i < n; i++) {
+    rad[i] = 0.0005 + 0.001 * esf_rng_uniform(&r);
+    for (int q = 0; q < 3; q++) x[3 * i + q] = (1.4 * esf_rng_uniform(&r) - 0.2) * L[q];
+  }
+  const size_t moved = esf_periodic_wrap(&pb, n, x, img);
+  esf_cells *c = NULL;
+  esf_pairbuf out = {0};
+  int8_t *pim = NULL;
+  size_t cap = 0;
+  esf_error err = {0};
+  int rc = esf_cells_create(&c, &err);
+  if (!rc) rc = esf_periodic_pairs(&pb, c, n, x, rad, skin, &out, &pim, &cap, &err);
+  CHECK_OK(rc, err);
+  size_t found = 0, missed = 0, wrong = 0, across = 0;
+  for (size_t i = 0; i < n && !rc; i++)
+    for (size_t j = i + 1; j < n; j++) {
+      int8_t m[3] = {0, 0, 0};
+      for (int q = 0; q < 3; q++) /* the nearest image of j */
+        if (pb.on[q]) {
+          const double d = x[3 * j + q] - x[3 * i + q];
+          m[q] = d > 0.5 * L[q] ? -1 : d < -0.5 * L[q] ? 1 : 0;
+        }
+      double xb[3];
+      esf_periodic_image(x + 3 * j, m, pb.len, xb);
+      if (!esf_pair_near(x + 3 * i, xb, rad[i], rad[j], skin)) continue;
+      found++;
+      across += m[0] || m[1] || m[2];
+      size_t k = 0;
+      while (k < out.n && !(out.i[k] == i && out.j[k] == j)) k++;
+      if (k == out.n)
+        missed++;
+      else if (memcmp(pim + 3 * k, m, 3))
+        wrong++;
+    }
+  int sorted = 1;
+  for (size_t k = 1; k < out.n; k++)
+    if (out.i[k] < out.i[k - 1] || (out.i[k] == out.i[k - 1] && out.j[k] <= out.j[k - 1]))
+      sorted = 0;
+  int inside = 1;
+  for (size_t i = 0; i < n; i++)
+    for (int q = 0; q < 3; q++)
+      if (pb.on[q] && !(x[3 * i + q] >= 0 && x[3 * i + q] < L[q])) inside = 0;
+  printf("search (axes mask %u): %zu wrapped, %zu pairs (%zu across faces), brute force "
+         "%zu; missed %zu, wrong image %zu\n",
+         mask, moved, out.n, across, found, missed, wrong);
+  CHECK(inside, "wrapped into the box");
+  CHECK(moved > 0, "some particles wrapped");
+  CHECK(across > 10, "pairs across the faces (%zu)", across);
+  CHECK(out.n == found && missed == 0 && wrong == 0 && sorted,
+        "the brute-force pairs and images (%zu of %zu, %zu missed, %zu wrong, sorted %d)",
+        out.n, found, missed, wrong, sorted);
+  esf_cells_free(&c);
+  esf_pairbuf_release(&out);
+  free(pim);
+  free(x);
+  free(rad);
+  free(img);
+}
 /* ---- a pair across the face ----------------------------------------------------------
  */
 
@@ -315,6 +395,9 @@ static void check_refusals(void) {
 }
 
 int main(void) {
+  check_search(7, 1500, 3);
+  check_search(1, 1200, 4);
+  check_search(5, 1000, 5);
   check_pair();
   check_cloud();
   check_haff();
