@@ -18,6 +18,9 @@
  * T(t) = T0 / (1 + t/tau)^2 within 10%, 1/tau = (2/3)(1 - e^2) n sigma^2 chi
  * sqrt(pi T0/m), chi = (1 - nu/2)/(1 - nu)^3 (Carnahan-Starling), e the linear
  * dashpot's restitution with the no-tension cut (simtest.h's closed form).
+ * Lees-Edwards shear (domain.shear): the search with a shear offset against brute force;
+ * a dilute gas at rest on average develops the linear profile, slope the shear rate
+ * within 10%, residuals within 5% of rate L.
  * Input: a box too small for the minimum image, or an ODE method, is refused with the
  * domain's place. */
 #include "simtest.h"
@@ -30,7 +33,7 @@
 /* Every pair within skin at its nearest image, by brute force, against
  * esf_periodic_pairs: the same pairs with the same images (n particles, radii 1:3,
  * periodic axes per mask, positions wrapped first). */
-static void check_search(unsigned mask, size_t n, uint64_t seed) {
+static void check_search(unsigned mask, size_t n, uint64_t seed, int le) {
   esf_periodic pb = {0};
   const double L[3] = {0.02, 0.025, 0.03}, skin = 0.0004;
   for (int q = 0; q < 3; q++)
@@ -38,34 +41,44 @@ static void check_search(unsigned mask, size_t n, uint64_t seed) {
       pb.on[q] = pb.any = 1;
       pb.len[q] = L[q];
     }
+  if (le) { /* flow x, gradient z, the offset 0.37 L_x */
+    pb.le = 1;
+    pb.flow = 0;
+    pb.grad = 2;
+    pb.rate = 5.0;
+  }
+  const double t = 0.37 * L[0] / (5.0 * L[2]) + 3 * L[0] / (5.0 * L[2]);
+  const double off = le ? esf_periodic_le_offset(&pb, t, NULL) : 0;
   esf_rng r;
   esf_rng_seed(&r, seed);
   double *x = malloc(3 * n * sizeof *x), *rad = malloc(n * sizeof *rad);
+  double *v = calloc(3 * n, sizeof *v);
   int32_t *img = calloc(3 * n, sizeof *img);
   for (size_t i = 0; i < n; i++) {
     rad[i] = 0.0005 + 0.001 * esf_rng_uniform(&r);
     for (int q = 0; q < 3; q++) x[3 * i + q] = (1.4 * esf_rng_uniform(&r) - 0.2) * L[q];
   }
-  const size_t moved = esf_periodic_wrap(&pb, n, x, img);
+  const size_t moved = esf_periodic_wrap(&pb, n, x, v, t, img);
   esf_cells *c = NULL;
   esf_pairbuf out = {0};
   int8_t *pim = NULL;
   size_t cap = 0;
   esf_error err = {0};
   int rc = esf_cells_create(&c, &err);
-  if (!rc) rc = esf_periodic_pairs(&pb, c, n, x, rad, skin, &out, &pim, &cap, &err);
+  if (!rc) rc = esf_periodic_pairs(&pb, c, n, x, rad, skin, off, &out, &pim, &cap, &err);
   CHECK_OK(rc, err);
   size_t found = 0, missed = 0, wrong = 0, across = 0;
   for (size_t i = 0; i < n && !rc; i++)
     for (size_t j = i + 1; j < n; j++) {
       int8_t m[3] = {0, 0, 0};
-      for (int q = 0; q < 3; q++) /* the nearest image of j */
+      for (int q = 2; q >= 0; q--) /* the nearest image of j (the gradient z first) */
         if (pb.on[q]) {
-          const double d = x[3 * j + q] - x[3 * i + q];
-          m[q] = d > 0.5 * L[q] ? -1 : d < -0.5 * L[q] ? 1 : 0;
+          const double d = x[3 * j + q] - x[3 * i + q] + (le && !q ? m[2] * off : 0);
+          m[q] = (int8_t)-floor(d / L[q] + 0.5);
         }
       double xb[3];
       esf_periodic_image(x + 3 * j, m, pb.len, xb);
+      if (le) esf_periodic_le_image(&pb, m, off, xb);
       if (!esf_pair_near(x + 3 * i, xb, rad[i], rad[j], skin)) continue;
       found++;
       across += m[0] || m[1] || m[2];
@@ -84,9 +97,10 @@ static void check_search(unsigned mask, size_t n, uint64_t seed) {
   for (size_t i = 0; i < n; i++)
     for (int q = 0; q < 3; q++)
       if (pb.on[q] && !(x[3 * i + q] >= 0 && x[3 * i + q] < L[q])) inside = 0;
-  printf("search (axes mask %u): %zu wrapped, %zu pairs (%zu across faces), brute force "
-         "%zu; missed %zu, wrong image %zu\n",
-         mask, moved, out.n, across, found, missed, wrong);
+  printf(
+      "search (axes mask %u%s): %zu wrapped, %zu pairs (%zu across faces), brute force "
+      "%zu; missed %zu, wrong image %zu\n",
+      mask, le ? ", sheared" : "", moved, out.n, across, found, missed, wrong);
   CHECK(inside, "wrapped into the box");
   CHECK(moved > 0, "some particles wrapped");
   CHECK(across > 10, "pairs across the faces (%zu)", across);
@@ -99,6 +113,7 @@ static void check_search(unsigned mask, size_t n, uint64_t seed) {
   free(x);
   free(rad);
   free(img);
+  free(v);
 }
 /* ---- a pair across the face ----------------------------------------------------------
  */
@@ -335,13 +350,27 @@ static double temperature(const esf_particles *p) {
   return e / (3.0 * (double)p->n); /* energy per degree of freedom, J */
 }
 
+/* Opens a gas scene and gives it Gaussian velocities of std sd (the mean removed when
+ * still); 0 on success. */
+static int open_gas(simtest *T, const char *scene, double sd, uint64_t seed, int still) {
+  int rc = simtest_open(T, scene, NULL, 0);
+  CHECK(rc == 0, "gas scene %s", T->s.cfg.name);
+  if (rc) return rc;
+  esf_particles *p = &T->s.p;
+  random_velocities(p, sd, seed, 0);
+  double V[3] = {0, 0, 0};
+  for (size_t i = 0; i < p->n && still; i++)
+    for (int q = 0; q < 3; q++) V[q] += p->v[3 * i + q] / (double)p->n;
+  for (size_t i = 0; i < p->n && still; i++)
+    for (int q = 0; q < 3; q++) p->v[3 * i + q] -= V[q];
+  return ESF_OK;
+}
+
 static void check_haff(void) {
   simtest T;
-  int rc = simtest_open(&T, haff, NULL, 0);
-  CHECK(rc == 0, "haff scene");
+  int rc = open_gas(&T, haff, 1.0, 23, 0);
   if (rc) return;
   esf_particles *p = &T.s.p;
-  random_velocities(p, 1.0, 23, 0);
   const double L = 0.0347, sigma = 0.002, m = p->mass[0], N = (double)p->n;
   const double n = N / (L * L * L), nu = n * ESF_PI * sigma * sigma * sigma / 6;
   const double chi = (1 - nu / 2) / ((1 - nu) * (1 - nu) * (1 - nu));
@@ -370,6 +399,73 @@ static void check_haff(void) {
   simtest_close(&T);
 }
 
+/* ---- Lees-Edwards shear -------------------------------------------------------------
+ */
+
+static const char *const sheared =
+    "name: shear\n"
+    "gravity: [0, 0, 0]\n"
+    "domain: {min: [0, 0, 0], max: [0.03, 0.03, 0.03], periodic: [x, y, z],\n"
+    "         shear: {rate: 20, flow: x, gradient: z}}\n"
+    "materials: {glass: {density: 2500, kn: 2.0e3, restitution: 0.9, friction: 0}}\n"
+    "particles:\n"
+    "  - generate: random\n"
+    "    region: {min: [0, 0, 0], max: [0.03, 0.03, 0.03]}\n"
+    "    count: 600\n"
+    "    radius: 0.001\n"
+    "    material: glass\n"
+    "    seed: 13\n"
+    "integrator: {method: leapfrog, dt: auto, frac: 0.3}\n"
+    "run: {duration: 1}\n"
+    "output: {energy_every: 0}\n";
+
+/* A dilute gas (nu = 0.09) at rest on average, sheared by the Lees-Edwards images at
+ * rate 20/s: the mean flow velocity across 6 layers of the gradient axis, averaged
+ * over 0.35 to 0.45 s, is linear with slope the shear rate. */
+static void check_shear(void) {
+  simtest T;
+  int rc = open_gas(&T, sheared, 0.3, 29, 1);
+  if (rc) return;
+  esf_particles *p = &T.s.p;
+  enum { NB = 6 };
+  const double L = 0.03, rate = 20;
+  double sum[NB] = {0}, cnt[NB] = {0};
+  long wraps = 0;
+  while (!rc && T.s.t < 0.45) {
+    rc = simtest_step(&T);
+    if (rc || T.s.t < 0.35 || T.s.step % 20) continue;
+    for (size_t i = 0; i < p->n; i++) {
+      int b = (int)(p->x[3 * i + 2] / L * NB);
+      b = b < 0 ? 0 : b >= NB ? NB - 1 : b;
+      sum[b] += p->v[3 * i];
+      cnt[b] += 1;
+    }
+  }
+  CHECK(rc == 0, "shear run");
+  for (size_t i = 0; i < p->n; i++) wraps += labs((long)p->img[3 * i + 2]);
+  double sz = 0, su = 0, szz = 0, szu = 0, u[NB], z[NB];
+  for (int b = 0; b < NB; b++) {
+    z[b] = (b + 0.5) * L / NB;
+    u[b] = cnt[b] ? sum[b] / cnt[b] : 0;
+    sz += z[b];
+    su += u[b];
+    szz += z[b] * z[b];
+    szu += z[b] * u[b];
+  }
+  const double slope = (NB * szu - sz * su) / (NB * szz - sz * sz);
+  const double icpt = (su - slope * sz) / NB;
+  double worst = 0;
+  for (int b = 0; b < NB; b++) worst = fmax(worst, fabs(u[b] - (icpt + slope * z[b])));
+  printf("shear: %ld gradient wraps; mean u_x by layer:", wraps);
+  for (int b = 0; b < NB; b++) printf(" %.4f", u[b]);
+  printf(" m/s; slope %.3f 1/s (rate %.0f), largest residual %.4f m/s (%.3f of rate L)\n",
+         slope, rate, worst, worst / (rate * L));
+  CHECK(wraps > 20, "particles crossed the gradient faces (%ld)", wraps);
+  CHECK(fabs(slope / rate - 1) < 0.1, "linear profile with the shear rate (%.3f)", slope);
+  CHECK(worst < 0.05 * rate * L, "linear within 5%% of rate L (%.4f m/s)", worst);
+  simtest_close(&T);
+}
+
 /* ---- refusals ------------------------------------------------------------------------
  */
 
@@ -395,12 +491,15 @@ static void check_refusals(void) {
 }
 
 int main(void) {
-  check_search(7, 1500, 3);
-  check_search(1, 1200, 4);
-  check_search(5, 1000, 5);
+  check_search(7, 1500, 3, 0);
+  check_search(1, 1200, 4, 0);
+  check_search(5, 1000, 5, 0);
+  check_search(5, 1000, 6, 1);
+  check_search(7, 1500, 7, 1);
   check_pair();
   check_cloud();
   check_haff();
+  check_shear();
   check_refusals();
   return check_finish("periodic");
 }

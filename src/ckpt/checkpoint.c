@@ -219,6 +219,10 @@ int esf_ckpt_write(const char *path, esf_sim *s, const esf_integrator_type *it, 
     st = sec_begin(&b, "PERIODIC");
     esf_blob_put(&b, p->img, 3 * n * sizeof *p->img);
     esf_blob_put(&b, s->nb.pp.img, 3 * s->nb.pp.n * sizeof *s->nb.pp.img);
+    if (s->cfg.per.le) { /* Lees-Edwards: the list's offset reference and build time */
+      const double le[2] = {s->nb.pp.le_ref, s->nb.pp.le_tb};
+      esf_blob_put(&b, le, sizeof le);
+    }
     sec_end(&b, st);
   }
   put_sec(&b, "INTEG", integ.d, integ.n);

@@ -113,6 +113,7 @@ static int minimal_ok(const esf_sim *s) {
 
 const char *esf_fused_refusal(const esf_sim *s) {
   if (!s->cfg.fused) return "integrator.fused: false";
+  if (s->cfg.per.le) return "Lees-Edwards shear (domain.shear)";
   if (s->led.on && !ESF_FUSED_FEATURES) return "the energy ledger (a minimal build)";
   if (s->tally || s->nb.pp.vc0 || s->nb.pp.xs || s->nb.pw.xs)
     return "the integrator's own tallies or history";

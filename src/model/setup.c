@@ -64,6 +64,11 @@ static int periodic_setup(esf_sim *s, esf_error *err) {
                     "diameter plus the skin, 2 x (%g + %g) m, but the shortest is %g m "
                     "(widen the domain or lower search.skin)",
                     esf_config_where(c, "domain"), 2 * rmax, c->skin, 2 * half);
+  if (c->per.le && s->led.on)
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: domain.shear: the energy ledger does not book the work of the "
+                    "Lees-Edwards boundaries; set output.energy_every: 0",
+                    esf_config_where(c, "domain"));
   if (s->bonds.on)
     return esf_fail(err, ESF_EINPUT,
                     "%s: domain.periodic: bonds are not supported "

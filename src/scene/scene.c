@@ -435,7 +435,7 @@ static int read_top(const esf_ynode *root, esf_config *c, esf_error *err) {
   if (!rc) rc = esf_yget_doubles(root, "gravity", 0, c->gravity, 3, err);
   const esf_ynode *dom = esf_ymap_get(root, "domain");
   if (!rc && dom) {
-    static const char *const dkeys[] = {"min", "max", "periodic", NULL};
+    static const char *const dkeys[] = {"min", "max", "periodic", "shear", NULL};
     rc = esf_ymap_check_keys(dom, dkeys, err);
     if (!rc) rc = esf_yget_doubles(dom, "min", 1, c->domain_min, 3, err);
     if (!rc) rc = esf_yget_doubles(dom, "max", 1, c->domain_max, 3, err);

@@ -400,6 +400,7 @@ static int periodic_images(esf_neighbor *nb, esf_candidates *list, esf_error *er
   }
   if (list->n) memcpy(list->img, nb->pimg, 3 * list->n * sizeof *list->img);
   for (int q = 0; q < 3; q++) list->plen[q] = nb->per->len[q];
+  list->per = nb->per;
   return ESF_OK;
 }
 
@@ -407,14 +408,21 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
                        esf_error *err) {
   esf_cells_threads(nb->cells, nb->threads);
   const int per = nb->per && nb->per->any;
+  double le_ref = 0, off = 0;
+  if (per && nb->per->le) off = esf_periodic_le_offset(nb->per, nb->le_t, &le_ref);
   int rc =
-      per ? esf_periodic_pairs(nb->per, nb->cells, p->n, p->x, p->radius, nb->skin,
+      per ? esf_periodic_pairs(nb->per, nb->cells, p->n, p->x, p->radius, nb->skin, off,
                                &nb->buf, &nb->pimg, &nb->pimg_cap, err)
           : esf_cells_pairs(nb->cells, p->n, p->x, p->radius, nb->skin, &nb->buf, err);
   if (rc) return rc;
   /* the search stores each pair as (min, max) */
   rc = rebuild_list(nb, &nb->pp, p->n, nb->buf.i, nb->buf.j, nb->buf.n, nb->bonds, err);
   if (!rc && per) rc = periodic_images(nb, &nb->pp, err);
+  if (!rc && per) { /* Lees-Edwards: the offset's reference for this list */
+    nb->pp.le_ref = le_ref;
+    nb->pp.le_tb = nb->le_t;
+    nb->pp.le_off = off;
+  }
   if (rc) return rc;
 
   rc = wall_candidates(nb, p, w, err);
@@ -518,8 +526,10 @@ int esf_neighbor_reserve(esf_neighbor *nb, size_t npp, size_t npw, esf_error *er
                             img, err);
   if (!rc)
     rc = contacts_reserve(&nb->pw, npw, nb->ledger, nb->carry, 0, nb->rolling, 0, err);
-  if (!rc && img)
+  if (!rc && img) {
     for (int q = 0; q < 3; q++) nb->pp.plen[q] = nb->per->len[q];
+    nb->pp.per = nb->per;
+  }
   if (rc) return rc;
   return wall_scratch_reserve(nb, err);
 }

@@ -20,28 +20,53 @@
 #include <stdlib.h>
 #include <string.h>
 
-size_t esf_periodic_wrap(const esf_periodic *pb, size_t n, double *x, int32_t *img) {
+/* Wraps coordinate *xq into [lo, lo + L); returns the periods it moved by. */
+static int32_t wrap_axis(double *xq, double lo, double L) {
+  const double hi = lo + L;
+  if (*xq >= lo && *xq < hi) return 0;
+  const double f = floor((*xq - lo) / L);
+  *xq -= f * L;
+  int32_t m = (int32_t)f;
+  if (*xq < lo) { /* rounding at the faces */
+    *xq += L;
+    m--;
+  }
+  if (*xq >= hi) {
+    *xq -= L;
+    m++;
+  }
+  return m;
+}
+
+double esf_periodic_le_offset(const esf_periodic *pb, double t, double *ref) {
+  const double D = pb->rate * pb->len[pb->grad] * t, L = pb->len[pb->flow];
+  const double r = L * floor(D / L);
+  if (ref) *ref = r;
+  return D - r;
+}
+
+size_t esf_periodic_wrap(const esf_periodic *pb, size_t n, double *x, double *v, double t,
+                         int32_t *img) {
   size_t moved = 0;
+  const double off = pb->le ? esf_periodic_le_offset(pb, t, NULL) : 0;
+  const double u = pb->le ? pb->rate * pb->len[pb->grad] : 0;
   for (size_t i = 0; i < n; i++) {
     int hit = 0;
+    if (pb->le) { /* the gradient axis first: it moves the flow coordinate */
+      const int g = pb->grad, f = pb->flow;
+      const int32_t m = wrap_axis(x + 3 * i + g, pb->lo[g], pb->len[g]);
+      if (m) {
+        x[3 * i + f] -= (double)m * off;
+        v[3 * i + f] -= (double)m * u;
+        img[3 * i + g] += m;
+        hit = 1;
+      }
+    }
     for (int q = 0; q < 3; q++) {
-      if (!pb->on[q]) continue;
-      double *xq = x + 3 * i + q;
-      const double L = pb->len[q], lo = pb->lo[q], hi = lo + L;
-      if (*xq >= lo && *xq < hi) continue;
-      const double f = floor((*xq - lo) / L);
-      *xq -= f * L;
-      int32_t m = (int32_t)f;
-      if (*xq < lo) { /* rounding at the faces */
-        *xq += L;
-        m--;
-      }
-      if (*xq >= hi) {
-        *xq -= L;
-        m++;
-      }
+      if (!pb->on[q] || (pb->le && q == pb->grad)) continue;
+      const int32_t m = wrap_axis(x + 3 * i + q, pb->lo[q], pb->len[q]);
       img[3 * i + q] += m;
-      hit = 1;
+      hit |= m != 0;
     }
     moved += (size_t)hit;
   }
@@ -67,26 +92,42 @@ static int ppair_cmp(const void *u, const void *v) {
   return memcmp(p->m, q->m, 3);
 }
 
-/* The image copies: for particle i, each combination of the faces it is within s of,
- * but none; src and m receive each copy's particle and image. Returns the count. */
-static size_t copies_of(const esf_periodic *pb, const double *xi, double s, int8_t opt[3],
+/* The near-face option of coordinate v on axis q: +1 within s of the lower face (a
+ * copy beyond the upper one), -1 within s of the upper face, else 0. */
+static int8_t near_face(const esf_periodic *pb, int q, double v, double s) {
+  if (v - pb->lo[q] < s) return 1;
+  if (pb->lo[q] + pb->len[q] - v < s) return -1;
+  return 0;
+}
+
+/* The image copies of the particle at xi: each combination of the faces it is within s
+ * of, but none, into m (3 each); off: the Lees-Edwards offset. Returns the count. */
+static size_t copies_of(const esf_periodic *pb, const double *xi, double s, double off,
                         int8_t *m) {
-  for (int q = 0; q < 3; q++) {
-    opt[q] = 0;
-    if (!pb->on[q]) continue;
-    if (xi[q] - pb->lo[q] < s)
-      opt[q] = 1; /* copy beyond the upper face */
-    else if (pb->lo[q] + pb->len[q] - xi[q] < s)
-      opt[q] = -1; /* beyond the lower face */
-  }
+  int8_t opt[3] = {0, 0, 0};
+  for (int q = 0; q < 3; q++)
+    if (pb->on[q]) opt[q] = near_face(pb, q, xi[q], s);
   size_t k = 0;
-  for (int c = 1; c < 8; c++) { /* bit q of c: shift along q */
+  for (int c = 1 - (pb->le != 0); c < 8; c++) { /* bit q of c: shift along q */
+    int8_t mm[3] = {0, 0, 0};
     int ok = 1;
-    for (int q = 0; q < 3; q++)
-      if ((c >> q & 1) && !opt[q]) ok = 0;
-    if (!ok) continue;
-    for (int q = 0; q < 3; q++) m[3 * k + q] = (c >> q & 1) ? opt[q] : 0;
-    k++;
+    for (int q = 0; q < 3; q++) {
+      if (pb->le && q == pb->flow) continue;
+      if (c >> q & 1) {
+        ok &= opt[q] != 0;
+        mm[q] = opt[q];
+      }
+    }
+    if (pb->le && ok) { /* the flow axis from the copy's shifted flow coordinate */
+      const int f = pb->flow;
+      const double uf = xi[f] + (double)mm[pb->grad] * off;
+      const double kb = -floor((uf - pb->lo[f]) / pb->len[f]);
+      const int8_t of = near_face(pb, f, uf + kb * pb->len[f], s);
+      if ((c >> f & 1) && !of) ok = 0;
+      mm[f] = (int8_t)(kb + ((c >> f & 1) ? of : 0));
+    }
+    if (!ok || (!mm[0] && !mm[1] && !mm[2])) continue;
+    memcpy(m + 3 * k++, mm, 3);
   }
   return k;
 }
@@ -110,7 +151,7 @@ static void scratch_free(scratch *w) {
 
 /* Particles and their copies into w (x, r of n + *g; src, m of *g). */
 static int with_copies(const esf_periodic *pb, size_t n, const double *x,
-                       const double *radius, double s, scratch *w, size_t *g,
+                       const double *radius, double s, double off, scratch *w, size_t *g,
                        esf_error *err) {
   size_t cap = n + n / 2 + 16, ng = 0;
   w->x = malloc(3 * cap * sizeof *w->x);
@@ -121,8 +162,8 @@ static int with_copies(const esf_periodic *pb, size_t n, const double *x,
   memcpy(w->x, x, 3 * n * sizeof *x);
   memcpy(w->r, radius, n * sizeof *radius);
   for (size_t i = 0; i < n; i++) {
-    int8_t opt[3], m[21];
-    const size_t k = copies_of(pb, x + 3 * i, s, opt, m);
+    int8_t m[24];
+    const size_t k = copies_of(pb, x + 3 * i, s, off, m);
     if (n + ng + k > cap) {
       cap = 2 * (n + ng + k);
       double *nx = realloc(w->x, 3 * cap * sizeof *nx);
@@ -137,6 +178,7 @@ static int with_copies(const esf_periodic *pb, size_t n, const double *x,
     }
     for (size_t j = 0; j < k; j++, ng++) {
       esf_periodic_image(x + 3 * i, m + 3 * j, pb->len, w->x + 3 * (n + ng));
+      if (pb->le) esf_periodic_le_image(pb, m + 3 * j, off, w->x + 3 * (n + ng));
       w->r[n + ng] = radius[i];
       w->src[ng] = (uint32_t)i;
       memcpy(w->m + 3 * ng, m + 3 * j, 3);
@@ -150,8 +192,8 @@ oom:
 }
 
 int esf_periodic_pairs(const esf_periodic *pb, esf_cells *c, size_t n, const double *x,
-                       const double *radius, double skin, esf_pairbuf *out, int8_t **img,
-                       size_t *img_cap, esf_error *err) {
+                       const double *radius, double skin, double off, esf_pairbuf *out,
+                       int8_t **img, size_t *img_cap, esf_error *err) {
   out->n = 0;
   double rmax = 0;
   for (size_t i = 0; i < n; i++)
@@ -164,7 +206,7 @@ int esf_periodic_pairs(const esf_periodic *pb, esf_cells *c, size_t n, const dou
                     s, 2 * half);
   scratch w = {0};
   size_t g = 0;
-  int rc = with_copies(pb, n, x, radius, s, &w, &g, err);
+  int rc = with_copies(pb, n, x, radius, s, off, &w, &g, err);
   if (!rc) rc = esf_cells_pairs(c, n + g, w.x, w.r, skin, &w.buf, err);
   if (!rc) {
     w.pp = malloc((w.buf.n ? w.buf.n : 1) * sizeof *w.pp);
