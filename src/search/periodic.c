@@ -10,8 +10,10 @@
  * pair (i, copy of j shifted by m L) becomes (i, j) with image m, turned to (min, max)
  * (the image negated when turned), and a copy-copy pair is dropped (it repeats one of
  * the others, shifted). A pair across a face is found from both sides: the sorted list
- * keeps it once. Cost: the search over n + (copies) particles and a sort of the pairs,
- * only in scenes with periodic axes.
+ * keeps it once. Lees-Edwards shear (#lees-edwards-shear): a copy across the gradient
+ * faces is also shifted along the flow axis by the offset, and its flow copies follow
+ * from there; the wrap moves flow coordinate and velocity. Cost: the search over n +
+ * (copies) particles and a sort of the pairs, only in scenes with periodic axes.
  * Units: m. Entry: positions wrapped into the box (esf_periodic_wrap), finite. Exit:
  * out sorted by (a, b), a < b, each pair once, img 3 per pair. */
 #include "search/periodic.h"
