@@ -477,6 +477,11 @@ static void check_refusals(void) {
             strstr(T.err.msg, "periodic"),
         "box too small for the minimum image: %s", T.err.msg);
   simtest_close(&T);
+  const char *folded[] = {"domain.max=[0.02, 0.03, 0.03]"}; /* x in (0.02, 0.03) wraps */
+  rc = simtest_open(&T, cloud, folded, 1);
+  CHECK(rc == ESF_EINPUT && strstr(T.err.msg, "start overlapping"),
+        "particles overlapping across a periodic face at the start: %s", T.err.msg);
+  simtest_close(&T);
   const char *ode[] = {"integrator.method=rk4"};
   rc = simtest_open(&T, cloud, ode, 1);
   CHECK(rc == ESF_EINPUT && strstr(T.err.msg, "test.yaml:3:") &&
