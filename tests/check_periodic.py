@@ -5,8 +5,8 @@ for byte on 1, 2 and 3 threads and on the general path; a checkpoint taken halfw
 resumes to the same output bit for bit, with particles wrapping on both sides of it;
 each frame's `image` rebuilds unwrapped positions that move continuously (less than
 v_max dt_frame between frames) while the wrapped ones jump by a period. The same for
-the 3D gas under Lees-Edwards shear (domain.shear; general path, ledger off; the flow
-axis left out of the unwrapped check).
+the 3D gas under Lees-Edwards shear (domain.shear; ledger off; the flow axis left out
+of the unwrapped check).
 Usage: check_periodic.py ESFERA"""
 import os
 import random

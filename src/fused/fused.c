@@ -113,7 +113,6 @@ static int minimal_ok(const esf_sim *s) {
 
 const char *esf_fused_refusal(const esf_sim *s) {
   if (!s->cfg.fused) return "integrator.fused: false";
-  if (s->cfg.per.le) return "Lees-Edwards shear (domain.shear)";
   if (s->led.on && !ESF_FUSED_FEATURES) return "the energy ledger (a minimal build)";
   if (s->tally || s->nb.pp.vc0 || s->nb.pp.xs || s->nb.pw.xs)
     return "the integrator's own tallies or history";
@@ -275,6 +274,11 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
       .roll_cdt = s->mats.rolling_model == ESF_ROLL_CDT,
       .broken = &f->broken,
       .img = cp->img,
+      .le = cp->img && s->cfg.per.le,
+      .le_flow = s->cfg.per.flow,
+      .le_grad = s->cfg.per.grad,
+      .le_off = cp->le_off,
+      .le_vel = s->cfg.per.le ? esf_periodic_le_speed(&s->cfg.per) : 0,
       .plen = {cp->plen[0], cp->plen[1], cp->plen[2]}};
   const double cr0 = 1.0 - s->alpha_r * h, cr1 = 1.0 / (1.0 + s->alpha_r * h),
                ct0 = 1.0 - s->alpha_t * h, ct1 = 1.0 / (1.0 + s->alpha_t * h);

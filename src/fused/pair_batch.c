@@ -408,6 +408,12 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
         xb[q][l] = xb[q][l] + (double)c->img[3 * kk[l] + q] * c->plen[q];
   load_cols_n(c->v, a3, va, 3);
   load_cols_n(c->v, b3, vb, 3);
+  if (c->le) /* Lees-Edwards: esf_periodic_le_image's and esf_candidates_vb's lane-wise */
+    for (int l = 0; l < ESF_BATCH; l++) {
+      const int8_t mg = c->img[3 * kk[l] + c->le_grad];
+      xb[c->le_flow][l] += (double)mg * c->le_off;
+      if (mg) vb[c->le_flow][l] += (double)mg * c->le_vel;
+    }
   load_cols_n(c->w, a3, wa, 3);
   load_cols_n(c->w, b3, wb, 3);
   load_cols((const char *)c->h + HXI, hk, h0); /* xi[0..2], n[0] */
