@@ -108,6 +108,8 @@ def case(exe, tmp, dim, axes, n, shear=False):
     for other in (outs[2], outs[3], gen):
         nf, diffs = identical(outs[1], other)
         check(nf > 10 and not diffs, f"{name}: {other} against 1 thread: {diffs[:3]}")
+    with open(os.path.join(outs[1], "frames.xdmf")) as fh:
+        check('Attribute Name="image"' in fh.read(), f"{name}: frames.xdmf lists image")
     fr = frames(outs[1])
     check_unwrapped(fr, name, axes, "x" if shear else "")
     # checkpoint halfway (2 threads), resumed on one

@@ -382,7 +382,7 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
   double t0 = esf_now_s();
   char name[32], sp[1400];
   snprintf(name, sizeof name, "%06ld", fr->count);
-  esf_xdmf_frame x = {time, fr->count, p->n, 0, 0, 0, 0, 0};
+  esf_xdmf_frame x = {time, fr->count, p->n, 0, 0, 0, 0, 0, p->img != NULL};
   int with_walls = walls && walls->n > 0;
   double lo[3], hi[3];
   int have_box = particle_box(p, lo, hi);
