@@ -145,6 +145,7 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     long taken = 0; /* them at most in one go, up to the next stability check */
     long burst = esf_stability_steps_left(s);
     if (s->burst < burst) burst = s->burst;
+    if (s->cfg.per.le) burst = 1; /* the shear images' offset is set per step */
     rc = esf_fused_run(s, lf->fast, burst, &taken, err);
     if (taken > 0) lf->started = 1;
     return rc;
