@@ -61,6 +61,12 @@ typedef struct esf_pair_batch_ctx {
   const double *inertia;      /* n, kg m^2 (with roll) */
   int roll_cdt;               /* with roll: 1 the cdt model, 0 epsd */
   _Atomic long *broken;       /* bonds broken (with bond) */
+  const int8_t *img;          /* per pair: B's periodic image (search/periodic.h), or
+                                 NULL: no periodic axis (nothing added to the batch) */
+  double plen[3];             /* with img: the periods, m */
+  int le;                     /* with img: Lees-Edwards shear (periodic.h): B's image */
+  int le_flow, le_grad;       /* also moves le_off m along the flow axis times its */
+  double le_off, le_vel;      /* gradient image, at le_vel m/s (esf_candidates_xb, _vb) */
 } esf_pair_batch_ctx;
 
 /* The contacts of pairs k[0 .. nl) (1 <= nl <= ESF_BATCH). A pair whose spheres do
