@@ -51,6 +51,7 @@ static int cv_create(esf_sim *s, void **state, esf_error *err) {
   if (!c) return esf_fail(err, ESF_ENOMEM, "out of memory");
   *state = c;
   int hc = esf_dem_ode_check(s, "cvode-adams", 0, 0, err);
+  if (!hc) hc = esf_dem_ode_periodic(s, "cvode-adams", err);
   if (hc) return hc;
   if (SUNContext_Create(NULL, &c->ctx))
     return esf_fail(err, ESF_EINTERNAL, "cannot create a SUNDIALS context");

@@ -147,6 +147,16 @@ void esf_sundials_silent(int code, const char *module, const char *function, cha
   (void)data;
 }
 
+int esf_dem_ode_periodic(const esf_sim *s, const char *name, esf_error *err) {
+  if (s->cfg.per.any)
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: domain.periodic: the ODE methods (%s) do not follow periodic "
+                    "boundaries (the wrap into the box would jump the ODE state); use "
+                    "the leapfrog or Verlet",
+                    esf_config_where(&s->cfg, "domain"), name);
+  return ESF_OK;
+}
+
 int esf_dem_ode_check(const esf_sim *s, const char *name, int state_ok, int roots_ok,
                       esf_error *err) {
   if (s->cfg.history == ESF_HIST_STATE && !state_ok)

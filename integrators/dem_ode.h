@@ -134,6 +134,10 @@ N_Vector esf_dem_ode_vector(size_t len, const int *threads, SUNContext ctx);
 void esf_sundials_silent(int code, const char *module, const char *function, char *msg,
                          void *data);
 
+/* ESF_EINPUT, located at `domain`, when the scene has periodic axes: the ODE methods
+ * refuse them (the wrap into the box would jump their state). */
+int esf_dem_ode_periodic(const esf_sim *s, const char *name, esf_error *err);
+
 /* ESF_EINPUT when the configuration asks for what the method (named `name`) cannot do:
  * history as state without state_ok, rootfinding without roots_ok. */
 int esf_dem_ode_check(const esf_sim *s, const char *name, int state_ok, int roots_ok,

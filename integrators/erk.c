@@ -253,6 +253,7 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   const char *tname = strncmp(c->method, "erk:", 4) == 0 ? c->method + 4 : c->method;
   snprintf(e->name, sizeof e->name, "%s", c->method);
   int hc = esf_dem_ode_check(s, c->method, 1, c->rtol > 0, err);
+  if (!hc) hc = esf_dem_ode_periodic(s, c->method, err);
   if (hc) return hc;
   if (SUNContext_Create(NULL, &e->ctx))
     return esf_fail(err, ESF_EINTERNAL, "cannot create a SUNDIALS context");

@@ -150,6 +150,7 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
       const long left = esf_inserts_steps_left(s);
       if (left < burst) burst = left;
     }
+    if (s->cfg.per.le) burst = 1; /* the shear images' offset is set per step */
     rc = esf_fused_run(s, lf->fast, burst, &taken, err);
     if (taken > 0) lf->started = 1;
     return rc;

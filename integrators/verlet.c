@@ -35,6 +35,10 @@ typedef struct verlet {
 static int vv_create(esf_sim *s, void **state, esf_error *err) {
   int rc = esf_dem_ode_check(s, "verlet", 0, 0, err); /* ODE-only options refused */
   if (rc) return rc;
+  if (s->cfg.per.le) /* its evaluation at x_{n+1} runs before t moves on */
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: domain.shear: Lees-Edwards shear runs with the leapfrog only",
+                    esf_config_where(&s->cfg, "domain"));
   verlet *vv = calloc(1, sizeof *vv);
   if (!vv) return esf_fail(err, ESF_ENOMEM, "out of memory");
   vv->path.name = "verlet";

@@ -36,6 +36,7 @@ void esf_particles_release(esf_particles *p) {
   free(p->inv_inertia);
   free(p->material);
   free(p->id);
+  free(p->img);
   memset(p, 0, sizeof *p);
 }
 
@@ -69,6 +70,13 @@ static int alloc_arrays(esf_particles *p, size_t n, int zero, esf_error *err) {
   return ESF_OK;
 }
 
+int esf_particles_images(esf_particles *p, esf_error *err) {
+  if (p->img) return ESF_OK;
+  p->img = calloc(3 * (p->n ? p->n : 1), sizeof *p->img);
+  if (!p->img) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particles", p->n);
+  return ESF_OK;
+}
+
 int esf_particles_alloc(esf_particles *p, size_t n, esf_error *err) {
   return alloc_arrays(p, n, 1, err);
 }
@@ -80,6 +88,13 @@ static int gather(esf_particles *p, const size_t *src, size_t m, int threads,
   esf_particles q;
   int rc = alloc_arrays(&q, m, m == 0, err); /* every entry is written below */
   if (rc) return rc;
+  if (p->img) {
+    q.img = malloc(3 * (m ? m : 1) * sizeof *q.img);
+    if (!q.img) {
+      esf_particles_release(&q);
+      return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particles", m);
+    }
+  }
   const long mm = (long)m;
 #pragma omp parallel for num_threads(threads > 1 ? threads : 1) schedule(static)
   for (long kk = 0; kk < mm; kk++) {
@@ -96,6 +111,7 @@ static int gather(esf_particles *p, const size_t *src, size_t m, int threads,
     q.inv_inertia[k] = p->inv_inertia[i];
     q.material[k] = p->material[i];
     q.id[k] = p->id[i];
+    if (q.img) memcpy(q.img + 3 * k, p->img + 3 * i, 3 * sizeof(int32_t));
   }
   esf_particles_release(p);
   *p = q;
@@ -126,6 +142,14 @@ int esf_particles_append(esf_particles *p, size_t k, esf_error *err) {
   esf_particles q;
   int rc = alloc_arrays(&q, n + k, 1, err);
   if (rc) return rc;
+  if (p->img) { /* periodic image counters: the newcomers' are zero */
+    q.img = calloc(3 * (n + k) + 1, sizeof *q.img);
+    if (!q.img) {
+      esf_particles_release(&q);
+      return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particles", n + k);
+    }
+    memcpy(q.img, p->img, 3 * n * sizeof *q.img);
+  }
   memcpy(q.x, p->x, 3 * n * sizeof(double));
   memcpy(q.v, p->v, 3 * n * sizeof(double));
   memcpy(q.w, p->w, 3 * n * sizeof(double));

@@ -30,6 +30,8 @@ typedef struct esf_particles {
   double *inv_inertia; /* n, 1/(kg m^2) */
   int32_t *material;   /* n, index into the material table */
   int64_t *id;         /* n, stable identifier (the order particles were defined in) */
+  int32_t *img;        /* 3n periodic image counters (the unwrapped position is x + img L,
+                          search/periodic.h), or NULL: no periodic axis */
 } esf_particles;
 
 /* Mass (kg) and moment of inertia (kg m^2) of a sphere (dim 3: m = 4/3 pi r^3 rho,
@@ -70,6 +72,9 @@ void esf_particle_defs_release(esf_particle_defs *defs);
 /* Allocates storage for n particles (all arrays zeroed). */
 int esf_particles_alloc(esf_particles *p, size_t n, esf_error *err);
 void esf_particles_release(esf_particles *p);
+
+/* Gives p zeroed image counters (p->img), if it has none. */
+int esf_particles_images(esf_particles *p, esf_error *err);
 
 /* Removes the particles with keep[i] == 0, preserving order; writes the old index ->
  * new index map into remap (SIZE_MAX for removed) when remap is not NULL. */

@@ -38,8 +38,9 @@ _Static_assert(sizeof(esf_contact_hist) == 6 * sizeof(double) &&
                "esf_contact_hist, _bond or _roll changed: update HIST_LAYOUT");
 
 /* 2: bond states apart; 3: rolling states apart; 4: INSERT section (particles
- * inserted during the run), the ledger's energy_inserted */
-enum { CK_VERSION = 4, CK_BOM = 0x01020304 };
+ * inserted during the run), the ledger's energy_inserted; 5: the PERIODIC section
+ * (periodic image counters, pair images, Lees-Edwards offset) */
+enum { CK_VERSION = 5, CK_BOM = 0x01020304 };
 static const char ck_magic[8] = "ESFCKPT";
 
 static uint32_t crc32(const unsigned char *p, size_t n) {
@@ -219,6 +220,16 @@ int esf_ckpt_write(const char *path, esf_sim *s, const esf_integrator_type *it, 
   { /* the adaptive skin's state (neighbor.h): the lists' skin and build step */
     const double sk[2] = {s->nb.skin, (double)s->nb.built_step};
     put_sec(&b, "NBSKIN", sk, sizeof sk);
+  }
+  if (p->img) { /* periodic axes: the image counters and the pairs' images */
+    st = sec_begin(&b, "PERIODIC");
+    esf_blob_put(&b, p->img, 3 * n * sizeof *p->img);
+    esf_blob_put(&b, s->nb.pp.img, 3 * s->nb.pp.n * sizeof *s->nb.pp.img);
+    if (s->cfg.per.le) { /* Lees-Edwards: the list's offset reference and build time */
+      const double le[2] = {s->nb.pp.le_ref, s->nb.pp.le_tb};
+      esf_blob_put(&b, le, sizeof le);
+    }
+    sec_end(&b, st);
   }
   put_sec(&b, "INTEG", integ.d, integ.n);
   esf_blob_release(&integ);

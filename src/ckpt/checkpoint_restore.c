@@ -251,6 +251,33 @@ static int get_contacts(const esf_ckpt *c, const char *tag, esf_candidates *dst,
   return rc;
 }
 
+/* The PERIODIC section (periodic axes only): the particles' image counters, the
+ * particle pairs' images (each in {-1, 0, 1}; -2 .. 2 on the flow axis of a
+ * Lees-Edwards shear) and with the shear the list's offset reference and build time. */
+static int get_periodic(const esf_ckpt *c, esf_sim *s, esf_error *err) {
+  esf_blob_in in = esf_ckpt_sec(c, "PERIODIC");
+  if (!s->cfg.per.any) return in.short_read ? ESF_OK : mismatch(c, err, "periodic axes");
+  const size_t n = s->p.n, m = s->nb.pp.n, nle = s->cfg.per.le ? 2 : 0;
+  if (in.short_read || !s->p.img || !s->nb.pp.img ||
+      in.n != 3 * n * sizeof *s->p.img + 3 * m * sizeof *s->nb.pp.img + nle * 8)
+    return mismatch(c, err, "the PERIODIC section");
+  esf_blob_get(&in, s->p.img, 3 * n * sizeof *s->p.img);
+  esf_blob_get(&in, s->nb.pp.img, 3 * m * sizeof *s->nb.pp.img);
+  double le[2] = {0, 0};
+  if (nle) esf_blob_get(&in, le, sizeof le);
+  for (size_t k = 0; k < 3 * m; k++) {
+    const int q = (int)(k % 3), lim = s->cfg.per.le && q == s->cfg.per.flow ? 2 : 1;
+    if (abs(s->nb.pp.img[k]) > lim || (s->nb.pp.img[k] && !s->cfg.per.on[q]))
+      return invalid(c, err, "a pair's periodic image is out of range");
+  }
+  if (!isfinite(le[0]) || !isfinite(le[1]))
+    return invalid(c, err, "the Lees-Edwards offset is not finite");
+  s->nb.pp.le_ref = le[0];
+  s->nb.pp.le_tb = le[1];
+  esf_neighbor_le_time(&s->nb, s->t);
+  return ESF_OK;
+}
+
 int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *it,
                      void *ist, esf_ckpt_run *run, esf_error *err) {
   esf_blob_in in = esf_ckpt_sec(c, "METHOD");
@@ -320,6 +347,7 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
   esf_particles *p = &s->p, scene = *p; /* the scene's, to check the saved ones by */
   memset(p, 0, sizeof *p);
   rc = esf_particles_alloc(p, (size_t)n, err);
+  if (!rc && s->cfg.per.any) rc = esf_particles_images(p, err);
   if (rc) {
     esf_particles_release(&scene);
     return rc;
@@ -365,6 +393,7 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
 
   /* candidate lists: one build sizes the derived scratch, then the saved lists */
   s->nb.threads = s->cfg.threads;
+  s->nb.le_t = s->t;
   rc = esf_neighbor_build(&s->nb, p, &s->walls, err);
   uint64_t npp = 0, npw = 0;
   memcpy(&npp, esf_ckpt_sec(c, "CONTPP").d, 8);
@@ -374,6 +403,7 @@ int esf_ckpt_restore(const esf_ckpt *c, esf_sim *s, const esf_integrator_type *i
   if (!rc) rc = esf_neighbor_reserve(&s->nb, (size_t)npp, (size_t)npw, err);
   if (!rc) rc = get_contacts(c, "CONTPP", &s->nb.pp, p->n, p->n, err);
   if (!rc) rc = get_contacts(c, "CONTPW", &s->nb.pw, p->n, s->walls.n, err);
+  if (!rc) rc = get_periodic(c, s, err);
   if (rc) return rc;
   in = esf_ckpt_sec(c, "NBREF");
   uint64_t nref = 0;

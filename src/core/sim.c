@@ -99,7 +99,7 @@ void esf_sim_forces_sync(esf_sim *s) {
 int esf_sim_remove_escaped(esf_sim *s, esf_error *err) {
   if (!s->cfg.has_domain) return ESF_OK;
   esf_particles *p = &s->p;
-  const double *lo = s->cfg.domain_min, *hi = s->cfg.domain_max;
+  const double *lo = s->cfg.keep_lo, *hi = s->cfg.keep_hi; /* periodic axes: open */
   size_t out = 0;
   for (size_t i = 0; i < p->n; i++) out += (size_t)v3_outside(p->x + 3 * i, lo, hi);
   if (!out) return ESF_OK;

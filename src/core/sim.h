@@ -69,6 +69,9 @@ typedef struct esf_config {
   double gravity[3];     /* m/s^2 */
   int has_domain;
   double domain_min[3], domain_max[3]; /* m; particles leaving it are removed */
+  esf_periodic per; /* domain.periodic: the periodic axes (search/periodic.h) */
+  double keep_lo[3], keep_hi[3]; /* the domain with the periodic axes unbounded: the
+                                    removal test's box, m */
 
   char method[128]; /* integrator name */
   double dt;        /* s; <= 0 with dt_auto */

@@ -135,6 +135,8 @@ static void particles(FILE *f, const ctx *c, const esf_xdmf_frame *fr) {
   attribute(f, "id", "Scalar", "Node", n, 1, "Int", 8, h5, k, "id");
   if (fr->has_contacts) /* written with the contact network */
     attribute(f, "coordination", "Scalar", "Node", n, 1, "Int", 4, h5, k, "coordination");
+  if (fr->has_image)
+    attribute(f, "image", "Vector", "Node", n, 3, "Int", 4, h5, k, "image");
   fputs("      </Grid>\n", f);
 }
 

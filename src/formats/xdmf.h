@@ -33,6 +33,7 @@ typedef struct esf_xdmf_frame {
   size_t wall_points, wall_triangles;
   int has_contacts; /* the frame has a contacts group */
   size_t contacts;
+  int has_image; /* the particles have periodic image counters (`image`) */
 } esf_xdmf_frame;
 
 /* The kinds of grid, as bits: a file may hold any of them. */

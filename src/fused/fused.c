@@ -281,7 +281,14 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       .roll_cdt = s->mats.rolling_model == ESF_ROLL_CDT,
       .broken = &f->broken,
       .trial = ev && ev->trial,
-      .vc0 = ev ? cp->vc0 : NULL};
+      .vc0 = ev ? cp->vc0 : NULL,
+      .img = cp->img,
+      .le = cp->img && s->cfg.per.le,
+      .le_flow = s->cfg.per.flow,
+      .le_grad = s->cfg.per.grad,
+      .le_off = cp->le_off,
+      .le_vel = s->cfg.per.le ? esf_periodic_le_speed(&s->cfg.per) : 0,
+      .plen = {cp->plen[0], cp->plen[1], cp->plen[2]}};
   const double cr0 = 1.0 - s->alpha_r * h, cr1 = 1.0 / (1.0 + s->alpha_r * h),
                ct0 = 1.0 - s->alpha_t * h, ct1 = 1.0 / (1.0 + s->alpha_t * h);
   esf_fused_kick K = {
@@ -373,8 +380,8 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   if (r.bad_pair != SIZE_MAX) {
     const esf_candidates *c = &s->nb.pp;
     uint32_t a = c->a[r.bad_pair], b = c->b[r.bad_pair];
-    double d[3];
-    v3_sub(d, p->x + 3 * (size_t)b, p->x + 3 * (size_t)a);
+    double d[3], xb[3];
+    v3_sub(d, esf_candidates_xb(c, r.bad_pair, p->x, xb), p->x + 3 * (size_t)a);
     double un = p->radius[a] + p->radius[b] - v3_norm(d);
     return esf_forces_overlap_failure(s, (long long)p->id[a], (long long)p->id[b], 0, un,
                                       fmin(p->radius[a], p->radius[b]), err);

@@ -206,6 +206,17 @@ static inline int esf_fused_overlap(const double *x, const double *r, size_t a,
   return v3_norm2(d) < R * R;
 }
 
+/* The same test for candidate k of the list c, B at its periodic image when c has
+ * images (search/periodic.h; pair_batch.c's lanes add it the same way). */
+static inline int esf_fused_overlap_k(const double *x, const double *r,
+                                      const esf_candidates *c, size_t k) {
+  double d[3], xb[3];
+  const size_t a = c->a[k], b = c->b[k];
+  v3_sub(d, esf_candidates_xb(c, k, x, xb), x + 3 * a);
+  const double R = r[a] + r[b];
+  return v3_norm2(d) < R * R;
+}
+
 /* fused_ranges.c: step 0, the indices for the current lists and nth ranges, and the
  * balance of the ranges. */
 int esf_fused_index(esf_sim *s, esf_fused *f, int want, esf_error *err);

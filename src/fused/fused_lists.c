@@ -46,6 +46,14 @@ size_t esf_fused_screen(const esf_sim *s, const uint32_t *il, size_t j0, size_t 
   const double *x = s->p.x, *r = s->p.radius;
   const uint32_t *ca = s->nb.pp.a, *cb = s->nb.pp.b;
   size_t cnt = nn;
+  if (s->nb.pp.img) { /* periodic axes: B at its image */
+    for (size_t j = j0; j < j1; j++) {
+      const size_t k = il[j];
+      top[-(ptrdiff_t)(cnt + 1)] = (uint32_t)k;
+      cnt += (size_t)esf_fused_overlap_k(x, r, &s->nb.pp, k);
+    }
+    return cnt - nn;
+  }
   for (size_t j = j0; j < j1; j++) {
     const size_t k = il[j];
     top[-(ptrdiff_t)(cnt + 1)] = (uint32_t)k;

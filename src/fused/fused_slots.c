@@ -61,14 +61,16 @@ size_t esf_fused_boundary(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc
   const esf_particles *p = &s->p;
   esf_candidates *c = &s->nb.pp;
   uint32_t kb[ESF_BATCH];
+  const int per = c->img != NULL; /* periodic images: tested once, not per pair */
   size_t jb[ESF_BATCH], bad = SIZE_MAX;
   int m = 0;
   double out[ESF_BATCH][ESF_BATCH_OUT], lout[ESF_BATCH][ESF_BATCH_LOUT];
   const size_t lb = (size_t)ESF_PAIR_BATCH_LROWS(bc) * sizeof(double);
   for (size_t j = j0; j < j1 || m > 0;) {
     if (j < j1) {
-      const size_t k = f->bk[j], a = c->a[k], b = c->b[k];
-      if (!esf_fused_overlap(p->x, p->radius, a, b) &&
+      const size_t k = f->bk[j];
+      if (!(per ? esf_fused_overlap_k(p->x, p->radius, c, k)
+                : esf_fused_overlap(p->x, p->radius, c->a[k], c->b[k])) &&
           !(c->touch[k] && esf_candidates_bonded(c, k))) { /* bonds pull */
         if (c->touch[k] || bc->vc0 || bc->trial) {         /* the ODE methods: a trial may
                                                                have filled a flagless slot */

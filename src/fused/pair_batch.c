@@ -402,8 +402,18 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   vd xa[4], xb[4], va[4], vb[4], wa[4], wb[4], h0[4], h1[4], d[3], n[3];
   load_cols_n(c->x, a3, xa, 3);
   load_cols_n(c->x, b3, xb, 3);
+  if (c->img) /* B's periodic image, esf_periodic_image's operations lane-wise */
+    for (int q = 0; q < 3; q++)
+      for (int l = 0; l < ESF_BATCH; l++)
+        xb[q][l] = xb[q][l] + (double)c->img[3 * kk[l] + q] * c->plen[q];
   load_cols_n(c->v, a3, va, 3);
   load_cols_n(c->v, b3, vb, 3);
+  if (c->le) /* Lees-Edwards: esf_periodic_le_image's and esf_candidates_vb's lane-wise */
+    for (int l = 0; l < ESF_BATCH; l++) {
+      const int8_t mg = c->img[3 * kk[l] + c->le_grad];
+      xb[c->le_flow][l] += (double)mg * c->le_off;
+      if (mg) vb[c->le_flow][l] += (double)mg * c->le_vel;
+    }
   load_cols_n(c->w, a3, wa, 3);
   load_cols_n(c->w, b3, wb, 3);
   load_cols((const char *)c->h + HXI, hk, h0); /* xi[0..2], n[0] */

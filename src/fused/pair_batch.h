@@ -67,6 +67,12 @@ typedef struct esf_pair_batch_ctx {
                                  commit (the ODE methods' trapezoidal carry: a live
                                  contact's increment integrates (vc0 + vc)/2 over dt;
                                  committing writes vc), or NULL */
+  const int8_t *img;          /* per pair: B's periodic image (search/periodic.h), or
+                                 NULL: no periodic axis (nothing added to the batch) */
+  double plen[3];             /* with img: the periods, m */
+  int le;                     /* with img: Lees-Edwards shear (periodic.h): B's image */
+  int le_flow, le_grad;       /* also moves le_off m along the flow axis times its */
+  double le_off, le_vel;      /* gradient image, at le_vel m/s (esf_candidates_xb, _vb) */
 } esf_pair_batch_ctx;
 
 /* The contacts of pairs k[0 .. nl) (1 <= nl <= ESF_BATCH). A pair whose spheres do

@@ -61,8 +61,8 @@ static double removed_elastic(const esf_sim *s, const unsigned char *keep, int g
   for (size_t k = 0; k < c->n && keep; k++) {
     uint32_t a = c->a[k], b = c->b[k];
     if (!c->touch[k] || (keep[a] && keep[b])) continue;
-    double d[3];
-    v3_sub(d, p->x + 3 * b, p->x + 3 * a);
+    double d[3], xb[3];
+    v3_sub(d, esf_candidates_xb(c, k, p->x, xb), p->x + 3 * a);
     double un = p->radius[a] + p->radius[b] - v3_norm(d);
     const double rs = p->radius[a] * p->radius[b] / (p->radius[a] + p->radius[b]);
     const esf_pair_params *pp = &mt->pair[p->material[a] * mt->n + p->material[b]];

@@ -201,12 +201,14 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
   const int slips = commit && s->led.on && !rows;          /* the other schemes' ledger */
   double slip = 0, wst = 0;
   size_t nt = 0;
+  esf_neighbor_le_time(&s->nb, s->t); /* Lees-Edwards: the images' offset now */
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k], b = c->b[k];
     if (probe && (a >= p->n || b >= p->n)) continue; /* stale entries (output) */
     const double ra = p->radius[a], rb = p->radius[b];
-    double d[3], d2;
-    if (!esf_law_pair_overlap_s(x + 3 * a, x + 3 * b, ra, rb, d, &d2) &&
+    double d[3], d2, xi[3];
+    if (!esf_law_pair_overlap_s(x + 3 * a, esf_candidates_xb(c, k, x, xi), ra, rb, d,
+                                &d2) &&
         !(c->touch[k] && esf_candidates_bonded(c, k))) { /* bonds pull */
       if (commit) c->touch[k] = 0;
       continue;
@@ -214,8 +216,9 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
     esf_contact_in in;
     double la, lb;
     const double *wa = w + 3 * a, *wb = w + 3 * b;
-    esf_law_pair_kinematics_s(d, d2, ra, rb, v + 3 * a, v + 3 * b, wa, wb, in.n, &in.un,
-                              &la, &lb, in.vc);
+    double vi[3]; /* B's velocity, or its Lees-Edwards image's */
+    esf_law_pair_kinematics_s(d, d2, ra, rb, v + 3 * a, esf_candidates_vb(c, k, v, vi),
+                              wa, wb, in.n, &in.un, &la, &lb, in.vc);
     double rmin = fmin(ra, rb);
     if (in.un > s->cfg.max_overlap * rmin)
       return esf_forces_overlap_failure(s, (long long)p->id[a], (long long)p->id[b], 0,

@@ -5,6 +5,8 @@
  * first build, the start's bonds formed. */
 #include "model/model.h"
 
+#include <math.h>
+
 #include "core/bonds.h"
 #include "core/reorder.h"
 #include "loads/events.h"
@@ -24,7 +26,13 @@ int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
     int rc = esf_inserts_apply(s, &added, err);
     if (rc) return rc;
   }
-  int rc = esf_neighbor_check(&s->nb, &s->p, esf_walls_moved(&s->walls), &rebuild, err);
+  double moved_by = esf_walls_moved(&s->walls);
+  if (s->cfg.per.le) { /* Lees-Edwards: the images drift by rate L_g (t - t_build) */
+    esf_neighbor_le_time(&s->nb, s->t);
+    moved_by = fmax(moved_by,
+                    0.5 * esf_periodic_le_speed(&s->cfg.per) * (s->t - s->nb.pp.le_tb));
+  }
+  int rc = esf_neighbor_check(&s->nb, &s->p, moved_by, &rebuild, err);
   s->nb.disp_valid = 0;
   if (rc) {
     esf_error_prefix(err,
@@ -34,10 +42,16 @@ int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
   }
   if (!rebuild && !walls_changed) return ESF_OK;
   esf_neighbor_skin_tune(&s->nb, s->p.n, s->step); /* before particles go or move */
+  /* into the periodic box: each pair's image follows at the build (periodic.c) */
+  if (s->cfg.per.any) {
+    esf_sim_forces_sync(s);
+    esf_periodic_wrap(&s->cfg.per, s->p.n, s->p.x, s->p.v, s->t, s->p.img);
+  }
   rc = esf_sim_remove_escaped(s, err);
   int moved = 0;
   if (!rc && s->reorder_ok && s->cfg.reorder) rc = esf_reorder_particles(s, &moved, err);
   s->nb.threads = esf_sim_threads_for(s, s->p.n);
+  s->nb.le_t = s->t;
   if (!rc) rc = esf_neighbor_build(&s->nb, &s->p, &s->walls, err);
   if (!rc) s->nb.built_step = s->step;
   if (!rc) esf_walls_mark(&s->walls);

@@ -47,6 +47,37 @@ static int set_masses(esf_sim *s, esf_error *err) {
   return ESF_OK;
 }
 
+/* Periodic axes (search/periodic.h): the minimum-image condition L > 2 (2 r_max + skin)
+ * checked (an adaptive skin kept below it), the image counters, the lists' box, and
+ * the removal test unbounded on the periodic axes. */
+static int periodic_setup(esf_sim *s, esf_error *err) {
+  esf_config *c = &s->cfg;
+  double rmax = 0;
+  for (size_t i = 0; i < s->p.n; i++) rmax = fmax(rmax, s->p.radius[i]);
+  const double half = esf_periodic_reach(&c->per), room = half - 2 * rmax;
+  if (c->skin_auto && s->nb.skin_hi > 0.99 * room) s->nb.skin_hi = 0.99 * room;
+  if (!(c->skin < room) || (c->skin_auto && !(s->nb.skin_hi > s->nb.skin_lo)))
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: domain.periodic: each period must exceed twice the largest "
+                    "diameter plus the skin, 2 x (%g + %g) m, but the shortest is %g m "
+                    "(widen the domain or lower search.skin)",
+                    esf_config_where(c, "domain"), 2 * rmax, c->skin, 2 * half);
+  if (c->per.le && s->led.on)
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: domain.shear: the energy ledger does not book the work of the "
+                    "Lees-Edwards boundaries; set output.energy_every: 0",
+                    esf_config_where(c, "domain"));
+  if (s->bonds.on)
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: domain.periodic: bonds are not supported "
+                    "with periodic axes",
+                    esf_config_where(c, "domain"));
+  s->nb.per = &c->per;
+  s->nb.dom_lo = c->keep_lo;
+  s->nb.dom_hi = c->keep_hi;
+  return esf_particles_images(&s->p, err);
+}
+
 int esf_sim_setup(esf_sim *s, esf_error *err) {
   esf_config *c = &s->cfg;
   c->threads_auto = c->threads <= 0;
@@ -182,7 +213,7 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
     s->nb.dom_hi = c->domain_max;
   }
   if (c->skin_auto) esf_neighbor_skin_range(&s->nb, sref / 8.0, 2.5 * sref);
-  return ESF_OK;
+  return c->per.any ? periodic_setup(s, err) : ESF_OK;
 }
 
 void esf_sim_release(esf_sim *s) {

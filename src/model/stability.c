@@ -61,8 +61,8 @@ static int pair_geometry(const esf_sim *s, size_t k, double n[3], double *la,
   const esf_particles *p = &s->p;
   const esf_candidates *c = &s->nb.pp;
   uint32_t a = c->a[k], b = c->b[k];
-  double d[3], rs = p->radius[a] + p->radius[b];
-  v3_sub(d, p->x + 3 * b, p->x + 3 * a);
+  double d[3], rs = p->radius[a] + p->radius[b], xb[3];
+  v3_sub(d, esf_candidates_xb(c, k, p->x, xb), p->x + 3 * a);
   double d2 = v3_norm2(d);
   if (!(d2 < rs * rs) && !(c->touch[k] && esf_candidates_bonded(c, k))) return 0;
   double dist = sqrt(d2), un = rs - dist;

@@ -322,7 +322,9 @@ static int write_particles(hid_t g, const esf_particles *p, const id_order *o) {
          esf_h5_dataset_write(g, "force", f64, d, n, 3, rows(o, p->f, n, 3, D)) ||
          esf_h5_dataset_write(g, "radius", f64, d, n, 1, rows(o, p->radius, n, 1, D)) ||
          esf_h5_dataset_write(g, "material", H5T_STD_I32LE, H5T_NATIVE_INT32, n, 1,
-                              rows(o, p->material, n, 1, sizeof *p->material));
+                              rows(o, p->material, n, 1, sizeof *p->material)) ||
+         (p->img && esf_h5_dataset_write(g, "image", H5T_STD_I32LE, H5T_NATIVE_INT32, n,
+                                         3, rows(o, p->img, n, 3, sizeof *p->img)));
 }
 
 static int write_walls(hid_t frame, const esf_wall_mesh *m) {
@@ -399,7 +401,7 @@ int esf_frames_write(esf_frames *fr, double time, const esf_particles *p,
   double t0 = esf_now_s();
   char name[32], sp[1400];
   snprintf(name, sizeof name, "%06ld", fr->count);
-  esf_xdmf_frame x = {time, fr->count, p->n, 0, 0, 0, 0, 0};
+  esf_xdmf_frame x = {time, fr->count, p->n, 0, 0, 0, 0, 0, p->img != NULL};
   int with_walls = walls && walls->n > 0;
   double lo[3], hi[3];
   int have_box = particle_box(p, lo, hi);

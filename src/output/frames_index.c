@@ -115,6 +115,7 @@ static int frame_record(hid_t g, const char *name, long k, esf_xdmf_frame *x) {
     ok = dims_of(fg, "walls/points", &x->wall_points) == 0 &&
          dims_of(fg, "walls/triangles", &x->wall_triangles) == 0;
   x->has_contacts = H5Lexists(fg, "contacts", H5P_DEFAULT) > 0;
+  x->has_image = H5Lexists(fg, "image", H5P_DEFAULT) > 0;
   if (ok && x->has_contacts) ok = dims_of(fg, "contacts/normal_force", &x->contacts) == 0;
   H5Gclose(fg);
   return ok ? 0 : -1;

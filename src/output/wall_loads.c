@@ -40,7 +40,16 @@ void esf_wall_loads(const esf_sim *s, const esf_contact_net *net, double *fm) {
   }
 }
 
-static int inside(const double *x, const double box[6]) {
+/* Whether x lies in the region box; with periodic axes its image in the periodic box
+ * (positions stray past a face by up to skin/2 between the wraps) is tested. */
+static int inside(const esf_sim *s, const double *xp, const double box[6]) {
+  const esf_periodic *pb = &s->cfg.per;
+  double x[3], mid[3];
+  v3_copy(x, xp);
+  if (pb->any) {
+    for (int q = 0; q < 3; q++) mid[q] = pb->lo[q] + 0.5 * pb->len[q];
+    esf_periodic_nearest(pb, s->nb.pp.le_off, mid, xp, x);
+  }
   for (int q = 0; q < 3; q++)
     if (!(x[q] >= box[q] && x[q] < box[q + 3])) return 0;
   return 1;
@@ -61,14 +70,14 @@ void esf_region_stress(const esf_sim *s, const esf_contact_net *net, const doubl
   double t[9] = {0}, tk[9] = {0}, mv[3] = {0, 0, 0}, m = 0, mf[3];
   size_t np = 0;
   for (size_t i = 0; i < p->n; i++) {
-    if (!inside(p->x + 3 * i, box)) continue;
+    if (!inside(s, p->x + 3 * i, box)) continue;
     np++;
     m += p->mass[i];
     v3_axpy(mv, p->mass[i], p->v + 3 * i);
   }
   if (m > 0) v3_scale(mv, 1.0 / m, mv); /* the region's mean velocity */
   for (size_t i = 0; np && i < p->n; i++) {
-    if (!inside(p->x + 3 * i, box)) continue;
+    if (!inside(s, p->x + 3 * i, box)) continue;
     double u[3];
     v3_sub(u, p->v + 3 * i, mv);
     for (int a = 0; a < 3; a++)
@@ -78,13 +87,19 @@ void esf_region_stress(const esf_sim *s, const esf_contact_net *net, const doubl
   for (size_t k = 0; np && k < pp->n; k++) {
     const size_t a = (size_t)pp->pair[2 * k], b = (size_t)pp->pair[2 * k + 1];
     const double *f = pp->f + 3 * k, *pc = pp->pc + 3 * k;
-    if (inside(p->x + 3 * a, box)) add_contact(t, f, pc, p->x + 3 * a);
-    v3_scale(mf, -1.0, f); /* B's force */
-    if (inside(p->x + 3 * b, box)) add_contact(t, mf, pc, p->x + 3 * b);
+    if (inside(s, p->x + 3 * a, box)) add_contact(t, f, pc, p->x + 3 * a);
+    v3_scale(mf, -1.0,
+             f); /* B's force, its branch from its image on the contact's side */
+    double xb[3];
+    if (s->cfg.per.any)
+      esf_periodic_nearest(&s->cfg.per, s->nb.pp.le_off, pc, p->x + 3 * b, xb);
+    else
+      v3_copy(xb, p->x + 3 * b);
+    if (inside(s, p->x + 3 * b, box)) add_contact(t, mf, pc, xb);
   }
   for (size_t k = 0; np && k < pw->n; k++) {
     const size_t a = (size_t)pw->pair[2 * k];
-    if (inside(p->x + 3 * a, box))
+    if (inside(s, p->x + 3 * a, box))
       add_contact(t, pw->f + 3 * k, pw->pc + 3 * k, p->x + 3 * a);
   }
   double sg[9];

@@ -437,13 +437,14 @@ static int read_top(const esf_ynode *root, esf_config *c, esf_error *err) {
   if (!rc) rc = esf_yget_doubles(root, "gravity", 0, c->gravity, 3, err);
   const esf_ynode *dom = esf_ymap_get(root, "domain");
   if (!rc && dom) {
-    static const char *const dkeys[] = {"min", "max", NULL};
+    static const char *const dkeys[] = {"min", "max", "periodic", "shear", NULL};
     rc = esf_ymap_check_keys(dom, dkeys, err);
     if (!rc) rc = esf_yget_doubles(dom, "min", 1, c->domain_min, 3, err);
     if (!rc) rc = esf_yget_doubles(dom, "max", 1, c->domain_max, 3, err);
     for (int k = 0; k < 3 && !rc; k++)
       if (!(c->domain_min[k] < c->domain_max[k]))
         return esf_ynode_fail(dom, err, "min must be below max in every direction");
+    if (!rc) rc = esf_scene_periodic(dom, c, err);
     c->has_domain = 1;
   }
   if (!rc && c->dim == 2 && c->gravity[1] != 0)
@@ -475,7 +476,7 @@ static void record_places(const esf_ynode *root, esf_config *c) {
       "integrator.method", "integrator.dt", "integrator.frac", "integrator.history",
       "integrator.roots", "integrator.rtol", "integrator.table", "run", "run.duration", "run.steps",
       "output", "output.every", "output.energy_every", "output.checkpoint_every",
-      "search", "search.skin", NULL};
+      "search", "search.skin", "domain", NULL};
   /* clang-format on */
   char buf[sizeof c->where[0].place], path[64];
   for (int k = 0; keys[k]; k++) {

@@ -6,8 +6,9 @@
  * (model/forces.c): un = r - dist to the element's nearest point (a plane's distance is
  * signed), against the walls placed at t = 0 (moving walls frozen on a copy); the
  * element candidates come from the wall index (bodies/wall_index.h), the particle pairs
- * from the cell search (search/cells.h). Particles outside the domain are skipped (the
- * first list build removes them). Units: m. */
+ * from the cell search (search/cells.h; across periodic faces search/periodic.h, on the
+ * positions wrapped into the box). Particles outside the domain are skipped (the first
+ * list build removes them). Units: m. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -16,6 +17,7 @@
 #include "bodies/wall_index.h"
 #include "scene/scene_parts.h"
 #include "search/cells.h"
+#include "search/periodic.h"
 #include "util/vec3.h"
 
 /* Where particle i comes from: its entry of the particles list, and for a file the
@@ -50,8 +52,27 @@ static int walls_at_start(const esf_walls *w, esf_walls *c, esf_error *err) {
   return rc;
 }
 
-static int outside(const esf_sim *s, const double *x) {
-  return s->cfg.has_domain && v3_outside(x, s->cfg.domain_min, s->cfg.domain_max);
+static int outside(const esf_sim *s, const double *x) { /* periodic axes: never */
+  return s->cfg.has_domain && v3_outside(x, s->cfg.keep_lo, s->cfg.keep_hi);
+}
+
+/* The pairs with periodic axes: the positions x (m of them, a copy) wrapped into the
+ * box, the pairs across the faces with their images (search/periodic.h) into pb, img. */
+static int periodic_pairs(const esf_sim *s, size_t m, double *x, const double *r,
+                          esf_cells *cells, esf_pairbuf *pb, int8_t **img,
+                          esf_error *err) {
+  double *v = calloc(3 * m + 1, sizeof *v);    /* the wrap's velocities: unused */
+  int32_t *im = calloc(3 * m + 1, sizeof *im); /* and image counters */
+  size_t cap = 0;
+  int rc = v && im ? ESF_OK : esf_fail(err, ESF_ENOMEM, "out of memory");
+  if (!rc) esf_periodic_wrap(&s->cfg.per, m, x, v, 0.0, im);
+  if (!rc)
+    rc = esf_periodic_pairs(&s->cfg.per, cells, m, x, r, 0.0, 0.0, pb, img, &cap, err);
+  if (rc == ESF_EINPUT)
+    esf_error_prefix(err, "%s: domain.periodic: ", esf_config_where(&s->cfg, "domain"));
+  free(v);
+  free(im);
+  return rc;
 }
 
 static int check_walls(const esf_ynode *seq, const esf_ynode *walls, const esf_sim *s,
@@ -115,7 +136,8 @@ static int check_pairs(const esf_ynode *seq, const esf_sim *s, const uint32_t *e
   esf_pairbuf pb = {0};
   size_t m = 0;
   for (size_t i = 0; i < p->n; i++) m += !outside(s, p->x + 3 * i);
-  const int subset = m < p->n;
+  const int per = s->cfg.per.any, subset = m < p->n || per; /* per: x is wrapped */
+  int8_t *img = NULL;
   uint32_t *in = NULL;
   double *x = p->x, *r = p->radius;
   int rc = ESF_OK;
@@ -132,12 +154,15 @@ static int check_pairs(const esf_ynode *seq, const esf_sim *s, const uint32_t *e
     r[k++] = p->radius[i];
   }
   if (!rc) rc = esf_cells_create(&cells, err);
-  if (!rc) rc = esf_cells_pairs(cells, m, x, r, 0.0, &pb, err);
+  if (!rc && per) rc = periodic_pairs(s, m, x, r, cells, &pb, &img, err);
+  if (!rc && !per) rc = esf_cells_pairs(cells, m, x, r, 0.0, &pb, err);
   for (size_t k = 0; k < pb.n && !rc; k++) {
     const uint32_t a = subset ? in[pb.i[k]] : pb.i[k], b = subset ? in[pb.j[k]] : pb.j[k];
     const double rmin = p->radius[a] < p->radius[b] ? p->radius[a] : p->radius[b];
-    double dx[3];
-    v3_sub(dx, p->x + 3 * b, p->x + 3 * a);
+    double dx[3], xb[3];
+    memcpy(xb, x + 3 * (size_t)pb.j[k], sizeof xb);
+    if (per) esf_periodic_image(x + 3 * (size_t)pb.j[k], img + 3 * k, s->cfg.per.len, xb);
+    v3_sub(dx, xb, x + 3 * (size_t)pb.i[k]);
     const double d = v3_norm(dx);
     const double un = p->radius[a] + p->radius[b] - d;
     if (!(un > s->cfg.max_overlap * rmin)) continue;
@@ -154,6 +179,7 @@ static int check_pairs(const esf_ynode *seq, const esf_sim *s, const uint32_t *e
   }
   esf_pairbuf_release(&pb);
   esf_cells_free(&cells);
+  free(img);
   if (subset) {
     free(in);
     free(x);

@@ -43,6 +43,9 @@ int esf_scene_check_overlaps(const esf_ynode *seq, const esf_ynode *walls,
 /* integrator.table (scene_butcher.c): the Butcher table of method erk into c->table,
  * checked; with no table, method erk is an error. in: the integrator mapping (method and
  * rtol read). */
+/* domain.periodic (scene_domain.c): c->per and the removal box from the domain node. */
+int esf_scene_periodic(const esf_ynode *dom, esf_config *c, esf_error *err);
+
 int esf_scene_butcher(const esf_ynode *in, esf_config *c, esf_error *err);
 
 /* output.walls and output.stress (scene_outputs.c) from the output mapping ou, after

@@ -30,13 +30,14 @@ static void contacts_release(esf_candidates *c) {
   free(c->led);
   free(c->vc0);
   free(c->wr0);
+  free(c->img);
   memset(c, 0, sizeof *c);
 }
 
 /* Room for n candidates in c, with the optional arrays: ledger scratch, carried
  * velocities (carry), bond states (bonds), rolling states (roll). */
 static int contacts_reserve(esf_candidates *c, size_t n, int ledger, int carry, int bonds,
-                            int roll, esf_error *err) {
+                            int roll, int img, esf_error *err) {
   if (n <= c->cap) return ESF_OK;
   const size_t cap = n + n / 4 + 64; /* a quarter of room: the lists grow and shrink */
   uint32_t *a = realloc(c->a, cap * sizeof *a);
@@ -72,8 +73,13 @@ static int contacts_reserve(esf_candidates *c, size_t n, int ledger, int carry, 
     w0 = realloc(c->wr0, cap * 3 * sizeof *w0);
     if (w0) c->wr0 = w0;
   }
+  int8_t *im = c->img;
+  if (img) {
+    im = realloc(c->img, cap * 3 * sizeof *im);
+    if (im) c->img = im;
+  }
   if (!a || !b || !h || !t || (ledger && !l) || (carry && !v0) || (bonds && !bd) ||
-      (roll && !rl) || (carry && roll && !w0))
+      (roll && !rl) || (carry && roll && !w0) || (img && !im))
     return esf_fail(err, ESF_ENOMEM, "out of memory for %zu contact candidates", cap);
   c->cap = cap;
   return ESF_OK;
@@ -95,6 +101,7 @@ void esf_neighbor_release(esf_neighbor *nb) {
   free(nb->ws_ok);
   esf_cells_free(&nb->cells);
   esf_pairbuf_release(&nb->buf);
+  free(nb->pimg);
   for (size_t t = 0; t < nb->nwbuf; t++) esf_pairbuf_release(&nb->wbuf[t]);
   free(nb->wbuf);
   free(nb->wscratch);
@@ -200,7 +207,7 @@ static int keep_touching(esf_neighbor *nb, const esf_candidates *list, esf_candi
   *carry = nb->carry && list->vc0 != NULL;
   kc->n = 0; /* empty: released after each build (rebuild_list) */
   const int cb = list->bond != NULL, cr = list->roll != NULL;
-  rc = contacts_reserve(kc, nk, 0, *carry, cb, cr, err);
+  rc = contacts_reserve(kc, nk, 0, *carry, cb, cr, 0, err);
   if (rc) return rc;
   const long nn = (long)nk;
   const int cv = *carry;
@@ -229,7 +236,8 @@ static int fill_list(esf_neighbor *nb, esf_candidates *list, const esf_candidate
   list->xsdot = NULL;
   if (list->cap > 2 * m + 1024) /* the old list was much longer (a larger skin, a */
     contacts_release(list);     /* denser state): drop its storage */
-  int rc = contacts_reserve(list, m, nb->ledger, nb->carry, bonds, nb->rolling, err);
+  const int img = list == &nb->pp && nb->per && nb->per->any;
+  int rc = contacts_reserve(list, m, nb->ledger, nb->carry, bonds, nb->rolling, img, err);
   if (rc) return rc;
   size_t *start = nb->ws_start;
   const size_t *ostart = nb->ws_ostart;
@@ -384,13 +392,38 @@ static int wall_candidates(esf_neighbor *nb, const esf_particles *p, const esf_w
   return ESF_OK;
 }
 
+/* The images of the pairs the periodic search found (nb->pimg, in the keys' order:
+ * sorted by (a, b), the order fill_list keeps) into list. */
+static int periodic_images(esf_neighbor *nb, esf_candidates *list, esf_error *err) {
+  if (!list->img) {
+    list->img = malloc((list->cap ? list->cap : 1) * 3 * sizeof *list->img);
+    if (!list->img) return esf_fail(err, ESF_ENOMEM, "out of memory for pair images");
+  }
+  if (list->n) memcpy(list->img, nb->pimg, 3 * list->n * sizeof *list->img);
+  for (int q = 0; q < 3; q++) list->plen[q] = nb->per->len[q];
+  list->per = nb->per;
+  return ESF_OK;
+}
+
 int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls *w,
                        esf_error *err) {
   esf_cells_threads(nb->cells, nb->threads);
-  int rc = esf_cells_pairs(nb->cells, p->n, p->x, p->radius, nb->skin, &nb->buf, err);
+  const int per = nb->per && nb->per->any;
+  double le_ref = 0, off = 0;
+  if (per && nb->per->le) off = esf_periodic_le_offset(nb->per, nb->le_t, &le_ref);
+  int rc =
+      per ? esf_periodic_pairs(nb->per, nb->cells, p->n, p->x, p->radius, nb->skin, off,
+                               &nb->buf, &nb->pimg, &nb->pimg_cap, err)
+          : esf_cells_pairs(nb->cells, p->n, p->x, p->radius, nb->skin, &nb->buf, err);
   if (rc) return rc;
   /* the search stores each pair as (min, max) */
   rc = rebuild_list(nb, &nb->pp, p->n, nb->buf.i, nb->buf.j, nb->buf.n, nb->bonds, err);
+  if (!rc && per) rc = periodic_images(nb, &nb->pp, err);
+  if (!rc && per) { /* Lees-Edwards: the offset's reference for this list */
+    nb->pp.le_ref = le_ref;
+    nb->pp.le_tb = nb->le_t;
+    nb->pp.le_off = off;
+  }
   if (rc) return rc;
 
   rc = wall_candidates(nb, p, w, err);
@@ -431,6 +464,7 @@ static void remap_list(esf_candidates *c, const size_t *remap, size_t n_old, int
       if (c->wr0) memcpy(c->wr0 + 3 * m, c->wr0 + 3 * k, 3 * sizeof(double));
       if (c->bond) c->bond[m] = c->bond[k]; /* its offset is the pair's: no sign */
       if (c->roll) c->roll[m] = c->roll[k];
+      if (c->img) memcpy(c->img + 3 * m, c->img + 3 * k, 3);
     }
     if (!walls && c->a[m] > c->b[m]) {
       const uint32_t t = c->a[m];
@@ -443,6 +477,7 @@ static void remap_list(esf_candidates *c, const size_t *remap, size_t n_old, int
         if (c->vc0) c->vc0[3 * m + q] = -c->vc0[3 * m + q];
         if (c->wr0) c->wr0[3 * m + q] = -c->wr0[3 * m + q];
         if (c->roll) c->roll[m].m[q] = -c->roll[m].m[q]; /* torque on the new A */
+        if (c->img) c->img[3 * m + q] = (int8_t)-c->img[3 * m + q]; /* A's image of B */
       } /* the twisting torque t n keeps its sign: n turned round too */
     }
     m++;
@@ -487,10 +522,15 @@ size_t esf_neighbor_touching(const esf_neighbor *nb) {
 /* Checkpoint restore (checkpoint.c): room for npp and npw candidates, scratch
  * included. */
 int esf_neighbor_reserve(esf_neighbor *nb, size_t npp, size_t npw, esf_error *err) {
-  int rc =
-      contacts_reserve(&nb->pp, npp, nb->ledger, nb->carry, nb->bonds, nb->rolling, err);
+  const int img = nb->per && nb->per->any;
+  int rc = contacts_reserve(&nb->pp, npp, nb->ledger, nb->carry, nb->bonds, nb->rolling,
+                            img, err);
   if (!rc)
-    rc = contacts_reserve(&nb->pw, npw, nb->ledger, nb->carry, 0, nb->rolling, err);
+    rc = contacts_reserve(&nb->pw, npw, nb->ledger, nb->carry, 0, nb->rolling, 0, err);
+  if (!rc && img) {
+    for (int q = 0; q < 3; q++) nb->pp.plen[q] = nb->per->len[q];
+    nb->pp.per = nb->per;
+  }
   if (rc) return rc;
   return wall_scratch_reserve(nb, err);
 }

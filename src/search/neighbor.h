@@ -16,6 +16,7 @@
 #include "bodies/walls.h"
 #include "contact/contact_law.h"
 #include "search/cells.h"
+#include "search/periodic.h"
 
 /* A build's cost in screened candidates per particle (the adaptive skin), from timings
  * of both (docs/performance.md#lists-and-rebuilds). */
@@ -53,6 +54,14 @@ typedef struct esf_candidates {
   const double *xs; /* history as ODE state (dem_ode.h): 3 per contact, the live
                        tangential displacement, m; NULL otherwise (not owned) */
   double *xsdot;    /* its rate, m/s, written by evaluations when not NULL */
+  int8_t *img;      /* 3 per candidate: the image of B (periodic.h), or NULL: the
+                       particle list of a scene with periodic axes only */
+  double plen[3];   /* with img: the periods, m (B's image is x_b + img plen) */
+  /* with img and Lees-Edwards shear (per->le): the box, the flow offset now (set by
+   * esf_neighbor_le_time), its multiple of L_f taken off at the build, the build's
+   * time; m, m, s */
+  const esf_periodic *per;
+  double le_off, le_ref, le_tb;
 } esf_candidates;
 
 typedef struct esf_neighbor {
@@ -83,6 +92,11 @@ typedef struct esf_neighbor {
   /* the scene's domain (particles leaving it are removed at the next build, which
    * esf_neighbor_check then asks for), or NULL, m */
   const double *dom_lo, *dom_hi;
+  /* the periodic box (periodic.h), or NULL: no periodic axis; its image scratch */
+  const esf_periodic *per;
+  int8_t *pimg;
+  size_t pimg_cap;
+  double le_t; /* Lees-Edwards: the time of the next build (set by the caller), s */
   /* the wall element index (wall_index.h) */
   struct esf_wall_index *widx;
   int threads; /* threads for the build's per-particle passes (>= 1; set by the caller) */
@@ -156,6 +170,35 @@ static inline const esf_contact_bond *esf_candidates_bond(const esf_candidates *
 static inline int esf_candidates_bonded(const esf_candidates *c, size_t k) {
   const esf_contact_bond *b = esf_candidates_bond(c, k);
   return b && b->on;
+}
+
+/* The position of candidate k's B as the pair's geometry uses it: x_b itself, or its
+ * periodic image (tmp filled) when the list has images. */
+static inline const double *esf_candidates_xb(const esf_candidates *c, size_t k,
+                                              const double *x, double tmp[3]) {
+  const double *xb = x + 3 * (size_t)c->b[k];
+  if (!c->img) return xb;
+  esf_periodic_image(xb, c->img + 3 * k, c->plen, tmp);
+  if (c->per && c->per->le) esf_periodic_le_image(c->per, c->img + 3 * k, c->le_off, tmp);
+  return tmp;
+}
+
+/* The velocity of candidate k's B as the pair's kinematics use it: v_b, or with
+ * Lees-Edwards shear its image's, v_b + m_g rate L_g along the flow axis (tmp filled). */
+static inline const double *esf_candidates_vb(const esf_candidates *c, size_t k,
+                                              const double *v, double tmp[3]) {
+  const double *vb = v + 3 * (size_t)c->b[k];
+  if (!c->img || !c->per || !c->per->le || !c->img[3 * k + c->per->grad]) return vb;
+  for (int q = 0; q < 3; q++) tmp[q] = vb[q];
+  tmp[c->per->flow] +=
+      (double)c->img[3 * k + c->per->grad] * esf_periodic_le_speed(c->per);
+  return tmp;
+}
+
+/* Lees-Edwards: the pair list's flow offset at time t (s); nothing without shear. */
+static inline void esf_neighbor_le_time(esf_neighbor *nb, double t) {
+  if (nb->per && nb->per->le)
+    nb->pp.le_off = nb->per->rate * nb->per->len[nb->per->grad] * t - nb->pp.le_ref;
 }
 
 /* Number of contacts touching at the last committed evaluation. */
