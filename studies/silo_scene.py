@@ -96,14 +96,16 @@ def yaml_text(s, name, floor_file, gate_file, quick):
     lo = [-s["R"] - m * d, -s["R"] - m * d, -m * d]
     hi = [s["R"] + m * d, s["R"] + m * d, s["wall_top"] + m * d]
     f = lambda v: "[" + ", ".join(f"{x:.6g}" for x in v) + "]"
-    return f"""# Silo discharge through a round orifice (issue 29; docs/examples.md#silo), written by
-# studies/silo_scene.py {'--quick ' if quick else ''}--D-over-d {s['D_over_d']:g}. A flat-bottomed cylindrical silo (diameter
-# {s['Ds']*1e3:.1f} mm = 2.5 D + 6 d, {SEG} facets) is filled by run-time insertion with {s['count']} glass beads
-# (diameters {0.9*d*1e3:.2f}-{1.1*d*1e3:.2f} mm, mean d = {d*1e3:g} mm) to about {s['H']*1e3:.0f} mm (1.2 silo diameters) while
-# a gate (an STL disc) closes the orifice of D = {s['D']*1e3:.1f} mm = {s['D_over_d']:g} d in the floor (an STL
-# annulus). At {s['t_open']:g} s an event removes the gate and the beads drain; they leave the run
-# below the domain's floor, {m:g} d under the orifice. studies/silo.py measures the mass flow
-# rate and compares it with Beverloo's law.
+    cmd = f"studies/silo_scene.py scenes {name} {'--quick ' if quick else ''}--D-over-d {s['D_over_d']:g}"
+    return f"""# Silo discharge through a round orifice (issue 29; docs/examples.md#silo),
+# written by {cmd}.
+# A flat-bottomed cylindrical silo, diameter {s['Ds']*1e3:.1f} mm = {s['wide']:g} D + {s['gap']:g} d ({SEG} facets),
+# is filled by run-time insertion with {s['count']} glass beads (diameters
+# {0.9*d*1e3:.2f}-{1.1*d*1e3:.2f} mm, mean d = {d*1e3:g} mm) to about {s['H']*1e3:.0f} mm while a gate
+# (an STL disc) closes the orifice, D = {s['D']*1e3:.1f} mm = {s['D_over_d']:g} d, in the floor (an STL
+# annulus). At {s['t_open']:g} s an event removes the gate and the beads drain; they leave
+# the run below the domain's floor, {m:g} d under the orifice. studies/silo.py measures
+# the mass flow rate and compares it with Beverloo's law.
 # Materials: a moderate kn (overlaps below 1 % of d in the bed) keeps the step large;
 # kt = kn/3.5 gives the tangential oscillation (with rolling) the normal one's period;
 # friction 0.5, restitution 0.5, no rolling resistance (smooth spheres).
