@@ -19,7 +19,8 @@ k = 1.5. The report gives the ratio measured/Beverloo, C fitted with k = 1.5 per
 and C and k fitted over all sizes (W^(2/5) is linear in D).
 
     /usr/bin/python3 studies/silo.py [--esfera build/esfera] [--out out/silo]
-        [--sizes 5 6.5 8] [--quick] [--report studies/results/silo]
+        [--sizes 5 6.5 8] [--quick] [--report studies/results/silo] [--set K=V]...
+        [--no-run]
 """
 import argparse
 import math
@@ -103,12 +104,13 @@ def beverloo(rho_b, D, d, C=C_BEV, k=K_BEV):
     return C * rho_b * math.sqrt(G) * (D - k * d)**2.5
 
 
-def run(esfera, outdir, name, ratio, quick, threads):
+def run(esfera, outdir, name, ratio, quick, threads, sets=()):
     os.makedirs(outdir, exist_ok=True)
     s = silo_scene.write(outdir, name, ratio, quick)
     res = os.path.join(outdir, name)
+    extra = [x for kv in sets for x in ("--set", kv)]
     r = subprocess.run([esfera, "run", os.path.join(outdir, name + ".yaml"), "--out", res,
-                        "--quiet", "--overwrite", "--threads", str(threads)],
+                        "--quiet", "--overwrite", "--threads", str(threads), *extra],
                        capture_output=True, text=True)
     if r.returncode != 0:
         raise RuntimeError(f"{name}: exit {r.returncode}: {r.stderr}")
@@ -127,7 +129,7 @@ def fit_ck(rows):
     return slope**2.5, -icpt / (slope * d)
 
 
-def report(rows, C, k, path, quick):
+def report(rows, C, k, path, quick, sets=()):
     os.makedirs(path, exist_ok=True)
     import matplotlib
     matplotlib.use("Agg")
@@ -158,7 +160,8 @@ def report(rows, C, k, path, quick):
     fig.tight_layout()
     fig.savefig(os.path.join(path, "silo.png"), dpi=110)
     lines = ["# Silo discharge against Beverloo's law", "",
-             "Written by `studies/silo.py" + (" --quick" if quick else "") + "`. "
+             "Written by `studies/silo.py" + (" --quick" if quick else "")
+             + "".join(f" --set {x}" for x in sets) + "`. "
              "Scenes from `studies/silo_scene.py` (docs/examples.md#silo); W is the slope "
              "of the discharged mass against time, fitted from 0.05 s after the first "
              "particle left the domain to the run's end. rho_b is the bulk density of "
@@ -192,6 +195,8 @@ def main():
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--report", default=os.path.join(here, "studies", "results", "silo"))
     ap.add_argument("--no-run", action="store_true", help="analyse existing results")
+    ap.add_argument("--set", action="append", default=[],
+                    help="KEY=VALUE passed to every run (e.g. materials.glass.friction=0.3)")
     a = ap.parse_args()
     rows = []
     for ratio in a.sizes:
@@ -199,12 +204,12 @@ def main():
         if a.no_run:
             s, res = silo_scene.scene(ratio, a.quick), os.path.join(a.out, name)
         else:
-            s, res, summ = run(a.esfera, a.out, name, ratio, a.quick, a.threads)
+            s, res, summ = run(a.esfera, a.out, name, ratio, a.quick, a.threads, a.set)
             print(f"{name}: wall_s={summ['wall_s']} inserted={summ['inserted']} "
                   f"removed={summ['removed']}", flush=True)
         rows.append(dict(s, **discharge(res, s)))
     C, k = fit_ck(rows) if len(rows) > 1 else (float("nan"), float("nan"))
-    report(rows, C, k, a.report, a.quick)
+    report(rows, C, k, a.report, a.quick, a.set)
 
 
 if __name__ == "__main__":
