@@ -87,6 +87,10 @@ def discharge(out, s):
     t0 = ts[0] + WINDOW_DELAY if len(ts) else s["t_open"]
     t1 = frames[-1].time
     w = ts >= t0
+    if w.sum() < 8:  # no flow to fit (a clogged orifice): W 0, R^2 0
+        return dict(rho_b=rho_b, phi=rho_b / DENSITY, top=top, top_end=top, n_open=len(d["id"]),
+                    early=early, n_out=len(ts), W=0.0, r2=0.0, W1=0.0, W2=0.0, t0=t0, t1=t1,
+                    ts=ts, M=M, fit=np.zeros(2))
     fit = np.polyfit(ts[w], M[w], 1)
     resid = M[w] - np.polyval(fit, ts[w])
     r2 = 1 - np.sum(resid**2) / np.sum((M[w] - M[w].mean())**2)
