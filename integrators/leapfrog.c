@@ -198,6 +198,11 @@ static int lf_restore(esf_sim *s, void *state, esf_blob_in *in, esf_error *err) 
   return ESF_OK;
 }
 
+static void lf_trim(esf_sim *s, void *state) {
+  leapfrog *lf = state;
+  esf_fused_trim(s, lf->fast);
+}
+
 const esf_integrator_type esf_integrator_leapfrog = {
     .name = "leapfrog",
     .summary = "central differences (leapfrog), velocities at half steps, with global "
@@ -210,4 +215,5 @@ const esf_integrator_type esf_integrator_leapfrog = {
     .destroy = lf_destroy,
     .save = lf_save,
     .restore = lf_restore,
+    .trim = lf_trim,
 };

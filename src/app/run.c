@@ -489,6 +489,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       if (rc) break;
     }
     if (frame) {
+      if (it->trim) it->trim(s, ist);
       rc = write_frame(s, fr, &net, err);
       if (rc) break;
     }
@@ -534,6 +535,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                   "the run ended after 0 steps at t = %.9g s (end: t = %.9g s, %ld "
                   "steps of %.6g s asked)",
                   s->t, t_end, nsteps, s->dt);
+  if (it->trim) it->trim(s, ist); /* the check's and the final frame's scratch alone */
   if (!rc && !st->interrupted && (it->flags & ESF_INTEG_STABILITY_CHECK))
     rc = esf_stability_guard(s, 1, err); /* the final state is checked too */
   if (s->stab.checks)

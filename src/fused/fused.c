@@ -103,6 +103,20 @@ void esf_fused_free(esf_fused **f) {
   *f = NULL;
 }
 
+void esf_fused_trim(esf_sim *s, esf_fused *f) {
+  if (!f) return;
+  esf_sim_forces_sync(s); /* acc goes */
+  void **big[7] = {(void **)&f->list[0], (void **)&f->list[1], (void **)&f->idle,
+                   (void **)&f->sm,      (void **)&f->acc,     (void **)&f->astart,
+                   (void **)&f->wstart};
+  for (int q = 0; q < 7; q++) {
+    free(*big[q]);
+    *big[q] = NULL;
+  }
+  f->cap_k = f->cap_n = 0;
+  f->built = -1; /* esf_fused_run indexes again */
+}
+
 const char *esf_fused_isa(const esf_fused *f) { return f->k->isa; }
 
 static int minimal_ok(const esf_sim *s) {
@@ -386,6 +400,10 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
   s->nb.max_disp2 = r.max2;
   s->nb.escaped = r.escaped;
   s->nb.disp_valid = K.xref && !r.nonfinite;
+  const int check =
+      s->cfg.stability != ESF_STAB_OFF && s->step % s->cfg.stability_every == 0;
+  if ((s->nb.disp_valid && (r.max2 > B.lim2 || r.escaped)) || check)
+    esf_fused_trim(s, f); /* a rebuild or a stability check is next */
 #ifdef _OPENMP
   f->t_left = omp_get_wtime();
   f->t_step = (f->t_left - t_start) / (double)(n > 0 ? n : 1);

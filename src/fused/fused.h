@@ -41,4 +41,12 @@ const char *esf_fused_refusal(const esf_sim *s);
  * (overlap past the limit) is reported for the step it happened in, s->step naming it. */
 int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *err);
 
+/* Releases the indices and accumulators the next call makes again (about 140 bytes a
+ * particle: per pair the sequences, idle lists and sqrt(m*), per particle the
+ * accumulators and offsets), after copying F_n, M_n to p.f, p.t: so that a list
+ * rebuild, a stability check or a frame does not hold its scratch beside them.
+ * esf_fused_run calls it when it stops for a rebuild or a stability check; the
+ * leapfrog's trim (integrator.h) before the run's frames and final check. */
+void esf_fused_trim(esf_sim *s, esf_fused *f);
+
 #endif

@@ -383,10 +383,25 @@ static int wall_candidates(esf_neighbor *nb, const esf_particles *p, const esf_w
   return ESF_OK;
 }
 
+/* The build's scratch, not held between builds (about 100 bytes a particle: the cells,
+ * the pair buffers, the history transfer's offsets; faulting its pages in again costs
+ * a build well under 1%: docs/performance.md#memory). */
+static void release_scratch(esf_neighbor *nb) {
+  esf_pairbuf_release(&nb->buf);
+  for (size_t t = 0; t < nb->nwbuf; t++) esf_pairbuf_release(&nb->wbuf[t]);
+  free(nb->ws_start);
+  free(nb->ws_ostart);
+  free(nb->ws_ok);
+  nb->ws_start = nb->ws_ostart = NULL;
+  nb->ws_ok = NULL;
+  nb->ws_n = nb->ws_m = 0;
+}
+
 int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls *w,
                        esf_error *err) {
   esf_cells_threads(nb->cells, nb->threads);
   int rc = esf_cells_pairs(nb->cells, p->n, p->x, p->radius, nb->skin, &nb->buf, err);
+  esf_cells_trim(nb->cells); /* its pair buffers: not beside the lists' refill */
   if (rc) return rc;
   /* the search stores each pair as (min, max) */
   rc = rebuild_list(nb, &nb->pp, p->n, nb->buf.i, nb->buf.j, nb->buf.n, nb->bonds, err);
@@ -406,6 +421,7 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
     nb->nref = p->n;
   }
   memcpy(nb->xref, p->x, p->n * 3 * sizeof(double));
+  release_scratch(nb);
   nb->builds++;
   nb->disp_valid = 0;
   return ESF_OK;
