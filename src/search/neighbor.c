@@ -215,6 +215,9 @@ static int keep_touching(esf_neighbor *nb, const esf_candidates *list, esf_candi
     if (cr) kc->roll[j] = list->roll[f];
   }
   kc->n = nk;
+  free(nb->ws_ok); /* the positions are read: not held through the refill */
+  nb->ws_ok = NULL;
+  nb->ws_m = 0;
   return ESF_OK;
 }
 
@@ -224,7 +227,8 @@ static int keep_touching(esf_neighbor *nb, const esf_candidates *list, esf_candi
 static int fill_list(esf_neighbor *nb, esf_candidates *list, const esf_candidates *kc,
                      size_t n, const uint32_t *ka, const uint32_t *kb, size_t m,
                      int carry, int bonds, esf_error *err) {
-  list->n = 0;     /* nothing to keep: the storage is refilled */
+  const int own_keys = ka == nb->buf.i; /* released once read (the build's peak) */
+  list->n = 0;                          /* nothing to keep: the storage is refilled */
   list->xs = NULL; /* the ODE methods bind the state again before evaluating */
   list->xsdot = NULL;
   if (list->cap > 2 * m + 1024) /* the old list was much longer (a larger skin, a */
@@ -234,6 +238,7 @@ static int fill_list(esf_neighbor *nb, esf_candidates *list, const esf_candidate
   size_t *start = nb->ws_start;
   const size_t *ostart = nb->ws_ostart;
   count_by_a(n, ka, kb, NULL, m, start, list->b, NULL); /* the new keys' b by a */
+  if (own_keys) esf_pairbuf_release(&nb->buf);
   const long nn = (long)n;
 #pragma omp parallel for num_threads(nb->threads > 0 ? nb->threads : 1) schedule(static)
   for (long ia = 0; ia < nn; ia++) {
@@ -400,6 +405,9 @@ static void release_scratch(esf_neighbor *nb) {
 int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls *w,
                        esf_error *err) {
   esf_cells_threads(nb->cells, nb->threads);
+  free(nb->xref); /* written again at the end */
+  nb->xref = NULL;
+  nb->nref = 0;
   int rc = esf_cells_pairs(nb->cells, p->n, p->x, p->radius, nb->skin, &nb->buf, err);
   esf_cells_trim(nb->cells); /* its pair buffers: not beside the lists' refill */
   if (rc) return rc;
@@ -414,8 +422,7 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
   rc = wall_scratch_reserve(nb, err);
   if (rc) return rc;
 
-  if (nb->nref != p->n || !nb->xref) {
-    free(nb->xref);
+  if (!nb->xref) {
     nb->xref = malloc((p->n ? p->n : 1) * 3 * sizeof(double));
     if (!nb->xref) return esf_fail(err, ESF_ENOMEM, "out of memory");
     nb->nref = p->n;
