@@ -123,6 +123,8 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   esf_walls_set_time(&s->walls, s->t); /* moving walls at x_n's time */
   int rebuilt = 0;
   int rc = esf_sim_refresh(s, &rebuilt, err);
+  if (!lf->started && !s->ft_lazy) /* no forces yet: start() evaluates them */
+    esf_sim_forces_release(s);     /* (not held through the first stability check) */
   if (!rc && rebuilt) rc = esf_stability_runaway(s, err); /* no particle runs away */
   if (!rc) rc = esf_stability_guard(s, 0, err);           /* every stability_every */
   if (rc) return rc;

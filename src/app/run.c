@@ -193,8 +193,8 @@ static int check_energy(esf_sim *s, int *warned, esf_error *err) {
 /* A frame of the current state: particles, walls, and the contact network when the
  * scene asks for it (output.contacts). */
 static int write_frame(esf_sim *s, esf_frames *fr, esf_contact_net *net, esf_error *err) {
-  esf_sim_forces_sync(s);
-  int rc = s->cfg.out_contacts ? esf_contact_net_build(s, net, err) : ESF_OK;
+  int rc = esf_sim_forces_sync(s, err);
+  if (!rc) rc = s->cfg.out_contacts ? esf_contact_net_build(s, net, err) : ESF_OK;
   if (!rc)
     rc = esf_frames_write(fr, s->t, &s->p, &s->walls, s->cfg.out_contacts ? net : NULL,
                           err);

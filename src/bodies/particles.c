@@ -155,7 +155,7 @@ int esf_particles_permute(esf_particles *p, const size_t *src, int threads,
     memcpy(vec[a], s3, 3 * n * sizeof *s3);
   }
   double **own3[2] = {&p->f, &p->t};
-  for (int a = 0; a < 2; a++) { /* the scratch takes the array's place */
+  for (int a = 0; a < (p->f && p->t ? 2 : 0); a++) { /* the scratch takes their place */
     gather_doubles(s3, *own3[a], src, n, 3, threads);
     double *old = *own3[a];
     *own3[a] = s3;

@@ -104,8 +104,8 @@ void esf_fused_free(esf_fused **f) {
 }
 
 void esf_fused_trim(esf_sim *s, esf_fused *f) {
-  if (!f) return;
-  esf_sim_forces_sync(s); /* acc goes */
+  esf_error e;
+  if (!f || esf_sim_forces_sync(s, &e)) return; /* acc goes (kept when p.f cannot come) */
   void **big[7] = {(void **)&f->list[0], (void **)&f->list[1], (void **)&f->idle,
                    (void **)&f->sm,      (void **)&f->acc,     (void **)&f->astart,
                    (void **)&f->wstart};
@@ -235,8 +235,8 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
     f->cap = 0;
 #endif
   if (f->built != s->nb.builds || f->np != p->n || f->want != want || f->recut) {
-    esf_sim_forces_sync(s); /* acc may move */
-    rc = esf_fused_index(s, f, want, err);
+    rc = esf_sim_forces_sync(s, err); /* acc may move */
+    if (!rc) rc = esf_fused_index(s, f, want, err);
     if (rc) return rc;
   }
   const int nth = f->nth;            /* the ranges worth running (fused_ranges.c) */
@@ -368,6 +368,11 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
   /* the accumulators hold F_n, M_n; on failure they are partly overwritten, and p.f,
    * p.t keep what the last sync left */
   s->ft_lazy = fail ? NULL : f->acc;
+  if (!fail) /* p.f, p.t are not held beside the accumulators (docs/performance.md#memory)
+              */
+    esf_sim_forces_release(s);
+  else if ((rc = esf_sim_forces_room(s, err))) /* zero if released */
+    return rc;
   if (r.bad_pair != SIZE_MAX) {
     const esf_candidates *c = &s->nb.pp;
     uint32_t a = c->a[r.bad_pair], b = c->b[r.bad_pair];
