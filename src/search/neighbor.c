@@ -240,6 +240,7 @@ static int fill_list(esf_neighbor *nb, esf_candidates *list, const esf_candidate
   count_by_a(n, ka, kb, NULL, m, start, list->b, NULL); /* the new keys' b by a */
   if (own_keys) esf_pairbuf_release(&nb->buf);
   const long nn = (long)n;
+  const esf_contact_hist zero = {0}; /* all bits zero */
 #pragma omp parallel for num_threads(nb->threads > 0 ? nb->threads : 1) schedule(static)
   for (long ia = 0; ia < nn; ia++) {
     const size_t a = (size_t)ia, k0 = start[a], k1 = start[a + 1];
@@ -270,7 +271,8 @@ static int fill_list(esf_neighbor *nb, esf_candidates *list, const esf_candidate
         if (list->roll)
           list->roll[k] = kc->roll ? kc->roll[f] : (esf_contact_roll){{0, 0, 0}, 0};
       } else {
-        memset(&list->h[k], 0, sizeof list->h[k]);
+        if (memcmp(&list->h[k], &zero, sizeof zero)) /* only when not zero already: */
+          list->h[k] = zero; /* a fresh list's pages stay untouched until its contacts */
         list->touch[k] = 0;
         if (list->vc0) memset(list->vc0 + 3 * k, 0, 3 * sizeof(double));
         if (list->wr0) memset(list->wr0 + 3 * k, 0, 3 * sizeof(double));
