@@ -235,10 +235,14 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
     f->cap = 0;
 #endif
   if (f->built != s->nb.builds || f->np != p->n || f->want != want || f->recut) {
-    rc = esf_sim_forces_sync(s, err); /* acc may move */
+    /* acc moves only when it grows (a re-cut keeps it: no p.f, p.t beside it) */
+    rc = p->n + 1 > f->cap_n ? esf_sim_forces_sync(s, err) : ESF_OK;
     if (!rc) rc = esf_fused_index(s, f, want, err);
     if (rc) return rc;
   }
+  if (!s->ft_lazy) /* the steps write F_n, M_n into acc: p.f, p.t are not held beside it
+                    */
+    esf_sim_forces_release(s);       /* (docs/performance.md#memory) */
   const int nth = f->nth;            /* the ranges worth running (fused_ranges.c) */
   const int ledger = s->led.on;      /* per-particle rows and blocks (core/ledger.h) */
   const int autod = s->cfg.autod.on; /* adaptive damping: the blocks' kinetic energies */
@@ -368,10 +372,7 @@ int esf_fused_run(esf_sim *s, esf_fused *f, long nmax, long *taken, esf_error *e
   /* the accumulators hold F_n, M_n; on failure they are partly overwritten, and p.f,
    * p.t keep what the last sync left */
   s->ft_lazy = fail ? NULL : f->acc;
-  if (!fail) /* p.f, p.t are not held beside the accumulators (docs/performance.md#memory)
-              */
-    esf_sim_forces_release(s);
-  else if ((rc = esf_sim_forces_room(s, err))) /* zero if released */
+  if (fail && (rc = esf_sim_forces_room(s, err))) /* p.f, p.t zero */
     return rc;
   if (r.bad_pair != SIZE_MAX) {
     const esf_candidates *c = &s->nb.pp;
