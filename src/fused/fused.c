@@ -104,17 +104,19 @@ void esf_fused_free(esf_fused **f) {
 }
 
 void esf_fused_trim(esf_sim *s, esf_fused *f) {
-  esf_error e;
-  if (!f || esf_sim_forces_sync(s, &e)) return; /* acc goes (kept when p.f cannot come) */
-  void **big[7] = {(void **)&f->list[0], (void **)&f->list[1], (void **)&f->idle,
-                   (void **)&f->sm,      (void **)&f->acc,     (void **)&f->astart,
-                   (void **)&f->wstart};
-  for (int q = 0; q < 7; q++) {
+  if (!f) return;
+  void **big[6] = {(void **)&f->list[0], (void **)&f->list[1], (void **)&f->idle,
+                   (void **)&f->sm,      (void **)&f->astart,  (void **)&f->wstart};
+  for (int q = 0; q < 6; q++) { /* first: p.f, p.t then come in their place */
     free(*big[q]);
     *big[q] = NULL;
   }
   f->cap_k = f->cap_n = 0;
-  f->built = -1; /* esf_fused_run indexes again */
+  f->built = -1; /* esf_fused_run indexes again (syncing first when acc is kept) */
+  esf_error e;
+  if (esf_sim_forces_sync(s, &e)) return; /* acc kept when p.f, p.t cannot come */
+  free(f->acc);
+  f->acc = NULL;
 }
 
 const char *esf_fused_isa(const esf_fused *f) { return f->k->isa; }
