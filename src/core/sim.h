@@ -187,7 +187,8 @@ typedef struct esf_sim {
                      particles may be renumbered at rebuilds (set by its create) */
   /* F_n and M_n of the last fused step (fused/fused.c), ESF_FT_STRIDE doubles per
    * particle (force 3, N; one spare; torque 3, N m; one spare), not yet copied to p.f and
-   * p.t; NULL when p.f and p.t are current. esf_sim_forces_sync copies them. */
+   * p.t (which are then released: NULL); NULL when p.f and p.t are current.
+   * esf_sim_forces_sync copies them. */
   const double *ft_lazy;
   /* The leapfrog's energy ledger of the step (ledger.h): ESF_LR rows per particle
    * (line-aligned, zeroed before each committing evaluation), ESF_LB_N channels per
