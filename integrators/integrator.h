@@ -17,9 +17,9 @@
 #include "util/esf_error.h"
 
 enum {
-  ESF_INTEG_FIXED_STEP = 1u << 0,         /* uses s->dt */
-  ESF_INTEG_ADAPTIVE = 1u << 1,           /* chooses its own steps */
-  ESF_INTEG_HALF_STEP_V = 1u << 2,        /* velocities in the state are at half steps */
+  ESF_INTEG_FIXED_STEP = 1u << 0,          /* uses s->dt */
+  ESF_INTEG_ADAPTIVE = 1u << 1,            /* chooses its own steps */
+  ESF_INTEG_HALF_STEP_V = 1u << 2,         /* velocities in the state are at half steps */
   ESF_INTEG_HISTORY_INCREMENTAL = 1u << 3, /* contact history committed once per step */
   ESF_INTEG_STABILITY_CHECK = 1u << 4 /* checks its stability live (model/stability.h);
                                          the driver asks once more at the run's end */
@@ -59,6 +59,11 @@ typedef struct esf_integrator_type {
    * (ESF_EINPUT when it does not fit). */
   int (*save)(esf_sim *s, void *state, esf_blob *out, esf_error *err);
   int (*restore)(esf_sim *s, void *state, esf_blob_in *in, esf_error *err);
+  /* Optional: releases the storage the scheme makes again at its next step (the fused
+   * step's indices and accumulators), changing no result. The run driver calls it
+   * before a frame and before the final stability check, whose scratch then does not
+   * add to it (docs/performance.md#memory). */
+  void (*trim)(esf_sim *s, void *state);
 } esf_integrator_type;
 
 extern const esf_integrator_type esf_integrator_leapfrog;

@@ -124,6 +124,8 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   esf_walls_set_time(&s->walls, s->t); /* moving walls at x_n's time */
   int rebuilt = 0;
   int rc = esf_sim_refresh(s, &rebuilt, err);
+  if (!lf->started && !s->ft_lazy) /* no forces yet: start() evaluates them */
+    esf_sim_forces_release(s);     /* (not held through the first stability check) */
   if (!rc && rebuilt) rc = esf_stability_runaway(s, err); /* no particle runs away */
   if (!rc) rc = esf_stability_guard(s, 0, err);           /* every stability_every */
   if (rc) return rc;
@@ -204,6 +206,11 @@ static int lf_restore(esf_sim *s, void *state, esf_blob_in *in, esf_error *err) 
   return ESF_OK;
 }
 
+static void lf_trim(esf_sim *s, void *state) {
+  leapfrog *lf = state;
+  esf_fused_trim(s, lf->fast);
+}
+
 const esf_integrator_type esf_integrator_leapfrog = {
     .name = "leapfrog",
     .summary = "central differences (leapfrog), velocities at half steps, with global "
@@ -216,4 +223,5 @@ const esf_integrator_type esf_integrator_leapfrog = {
     .destroy = lf_destroy,
     .save = lf_save,
     .restore = lf_restore,
+    .trim = lf_trim,
 };

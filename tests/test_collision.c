@@ -60,7 +60,7 @@ static void run_case(const char *scene, double eta, int wall) {
         wall ? p->radius[0] - p->x[2] : p->radius[0] + p->radius[1] - (p->x[3] - p->x[0]);
     if (un > umax) umax = un;
     /* the step just taken applied the force at t_n = t - dt */
-    esf_sim_forces_sync(&T.s);
+    CHECK_OK(esf_sim_forces_sync(&T.s, &T.err), T.err);
     int force = fabs(p->f[0]) + fabs(p->f[2]) > 0;
     if (force && t_first < 0) t_first = T.s.t - T.s.dt;
     if (force) t_last = T.s.t - T.s.dt;

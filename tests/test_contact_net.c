@@ -60,9 +60,9 @@ static void schemes_commit(const char *method) {
   }
   for (int k = 0; k < 5; k++) simtest_step(&T);
   esf_sim *s = &T.s;
-  esf_sim_forces_sync(s);
   esf_contact_net net = {0};
   esf_error err = {0};
+  CHECK_OK(esf_sim_forces_sync(s, &err), err);
   CHECK_OK(esf_contact_net_build(s, 1, &net, &err), err);
   const esf_particles *p = &s->p;
   double *f = calloc(3 * p->n, sizeof *f), worst = 0;

@@ -69,7 +69,7 @@ static int run(int threads, int fused, result *r) {
   r->fused = fused && esf_fused_eligible(&T.s);
   while (!rc && T.s.t < t_end - 0.5 * T.s.dt) rc = simtest_step(&T);
   if (!rc) {
-    esf_sim_forces_sync(&T.s);
+    CHECK_OK(esf_sim_forces_sync(&T.s, &T.err), T.err);
     r->n = T.s.p.n;
     r->m = T.s.nb.pp.n;
     r->y = malloc(9 * r->n * sizeof(double));

@@ -93,7 +93,7 @@ static double impact_at(int wall, double v, double vimp, double eta, double *dur
     double un =
         wall ? p->radius[0] - p->x[2] : p->radius[0] + p->radius[1] - (p->x[3] - p->x[0]);
     *umax = fmax(*umax, un);
-    esf_sim_forces_sync(&T.s);
+    CHECK_OK(esf_sim_forces_sync(&T.s, &T.err), T.err);
     int force = fabs(p->f[0]) + fabs(p->f[2]) > 0;
     if (force && t_first < 0) t_first = T.s.t - T.s.dt;
     if (force) t_last = T.s.t - T.s.dt;

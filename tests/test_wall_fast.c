@@ -213,6 +213,8 @@ static int same(const result *a, const result *b, size_t m) {
 
 /* Compares the passes for every particle with wall candidates at the current state. */
 static void compare_all(esf_sim *s, stats *st) {
+  esf_error e;
+  CHECK_OK(esf_sim_forces_sync(s, &e), e); /* p.f, p.t: released during fused steps */
   esf_candidates *c = &s->nb.pw;
   size_t cap = c->n ? c->n : 1;
   esf_contact_hist *h0 = malloc(cap * sizeof *h0);

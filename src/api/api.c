@@ -129,7 +129,9 @@ const double *esf_handle_array(esf_handle *h, int which, size_t *len) {
   *len = 0;
   if (!h || !h->set_up) return NULL;
   esf_particles *p = &h->s.p;
-  if (which == ESF_ARRAY_FORCE || which == ESF_ARRAY_TORQUE) esf_sim_forces_sync(&h->s);
+  if ((which == ESF_ARRAY_FORCE || which == ESF_ARRAY_TORQUE) &&
+      esf_sim_forces_sync(&h->s, &h->err))
+    return NULL;
   const double *a[ESF_ARRAY_COUNT] = {p->x, p->v,      p->w,    p->f,
                                       p->t, p->radius, p->mass, p->inertia};
   if (which < 0 || which >= ESF_ARRAY_COUNT) return NULL;

@@ -14,6 +14,9 @@
  * action). SIGXFSZ is ignored so that a file-size limit reaches the writers as EFBIG, a
  * clear error, instead of killing the process. */
 #include <limits.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,6 +32,8 @@
 #include "loads/insert.h"
 #include "model/model.h"
 #include "scene/scene.h"
+
+#define ESF_MMAP_MIN (256 * 1024) /* bytes */
 #include "util/atomic_file.h"
 #include "util/version.h"
 
@@ -442,6 +447,13 @@ static int cmd_run(int argc, char **argv, const char *argv0) {
 }
 
 int main(int argc, char **argv) {
+#ifdef __GLIBC__
+  /* Arrays from ESF_MMAP_MIN bytes on get pages of their own, returned when freed:
+   * glibc's default raises that bound to the largest array freed so far (up to 32 MB),
+   * after which freed arrays stay resident in the heap and the peak memory counts
+   * storage already given back (docs/performance.md#memory). */
+  mallopt(M_MMAP_THRESHOLD, ESF_MMAP_MIN);
+#endif
   if (argc < 2) {
     usage(stderr);
     return 2;

@@ -194,8 +194,8 @@ static int check_energy(esf_sim *s, int *warned, esf_error *err) {
 /* A frame of the current state: particles, walls, and the contact network when the
  * scene asks for it (output.contacts). */
 static int write_frame(esf_sim *s, esf_frames *fr, esf_contact_net *net, esf_error *err) {
-  esf_sim_forces_sync(s);
-  int rc = s->cfg.out_contacts ? esf_contact_net_build(s, 1, net, err) : ESF_OK;
+  int rc = esf_sim_forces_sync(s, err);
+  if (!rc) rc = s->cfg.out_contacts ? esf_contact_net_build(s, 1, net, err) : ESF_OK;
   if (!rc)
     rc = esf_frames_write(fr, s->t, &s->p, &s->walls, s->cfg.out_contacts ? net : NULL,
                           err);
@@ -493,6 +493,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       if (rc) break;
     }
     if (frame) {
+      if (it->trim) it->trim(s, ist);
       rc = write_frame(s, fr, &net, err);
       if (rc) break;
     }
@@ -539,6 +540,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                   "the run ended after 0 steps at t = %.9g s (end: t = %.9g s, %ld "
                   "steps of %.6g s asked)",
                   s->t, t_end, nsteps, s->dt);
+  if (it->trim) it->trim(s, ist); /* the check's and the final frame's scratch alone */
   if (!rc && !st->interrupted && (it->flags & ESF_INTEG_STABILITY_CHECK))
     rc = esf_stability_guard(s, 1, err); /* the final state is checked too */
   if (s->stab.checks)

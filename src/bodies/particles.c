@@ -1,5 +1,6 @@
-/* particles.c — allocation, growth and compaction of the structure-of-arrays particle
- * store. Invariant on exit of every function: x, v, w point into the single block y of 9n
+/* particles.c — allocation, growth, compaction and renumbering of the structure-of-arrays
+ * particle store (a renumbering array by array, through two scratch arrays).
+ * Invariant on exit of every function: x, v, w point into the single block y of 9n
  * doubles, in that order, so the block is one contiguous ODE state vector. */
 #include "bodies/particles.h"
 
@@ -132,9 +133,70 @@ int esf_particles_compact(esf_particles *p, const unsigned char *keep, size_t *r
   return rc;
 }
 
+/* to[k] = from[src[k]] for k < n, entries of w doubles, on `threads` threads. */
+static void gather_doubles(double *restrict to, const double *restrict from,
+                           const size_t *src, size_t n, int w, int threads) {
+  const long nn = (long)n;
+#pragma omp parallel for num_threads(threads > 1 ? threads : 1) schedule(static)
+  for (long kk = 0; kk < nn; kk++)
+    for (int q = 0; q < w; q++) to[(size_t)w * (size_t)kk + q] = from[w * src[kk] + q];
+}
+
+/* The same for entries of `size` bytes (the integer arrays). */
+static void gather_bytes(void *restrict to, const void *restrict from, const size_t *src,
+                         size_t n, size_t size, int threads) {
+  const long nn = (long)n;
+#pragma omp parallel for num_threads(threads > 1 ? threads : 1) schedule(static)
+  for (long kk = 0; kk < nn; kk++)
+    memcpy((char *)to + size * (size_t)kk, (const char *)from + size * src[kk], size);
+}
+
+/* Array by array through two scratch arrays (3n and n doubles), not a second copy of
+ * every array at once (the peak memory of a renumbering: 32 bytes a particle beside
+ * the particles, not 172): x, v, w and material are gathered and copied back (x, v, w
+ * stay in the one block y); f, t, the per-particle doubles and id are gathered into a
+ * scratch array that then takes the old array's place. Same bits as a gather. */
 int esf_particles_permute(esf_particles *p, const size_t *src, int threads,
                           esf_error *err) {
-  return gather(p, src, p->n, threads, err);
+  const size_t n = p->n, m = n ? n : 1;
+  double *s3 = malloc(3 * m * sizeof *s3), *s1 = malloc(m * sizeof *s1);
+  if (!s3 || !s1) {
+    free(s3);
+    free(s1);
+    return esf_fail(err, ESF_ENOMEM, "out of memory for reordering %zu particles", n);
+  }
+  double *vec[3] = {p->x, p->v, p->w};
+  for (int a = 0; a < 3; a++) { /* in y: gathered, copied back */
+    gather_doubles(s3, vec[a], src, n, 3, threads);
+    memcpy(vec[a], s3, 3 * n * sizeof *s3);
+  }
+  double **own3[2] = {&p->f, &p->t};
+  for (int a = 0; a < (p->f && p->t ? 2 : 0); a++) { /* the scratch takes their place */
+    gather_doubles(s3, *own3[a], src, n, 3, threads);
+    double *old = *own3[a];
+    *own3[a] = s3;
+    s3 = old;
+  }
+  double **own1[5] = {&p->radius, &p->mass, &p->inv_mass, &p->inertia, &p->inv_inertia};
+  for (int a = 0; a < 5; a++) {
+    gather_doubles(s1, *own1[a], src, n, 1, threads);
+    double *old = *own1[a];
+    *own1[a] = s1;
+    s1 = old;
+  }
+  gather_bytes(s1, p->id, src, n, sizeof *p->id, threads); /* eight bytes, as s1's */
+  int64_t *oid = p->id;
+  p->id = (int64_t *)s1;
+  s1 = (double *)oid;
+  gather_bytes(s1, p->material, src, n, sizeof *p->material, threads);
+  memcpy(p->material, s1, n * sizeof *p->material);
+  if (p->img) { /* periodic image counters, 12 bytes a particle (s3 has 24) */
+    gather_bytes(s3, p->img, src, n, 3 * sizeof *p->img, threads);
+    memcpy(p->img, s3, 3 * n * sizeof *p->img);
+  }
+  free(s3);
+  free(s1);
+  return ESF_OK;
 }
 
 int esf_particles_append(esf_particles *p, size_t k, esf_error *err) {

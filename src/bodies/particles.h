@@ -21,8 +21,8 @@ typedef struct esf_particles {
   double *x;           /* 3n positions, m (= y) */
   double *v;           /* 3n velocities, m/s (= y + 3n) */
   double *w;           /* 3n angular velocities, rad/s (= y + 6n) */
-  double *f;           /* 3n force accumulator, N */
-  double *t;           /* 3n torque accumulator, N m */
+  double *f;           /* 3n force accumulator, N (NULL while released: core/sim.h) */
+  double *t;           /* 3n torque accumulator, N m (likewise) */
   double *radius;      /* n, m */
   double *mass;        /* n, kg */
   double *inv_mass;    /* n, 1/kg */

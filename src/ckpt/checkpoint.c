@@ -130,9 +130,10 @@ int esf_ckpt_write(const char *path, esf_sim *s, const esf_integrator_type *it, 
                     "integrator %s cannot write checkpoints (leapfrog and erk: methods "
                     "can)",
                     s->cfg.method);
-  esf_sim_forces_sync(s);
+  int rc = esf_sim_forces_sync(s, err);
+  if (rc) return rc;
   esf_blob integ = {0};
-  int rc = it->save(s, ist, &integ, err);
+  rc = it->save(s, ist, &integ, err);
   if (rc) {
     esf_blob_release(&integ);
     return rc;

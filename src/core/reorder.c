@@ -85,9 +85,13 @@ int esf_reorder_particles(esf_sim *s, int *changed, esf_error *err) {
     remap[i] = k;
     same &= k == i;
   }
+  free(key); /* not held through the permutation (the peak memory) */
+  free(start);
+  key = NULL;
+  start = NULL;
   if (same) goto done;
-  esf_sim_forces_sync(s);
-  rc = esf_particles_permute(p, src, esf_sim_threads_for(s, n), err);
+  rc = esf_sim_forces_sync(s, err);
+  if (!rc) rc = esf_particles_permute(p, src, esf_sim_threads_for(s, n), err);
   if (rc) goto done;
   esf_neighbor_remap(&s->nb, remap, n);
   *changed = 1;

@@ -85,15 +85,39 @@ void esf_sim_log(const esf_sim *s, const char *fmt, ...) {
   fputc('\n', s->log);
 }
 
-void esf_sim_forces_sync(esf_sim *s) {
+int esf_sim_forces_room(esf_sim *s, esf_error *err) {
+  esf_particles *p = &s->p;
+  if (p->f && p->t) return ESF_OK;
+  const size_t m = p->n ? 3 * p->n : 3;
+  free(p->f);
+  free(p->t);
+  p->f = calloc(m, sizeof *p->f);
+  p->t = calloc(m, sizeof *p->t);
+  if (!p->f || !p->t) {
+    esf_sim_forces_release(s);
+    return esf_fail(err, ESF_ENOMEM, "out of memory for the forces of %zu particles",
+                    p->n);
+  }
+  return ESF_OK;
+}
+
+void esf_sim_forces_release(esf_sim *s) {
+  free(s->p.f);
+  free(s->p.t);
+  s->p.f = s->p.t = NULL;
+}
+
+int esf_sim_forces_sync(esf_sim *s, esf_error *err) {
+  int rc = esf_sim_forces_room(s, err);
   const double *a = s->ft_lazy;
-  if (!a) return;
+  if (rc || !a) return rc;
   esf_particles *p = &s->p;
   for (size_t i = 0; i < p->n; i++) {
     v3_copy(p->f + 3 * i, a + ESF_FT_STRIDE * i);
     v3_copy(p->t + 3 * i, a + ESF_FT_STRIDE * i + 4);
   }
   s->ft_lazy = NULL;
+  return ESF_OK;
 }
 
 int esf_sim_remove_escaped(esf_sim *s, esf_error *err) {
@@ -103,7 +127,8 @@ int esf_sim_remove_escaped(esf_sim *s, esf_error *err) {
   size_t out = 0;
   for (size_t i = 0; i < p->n; i++) out += (size_t)v3_outside(p->x + 3 * i, lo, hi);
   if (!out) return ESF_OK;
-  esf_sim_forces_sync(s); /* compaction carries p.f, p.t along */
+  int rc = esf_sim_forces_sync(s, err); /* compaction carries p.f, p.t along */
+  if (rc) return rc;
   unsigned char *keep = malloc(p->n);
   size_t *remap = malloc(p->n * sizeof *remap);
   if (!keep || !remap) {
@@ -125,7 +150,7 @@ int esf_sim_remove_escaped(esf_sim *s, esf_error *err) {
     }
   }
   size_t n_old = p->n;
-  int rc = esf_particles_compact(p, keep, remap, err);
+  rc = esf_particles_compact(p, keep, remap, err);
   if (!rc) esf_neighbor_remap(&s->nb, remap, n_old);
   free(keep);
   free(remap);

@@ -196,7 +196,8 @@ typedef struct esf_sim {
                      particles may be renumbered at rebuilds (set by its create) */
   /* F_n and M_n of the last fused step (fused/fused.c), ESF_FT_STRIDE doubles per
    * particle (force 3, N; one spare; torque 3, N m; one spare), not yet copied to p.f and
-   * p.t; NULL when p.f and p.t are current. esf_sim_forces_sync copies them. */
+   * p.t (which are then released: NULL); NULL when p.f and p.t are current.
+   * esf_sim_forces_sync copies them. */
   const double *ft_lazy;
   /* The leapfrog's energy ledger of the step (ledger.h): ESF_LR rows per particle
    * (line-aligned, zeroed before each committing evaluation), ESF_LB_N channels per
@@ -218,8 +219,17 @@ static inline int esf_sim_threads_for(const esf_sim *s, size_t n) {
 }
 
 /* Makes p.f and p.t current (copies the fused step's forces when it left them in its
- * accumulators). Called by whoever reads p.f, p.t: frames, checkpoints, compaction. */
-void esf_sim_forces_sync(esf_sim *s);
+ * accumulators), allocating them when released (zero when nothing holds forces).
+ * Called by whoever reads p.f, p.t: frames, checkpoints, compaction. */
+int esf_sim_forces_sync(esf_sim *s, esf_error *err);
+
+/* p.f and p.t allocated (zeroed) if released: for a force evaluation that writes them. */
+int esf_sim_forces_room(esf_sim *s, esf_error *err);
+
+/* Releases p.f and p.t (48 bytes a particle) while nothing needs them: the fused step
+ * holds F_n, M_n in its accumulators (ft_lazy), or the scheme has not evaluated forces
+ * yet. esf_sim_forces_sync and esf_sim_forces_room allocate them again. */
+void esf_sim_forces_release(esf_sim *s);
 
 /* Writes a line to the run's log (if any), printf style. */
 void esf_sim_log(const esf_sim *s, const char *fmt, ...)

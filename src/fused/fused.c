@@ -106,6 +106,22 @@ void esf_fused_free(esf_fused **f) {
   *f = NULL;
 }
 
+void esf_fused_trim(esf_sim *s, esf_fused *f) {
+  if (!f) return;
+  void **big[6] = {(void **)&f->list[0], (void **)&f->list[1], (void **)&f->idle,
+                   (void **)&f->sm,      (void **)&f->astart,  (void **)&f->wstart};
+  for (int q = 0; q < 6; q++) { /* first: p.f, p.t then come in their place */
+    free(*big[q]);
+    *big[q] = NULL;
+  }
+  f->cap_k = f->cap_n = 0;
+  f->built = -1; /* esf_fused_run indexes again (syncing first when acc is kept) */
+  esf_error e;
+  if (esf_sim_forces_sync(s, &e)) return; /* acc kept when p.f, p.t cannot come */
+  free(f->acc);
+  f->acc = NULL;
+}
+
 const char *esf_fused_isa(const esf_fused *f) { return f->k->isa; }
 
 static int minimal_ok(const esf_sim *s) {
@@ -228,10 +244,14 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
     f->cap = 0;
 #endif
   if (f->built != s->nb.builds || f->np != p->n || f->want != want || f->recut) {
-    esf_sim_forces_sync(s); /* acc may move */
-    rc = esf_fused_index(s, f, want, err);
+    /* acc moves only when it grows (a re-cut keeps it: no p.f, p.t beside it) */
+    rc = p->n + 1 > f->cap_n ? esf_sim_forces_sync(s, err) : ESF_OK;
+    if (!rc) rc = esf_fused_index(s, f, want, err);
     if (rc) return rc;
   }
+  if (!s->ft_lazy) /* the steps write F_n, M_n into acc: p.f, p.t are not held beside it
+                    */
+    esf_sim_forces_release(s);       /* (docs/performance.md#memory) */
   const int nth = f->nth;            /* the ranges worth running (fused_ranges.c) */
   const int ledger = s->led.on;      /* per-particle rows and blocks (core/ledger.h) */
   const int autod = s->cfg.autod.on; /* adaptive damping: the blocks' kinetic energies */
@@ -377,6 +397,8 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   /* the accumulators hold F_n, M_n; on failure they are partly overwritten, and p.f,
    * p.t keep what the last sync left (an evaluation wrote p.f, p.t itself) */
   s->ft_lazy = fail || ev ? NULL : f->acc;
+  if (fail && (rc = esf_sim_forces_room(s, err))) /* p.f, p.t zero */
+    return rc;
   if (r.bad_pair != SIZE_MAX) {
     const esf_candidates *c = &s->nb.pp;
     uint32_t a = c->a[r.bad_pair], b = c->b[r.bad_pair];
@@ -410,6 +432,10 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
     s->nb.max_disp2 = r.max2;
     s->nb.escaped = r.escaped;
     s->nb.disp_valid = K.xref && !r.nonfinite;
+    const int check =
+        s->cfg.stability != ESF_STAB_OFF && s->step % s->cfg.stability_every == 0;
+    if ((s->nb.disp_valid && (r.max2 > B.lim2 || r.escaped)) || check)
+      esf_fused_trim(s, f); /* a rebuild or a stability check is next */
   }
 #ifdef _OPENMP
   f->t_left = omp_get_wtime();

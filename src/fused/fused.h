@@ -67,4 +67,12 @@ int esf_fused_forces(esf_sim *s, esf_fused *f, const esf_fused_eval *ev, size_t 
  * while other programs kept them waiting, fused.c), >= 1. */
 int esf_fused_threads(const esf_fused *f);
 
+/* Releases the indices and accumulators the next call makes again (about 140 bytes a
+ * particle: per pair the sequences, idle lists and sqrt(m*), per particle the
+ * accumulators and offsets), after copying F_n, M_n to p.f, p.t: so that a list
+ * rebuild, a stability check or a frame does not hold its scratch beside them.
+ * esf_fused_run calls it when it stops for a rebuild or a stability check; the
+ * leapfrog's trim (integrator.h) before the run's frames and final check. */
+void esf_fused_trim(esf_sim *s, esf_fused *f);
+
 #endif

@@ -61,11 +61,10 @@ static void cut_once(esf_fused *f, const size_t *wt, size_t n, size_t T, size_t 
 
 /* With f->recut (same particles and lists, ranges measured unequal), each particle's
  * work is scaled by its old range's measured seconds per unit (rounded to 1/64).
- * wt: 2n of scratch, the weights cut by, then each particle's unscaled work. */
+ * wt: n of scratch, the weights cut by (each particle's work, scaled). */
 static void cut_ranges(esf_fused *f, const esf_candidates *c, size_t *wt, size_t n,
                        size_t T, size_t align) {
-  size_t *base = wt + n;
-  for (size_t i = 0; i < n; i++) wt[i] = base[i] = work_of(f, c, i);
+  for (size_t i = 0; i < n; i++) wt[i] = work_of(f, c, i);
   if (f->recut) {
     double mean = 0.0;
     for (size_t t = 0; t < T; t++) mean += f->rate[t] / (double)T;
@@ -77,7 +76,8 @@ static void cut_ranges(esf_fused *f, const esf_candidates *c, size_t *wt, size_t
   cut_once(f, wt, n, T, align);
   for (size_t t = 0; t < T; t++) { /* unscaled: the next rates are the ranges' own */
     f->work[t] = 0.0;
-    for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++) f->work[t] += (double)base[i];
+    for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++) /* again: no second array */
+      f->work[t] += (double)work_of(f, c, i);
     f->busy[t] = f->waits[t] = 0.0;
   }
   f->busy_steps = 0;
@@ -223,7 +223,7 @@ int esf_fused_index(esf_sim *s, esf_fused *f, int want, esf_error *err) {
   atomic_init(&f->go, 0);
   atomic_init(&f->bfail, 0);
   f->epoch = 0;
-  size_t *wt = calloc(n ? 2 * n : 1, sizeof *wt); /* cut_ranges' weights and work */
+  size_t *wt = calloc(n ? n : 1, sizeof *wt); /* cut_ranges' weights */
   if (!wt) return esf_fail(err, ESF_ENOMEM, "out of memory for %zu particle ranges", n);
   const size_t align =
       (s->led.on || s->cfg.autod.on || s->walls.gforce) && ESF_FUSED_FEATURES

@@ -111,7 +111,8 @@ static int apply_one(esf_sim *s, esf_event *ev, esf_error *err) {
   if (out) {
     if (s->led.started) /* before the balance starts, e0 leaves them out too */
       s->led.e_removed += e_gone + removed_elastic(s, keep, -1);
-    esf_sim_forces_sync(s); /* compaction carries p.f, p.t along */
+    rc = esf_sim_forces_sync(s, err); /* compaction carries p.f, p.t along */
+    if (rc) return rc;
     rc = esf_particles_compact(p, keep, remap, err);
     if (!rc) esf_neighbor_remap(&s->nb, remap, n_old);
   }

@@ -341,8 +341,8 @@ int esf_inserts_apply(esf_sim *s, size_t *added, esf_error *err) {
     esf_insert *e = &L->e[k];
     if (s->step % e->every_steps != 0 || !active(s, e, s->step)) continue;
     if (s->t + 0.5 * s->dt < e->start) continue;
-    esf_sim_forces_sync(s); /* p.f, p.t move with p */
-    int rc = batch(s, e, added, err);
+    int rc = esf_sim_forces_sync(s, err); /* p.f, p.t move with p */
+    if (!rc) rc = batch(s, e, added, err);
     if (rc) return rc;
   }
   return ESF_OK;

@@ -437,6 +437,8 @@ int esf_forces_eval(esf_sim *s, const double *x, const double *v, const double *
   esf_particles *p = &s->p;
   const double *g = s->cfg.gravity;
   s->ft_lazy = NULL; /* p.f, p.t are written here */
+  int rc0 = esf_sim_forces_room(s, err);
+  if (rc0) return rc0;
   for (size_t i = 0; i < p->n; i++) {
     double m = p->mass[i];
     p->f[3 * i] = m * g[0];

@@ -44,7 +44,7 @@ int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
   esf_neighbor_skin_tune(&s->nb, s->p.n, s->step); /* before particles go or move */
   /* into the periodic box: each pair's image follows at the build (periodic.c) */
   if (s->cfg.per.any) {
-    esf_sim_forces_sync(s);
+    if ((rc = esf_sim_forces_sync(s, err))) return rc;
     esf_periodic_wrap(&s->cfg.per, s->p.n, s->p.x, s->p.v, s->t, s->p.img);
   }
   rc = esf_sim_remove_escaped(s, err);

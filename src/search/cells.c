@@ -48,7 +48,7 @@ struct esf_cells {
   esf_grid grid[ESF_CELLS_MAX_CLASSES];
   esf_cells_mode mode; /* tuning (esf_cells_tune) */
   int threads;         /* threads of the one-grid sweep (esf_cells_threads) */
-  esf_pairbuf tbuf[ESF_CELLS_MAX_THREADS]; /* their pair buffers (kept for reuse) */
+  esf_pairbuf tbuf[ESF_CELLS_MAX_THREADS]; /* their pair buffers (during a sweep) */
   int nclasses;                            /* grids used by the last search */
   double factor;
 };
@@ -110,6 +110,17 @@ void esf_cells_free(esf_cells **c) {
   for (int t = 0; t < ESF_CELLS_MAX_THREADS; t++) esf_pairbuf_release(&(*c)->tbuf[t]);
   free(*c);
   *c = NULL;
+}
+
+void esf_cells_trim(esf_cells *c) {
+  free(c->list);
+  free(c->ord);
+  free(c->cls);
+  c->list = c->ord = NULL;
+  c->cls = NULL;
+  c->cap = c->class_cap = 0;
+  for (int k = 0; k < ESF_CELLS_MAX_CLASSES; k++) esf_grid_release(&c->grid[k]);
+  for (int t = 0; t < ESF_CELLS_MAX_THREADS; t++) esf_pairbuf_release(&c->tbuf[t]);
 }
 
 int esf_cells_tune(esf_cells *c, esf_cells_mode mode, double factor, esf_error *err) {
@@ -350,6 +361,7 @@ static int sweep_threaded(esf_cells *c, const esf_grid *g, const double *x,
       return trc[t];
     }
     const int rc = esf_pairbuf_append(out, &c->tbuf[t], err);
+    esf_pairbuf_release(&c->tbuf[t]); /* the pairs held once, not twice, at the end */
     if (rc) return rc;
   }
   return ESF_OK;

@@ -55,6 +55,11 @@ void esf_cells_threads(esf_cells *c, int threads);
  * number of size classes. */
 int esf_cells_nclasses(const esf_cells *c);
 
+/* Releases the storage kept for reuse (lists, class order, cells, the threads' pair
+ * buffers): a caller that searches rarely (the candidate lists' builds) does not hold
+ * it between searches. */
+void esf_cells_trim(esf_cells *c);
+
 /* The bytes of storage the search holds (lists, class order, cells of all grids). */
 size_t esf_cells_bytes(const esf_cells *c);
 

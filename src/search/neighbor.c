@@ -222,6 +222,9 @@ static int keep_touching(esf_neighbor *nb, const esf_candidates *list, esf_candi
     if (cr) kc->roll[j] = list->roll[f];
   }
   kc->n = nk;
+  free(nb->ws_ok); /* the positions are read: not held through the refill */
+  nb->ws_ok = NULL;
+  nb->ws_m = 0;
   return ESF_OK;
 }
 
@@ -231,7 +234,8 @@ static int keep_touching(esf_neighbor *nb, const esf_candidates *list, esf_candi
 static int fill_list(esf_neighbor *nb, esf_candidates *list, const esf_candidates *kc,
                      size_t n, const uint32_t *ka, const uint32_t *kb, size_t m,
                      int carry, int bonds, esf_error *err) {
-  list->n = 0;     /* nothing to keep: the storage is refilled */
+  const int own_keys = ka == nb->buf.i; /* released once read (the build's peak) */
+  list->n = 0;                          /* nothing to keep: the storage is refilled */
   list->xs = NULL; /* the ODE methods bind the state again before evaluating */
   list->xsdot = NULL;
   if (list->cap > 2 * m + 1024) /* the old list was much longer (a larger skin, a */
@@ -242,7 +246,9 @@ static int fill_list(esf_neighbor *nb, esf_candidates *list, const esf_candidate
   size_t *start = nb->ws_start;
   const size_t *ostart = nb->ws_ostart;
   count_by_a(n, ka, kb, NULL, m, start, list->b, NULL); /* the new keys' b by a */
+  if (own_keys) esf_pairbuf_release(&nb->buf);
   const long nn = (long)n;
+  const esf_contact_hist zero = {0}; /* all bits zero */
 #pragma omp parallel for num_threads(nb->threads > 0 ? nb->threads : 1) schedule(static)
   for (long ia = 0; ia < nn; ia++) {
     const size_t a = (size_t)ia, k0 = start[a], k1 = start[a + 1];
@@ -273,7 +279,8 @@ static int fill_list(esf_neighbor *nb, esf_candidates *list, const esf_candidate
         if (list->roll)
           list->roll[k] = kc->roll ? kc->roll[f] : (esf_contact_roll){{0, 0, 0}, 0};
       } else {
-        memset(&list->h[k], 0, sizeof list->h[k]);
+        if (memcmp(&list->h[k], &zero, sizeof zero)) /* only when not zero already: */
+          list->h[k] = zero; /* a fresh list's pages stay untouched until its contacts */
         list->touch[k] = 0;
         if (list->vc0) memset(list->vc0 + 3 * k, 0, 3 * sizeof(double));
         if (list->wr0) memset(list->wr0 + 3 * k, 0, 3 * sizeof(double));
@@ -405,9 +412,26 @@ static int periodic_images(esf_neighbor *nb, esf_candidates *list, esf_error *er
   return ESF_OK;
 }
 
+/* The build's scratch, not held between builds (about 100 bytes a particle: the cells,
+ * the pair buffers, the history transfer's offsets; faulting its pages in again costs
+ * a build well under 1%: docs/performance.md#memory). */
+static void release_scratch(esf_neighbor *nb) {
+  esf_pairbuf_release(&nb->buf);
+  for (size_t t = 0; t < nb->nwbuf; t++) esf_pairbuf_release(&nb->wbuf[t]);
+  free(nb->ws_start);
+  free(nb->ws_ostart);
+  free(nb->ws_ok);
+  nb->ws_start = nb->ws_ostart = NULL;
+  nb->ws_ok = NULL;
+  nb->ws_n = nb->ws_m = 0;
+}
+
 int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls *w,
                        esf_error *err) {
   esf_cells_threads(nb->cells, nb->threads);
+  free(nb->xref); /* written again at the end */
+  nb->xref = NULL;
+  nb->nref = 0;
   const int per = nb->per && nb->per->any;
   double le_ref = 0, off = 0;
   if (per && nb->per->le) off = esf_periodic_le_offset(nb->per, nb->le_t, &le_ref);
@@ -415,6 +439,7 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
       per ? esf_periodic_pairs(nb->per, nb->cells, p->n, p->x, p->radius, nb->skin, off,
                                &nb->buf, &nb->pimg, &nb->pimg_cap, err)
           : esf_cells_pairs(nb->cells, p->n, p->x, p->radius, nb->skin, &nb->buf, err);
+  esf_cells_trim(nb->cells); /* its pair buffers: not beside the lists' refill */
   if (rc) return rc;
   /* the search stores each pair as (min, max) */
   rc = rebuild_list(nb, &nb->pp, p->n, nb->buf.i, nb->buf.j, nb->buf.n, nb->bonds, err);
@@ -433,13 +458,13 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
   rc = wall_scratch_reserve(nb, err);
   if (rc) return rc;
 
-  if (nb->nref != p->n || !nb->xref) {
-    free(nb->xref);
+  if (!nb->xref) {
     nb->xref = malloc((p->n ? p->n : 1) * 3 * sizeof(double));
     if (!nb->xref) return esf_fail(err, ESF_ENOMEM, "out of memory");
     nb->nref = p->n;
   }
   memcpy(nb->xref, p->x, p->n * 3 * sizeof(double));
+  release_scratch(nb);
   nb->builds++;
   nb->disp_valid = 0;
   return ESF_OK;
