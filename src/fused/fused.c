@@ -249,10 +249,11 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
     if (!rc) rc = esf_fused_index(s, f, want, err);
     if (rc) return rc;
   }
-  if (!s->ft_lazy) /* the steps write F_n, M_n into acc: p.f, p.t are not held beside it
-                    */
-    esf_sim_forces_release(s);       /* (docs/performance.md#memory) */
-  const int nth = f->nth;            /* the ranges worth running (fused_ranges.c) */
+  if (ev) { /* an evaluation writes p.f, p.t itself */
+    if ((rc = esf_sim_forces_sync(s, err))) return rc;
+  } else if (!s->ft_lazy)      /* the steps write F_n, M_n into acc: not held beside it */
+    esf_sim_forces_release(s); /* (docs/performance.md#memory) */
+  const int nth = f->nth;      /* the ranges worth running (fused_ranges.c) */
   const int ledger = s->led.on;      /* per-particle rows and blocks (core/ledger.h) */
   const int autod = s->cfg.autod.on; /* adaptive damping: the blocks' kinetic energies */
   int drag_on = 0;
