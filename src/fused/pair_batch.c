@@ -88,7 +88,7 @@ static inline __attribute__((always_inline)) vd vpow(vd x, double y) {
 }
 
 /* p[i[0]], ..., p[i[7]] */
-static inline vd gat(const double *p, const size_t *i) {
+static inline __attribute__((always_inline)) vd gat(const double *p, const size_t *i) {
   return (vd){p[i[0]], p[i[1]], p[i[2]], p[i[3]], p[i[4]], p[i[5]], p[i[6]], p[i[7]]};
 }
 
@@ -342,10 +342,10 @@ static void rolling(const esf_pair_batch_ctx *c, const esf_pair_params *const *p
  * pair and are neither written back nor reported. One copy behind both entry points
  * below (GCC keeps it out of line; two copies, each inlined and specialised for its
  * output, were slower: docs/performance.md#tried-and-not-kept). */
-static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
-                             double out[ESF_BATCH][ESF_BATCH_OUT],
-                             double lout[ESF_BATCH][ESF_BATCH_LOUT], double *acc,
-                             unsigned *apart) {
+static inline __attribute__((always_inline)) unsigned
+batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
+           double out[ESF_BATCH][ESF_BATCH_OUT], double lout[ESF_BATCH][ESF_BATCH_LOUT],
+           double *acc, unsigned *apart, const int per) {
   size_t kk[ESF_BATCH], ia[ESF_BATCH], ib[ESF_BATCH], a3[ESF_BATCH], b3[ESF_BATCH];
   size_t hk[ESF_BATCH]; /* byte offsets of the histories */
   vm tch;
@@ -402,13 +402,14 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
   vd xa[4], xb[4], va[4], vb[4], wa[4], wb[4], h0[4], h1[4], d[3], n[3];
   load_cols_n(c->x, a3, xa, 3);
   load_cols_n(c->x, b3, xb, 3);
-  if (c->img) /* B's periodic image, esf_periodic_image's operations lane-wise */
+  if (per) /* B's periodic image, esf_periodic_image's operations lane-wise */
     for (int q = 0; q < 3; q++)
       for (int l = 0; l < ESF_BATCH; l++)
         xb[q][l] = xb[q][l] + (double)c->img[3 * kk[l] + q] * c->plen[q];
   load_cols_n(c->v, a3, va, 3);
   load_cols_n(c->v, b3, vb, 3);
-  if (c->le) /* Lees-Edwards: esf_periodic_le_image's and esf_candidates_vb's lane-wise */
+  if (per &&
+      c->le) /* Lees-Edwards: esf_periodic_le_image's and esf_candidates_vb's lane-wise */
     for (int l = 0; l < ESF_BATCH; l++) {
       const int8_t mg = c->img[3 * kk[l] + c->le_grad];
       xb[c->le_flow][l] += (double)mg * c->le_off;
@@ -565,6 +566,18 @@ static inline unsigned batch(const esf_pair_batch_ctx *c, const uint32_t *k, int
                 e_brk, ia, ib, nl, badmask, acc ? NULL : lout);
   *apart = gone;
   return badmask;
+}
+
+/* The body twice: without periodic images (the copy every other scene runs, as it was
+ * before the images came: one test of c->img per batch made the non-periodic S1 bed 5%
+ * slower, docs/performance.md) and with them. */
+static __attribute__((noinline)) unsigned batch(const esf_pair_batch_ctx *c,
+                                                const uint32_t *k, int nl,
+                                                double out[ESF_BATCH][ESF_BATCH_OUT],
+                                                double lout[ESF_BATCH][ESF_BATCH_LOUT],
+                                                double *acc, unsigned *apart) {
+  return c->img ? batch_body(c, k, nl, out, lout, acc, apart, 1)
+                : batch_body(c, k, nl, out, lout, acc, apart, 0);
 }
 
 unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
