@@ -13,6 +13,7 @@
 #define LANE_ANY(m)       (m)
 #define LANE_POW(x, y)    pow(x, y)
 #define LANE_FN(name)     name##_s
+#define LANE_INLINE       static inline
 #include "contact/law_body.h"
 #undef LANE_R
 #undef LANE_M
@@ -21,5 +22,6 @@
 #undef LANE_ANY
 #undef LANE_POW
 #undef LANE_FN
+#undef LANE_INLINE
 
 #endif

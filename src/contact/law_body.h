@@ -9,6 +9,8 @@
  *   LANE_ANY(m)     whether some lane of m is set
  *   LANE_POW(x, y)  per lane, pow(x, y) for a double y
  *   LANE_FN(name)   the name of this lane type's copy of a function
+ *   LANE_INLINE     how its functions are declared (static inline; the batches force
+ *                   inlining, so that a batch's law is one body)
  * (contact/lane_scalar.h: double, for the general path and the ODE methods;
  * fused/pair_batch.c: eight lanes for the fused step's batches). Every copy performs the
  * same IEEE operations in the same order per lane, so a pair's result does not depend
@@ -18,12 +20,12 @@
  * Conventions: n from A to B, un > 0 overlapping, vc = B's contact point minus A's,
  * forces on A. Units: SI. */
 
-static inline LANE_R LANE_FN(esf_law_dot)(const LANE_R a[3], const LANE_R b[3]) {
+LANE_INLINE LANE_R LANE_FN(esf_law_dot)(const LANE_R a[3], const LANE_R b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-static inline void LANE_FN(esf_law_cross)(LANE_R r[3], const LANE_R a[3],
-                                          const LANE_R b[3]) {
+LANE_INLINE void LANE_FN(esf_law_cross)(LANE_R r[3], const LANE_R a[3],
+                                        const LANE_R b[3]) {
   const LANE_R x = a[1] * b[2] - a[2] * b[1], y = a[2] * b[0] - a[0] * b[2],
                z = a[0] * b[1] - a[1] * b[0];
   r[0] = x;
@@ -34,9 +36,9 @@ static inline void LANE_FN(esf_law_cross)(LANE_R r[3], const LANE_R a[3],
 /* A pair's separation d = xB - xA and whether the spheres overlap,
  * |d|^2 < (rA + rB)^2 (the one overlap test of every path: the fused step screens its
  * candidates with the same operations). */
-static inline LANE_M LANE_FN(esf_law_pair_overlap)(const LANE_R xa[3], const LANE_R xb[3],
-                                                   LANE_R ra, LANE_R rb, LANE_R d[3],
-                                                   LANE_R *d2) {
+LANE_INLINE LANE_M LANE_FN(esf_law_pair_overlap)(const LANE_R xa[3], const LANE_R xb[3],
+                                                 LANE_R ra, LANE_R rb, LANE_R d[3],
+                                                 LANE_R *d2) {
   for (int q = 0; q < 3; q++) d[q] = xb[q] - xa[q];
   *d2 = LANE_FN(esf_law_dot)(d, d);
   const LANE_R rr = ra + rb;
@@ -45,10 +47,10 @@ static inline LANE_M LANE_FN(esf_law_pair_overlap)(const LANE_R xa[3], const LAN
 
 /* The relative velocity of a pair's contact point, B's minus A's, for lever arms la,
  * lb along n: vc = (vB - vA) - (la wA + lb wB) x n (000 3-21). */
-static inline void LANE_FN(esf_law_pair_velocity)(const LANE_R va[3], const LANE_R vb[3],
-                                                  const LANE_R wa[3], const LANE_R wb[3],
-                                                  LANE_R la, LANE_R lb, const LANE_R n[3],
-                                                  LANE_R vc[3]) {
+LANE_INLINE void LANE_FN(esf_law_pair_velocity)(const LANE_R va[3], const LANE_R vb[3],
+                                                const LANE_R wa[3], const LANE_R wb[3],
+                                                LANE_R la, LANE_R lb, const LANE_R n[3],
+                                                LANE_R vc[3]) {
   LANE_R sw[3], c[3];
   for (int q = 0; q < 3; q++) sw[q] = la * wa[q] + lb * wb[q];
   LANE_FN(esf_law_cross)(c, sw, n);
@@ -59,11 +61,12 @@ static inline void LANE_FN(esf_law_pair_velocity)(const LANE_R va[3], const LANE
  * centres), the overlap un = rA + rB - |d|, the lever arms to the contact point
  * lA = rA - un/2, lB = rB - un/2 (so the tangential forces act at one point), and the
  * contact point's relative velocity (esf_law_pair_velocity). */
-static inline void
-LANE_FN(esf_law_pair_kinematics)(const LANE_R d[3], LANE_R d2, LANE_R ra, LANE_R rb,
-                                 const LANE_R va[3], const LANE_R vb[3],
-                                 const LANE_R wa[3], const LANE_R wb[3], LANE_R n[3],
-                                 LANE_R *un, LANE_R *la, LANE_R *lb, LANE_R vc[3]) {
+LANE_INLINE void LANE_FN(esf_law_pair_kinematics)(const LANE_R d[3], LANE_R d2, LANE_R ra,
+                                                  LANE_R rb, const LANE_R va[3],
+                                                  const LANE_R vb[3], const LANE_R wa[3],
+                                                  const LANE_R wb[3], LANE_R n[3],
+                                                  LANE_R *un, LANE_R *la, LANE_R *lb,
+                                                  LANE_R vc[3]) {
   const LANE_R zero = {0}, one = zero + 1.0;
   const LANE_R dist = LANE_SQRT(d2);
   const LANE_M pos = dist > 0;
@@ -80,8 +83,8 @@ LANE_FN(esf_law_pair_kinematics)(const LANE_R d[3], LANE_R d2, LANE_R ra, LANE_R
 /* The linear normal force (004 2.9-2.12): elastic kn un and dashpot -cn vn (vn < 0
  * approaching), no tension: a negative total is cut to zero, the dashpot's share then
  * -kn un. Returns fn (> 0 compressive); *fd the dashpot's share actually applied. */
-static inline LANE_R LANE_FN(esf_law_linear_normal)(LANE_R kn, LANE_R cn, LANE_R un,
-                                                    LANE_R vn, LANE_R *fd) {
+LANE_INLINE LANE_R LANE_FN(esf_law_linear_normal)(LANE_R kn, LANE_R cn, LANE_R un,
+                                                  LANE_R vn, LANE_R *fd) {
   const LANE_R zero = {0};
   const LANE_R fel = kn * un, fdv = -cn * vn, fn = fel + fdv;
   const LANE_M neg = fn < 0.0;
@@ -95,9 +98,9 @@ static inline LANE_R LANE_FN(esf_law_linear_normal)(LANE_R kn, LANE_R cn, LANE_R
  * elastic force ks un = (4/3) E* sqrt(R*) un^(3/2), fed to esf_law_linear_normal), the
  * normal tangent stiffness sn = dfn/dun = (3/2) ks = 2 E* a, the tangential one
  * st = ht a = 8 G* a, and *qa = sqrt(a) (the u^(1/4) of the dashpots). */
-static inline void LANE_FN(esf_law_hertz_springs)(LANE_R hn, LANE_R ht, LANE_R rs,
-                                                  LANE_R un, LANE_R *ks, LANE_R *sn,
-                                                  LANE_R *st, LANE_R *qa) {
+LANE_INLINE void LANE_FN(esf_law_hertz_springs)(LANE_R hn, LANE_R ht, LANE_R rs,
+                                                LANE_R un, LANE_R *ks, LANE_R *sn,
+                                                LANE_R *st, LANE_R *qa) {
   const LANE_R a = LANE_SQRT(rs * un);
   *ks = hn * a;
   *sn = 1.5 * *ks;
@@ -108,14 +111,14 @@ static inline void LANE_FN(esf_law_hertz_springs)(LANE_R hn, LANE_R ht, LANE_R r
 /* The Hertz normal tangent stiffness S_n = (3/2) hn sqrt(R* u) at overlap u (the same
  * operations as esf_law_hertz_springs's sn), 0 when u <= 0 (the rolling springs' kn;
  * the ledger's at the last commit's overlap). */
-static inline LANE_R LANE_FN(esf_law_hertz_sn)(LANE_R hn, LANE_R rs, LANE_R u) {
+LANE_INLINE LANE_R LANE_FN(esf_law_hertz_sn)(LANE_R hn, LANE_R rs, LANE_R u) {
   const LANE_R zero = {0};
   return LANE_SEL(u > 0, 1.5 * (hn * LANE_SQRT(rs * u)), zero);
 }
 
 /* The Hertz tangential stiffness ht sqrt(R* u) at overlap u, 0 when u <= 0 (the ledger's
  * st0 at the last commit's overlap; the ODE rates of forces.c). */
-static inline LANE_R LANE_FN(esf_law_hertz_st)(LANE_R ht, LANE_R rs, LANE_R u) {
+LANE_INLINE LANE_R LANE_FN(esf_law_hertz_st)(LANE_R ht, LANE_R rs, LANE_R u) {
   const LANE_R zero = {0};
   return LANE_SEL(u > 0, ht * LANE_SQRT(rs * u), zero);
 }
@@ -124,9 +127,9 @@ static inline LANE_R LANE_FN(esf_law_hertz_st)(LANE_R ht, LANE_R rs, LANE_R u) {
  * c = factor sqrt(m*) q, the pair's factors 2 gamma sqrt((3/2) hn) and 2 gamma_t
  * sqrt(ht): with q = sqrt(a) (tsuji) c = 2 gamma sqrt(m* S) (Tsuji et al. 1992); with
  * `constant` damping q is esf_law_hertz_qref's, fixed per contact. sm = sqrt(m*). */
-static inline void LANE_FN(esf_law_hertz_dashpots)(double beta, LANE_R cnf, LANE_R ctf,
-                                                   LANE_R sm, LANE_R q, LANE_R sn,
-                                                   LANE_R st, LANE_R *cn, LANE_R *ct) {
+LANE_INLINE void LANE_FN(esf_law_hertz_dashpots)(double beta, LANE_R cnf, LANE_R ctf,
+                                                 LANE_R sm, LANE_R q, LANE_R sn,
+                                                 LANE_R st, LANE_R *cn, LANE_R *ct) {
   if (beta > 0) {
     *cn = beta * sn;
     *ct = beta * st;
@@ -139,13 +142,13 @@ static inline void LANE_FN(esf_law_hertz_dashpots)(double beta, LANE_R cnf, LANE
 /* The constant dashpots' q: sqrt(a) at the undamped peak overlap u_p = (15 m* v^2 /
  * (16 E* sqrt(R*)))^(2/5) of an impact at v (integrator.impact_speed), so
  * q = (R*^2 (15/16) m* v^2 / E*)^(1/10); es = E*, sm = sqrt(m*). */
-static inline LANE_R LANE_FN(esf_law_hertz_qref)(LANE_R es, LANE_R sm, LANE_R rs,
-                                                 double v) {
+LANE_INLINE LANE_R LANE_FN(esf_law_hertz_qref)(LANE_R es, LANE_R sm, LANE_R rs,
+                                               double v) {
   return LANE_POW(rs * rs * (0.9375 * v * v) * (sm * sm) / es, 0.1);
 }
 
 /* The Hertz normal spring's energy (8/15) E* sqrt(R*) un^(5/2) = (2/5) ks un^2, J. */
-static inline LANE_R LANE_FN(esf_law_hertz_energy)(LANE_R ks, LANE_R un) {
+LANE_INLINE LANE_R LANE_FN(esf_law_hertz_energy)(LANE_R ks, LANE_R un) {
   return 0.4 * ks * un * un;
 }
 
@@ -189,11 +192,11 @@ typedef struct LANE_FN(esf_law_tout) {
  * at zero tangential motion); the elastic energy is |xi|^2/(2 st), the slip work the
  * force's slip (xi_trial - xi_new)/st times the mean force, and w_st books the energy
  * the carried force's energy changes by as st changes. */
-static inline void LANE_FN(esf_law_tangential)(const LANE_FN(esf_law_tpar) * P, LANE_R dt,
-                                               const LANE_R n[3], LANE_R spin,
-                                               const LANE_R vc[3], LANE_R vn, LANE_R fn,
-                                               const LANE_R hx[3], const LANE_R hn[3],
-                                               LANE_M live, LANE_FN(esf_law_tout) * o) {
+LANE_INLINE void LANE_FN(esf_law_tangential)(const LANE_FN(esf_law_tpar) * P, LANE_R dt,
+                                             const LANE_R n[3], LANE_R spin,
+                                             const LANE_R vc[3], LANE_R vn, LANE_R fn,
+                                             const LANE_R hx[3], const LANE_R hn[3],
+                                             LANE_M live, LANE_FN(esf_law_tout) * o) {
   const LANE_R zero = {0};
   LANE_R xr[3], t1[3], t2[3];
   if (P->rotate) {
@@ -269,8 +272,8 @@ static inline void LANE_FN(esf_law_tangential)(const LANE_FN(esf_law_tpar) * P, 
 
 /* The contact force on A, f = ft - fn n, and the torque direction m = n x ft: the
  * torques are lA m on A and lB m on B (same sense, 004 2.34). */
-static inline void LANE_FN(esf_law_force)(const LANE_R n[3], LANE_R fn,
-                                          const LANE_R ft[3], LANE_R f[3], LANE_R m[3]) {
+LANE_INLINE void LANE_FN(esf_law_force)(const LANE_R n[3], LANE_R fn, const LANE_R ft[3],
+                                        LANE_R f[3], LANE_R m[3]) {
   for (int q = 0; q < 3; q++) f[q] = ft[q] - fn * n[q];
   LANE_FN(esf_law_cross)(m, n, ft);
 }
@@ -304,8 +307,8 @@ typedef struct LANE_FN(esf_law_rout) {
 /* The rolling (and twisting, with mu_tw) spring of a contact whose normal stiffness
  * is kn, N m/rad: 2.25 kn mu^2 R*^2 (Ai et al. 2011 eq. 17). The linear law passes
  * its kn; the Hertz law its tangent stiffness at the current overlap. */
-static inline LANE_R LANE_FN(esf_law_rolling_stiffness)(LANE_R kn, LANE_R mu,
-                                                        LANE_R rstar) {
+LANE_INLINE LANE_R LANE_FN(esf_law_rolling_stiffness)(LANE_R kn, LANE_R mu,
+                                                      LANE_R rstar) {
   return 2.25 * kn * mu * mu * rstar * rstar;
 }
 
@@ -313,9 +316,9 @@ static inline LANE_R LANE_FN(esf_law_rolling_stiffness)(LANE_R kn, LANE_R mu,
  * of inertia of the rolling resistance: for rolling (about the contact point, Ai et al.
  * 2011 eq. 21) 1/(1/(IA + mA rA^2) + 1/(IB + mB rB^2)), for twisting (about the
  * normal) 1/(1/IA + 1/IB). A wall contact: R* = rA, IA + mA rA^2 and IA. */
-static inline void LANE_FN(esf_law_rolling_pair)(LANE_R ra, LANE_R rb, LANE_R ma,
-                                                 LANE_R mb, LANE_R ia, LANE_R ib,
-                                                 LANE_R *rstar, LANE_R *ir, LANE_R *itw) {
+LANE_INLINE void LANE_FN(esf_law_rolling_pair)(LANE_R ra, LANE_R rb, LANE_R ma, LANE_R mb,
+                                               LANE_R ia, LANE_R ib, LANE_R *rstar,
+                                               LANE_R *ir, LANE_R *itw) {
   const LANE_R ja = ia + ma * ra * ra, jb = ib + mb * rb * rb;
   *rstar = ra * rb / (ra + rb);
   *ir = ja * jb / (ja + jb);
@@ -326,10 +329,10 @@ static inline void LANE_FN(esf_law_rolling_pair)(LANE_R ra, LANE_R rb, LANE_R ma
  * (esf_law_rolling_stiffness), mu_r, mu_tw, the damping ratio eta_r, R* and the
  * inertias (esf_law_rolling_pair), the normal force fn (a tension gives no resistance)
  * and the model (cdt: no springs). Dashpots C = eta_r 2 sqrt(I k) (Ai eq. 20). */
-static inline void LANE_FN(esf_law_rolling_par)(LANE_R kn, LANE_R mu_r, LANE_R mu_tw,
-                                                LANE_R eta_r, LANE_R rstar, LANE_R ir,
-                                                LANE_R itw, LANE_R fn, int cdt,
-                                                LANE_FN(esf_law_rpar) * P) {
+LANE_INLINE void LANE_FN(esf_law_rolling_par)(LANE_R kn, LANE_R mu_r, LANE_R mu_tw,
+                                              LANE_R eta_r, LANE_R rstar, LANE_R ir,
+                                              LANE_R itw, LANE_R fn, int cdt,
+                                              LANE_FN(esf_law_rpar) * P) {
   const LANE_R zero = {0};
   const LANE_R f = LANE_SEL(fn > 0, fn, zero);
   P->mr = mu_r * rstar * f;
@@ -351,10 +354,9 @@ static inline void LANE_FN(esf_law_rolling_par)(LANE_R kn, LANE_R mu_r, LANE_R m
  * h - k dt wr, capped at lim (radial return), and the plastic work
  * (h + h_new).(h_trial - h_new)/(2 k) added to *slip; *full: the mask of full
  * mobilisation. */
-static inline void LANE_FN(esf_law_roll_spring)(int ncomp, LANE_R k, LANE_R lim,
-                                                LANE_R dt, const LANE_R *h,
-                                                const LANE_R *wr, LANE_R *hn,
-                                                LANE_R *slip, LANE_M *full) {
+LANE_INLINE void LANE_FN(esf_law_roll_spring)(int ncomp, LANE_R k, LANE_R lim, LANE_R dt,
+                                              const LANE_R *h, const LANE_R *wr,
+                                              LANE_R *hn, LANE_R *slip, LANE_M *full) {
   const LANE_R zero = {0};
   LANE_R tr[3], m2 = zero;
   for (int q = 0; q < ncomp; q++) {
@@ -382,10 +384,10 @@ static inline void LANE_FN(esf_law_roll_spring)(int ncomp, LANE_R k, LANE_R lim,
  * and -mu_tw R* fn sign(wn), no history. P->stiff (Hertz pairs, whose kr and ktw follow
  * S_n): w_k books the carried torques' energy change from kr0, ktw0 to kr, ktw, as
  * esf_law_tangential's w_st does for the Hertz tangential force. */
-static inline void LANE_FN(esf_law_rolling)(const LANE_FN(esf_law_rpar) * P, LANE_R dt,
-                                            const LANE_R n[3], const LANE_R wrel[3],
-                                            const LANE_R hm[3], LANE_R ht, LANE_M live,
-                                            LANE_FN(esf_law_rout) * o) {
+LANE_INLINE void LANE_FN(esf_law_rolling)(const LANE_FN(esf_law_rpar) * P, LANE_R dt,
+                                          const LANE_R n[3], const LANE_R wrel[3],
+                                          const LANE_R hm[3], LANE_R ht, LANE_M live,
+                                          LANE_FN(esf_law_rout) * o) {
   const LANE_R zero = {0};
   const LANE_R wn = LANE_FN(esf_law_dot)(wrel, n);
   LANE_R wr[3];

@@ -197,12 +197,14 @@ static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
 #define LANE_ANY(m)       any(m)
 #define LANE_POW(x, y)    vpow(x, y)
 #define LANE_FN(name)     name##_v
+#define LANE_INLINE       static inline __attribute__((always_inline))
 #include "contact/law_body.h"
 #undef LANE_R
 #undef LANE_M
 #undef LANE_SEL
 #undef LANE_SQRT
 #undef LANE_ANY
+#undef LANE_INLINE
 #undef LANE_POW
 #undef LANE_FN
 
@@ -345,7 +347,7 @@ static void rolling(const esf_pair_batch_ctx *c, const esf_pair_params *const *p
 static inline __attribute__((always_inline)) unsigned
 batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
            double out[ESF_BATCH][ESF_BATCH_OUT], double lout[ESF_BATCH][ESF_BATCH_LOUT],
-           double *acc, unsigned *apart, const int per) {
+           double *acc, unsigned *apart, const int gen) {
   size_t kk[ESF_BATCH], ia[ESF_BATCH], ib[ESF_BATCH], a3[ESF_BATCH], b3[ESF_BATCH];
   size_t hk[ESF_BATCH]; /* byte offsets of the histories */
   vm tch;
@@ -402,13 +404,13 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
   vd xa[4], xb[4], va[4], vb[4], wa[4], wb[4], h0[4], h1[4], d[3], n[3];
   load_cols_n(c->x, a3, xa, 3);
   load_cols_n(c->x, b3, xb, 3);
-  if (per) /* B's periodic image, esf_periodic_image's operations lane-wise */
+  if (gen && c->img) /* B's periodic image, esf_periodic_image's operations lane-wise */
     for (int q = 0; q < 3; q++)
       for (int l = 0; l < ESF_BATCH; l++)
         xb[q][l] = xb[q][l] + (double)c->img[3 * kk[l] + q] * c->plen[q];
   load_cols_n(c->v, a3, va, 3);
   load_cols_n(c->v, b3, vb, 3);
-  if (per &&
+  if (gen && c->img &&
       c->le) /* Lees-Edwards: esf_periodic_le_image's and esf_candidates_vb's lane-wise */
     for (int l = 0; l < ESF_BATCH; l++) {
       const int8_t mg = c->img[3 * kk[l] + c->le_grad];
@@ -492,7 +494,7 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
                       .st0 = st0,
                       .vi = NULL};
   vd vim[3]; /* the ODE methods' carry (forces.c's eval_contact): (vc0 + vc)/2 live */
-  if (c->vc0) {
+  if (gen && c->vc0) {
     vd c0[3];
     for (int l = 0; l < ESF_BATCH; l++)
       for (int q = 0; q < 3; q++) c0[q][l] = c->vc0[3 * kk[l] + q];
@@ -530,7 +532,7 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
   for (int l = 0; l < nl; l++) {
     if (!keep[l]) { /* apart: the contact ended */
       gone |= 1u << l;
-      if (c->trial) continue;
+      if (gen && c->trial) continue;
       c->touch[kk[l]] = 0;
       if (broke[l]) { /* as the linear law at un <= 0 commits: xi = 0, the normal */
         char *h = (char *)c->h + hk[l];
@@ -545,8 +547,8 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
       badmask |= 1u << l;
       continue;
     }
-    if (c->trial) continue;
-    if (c->vc0)
+    if (gen && c->trial) continue;
+    if (gen && c->vc0)
       for (int q = 0; q < 3; q++) c->vc0[3 * kk[l] + q] = vc[q][l];
     char *h = (char *)c->h + hk[l];
     memcpy(h + HXI, rows[l], 4 * sizeof(double));
@@ -568,16 +570,17 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
   return badmask;
 }
 
-/* The body twice: without periodic images (the copy every other scene runs, as it was
- * before the images came: one test of c->img per batch made the non-periodic S1 bed 5%
- * slower, docs/performance.md) and with them. */
+/* The body twice: the leapfrog's batches without periodic images (gen 0: what every
+ * other scene runs, with nothing of the images, the ODE methods' carry or their trials
+ * in it; a test of each inside the batch made the S1 bed 5% slower,
+ * docs/performance.md) and the general one. */
 static __attribute__((noinline)) unsigned batch(const esf_pair_batch_ctx *c,
                                                 const uint32_t *k, int nl,
                                                 double out[ESF_BATCH][ESF_BATCH_OUT],
                                                 double lout[ESF_BATCH][ESF_BATCH_LOUT],
                                                 double *acc, unsigned *apart) {
-  return c->img ? batch_body(c, k, nl, out, lout, acc, apart, 1)
-                : batch_body(c, k, nl, out, lout, acc, apart, 0);
+  return c->img || c->vc0 || c->trial ? batch_body(c, k, nl, out, lout, acc, apart, 1)
+                                      : batch_body(c, k, nl, out, lout, acc, apart, 0);
 }
 
 unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
