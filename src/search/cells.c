@@ -101,17 +101,6 @@ int esf_cells_create(esf_cells **out, esf_error *err) {
   return ESF_OK;
 }
 
-void esf_cells_free(esf_cells **c) {
-  if (!c || !*c) return;
-  free((*c)->list);
-  free((*c)->ord);
-  free((*c)->cls);
-  for (int k = 0; k < ESF_CELLS_MAX_CLASSES; k++) esf_grid_release(&(*c)->grid[k]);
-  for (int t = 0; t < ESF_CELLS_MAX_THREADS; t++) esf_pairbuf_release(&(*c)->tbuf[t]);
-  free(*c);
-  *c = NULL;
-}
-
 void esf_cells_trim(esf_cells *c) {
   free(c->list);
   free(c->ord);
@@ -121,6 +110,13 @@ void esf_cells_trim(esf_cells *c) {
   c->cap = c->class_cap = 0;
   for (int k = 0; k < ESF_CELLS_MAX_CLASSES; k++) esf_grid_release(&c->grid[k]);
   for (int t = 0; t < ESF_CELLS_MAX_THREADS; t++) esf_pairbuf_release(&c->tbuf[t]);
+}
+
+void esf_cells_free(esf_cells **c) {
+  if (!c || !*c) return;
+  esf_cells_trim(*c);
+  free(*c);
+  *c = NULL;
 }
 
 int esf_cells_tune(esf_cells *c, esf_cells_mode mode, double factor, esf_error *err) {
