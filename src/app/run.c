@@ -501,7 +501,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       if (!rc) rc = check_energy(s, &resid_warned, err);
       if (rc) break;
     }
-    if (every_s && (n + 1) % every_s == 0) {
+    if (every_s && ((n + 1) % every_s == 0 || n == nsteps - 1)) { /* and the end */
       rc = esf_load_out_row(s, &lo, err);
       if (rc) break;
     }
