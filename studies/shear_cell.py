@@ -4,8 +4,10 @@ solid fraction phi, shears them at rate g (Lees-Edwards, fixed volume) to a stra
 STRAIN, and averages stress.csv's whole-cell rows over strains >= SKIP (the start-up
 transient discarded): p = mean p, tau = -mean sxy (compression positive: the shear
 stress of flow x / gradient y is -sxy), mu = tau / p, I = g d / sqrt(p / rho). The error
-bar of mu is the standard error over 4 blocks of the averaging window. Fits
-mu = mu_s + (mu_2 - mu_s) / (1 + I_0 / I) to the points (least squares on a grid) and
+bar of mu is the standard error over 4 blocks of the averaging window; p_drift, the
+mean p of the window's second half over its first, says how steady the state is. Fits
+mu = mu_s + (mu_2 - mu_s) / (1 + I_0 / I) to the points with I <= IFIT (least squares,
+I_0 on a grid), compares with the guide curve of Jop, Forterre & Pouliquen (2006), and
 writes studies/results/shear_cell/{cases.csv, report numbers, mu_I.png}.
 Usage: /usr/bin/python3 studies/shear_cell.py [ESFERA]  (run pinned: taskset -c 1)"""
 import math
@@ -22,11 +24,14 @@ import shear_cell_pack  # noqa: E402
 ROOT = os.path.dirname(HERE)
 OUT = os.path.join(HERE, "results", "shear_cell")
 RHO, D = 2500.0, shear_cell_pack.D
-STRAIN, SKIP = 8.0, 2.0
+STRAIN, SKIP = 20.0, 10.0
 # (phi, shear rate 1/s): the dense cases sweep the rate (the quasi-static end is set by
 # the contact stiffness), the looser ones reach the inertial end.
 CASES = [(0.59, 1.0), (0.59, 3.0), (0.59, 10.0), (0.59, 30.0), (0.59, 100.0),
-         (0.57, 30.0), (0.55, 30.0), (0.52, 30.0), (0.48, 30.0), (0.44, 30.0)]
+         (0.58, 30.0), (0.57, 30.0), (0.56, 30.0), (0.55, 30.0), (0.52, 30.0),
+         (0.48, 30.0), (0.44, 30.0)]
+JOP = (0.38, 0.64, 0.279)  # mu_s, mu_2, I_0 of Jop, Forterre & Pouliquen 2006 (see report)
+IFIT = 0.6  # the fit uses I <= IFIT (past it the flow turns collisional, mu falls)
 
 
 def scene_text(side, csv, rate, duration, every):
@@ -71,9 +76,11 @@ def run_case(exe, phi, rate, work):
     blocks = np.array_split(np.arange(keep.sum()), 4)
     mub = [tau[b].mean() / p[b].mean() for b in blocks]
     P = p.mean()
-    return dict(phi=phi, rate=rate, p=P, mu=tau.mean() / P,
+    h = len(p) // 2
+    drift = p[h:].mean() / p[:h].mean()  # the window's second half against its first
+    return dict(drift=drift, phi=phi, rate=rate, p=P, mu=tau.mean() / P,
                 mu_err=np.std(mub, ddof=1) / 2, I=rate * D / math.sqrt(P / RHO),
-                pk=s["p_kinetic"][keep].mean() / P, asym=0.0)
+                pk=s["p_kinetic"][keep].mean() / P)
 
 
 def fit(I, mu):
@@ -93,19 +100,22 @@ def main():
     res = [run_case(exe, phi, g, work) for phi, g in CASES]
     os.makedirs(OUT, exist_ok=True)
     with open(os.path.join(OUT, "cases.csv"), "w") as f:
-        f.write("phi,rate,p,I,mu,mu_err,p_kinetic_over_p\n")
+        f.write("phi,rate,p,I,mu,mu_err,p_kinetic_over_p,p_drift\n")
         for r in res:
             f.write(f"{r['phi']},{r['rate']},{r['p']:.6g},{r['I']:.5g},{r['mu']:.4f},"
-                    f"{r['mu_err']:.4f},{r['pk']:.4f}\n")
+                    f"{r['mu_err']:.4f},{r['pk']:.4f},{r['drift']:.3f}\n")
             print(f"phi {r['phi']:.2f} rate {r['rate']:6g}: p {r['p']:10.4g} Pa  "
                   f"I {r['I']:.4g}  mu {r['mu']:.4f} +- {r['mu_err']:.4f}  "
-                  f"p_kin/p {r['pk']:.3f}")
+                  f"p_kin/p {r['pk']:.3f}  p 2nd/1st half {r['drift']:.3f}")
     I = np.array([r["I"] for r in res])
     mu = np.array([r["mu"] for r in res])
-    ms, m2, i0 = fit(I, mu)
+    sel = I <= IFIT
+    ms, m2, i0 = fit(I[sel], mu[sel])
+    rms = float(np.sqrt(np.mean((ms + (m2 - ms) / (1 + i0 / I[sel]) - mu[sel]) ** 2)))
+    print(f"fit rms deviation {rms:.4f} over {int(sel.sum())} points (I <= {IFIT})")
     print(f"fit: mu_s {ms:.3f}  mu_2 {m2:.3f}  I_0 {i0:.3f}")
     with open(os.path.join(OUT, "fit.txt"), "w") as f:
-        f.write(f"mu_s {ms:.4f}\nmu_2 {m2:.4f}\nI_0 {i0:.4f}\n")
+        f.write(f"mu_s {ms:.4f}\nmu_2 {m2:.4f}\nI_0 {i0:.4f}\nrms {rms:.4f}\n")
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -115,8 +125,11 @@ def main():
         ax.errorbar([r["I"] for r in sel], [r["mu"] for r in sel],
                     yerr=[r["mu_err"] for r in sel], fmt="o", label=f"esfera, phi = {phi}")
     xs = np.logspace(-3.5, 0.3, 200)
-    ax.plot(xs, ms + (m2 - ms) / (1 + i0 / xs), "k-",
+    xf = xs[xs <= IFIT]
+    ax.plot(xf, ms + (m2 - ms) / (1 + i0 / xf), "k-",
             label=f"fit: {ms:.2f} + ({m2:.2f} - {ms:.2f}) / (1 + {i0:.3f} / I)")
+    ax.plot(xs, JOP[0] + (JOP[1] - JOP[0]) / (1 + JOP[2] / xs), "k:",
+            label="reference curve (0.38, 0.64, 0.279), values not verified")
     ax.set_xscale("log")
     ax.set_xlabel("inertial number I = g d / sqrt(p / rho)")
     ax.set_ylabel("mu = shear stress / pressure")
