@@ -31,7 +31,7 @@ CASES = [(0.59, 1.0), (0.59, 3.0), (0.59, 10.0), (0.59, 30.0), (0.59, 100.0),
          (0.58, 30.0), (0.57, 30.0), (0.56, 30.0), (0.55, 30.0), (0.52, 30.0),
          (0.48, 30.0), (0.44, 30.0)]
 JOP = (0.38, 0.64, 0.279)  # mu_s, mu_2, I_0 of Jop, Forterre & Pouliquen 2006 (see report)
-IFIT = 0.6  # the fit uses I <= IFIT (past it the flow turns collisional, mu falls)
+IFIT = 2.0  # the fit uses I <= IFIT (all the cases here)
 
 
 def scene_text(side, csv, rate, duration, every):
@@ -114,6 +114,12 @@ def main():
     rms = float(np.sqrt(np.mean((ms + (m2 - ms) / (1 + i0 / I[sel]) - mu[sel]) ** 2)))
     print(f"fit rms deviation {rms:.4f} over {int(sel.sum())} points (I <= {IFIT})")
     print(f"fit: mu_s {ms:.3f}  mu_2 {m2:.3f}  I_0 {i0:.3f}")
+    ref = JOP[0] + (JOP[1] - JOP[0]) / (1 + JOP[2] / I)
+    for lim in (0.03, 0.3, IFIT):
+        k = I <= lim
+        dev = mu[k] - ref[k]
+        print(f"against the reference curve, I <= {lim}: {int(k.sum())} points, rms "
+              f"{np.sqrt(np.mean(dev ** 2)):.4f}, largest {dev[np.argmax(np.abs(dev))]:+.4f}")
     with open(os.path.join(OUT, "fit.txt"), "w") as f:
         f.write(f"mu_s {ms:.4f}\nmu_2 {m2:.4f}\nI_0 {i0:.4f}\nrms {rms:.4f}\n")
     import matplotlib
