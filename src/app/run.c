@@ -247,7 +247,7 @@ static void progress(const esf_sim *s, double t_end, double now, double psum, pr
 /* The fixed-step schedule: how many steps, and every how many an energy row, a frame,
  * a checkpoint and (progress) a look at the clock are due. */
 typedef struct sched {
-  long nsteps, every_e, every_f, every_c;
+  long nsteps, every_e, every_f, every_c, every_s; /* every_s: output.stress_every */
   int progress;
 } sched;
 
@@ -275,7 +275,8 @@ static long steps_to_event(const sched *c, long n) {
     const int last = j + 1 >= c->nsteps;
     if (last || (c->every_e && j % c->every_e == 0) ||
         (c->every_f && (j + 1) % c->every_f == 0) ||
-        (c->every_c && (j + 1) % c->every_c == 0) || (c->progress && (j & 63) == 0))
+        (c->every_c && (j + 1) % c->every_c == 0) ||
+        (c->every_s && (j + 1) % c->every_s == 0) || (c->progress && (j & 63) == 0))
       break;
   }
   return j - n + 1;
@@ -364,6 +365,11 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                   "%s: output.checkpoint_every: integrator %s cannot write checkpoints "
                   "(leapfrog and erk: methods can)",
                   esf_config_where(&s->cfg, "output.checkpoint_every"), s->cfg.method);
+  if (!rc && adaptive && s->cfg.stress_every > 0)
+    rc = esf_fail(err, ESF_EINPUT,
+                  "%s: output.stress_every: needs fixed steps (integrator %s with rtol "
+                  "takes adaptive ones); use the energy rows",
+                  esf_config_where(&s->cfg, "output.stress_every"), s->cfg.method);
   if (!rc && !o->resume) rc = check_out_dir(o->out_dir, o->overwrite, err);
   if (rc) return rc;
   char path[1200];
@@ -425,7 +431,10 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, &fr, err);
     if (!rc) rc = write_frame(s, fr, &net, err);
   }
-  if (!rc) rc = esf_load_out_open(o->out_dir, s, o->resume ? cr.erows : -1, &lo, err);
+  /* load rows (walls.csv, stress.csv): at the energy rows, or every every_s steps */
+  const long every_s = adaptive ? 0 : steps_in(s->cfg.stress_every, s->dt);
+  const long lrows = every_s ? cr.n / every_s : cr.erows;
+  if (!rc) rc = esf_load_out_open(o->out_dir, s, o->resume ? lrows : -1, &lo, err);
   if (rc) goto done;
 
   long every_e = steps_in(s->cfg.energy_every, s->dt);
@@ -455,8 +464,8 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     if (tc > 0 && adaptive) /* the schedule continues (checkpoint_every may change) */
       next_c = isfinite(cr.next_c) ? cr.next_c : s->t + tc;
   }
-  const sched sc = {nsteps, every_e, every_f, every_c,
-                    o->progress && !o->quiet && !adaptive};
+  const sched sc = {nsteps,  every_e, every_f,
+                    every_c, every_s, o->progress && !o->quiet && !adaptive};
   const long step0 = s->step;
   double t0 = esf_now_s(), next_prog = t0 + 0.5, psum = cr.psum;
   const double psum0 = psum;
@@ -488,8 +497,12 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     }
     if (row) {
       rc = energy_row(s, ef, fr, err);
-      if (!rc) rc = esf_load_out_row(s, &lo, err);
+      if (!rc && !every_s) rc = esf_load_out_row(s, &lo, err);
       if (!rc) rc = check_energy(s, &resid_warned, err);
+      if (rc) break;
+    }
+    if (every_s && ((n + 1) % every_s == 0 || n == nsteps - 1)) { /* and the end */
+      rc = esf_load_out_row(s, &lo, err);
       if (rc) break;
     }
     if (frame) {

@@ -115,7 +115,8 @@ typedef struct esf_config {
   int out_walls;       /* output.walls: walls.csv at every energy row (wall_loads.h) */
   int n_stress;        /* output.stress: regions of stress.csv (wall_loads.h) */
   double stress_box[ESF_STRESS_MAX][6]; /* each region's min (3) and max (3), m */
-  double ckpt_every; /* output.checkpoint_every: s between checkpoints; 0: none */
+  double stress_every; /* output.stress_every: s between load rows; 0: at energy rows */
+  double ckpt_every;   /* output.checkpoint_every: s between checkpoints; 0: none */
   char out_dir[1024];
   int threads;      /* worker threads (results independent of it); 0: all available,
                       esf_sim_setup then sets the count (util/threads.h) */

@@ -9,7 +9,8 @@
  * Region stress (Love 1927, Weber 1966; Christoffersen, Mehrabadi & Nemat-Nasser
  * 1981), compression positive, region volume V, particles P with centre in the box:
  *   sigma_ij = -(1/V) sum_{P} sum_{c of P} f^c_i (x^c - x_P)_j    (contact part)
- *            + (1/V) sum_{P} m_P v'_i v'_j,  v' = v_P - (sum m v)/(sum m)  (kinetic)
+ *            + (1/V) sum_{P} m_P v'_i v'_j,  v' = w_P - (sum m w)/(sum m)  (kinetic)
+ * with w = v, or under Lees-Edwards shear w = v - rate y_g e_flow (the imposed flow)
  * with f^c the force on P (a pair with both particles in gives f (x_B - x_A), the
  * branch vector form; one particle out: its part is cut at the contact point). The
  * symmetric part is written, p = tr/3, q = sqrt(3 J2). Units: SI. Entry: the net of
@@ -42,9 +43,10 @@ void esf_wall_loads(const esf_sim *s, const esf_contact_net *net, double *fm) {
 
 /* Whether x lies in the region box; with periodic axes its image in the periodic box
  * (positions stray past a face by up to skin/2 between the wraps) is tested. */
-static int inside(const esf_sim *s, const double *xp, const double box[6]) {
+static int inside_at(const esf_sim *s, const double *xp, const double box[6],
+                     double x[3]) {
   const esf_periodic *pb = &s->cfg.per;
-  double x[3], mid[3];
+  double mid[3];
   v3_copy(x, xp);
   if (pb->any) {
     for (int q = 0; q < 3; q++) mid[q] = pb->lo[q] + 0.5 * pb->len[q];
@@ -53,6 +55,21 @@ static int inside(const esf_sim *s, const double *xp, const double box[6]) {
   for (int q = 0; q < 3; q++)
     if (!(x[q] >= box[q] && x[q] < box[q + 3])) return 0;
   return 1;
+}
+
+static int inside(const esf_sim *s, const double *xp, const double box[6]) {
+  double x[3];
+  return inside_at(s, xp, box, x);
+}
+
+/* The velocity the kinetic stress measures from: v, less under Lees-Edwards shear the
+ * imposed flow rate y_g at the image x (whose velocity is v + rate (x_g - xp_g) along
+ * the flow axis), so that the streaming shear is not counted as agitation. */
+static void kin_velocity(const esf_periodic *pb, const double *v, const double *xp,
+                         const double *x, double w[3]) {
+  v3_copy(w, v);
+  if (pb->le)
+    w[pb->flow] += pb->rate * (x[pb->grad] - xp[pb->grad]) - pb->rate * x[pb->grad];
 }
 
 /* t -= f (pc - x)^T: a contact's part with P's force f at point pc, centre x. */
@@ -70,16 +87,19 @@ void esf_region_stress(const esf_sim *s, const esf_contact_net *net, const doubl
   double t[9] = {0}, tk[9] = {0}, mv[3] = {0, 0, 0}, m = 0, mf[3];
   size_t np = 0;
   for (size_t i = 0; i < p->n; i++) {
-    if (!inside(s, p->x + 3 * i, box)) continue;
+    double x[3], w[3];
+    if (!inside_at(s, p->x + 3 * i, box, x)) continue;
     np++;
     m += p->mass[i];
-    v3_axpy(mv, p->mass[i], p->v + 3 * i);
+    kin_velocity(&s->cfg.per, p->v + 3 * i, p->x + 3 * i, x, w);
+    v3_axpy(mv, p->mass[i], w);
   }
-  if (m > 0) v3_scale(mv, 1.0 / m, mv); /* the region's mean velocity */
+  if (m > 0) v3_scale(mv, 1.0 / m, mv); /* the region's mean (less the shear flow) */
   for (size_t i = 0; np && i < p->n; i++) {
-    if (!inside(s, p->x + 3 * i, box)) continue;
-    double u[3];
-    v3_sub(u, p->v + 3 * i, mv);
+    double x[3], u[3];
+    if (!inside_at(s, p->x + 3 * i, box, x)) continue;
+    kin_velocity(&s->cfg.per, p->v + 3 * i, p->x + 3 * i, x, u);
+    v3_sub(u, u, mv);
     for (int a = 0; a < 3; a++)
       for (int b = 0; b < 3; b++) tk[3 * a + b] += p->mass[i] * u[a] * u[b];
   }

@@ -349,9 +349,9 @@ static int read_misc(const esf_ynode *root, esf_config *c, esf_error *err) {
   static const char *const levers[] = {"seed", "surface", NULL}; /* ESF_WALL_LEVER_* */
   static const char *const skeys[] = {"skin", "reorder", NULL};
   static const char *const rkeys[] = {"duration", "steps", NULL};
-  static const char *const okeys[] = {
-      "every", "energy_every", "dir", "contacts", "checkpoint_every",
-      "walls", "stress",       NULL};
+  static const char *const okeys[] = {"every",    "energy_every",     "dir",
+                                      "contacts", "checkpoint_every", "walls",
+                                      "stress",   "stress_every",     NULL};
   int rc = ESF_OK;
   const esf_ynode *ct = esf_ymap_get(root, "contact");
   if (ct) {
@@ -476,6 +476,7 @@ static void record_places(const esf_ynode *root, esf_config *c) {
       "integrator.method", "integrator.dt", "integrator.frac", "integrator.history",
       "integrator.roots", "integrator.rtol", "integrator.table", "run", "run.duration", "run.steps",
       "output", "output.every", "output.energy_every", "output.checkpoint_every",
+      "output.stress_every",
       "search", "search.skin", "domain", NULL};
   /* clang-format on */
   char buf[sizeof c->where[0].place], path[64];

@@ -2,9 +2,13 @@
  * output.walls (bool: walls.csv, each wall's force and moment at every energy row) and
  * output.stress (a list of {region: {min, max}}: stress.csv, each region's average
  * stress at every energy row; output/wall_loads.h). Both are written at the energy
- * rows, so output.energy_every: 0 with either is an error at the key. Entry: the output
- * mapping, energy_every read (-1: not given); exit: c->out_walls, n_stress,
- * stress_box set. Units: m. */
+ * rows, or every output.stress_every seconds when given (> 0; a run without the ledger,
+ * e.g. under Lees-Edwards shear), so output.energy_every: 0 with either and no
+ * stress_every is an error at the key. Entry: the output mapping, energy_every read
+ * (-1: not given); exit: c->out_walls, n_stress, stress_box, stress_every set. Units: m,
+ * s. */
+#include <math.h>
+
 #include "scene/scene_parts.h"
 
 int esf_scene_outputs(const esf_ynode *ou, esf_config *c, esf_error *err) {
@@ -35,9 +39,20 @@ int esf_scene_outputs(const esf_ynode *ou, esf_config *c, esf_error *err) {
     }
     c->n_stress = rc ? 0 : (int)st->n;
   }
-  const esf_ynode *w = esf_ymap_get(ou, "walls");
-  if (!rc && c->energy_every == 0 && (c->out_walls || c->n_stress))
+  const esf_ynode *w = esf_ymap_get(ou, "walls"), *se = esf_ymap_get(ou, "stress_every");
+  c->stress_every = 0;
+  if (!rc && se) {
+    rc = esf_ynode_double(se, &c->stress_every, err);
+    if (!rc && !(c->stress_every > 0 && isfinite(c->stress_every)))
+      return esf_ynode_fail(se, err, "must be a positive interval (s), got %g",
+                            c->stress_every);
+    if (!rc && !c->out_walls && !c->n_stress)
+      return esf_ynode_fail(se, err, "needs output.stress or output.walls");
+  }
+  if (!rc && c->energy_every == 0 && !(c->stress_every > 0) &&
+      (c->out_walls || c->n_stress))
     return esf_ynode_fail(c->out_walls ? w : st, err,
-                          "written at the energy rows: needs output.energy_every > 0");
+                          "written at the energy rows: needs output.energy_every > 0 "
+                          "or output.stress_every");
   return rc;
 }
