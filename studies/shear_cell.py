@@ -9,7 +9,8 @@ mean p of the window's second half over its first, says how steady the state is.
 mu = mu_s + (mu_2 - mu_s) / (1 + I_0 / I) to the points with I <= IFIT (least squares,
 I_0 on a grid), compares with the guide curve of Jop, Forterre & Pouliquen (2006), and
 writes studies/results/shear_cell/{cases.csv, report numbers, mu_I.png}.
-Usage: /usr/bin/python3 studies/shear_cell.py [ESFERA]  (run pinned: taskset -c 1)"""
+Usage: /usr/bin/python3 studies/shear_cell.py [ESFERA] [--from-csv]  (--from-csv: the
+numbers and plot from the last run's cases.csv)"""
 import math
 import os
 import subprocess
@@ -30,7 +31,9 @@ STRAIN, SKIP = 20.0, 10.0
 CASES = [(0.59, 1.0), (0.59, 3.0), (0.59, 10.0), (0.59, 30.0), (0.59, 100.0),
          (0.58, 30.0), (0.57, 30.0), (0.56, 30.0), (0.55, 30.0), (0.52, 30.0),
          (0.48, 30.0), (0.44, 30.0)]
-JOP = (0.38, 0.64, 0.279)  # mu_s, mu_2, I_0 of Jop, Forterre & Pouliquen 2006 (see report)
+# mu_s = tan 20.9 deg, mu_2 = tan 32.76 deg, I_0 = 0.279: Jop, Forterre & Pouliquen 2006
+# (Nature 441, 727), glass beads of 0.5 mm in experiments (see the report)
+JOP = (math.tan(math.radians(20.9)), math.tan(math.radians(32.76)), 0.279)
 IFIT = 2.0  # the fit uses I <= IFIT (all the cases here)
 
 
@@ -95,9 +98,18 @@ def fit(I, mu):
 
 
 def main():
-    exe = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "esfera")
+    args = [x for x in sys.argv[1:] if x != "--from-csv"]
+    exe = args[0] if args else os.path.join(ROOT, "build", "esfera")
     work = os.path.join("/tmp", "esfera_shear_cell")
-    res = [run_case(exe, phi, g, work) for phi, g in CASES]
+    if "--from-csv" in sys.argv:  # the figures and plot again from cases.csv, no runs
+        import csv
+        with open(os.path.join(OUT, "cases.csv")) as f:
+            res = [dict(phi=float(r["phi"]), rate=float(r["rate"]), p=float(r["p"]),
+                        I=float(r["I"]), mu=float(r["mu"]), mu_err=float(r["mu_err"]),
+                        pk=float(r["p_kinetic_over_p"]), drift=float(r["p_drift"]))
+                   for r in csv.DictReader(f)]
+    else:
+        res = [run_case(exe, phi, g, work) for phi, g in CASES]
     os.makedirs(OUT, exist_ok=True)
     with open(os.path.join(OUT, "cases.csv"), "w") as f:
         f.write("phi,rate,p,I,mu,mu_err,p_kinetic_over_p,p_drift\n")
@@ -135,7 +147,7 @@ def main():
     ax.plot(xf, ms + (m2 - ms) / (1 + i0 / xf), "k-",
             label=f"fit: {ms:.2f} + ({m2:.2f} - {ms:.2f}) / (1 + {i0:.3f} / I)")
     ax.plot(xs, JOP[0] + (JOP[1] - JOP[0]) / (1 + JOP[2] / xs), "k:",
-            label="reference curve (0.38, 0.64, 0.279), values not verified")
+            label="Jop et al. 2006, glass beads: tan 20.9°, tan 32.76°, I_0 0.279")
     ax.set_xscale("log")
     ax.set_xlabel("inertial number I = g d / sqrt(p / rho)")
     ax.set_ylabel("mu = shear stress / pressure")
