@@ -40,23 +40,18 @@ IFIT = 2.0  # the fit uses I <= IFIT (all the cases here)
 def scene_text(side, csv, rate, duration, every):
     base = open(os.path.join(ROOT, "scenes", "shear_cell.yaml")).read()
     out = []
+    edits = [  # (a stripped line's start, the line that replaces it)
+        ("max: [", f"  max: [{side!r}, {side!r}, {side!r}]"),
+        ("shear:", f"  shear: {{rate: {rate!r}, flow: x, gradient: y}}"),
+        ("- {file:", f"  - {{file: {csv}, material: glass}}"),
+        ("run:", f"run: {{duration: {duration!r}}}"),
+        ("stress_every:", f"  stress_every: {every!r}"),
+        ("every:", f"  every: {duration!r}"),
+        ("- {region:", f"    - {{region: {{min: [0, 0, 0], max: [{side!r}, {side!r}, "
+                       f"{side!r}]}}}}")]
     for line in base.splitlines():
         s = line.strip()
-        if s.startswith("max: ["):
-            line = f"  max: [{side!r}, {side!r}, {side!r}]"
-        elif s.startswith("shear:"):
-            line = f"  shear: {{rate: {rate!r}, flow: x, gradient: y}}"
-        elif s.startswith("- {file:"):
-            line = f"  - {{file: {csv}, material: glass}}"
-        elif s.startswith("run:"):
-            line = f"run: {{duration: {duration!r}}}"
-        elif s.startswith("stress_every:"):
-            line = f"  stress_every: {every!r}"
-        elif s.startswith("every:"):
-            line = f"  every: {duration!r}"
-        elif s.startswith("- {region:"):
-            line = (f"    - {{region: {{min: [0, 0, 0], max: [{side!r}, {side!r}, "
-                    f"{side!r}]}}}}")
+        line = next((new for start, new in edits if s.startswith(start)), line)
         out.append(line)
     return "\n".join(out) + "\n"
 
