@@ -29,6 +29,7 @@
 #include "model/forces.h"
 #include "model/model.h"
 #include "model/stability.h"
+#include "par/par.h"
 #include "util/vec3.h"
 
 typedef struct leapfrog {
@@ -128,9 +129,14 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     esf_sim_forces_release(s);     /* (not held through the first stability check) */
   if (!rc && rebuilt) rc = esf_stability_runaway(s, err); /* no particle runs away */
   if (!rc) rc = esf_stability_guard(s, 0, err);           /* every stability_every */
+  rc = esf_par_agree(s, rc, err); /* MPI: all stop when one must */
   if (rc) return rc;
   if (!lf->started) {
-    rc = start(s, err);
+    rc = esf_par_agree(s, start(s, err), err);
+    if (rc) return rc;
+  }
+  if (s->par) { /* MPI: the ghosts at x_n, v_{n-1/2}, w_{n-1/2}, one step at a time */
+    rc = esf_par_ghosts(s, err);
     if (rc) return rc;
   }
   size_t touching = 0;
@@ -154,6 +160,7 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     }
     if (s->cfg.per.le) burst = 1; /* the shear images' offset is set per step */
     rc = esf_fused_run(s, lf->fast, burst, &taken, err);
+    rc = esf_par_agree(s, rc, err);
     if (taken > 0) lf->started = 1;
     return rc;
   }

@@ -22,6 +22,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#ifdef ESF_MPI
+#include <mpi.h>
+#endif
 
 #include "app/generate_copies.h"
 #include "app/info.h"
@@ -31,6 +34,8 @@
 #include "integrators/integrator.h"
 #include "loads/insert.h"
 #include "model/model.h"
+#include "fused/fused.h"
+#include "par/par.h"
 #include "scene/scene.h"
 
 #define ESF_MMAP_MIN (256 * 1024) /* bytes */
@@ -72,7 +77,9 @@ static void usage(FILE *f) {
 }
 
 static int fail(int code, const char *msg) {
-  fprintf(stderr, "esfera: %s\n", msg);
+  int rank, size;
+  esf_par_world(&rank, &size); /* MPI: every process has the message; rank 0 prints */
+  if (rank == 0) fprintf(stderr, "esfera: %s\n", msg);
   return esf_error_exit_status(code);
 }
 
@@ -207,6 +214,27 @@ static int prepare(int argc, char **argv, cli_args *a, esf_ckpt **ck, esf_sim *s
   return 0;
 }
 
+/* An MPI run of more than one process: what it cannot do refused with its reason
+ * (docs/mpi.md), then the sim taken onto the processes (par.h). */
+static int attach_mpi(esf_sim *s, const cli_args *a, esf_error *err) {
+  int rank, size;
+  esf_par_world(&rank, &size);
+  if (size < 2) return ESF_OK;
+  if (a->resume)
+    return esf_fail(err, ESF_EINPUT,
+                    "--resume: checkpoints are not supported on several MPI processes "
+                    "yet; resume on one process");
+  if (strcmp(s->cfg.method, "leapfrog") == 0) {
+    const char *why = esf_fused_refusal(s);
+    if (why)
+      return esf_fail(err, ESF_EINPUT,
+                      "%s: not supported on several MPI processes yet: the leapfrog's "
+                      "general path (%s); run it on one process",
+                      esf_config_where(&s->cfg, "integrator"), why);
+  }
+  return esf_par_attach(s, err);
+}
+
 /* esfera modes SCENE: the assembled contact system's highest frequency at the scene's
  * initial state against the seeds' critical-step rules (modes.h). */
 static int cmd_modes(int argc, char **argv) {
@@ -320,13 +348,14 @@ static void print_summary(const esf_sim *s, const esf_run_stats *st, const char 
          "energy_error=%.6g dissipated=%.6g removed=%ld method=%s rejected=%ld "
          "acc_limited=%ld stab_limited=%ld h_last=%.6g events=%ld restarts=%ld "
          "checkpoints=%ld bonds=%ld bonds_broken=%ld threads=%d resumed_from_step=%ld "
-         "stability=%.4g stability_checks=%ld exit=%d inserted=%lld n_end=%zu\n",
+         "stability=%.4g stability_checks=%ld exit=%d inserted=%lld n_end=%zu ranks=%d\n",
          st->steps, st->particles_mean, st->contacts_mean, st->wall_s, st->rate, s->dt,
          s->nb.builds, st->integ.rhs_evals, st->energy_error, st->dissipated, s->removed,
          s->cfg.method, st->integ.rejected, st->integ.acc_limited, st->integ.stab_limited,
          st->integ.h_last, st->integ.events, st->integ.restarts, st->checkpoints_total,
          s->bonds.formed, s->bonds.broken, s->cfg.threads, st->resumed_step,
-         s->stab.worst, s->stab.checks, status, esf_inserts_total(s), s->p.n);
+         s->stab.worst, s->stab.checks, status, esf_inserts_total(s), esf_par_count(s),
+         esf_par_size(s));
   if (st->resumed_step)
     printf("resumed at step %ld: wall_s and particle_steps_per_s cover steps %ld to %ld; "
            "checkpoints=%ld counts every checkpoint since the run's start (%ld written "
@@ -354,6 +383,16 @@ static int cmd_run(int argc, char **argv, const char *argv0) {
   if (status) {
     esf_ckpt_free(&ck);
     return status;
+  }
+  {
+    esf_error e;
+    esf_error_clear(&e);
+    if (attach_mpi(&s, &a, &e)) {
+      free(a.sets);
+      esf_ckpt_free(&ck);
+      esf_sim_release(&s);
+      return fail(e.code, e.msg);
+    }
   }
   if (s.cfg.duration <= 0 && s.cfg.steps <= 0) { /* a generate scene has no run */
     free(a.sets);
@@ -397,7 +436,7 @@ static int cmd_run(int argc, char **argv, const char *argv0) {
   install_signals();
   esf_run_opts o = {.out_dir = dir,
                     .quiet = a.quiet,
-                    .progress = isatty(STDOUT_FILENO),
+                    .progress = isatty(STDOUT_FILENO) && esf_par_rank(&s) == 0,
                     .scene = &sc,
                     .resume = ck,
                     .stop = &stop_signal,
@@ -412,8 +451,11 @@ static int cmd_run(int argc, char **argv, const char *argv0) {
   program_path(argv0, prog, sizeof prog);
   if (rc) {
     status = fail(rc, err.msg);
-    if (st.stepping) fprintf(stderr, "esfera: output so far is in %s\n", o.out_dir);
-    if (st.stepping && status == 1) /* the counts up to the failure, for scripts */
+    const int root = esf_par_rank(&s) == 0;
+    if (st.stepping && root)
+      fprintf(stderr, "esfera: output so far is in %s\n", o.out_dir);
+    if (st.stepping && status == 1 &&
+        root) /* the counts up to the failure, for scripts */
       print_summary(&s, &st, dir, prog, status);
     esf_sim_release(&s);
     return status;
@@ -441,12 +483,33 @@ static int cmd_run(int argc, char **argv, const char *argv0) {
     esf_sim_release(&s);
     return 128 + (int)stop_signal;
   }
-  print_summary(&s, &st, dir, prog, 0);
+  if (esf_par_rank(&s) == 0) print_summary(&s, &st, dir, prog, 0);
   esf_sim_release(&s);
   return 0;
 }
 
+/* The command, with MPI set up around it in an MPI build (docs/mpi.md): only `run`
+ * runs on several processes. */
+static int command(int argc, char **argv);
+
 int main(int argc, char **argv) {
+#ifdef ESF_MPI
+  int provided = 0, size = 1;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  int status;
+  if (size > 1 && (argc < 2 || strcmp(argv[1], "run") != 0))
+    status = fail(ESF_EINPUT, "only `esfera run` runs on several MPI processes");
+  else
+    status = command(argc, argv);
+  MPI_Finalize();
+  return status;
+#else
+  return command(argc, argv);
+#endif
+}
+
+static int command(int argc, char **argv) {
 #ifdef __GLIBC__
   /* Arrays from ESF_MMAP_MIN bytes on get pages of their own, returned when freed:
    * glibc's default raises that bound to the largest array freed so far (up to 32 MB),

@@ -28,6 +28,7 @@
 #include "output/contact_net.h"
 #include "output/frames.h"
 #include "output/wall_loads.h"
+#include "par/par.h"
 #include "util/vec3.h"
 #include "util/version.h"
 
@@ -155,7 +156,7 @@ static int check_energy(esf_sim *s, int *warned, esf_error *err) {
           "the contacts; a smaller integrator.frac or dt is more accurate",
           s->step, s->t, err_e, ratio, flow, ESF_RESID_WARN, ESF_RESID_STOP, s->dt);
       esf_sim_log(s, "%s", msg);
-      fprintf(stderr, "esfera: %s\n", msg);
+      if (esf_par_rank(s) == 0) fprintf(stderr, "esfera: %s\n", msg);
     }
     return ESF_OK;
   }
@@ -195,6 +196,16 @@ static int check_energy(esf_sim *s, int *warned, esf_error *err) {
  * scene asks for it (output.contacts). */
 static int write_frame(esf_sim *s, esf_frames *fr, esf_contact_net *net, esf_error *err) {
   int rc = esf_sim_forces_sync(s, err);
+  if (s->par) { /* MPI: the particles gathered on rank 0, which writes (par_io.c) */
+    esf_particles all;
+    rc = esf_par_agree(s, rc, err);
+    if (!rc) rc = esf_par_gather(s, &all, err);
+    rc = esf_par_agree(s, rc, err);
+    if (!rc && esf_par_rank(s) == 0)
+      rc = esf_frames_write(fr, s->t, &all, &s->walls, NULL, err);
+    esf_particles_release(&all);
+    return esf_par_bcast_status(s, rc, err);
+  }
   if (!rc) rc = s->cfg.out_contacts ? esf_contact_net_build(s, 1, net, err) : ESF_OK;
   if (!rc)
     rc = esf_frames_write(fr, s->t, &s->p, &s->walls, s->cfg.out_contacts ? net : NULL,
@@ -370,7 +381,9 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                   "%s: output.stress_every: needs fixed steps (integrator %s with rtol "
                   "takes adaptive ones); use the energy rows",
                   esf_config_where(&s->cfg, "output.stress_every"), s->cfg.method);
-  if (!rc && !o->resume) rc = check_out_dir(o->out_dir, o->overwrite, err);
+  const int root = esf_par_rank(s) == 0; /* MPI: rank 0 alone writes files */
+  if (!rc && !o->resume && root) rc = check_out_dir(o->out_dir, o->overwrite, err);
+  rc = esf_par_bcast_status(s, rc, err);
   if (rc) return rc;
   char path[1200];
   FILE *logf = NULL, *ef = NULL;
@@ -390,10 +403,11 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     rc = it->create(s, &ist, err);
     s->log = NULL;
     fclose(mem);
-    if (!rc) rc = open_log(o->out_dir, "w", &logf, err);
-    if (!rc && fwrite(early, 1, len, logf) != len)
+    if (!rc && root) rc = open_log(o->out_dir, "w", &logf, err);
+    if (!rc && root && fwrite(early, 1, len, logf) != len)
       rc = esf_fail(err, ESF_EIO, "cannot write log.txt: %s", strerror(errno));
     free(early);
+    if (s->par) rc = esf_par_bcast_status(s, rc, err);
     if (rc && !logf) {
       if (ist) it->destroy(&ist);
       return rc;
@@ -416,7 +430,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                 cr.count, s->step, s->t, cr.frames, cr.erows);
   } else {
     esf_run_ckpt_forget(o->out_dir); /* a new run: an old checkpoint no longer fits */
-    if (s->led.on) {
+    if (s->led.on && root) {
       snprintf(path, sizeof path, "%s/energy.csv", o->out_dir);
       ef = fopen(path, "w");
       if (!ef) {
@@ -428,7 +442,8 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       esf_ledger_header(ef);
     }
     snprintf(path, sizeof path, "%s/frames.h5", o->out_dir);
-    rc = esf_frames_open(path, s->cfg.name, ESF_VERSION, &fr, err);
+    rc = root ? esf_frames_open(path, s->cfg.name, ESF_VERSION, &fr, err) : ESF_OK;
+    rc = esf_par_bcast_status(s, rc, err);
     if (!rc) rc = write_frame(s, fr, &net, err);
   }
   /* load rows (walls.csv, stress.csv): at the energy rows, or every every_s steps */
@@ -483,7 +498,8 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       continue;
     }
     n += s->step - step_before - 1; /* a scheme may take several (s->burst) */
-    psum += (double)s->p.n * (double)(s->step - step_before); /* no removal between */
+    psum += (double)esf_par_count(s) * (double)(s->step - step_before); /* no removal
+                                                                            between */
     int row, frame;
     if (adaptive) {
       double tol = 1e-9 * t_end;
@@ -496,7 +512,8 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       frame = every_f && (n + 1) % every_f == 0 && n + 1 < nsteps;
     }
     if (row) {
-      rc = energy_row(s, ef, fr, err);
+      rc = root ? energy_row(s, ef, fr, err) : ESF_OK;
+      if (s->par) rc = esf_par_bcast_status(s, rc, err);
       if (!rc && !every_s) rc = esf_load_out_row(s, &lo, err);
       if (!rc) rc = check_energy(s, &resid_warned, err);
       if (rc) break;
@@ -512,6 +529,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     }
     int last = adaptive ? s->t >= t_end * (1 - 1e-12) : n + 1 >= nsteps;
     int ckpt = 0, stop = o->stop && *o->stop && !last;
+    if (s->par) stop = esf_par_any(s, stop); /* every process stops at the same step */
     if (tc > 0 && adaptive) {
       double tol = 1e-9 * t_end;
       ckpt = s->t >= next_c - tol && !last;
@@ -562,7 +580,7 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   st->steps = s->step;
   st->resumed_step = o->resume ? step0 : 0;
   st->wall_s = wall;
-  st->particles_mean = s->step ? psum / (double)s->step : (double)s->p.n;
+  st->particles_mean = s->step ? psum / (double)s->step : (double)esf_par_count(s);
   st->contacts_mean = s->step ? s->contacts_sum / (double)s->step : 0.0;
   st->rate = wall > 0 ? (psum - psum0) / wall : 0.0;
   st->checkpoints_total = cr.count;
@@ -585,10 +603,20 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                 "interrupted at step %ld, t = %.9g s: no checkpoint (%s cannot write "
                 "them), the final frame written",
                 s->step, s->t, s->cfg.method);
-  if (!rc)
+  if (!rc && fr)
     esf_sim_log(s,
                 "output: %ld frames, %ld energy rows in frames.h5; %.3f s writing them",
                 esf_frames_count(fr), esf_frames_energy_rows(fr), esf_frames_seconds(fr));
+  if (!rc && s->par) {
+    double bytes, secs;
+    long rb;
+    esf_par_stats(s, &bytes, &secs, &rb);
+    esf_sim_log(s,
+                "mpi: %d processes; rank 0 sent %.4g bytes (%.4g a step) and spent %.3f "
+                "s exchanging or waiting in %ld rebuilds and the steps",
+                esf_par_size(s), bytes, s->step ? bytes / (double)s->step : 0.0, secs,
+                rb);
+  }
   if (s->bonds.on)
     esf_sim_log(s,
                 "bonds: %ld at the start, %ld broken, %ld intact; %.6g J released by "
@@ -627,7 +655,7 @@ done:
     rc = esf_fail(err, ESF_EIO, "cannot finish energy.csv: %s", strerror(errno));
   if (rc) esf_sim_log(s, "FAILED: %s", err->msg);
   s->log = NULL;
-  if ((ferror(logf) | fclose(logf)) != 0 && !rc)
+  if (logf && (ferror(logf) | fclose(logf)) != 0 && !rc)
     rc = esf_fail(err, ESF_EIO, "cannot finish log.txt: %s", strerror(errno));
   return rc;
 }

@@ -24,6 +24,31 @@
 #include <stdint.h>
 #include <stdlib.h>
 
+void esf_reorder_grid_make(esf_reorder_grid *g, const double lo[3], const double hi[3],
+                           double h, size_t n) {
+  for (;;) { /* at most 2n cells */
+    double cells = 1.0;
+    for (int q = 0; q < 3; q++) cells *= g->dims[q] = floor((hi[q] - lo[q]) / h) + 1.0;
+    if (cells <= 2.0 * (double)n) break;
+    h *= 1.25;
+  }
+  int *ax = g->ax; /* slowest .. fastest: most cells first, ties in x, y, z */
+  ax[0] = 0;
+  ax[1] = 1;
+  ax[2] = 2;
+  for (int i = 1; i < 3; i++)
+    for (int j = i; j > 0 && g->dims[ax[j]] > g->dims[ax[j - 1]]; j--) {
+      const int t = ax[j];
+      ax[j] = ax[j - 1];
+      ax[j - 1] = t;
+    }
+  for (int q = 0; q < 3; q++) g->lo[q] = lo[q];
+  g->h = h;
+  g->d1 = (size_t)g->dims[ax[1]];
+  g->d2 = (size_t)g->dims[ax[2]];
+  g->ncell = (size_t)g->dims[0] * (size_t)g->dims[1] * (size_t)g->dims[2];
+}
+
 int esf_reorder_particles(esf_sim *s, int *changed, esf_error *err) {
   esf_particles *p = &s->p;
   const size_t n = p->n;
@@ -39,22 +64,9 @@ int esf_reorder_particles(esf_sim *s, int *changed, esf_error *err) {
     }
     rsum += p->radius[i];
   }
-  double h = 2.0 * rsum / (double)n + s->nb.skin, dims[3];
-  for (;;) { /* at most 2n cells */
-    double cells = 1.0;
-    for (int q = 0; q < 3; q++) cells *= dims[q] = floor((hi[q] - lo[q]) / h) + 1.0;
-    if (cells <= 2.0 * (double)n) break;
-    h *= 1.25;
-  }
-  int ax[3] = {0, 1, 2}; /* slowest .. fastest: most cells first, ties in x, y, z */
-  for (int i = 1; i < 3; i++)
-    for (int j = i; j > 0 && dims[ax[j]] > dims[ax[j - 1]]; j--) {
-      const int t = ax[j];
-      ax[j] = ax[j - 1];
-      ax[j - 1] = t;
-    }
-  const size_t d1 = (size_t)dims[ax[1]], d2 = (size_t)dims[ax[2]];
-  const size_t ncell = (size_t)dims[0] * (size_t)dims[1] * (size_t)dims[2];
+  esf_reorder_grid g;
+  esf_reorder_grid_make(&g, lo, hi, 2.0 * rsum / (double)n + s->nb.skin, n);
+  const size_t ncell = g.ncell;
   uint32_t *key = malloc(n * sizeof *key);
   size_t *start = calloc(ncell + 1, sizeof *start);
   size_t *src = malloc(n * sizeof *src);
@@ -68,13 +80,7 @@ int esf_reorder_particles(esf_sim *s, int *changed, esf_error *err) {
 #pragma omp parallel for num_threads(esf_sim_threads_for(s, n))
   for (long ii = 0; ii < nn; ii++) {
     const size_t i = (size_t)ii;
-    size_t c[3];
-    for (int q = 0; q < 3; q++) {
-      const double f = floor((p->x[3 * i + ax[q]] - lo[ax[q]]) / h);
-      const size_t m = (size_t)dims[ax[q]] - 1;
-      c[q] = f > 0 ? ((size_t)f < m ? (size_t)f : m) : 0;
-    }
-    key[i] = (uint32_t)((c[0] * d1 + c[1]) * d2 + c[2]);
+    key[i] = esf_reorder_key(&g, p->x + 3 * i);
   }
   for (size_t i = 0; i < n; i++) start[key[i] + 1]++;
   for (size_t c = 0; c < ncell; c++) start[c + 1] += start[c];

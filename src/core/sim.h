@@ -207,7 +207,19 @@ typedef struct esf_sim {
   double *led_rows, *led_blocks;
   size_t led_cap; /* particles they have room for */
   size_t led_lr;  /* a particle's rows in led_rows: esf_ledger_lr(mats.any_rolling) */
+  /* MPI (par/par.h): this process's part of the run, or NULL: one process holds every
+   * particle. With it, the particles [own_lo, own_hi) are this process's own, the
+   * others ghosts: copies of other processes' particles near its part, in the global
+   * order with them, read by the pair forces and never integrated here. */
+  struct esf_par *par;
+  size_t own_lo, own_hi;
 } esf_sim;
+
+/* The particles this process integrates: [lo, hi) (all of them without MPI). */
+static inline size_t esf_sim_own_lo(const esf_sim *s) { return s->par ? s->own_lo : 0; }
+static inline size_t esf_sim_own_hi(const esf_sim *s) {
+  return s->par ? s->own_hi : s->p.n;
+}
 
 #define ESF_FT_STRIDE 8
 

@@ -31,6 +31,7 @@
 #include "loads/events.h"
 #include "loads/servo.h"
 #include "model/forces.h"
+#include "par/par.h"
 
 /* idle candidates range 0 screens between looks at the others */
 #define SCREEN_CHUNK 256
@@ -210,8 +211,12 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
     nt_pp += kept;
     if (bad < o.bad_pair) o.bad_pair = bad;
     if (o.bad_pair == SIZE_MAX &&
-        atomic_load_explicit(&f->bfail, memory_order_relaxed) != e)
-      f->k->kick_range(s, f, B->K, lo, hi, &o, &nt_pw);
+        atomic_load_explicit(&f->bfail, memory_order_relaxed) !=
+            e) { /* an MPI run's ghosts are not integrated here (par/par.h) */
+      const size_t olo = esf_sim_own_lo(s), ohi = esf_sim_own_hi(s);
+      const size_t klo = lo > olo ? lo : olo, khi = hi < ohi ? hi : ohi;
+      if (klo < khi) f->k->kick_range(s, f, B->K, klo, khi, &o, &nt_pw);
+    }
     o.nt = nt_pp + nt_pw;
     me->out = o;
 #ifdef _OPENMP
@@ -330,6 +335,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       .dom_hi = s->nb.dom_hi,
       .rows = ledger ? s->led_rows : NULL,
       .blocks = ledger || autod ? s->led_blocks : NULL,
+      .kbase = esf_sim_own_lo(s),
       .drag = s->drag,
       .drag_on = drag_on,
       .lk = {
@@ -340,13 +346,14 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   const int many = s->nb.xref && s->nb.nref == p->n && !s->walls.moving &&
                    !esf_events_pending(s->events) && !autod &&
                    !s->drag; /* alpha, the porosity: updated after every step */
-  const esf_fused_burst B = {.bc = &bc,
-                             .K = &K,
-                             .e0 = f->epoch + 1,
-                             .steps = many && nmax > 1 && !ev ? nmax : 1,
-                             .lim2 = esf_neighbor_limit2(&s->nb),
-                             .led = ledger ? &s->led : NULL,
-                             .nblocks = esf_ledger_nblocks(p->n)};
+  const esf_fused_burst B = {
+      .bc = &bc,
+      .K = &K,
+      .e0 = f->epoch + 1,
+      .steps = many && nmax > 1 && !ev && !s->par ? nmax : 1,
+      .lim2 = esf_neighbor_limit2(&s->nb),
+      .led = ledger ? &s->led : NULL,
+      .nblocks = esf_ledger_nblocks(esf_sim_own_hi(s) - esf_sim_own_lo(s))};
   f->nt_sum = 0;
   f->inside = 0.0;
   atomic_store_explicit(&f->broken, 0, memory_order_relaxed);
@@ -380,7 +387,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   const int fail = esf_fused_gather(f, &r);
   if (!f->decided) {
     if (!fail) f->nt_sum += r.nt;
-    if (!fail && ledger && n > 0) esf_ledger_step(&s->led, s->led_blocks, B.nblocks);
+    if (!fail && ledger && n > 0) esf_par_ledger_step(s, s->led_blocks, B.nblocks);
     esf_fused_balance(f, T);
   }
   const long ok = fail ? n - 1 : n; /* steps completed without failure */
@@ -391,7 +398,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
     s->step += ok;
     s->t = (double)s->step * s->dt;
     s->rhs_evals += ok;
-    s->contacts_sum += (double)f->nt_sum;
+    s->contacts_sum += (double)esf_par_touching(s, f->nt_sum);
   }
   s->bonds.broken += atomic_load_explicit(&f->broken, memory_order_relaxed);
   *taken = ok;

@@ -173,6 +173,7 @@ typedef struct esf_fused_kick {
   const double *dom_lo, *dom_hi; /* the domain, or NULL */
   /* the ledger (core/ledger.h), or rows NULL: the particles' rows, their blocks */
   double *rows, *blocks;
+  size_t kbase; /* the particle of the first block's start (MPI: the first owned one) */
   esf_ledger_kick lk;
   struct esf_drag *drag; /* the fluid force (loads/drag.h), or NULL */
   int drag_on;           /* it acts at this step's time */

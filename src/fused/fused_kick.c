@@ -151,8 +151,9 @@ static inline void kick_one(const esf_sim *s, esf_particles *p, const esf_fused_
   }
   if (K->dom_lo) *escaped |= v3_outside(x, K->dom_lo, K->dom_hi); /* as sim.c's */
   if (K->blocks) { /* as the general path's kick (esf_ledger_kick_particle) */
-    double *blk = K->blocks + ESF_LB_N * (i / ESF_LEDGER_BLOCK);
-    if (i % ESF_LEDGER_BLOCK == 0) memset(blk, 0, ESF_LB_N * sizeof(double));
+    const size_t ib = i - K->kbase;
+    double *blk = K->blocks + ESF_LB_N * (ib / ESF_LEDGER_BLOCK);
+    if (ib % ESF_LEDGER_BLOCK == 0) memset(blk, 0, ESF_LB_N * sizeof(double));
     esf_ledger_kick_particle(&K->lk, p->mass[i], p->inertia[i], x0, v0, v, w0, w,
                              ESF_FUSED_FEATURES && K->loc ? fl : NULL,
                              ESF_FUSED_FEATURES && K->loc ? ml : NULL,

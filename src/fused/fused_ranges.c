@@ -44,7 +44,8 @@ static size_t work_of(const esf_fused *f, const esf_candidates *c, size_t i) {
  * work of steps 1-2 (wt, per particle) is shared equally, so threads finish together
  * although a bed's bottom has more contacts than its surface. Any cut gives the same
  * results. */
-static void cut_once(esf_fused *f, const size_t *wt, size_t n, size_t T, size_t align) {
+static void cut_once(esf_fused *f, const size_t *wt, size_t n, size_t T, size_t align,
+                     size_t base) {
   size_t total = 0;
   for (size_t i = 0; i < n; i++) total += wt[i];
   size_t i = 0, acc = 0;
@@ -52,7 +53,8 @@ static void cut_once(esf_fused *f, const size_t *wt, size_t n, size_t T, size_t 
   for (size_t t = 1; t < T; t++) {
     const size_t goal = total / T * t + total % T * t / T;
     while (i < n && acc < goal) acc += wt[i++];
-    size_t cut = (i + align / 2) / align * align; /* the ledger's blocks stay whole */
+    size_t cut = i; /* the ledger's blocks, from base on, stay whole */
+    if (i > base) cut = base + (i - base + align / 2) / align * align;
     if (cut < f->rlo[t - 1]) cut = f->rlo[t - 1];
     f->rlo[t] = cut < n ? cut : n;
   }
@@ -63,7 +65,7 @@ static void cut_once(esf_fused *f, const size_t *wt, size_t n, size_t T, size_t 
  * work is scaled by its old range's measured seconds per unit (rounded to 1/64).
  * wt: n of scratch, the weights cut by (each particle's work, scaled). */
 static void cut_ranges(esf_fused *f, const esf_candidates *c, size_t *wt, size_t n,
-                       size_t T, size_t align) {
+                       size_t T, size_t align, size_t base) {
   for (size_t i = 0; i < n; i++) wt[i] = work_of(f, c, i);
   if (f->recut) {
     double mean = 0.0;
@@ -73,7 +75,7 @@ static void cut_ranges(esf_fused *f, const esf_candidates *c, size_t *wt, size_t
       for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++) wt[i] *= q;
     }
   }
-  cut_once(f, wt, n, T, align);
+  cut_once(f, wt, n, T, align, base);
   for (size_t t = 0; t < T; t++) { /* unscaled: the next rates are the ranges' own */
     f->work[t] = 0.0;
     for (size_t i = f->rlo[t]; i < f->rlo[t + 1]; i++) /* again: no second array */
@@ -229,7 +231,7 @@ int esf_fused_index(esf_sim *s, esf_fused *f, int want, esf_error *err) {
       (s->led.on || s->cfg.autod.on || s->walls.gforce) && ESF_FUSED_FEATURES
           ? ESF_LEDGER_BLOCK
           : 1;
-  cut_ranges(f, c, wt, n, T, align);
+  cut_ranges(f, c, wt, n, T, align, esf_sim_own_lo(s));
   free(wt);
   /* boundary pairs: a in range t, b in a higher range (b > a) */
   size_t nb = 0;

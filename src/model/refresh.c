@@ -11,6 +11,7 @@
 #include "core/reorder.h"
 #include "loads/events.h"
 #include "loads/insert.h"
+#include "par/par.h"
 
 int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
   int rebuild = 0, walls_changed = 0;
@@ -34,6 +35,10 @@ int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
   }
   int rc = esf_neighbor_check(&s->nb, &s->p, moved_by, &rebuild, err);
   s->nb.disp_valid = 0;
+  if (s->par) { /* MPI: every process rebuilds when one must (par.h) */
+    rc = esf_par_agree(s, rc, err);
+    if (!rc) rebuild = esf_par_any(s, rebuild);
+  }
   if (rc) {
     esf_error_prefix(err,
                      "step %ld (t = %.6g s, dt = %.4g s, critical dt %.4g s): ", s->step,
@@ -41,15 +46,29 @@ int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
     return rc;
   }
   if (!rebuild && !walls_changed) return ESF_OK;
-  esf_neighbor_skin_tune(&s->nb, s->p.n, s->step); /* before particles go or move */
+  if (s->par) { /* the idle candidates and particles of every process */
+    const esf_neighbor *nb = &s->nb;
+    const long long idle =
+        esf_par_sum(s, (long long)esf_neighbor_idle(nb, s->own_lo, s->own_hi));
+    const size_t n = esf_par_count(s);
+    if (nb->skin_hi > 0 && nb->xref && nb->nref == s->p.n && n > 0 && nb->builds > 0)
+      esf_neighbor_skin_tune_with(&s->nb, (size_t)idle, n, s->step);
+  } else {
+    esf_neighbor_skin_tune(&s->nb, s->p.n, s->step); /* before particles go or move */
+  }
   /* into the periodic box: each pair's image follows at the build (periodic.c) */
   if (s->cfg.per.any) {
     if ((rc = esf_sim_forces_sync(s, err))) return rc;
     esf_periodic_wrap(&s->cfg.per, s->p.n, s->p.x, s->p.v, s->t, s->p.img);
   }
-  rc = esf_sim_remove_escaped(s, err);
   int moved = 0;
-  if (!rc && s->reorder_ok && s->cfg.reorder) rc = esf_reorder_particles(s, &moved, err);
+  if (s->par) { /* MPI: removal, the cut, migration, the global order, ghosts */
+    rc = esf_par_agree(s, esf_par_rebuild(s, err), err);
+  } else {
+    rc = esf_sim_remove_escaped(s, err);
+    if (!rc && s->reorder_ok && s->cfg.reorder)
+      rc = esf_reorder_particles(s, &moved, err);
+  }
   s->nb.threads = esf_sim_threads_for(s, s->p.n);
   s->nb.le_t = s->t;
   if (!rc) rc = esf_neighbor_build(&s->nb, &s->p, &s->walls, err);

@@ -17,6 +17,7 @@
 #include "loads/events.h"
 #include "loads/insert.h"
 #include "loads/servo.h"
+#include "par/par.h"
 #include "util/threads.h"
 #include "util/vec3.h"
 
@@ -217,6 +218,7 @@ int esf_sim_setup(esf_sim *s, esf_error *err) {
 }
 
 void esf_sim_release(esf_sim *s) {
+  esf_par_detach(s);
   esf_particles_release(&s->p);
   esf_materials_release(&s->mats);
   esf_walls_release(&s->walls);

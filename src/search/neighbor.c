@@ -470,6 +470,25 @@ int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls
   return ESF_OK;
 }
 
+/* Entry m of a particle list turned round (A and B swap): the history's tangential
+ * displacement (force on A = kt xi), its normal (A to B) and the carried relative
+ * velocity (B - A) change sign. */
+static void turn(esf_candidates *c, size_t m) {
+
+  const uint32_t t = c->a[m];
+  c->a[m] = c->b[m];
+  c->b[m] = t;
+  esf_contact_hist *h = &c->h[m];
+  for (int q = 0; q < 3; q++) {
+    h->xi[q] = -h->xi[q];
+    h->n[q] = -h->n[q];
+    if (c->vc0) c->vc0[3 * m + q] = -c->vc0[3 * m + q];
+    if (c->wr0) c->wr0[3 * m + q] = -c->wr0[3 * m + q];
+    if (c->roll) c->roll[m].m[q] = -c->roll[m].m[q];            /* torque on the new A */
+    if (c->img) c->img[3 * m + q] = (int8_t)-c->img[3 * m + q]; /* A's image of B */
+  } /* the twisting torque t n keeps its sign: n turned round too */
+}
+
 /* Renumbers a list through remap (dropping removed particles). A particle pair whose
  * new numbers come in the other order is turned round to keep a < b: A and B swap,
  * so the history's tangential displacement (force on A = kt xi), its normal (A to B)
@@ -491,20 +510,7 @@ static void remap_list(esf_candidates *c, const size_t *remap, size_t n_old, int
       if (c->roll) c->roll[m] = c->roll[k];
       if (c->img) memcpy(c->img + 3 * m, c->img + 3 * k, 3);
     }
-    if (!walls && c->a[m] > c->b[m]) {
-      const uint32_t t = c->a[m];
-      c->a[m] = c->b[m];
-      c->b[m] = t;
-      esf_contact_hist *h = &c->h[m];
-      for (int q = 0; q < 3; q++) {
-        h->xi[q] = -h->xi[q];
-        h->n[q] = -h->n[q];
-        if (c->vc0) c->vc0[3 * m + q] = -c->vc0[3 * m + q];
-        if (c->wr0) c->wr0[3 * m + q] = -c->wr0[3 * m + q];
-        if (c->roll) c->roll[m].m[q] = -c->roll[m].m[q]; /* torque on the new A */
-        if (c->img) c->img[3 * m + q] = (int8_t)-c->img[3 * m + q]; /* A's image of B */
-      } /* the twisting torque t n keeps its sign: n turned round too */
-    }
+    if (!walls && c->a[m] > c->b[m]) turn(c, m);
     m++;
   }
   c->n = m;
@@ -518,6 +524,30 @@ void esf_neighbor_remap(esf_neighbor *nb, const size_t *remap, size_t n_old) {
   nb->nref = 0;
 }
 
+int esf_neighbor_inject(esf_neighbor *nb, int walls, size_t m, const uint32_t *a,
+                        const uint32_t *b, const esf_contact_hist *h,
+                        const esf_contact_roll *roll, esf_error *err) {
+  esf_candidates *c = walls ? &nb->pw : &nb->pp;
+  const int img = !walls && nb->per && nb->per->any;
+  int rc = contacts_reserve(c, c->n + m, nb->ledger, nb->carry, walls ? 0 : nb->bonds,
+                            nb->rolling, img, err);
+  if (rc) return rc;
+  for (size_t j = 0; j < m; j++) {
+    const size_t k = c->n++;
+    c->a[k] = a[j];
+    c->b[k] = b[j];
+    c->h[k] = h[j];
+    c->touch[k] = 1;
+    if (c->vc0) memset(c->vc0 + 3 * k, 0, 3 * sizeof(double));
+    if (c->wr0) memset(c->wr0 + 3 * k, 0, 3 * sizeof(double));
+    if (c->bond) c->bond[k] = (esf_contact_bond){0};
+    if (c->roll) c->roll[k] = roll ? roll[j] : (esf_contact_roll){{0, 0, 0}, 0};
+    if (c->img) memset(c->img + 3 * k, 0, 3);
+    if (!walls && c->a[k] > c->b[k]) turn(c, k);
+  }
+  return ESF_OK;
+}
+
 void esf_neighbor_skin_range(esf_neighbor *nb, double lo, double hi) {
   nb->skin_lo = lo;
   nb->skin_hi = hi;
@@ -526,9 +556,18 @@ void esf_neighbor_skin_range(esf_neighbor *nb, double lo, double hi) {
 void esf_neighbor_skin_tune(esf_neighbor *nb, size_t n, long step) {
   if (!(nb->skin_hi > 0) || !nb->xref || nb->nref != n || n == 0 || nb->builds == 0)
     return;
-  const long I = step - nb->built_step > 1 ? step - nb->built_step : 1;
+  esf_neighbor_skin_tune_with(nb, esf_neighbor_idle(nb, 0, n), n, step);
+}
+
+size_t esf_neighbor_idle(const esf_neighbor *nb, size_t lo, size_t hi) {
   size_t shell = 0; /* candidates not touching at the last evaluation */
-  for (size_t k = 0; k < nb->pp.n; k++) shell += !nb->pp.touch[k];
+  for (size_t k = 0; k < nb->pp.n; k++)
+    shell += !nb->pp.touch[k] & (nb->pp.a[k] >= lo) & (nb->pp.a[k] < hi);
+  return shell;
+}
+
+void esf_neighbor_skin_tune_with(esf_neighbor *nb, size_t shell, size_t n, long step) {
+  const long I = step - nb->built_step > 1 ? step - nb->built_step : 1;
   const double ms = (double)shell / (double)n;
   double f = ms > 0 ? sqrt(ESF_SKIN_BUILD_COST / (ms * (double)I)) : 2.0;
   f = f < 0.5 ? 0.5 : f > 2.0 ? 2.0 : f;

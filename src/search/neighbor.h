@@ -143,6 +143,21 @@ void esf_neighbor_skin_range(esf_neighbor *nb, double lo, double hi);
  * stay reproducible and thread-count independent. */
 void esf_neighbor_skin_tune(esf_neighbor *nb, size_t n, long step);
 
+/* The same from its counts: shell idle candidates (esf_neighbor_idle, over every
+ * process of an MPI run) among n particles; the caller checks the conditions. */
+void esf_neighbor_skin_tune_with(esf_neighbor *nb, size_t shell, size_t n, long step);
+
+/* The particle candidates not touching at the last evaluation whose A is in [lo, hi). */
+size_t esf_neighbor_idle(const esf_neighbor *nb, size_t lo, size_t hi);
+
+/* Appends m touching contacts to the particle list (walls 0: pairs (a, b), turned
+ * round when a > b) or the wall list (walls 1: particle a, element b) with their
+ * histories and rolling states (roll NULL: zero): an MPI run's migrating contacts
+ * (par_cut.c), after esf_neighbor_remap and before the build that carries them. */
+int esf_neighbor_inject(esf_neighbor *nb, int walls, size_t m, const uint32_t *a,
+                        const uint32_t *b, const esf_contact_hist *h,
+                        const esf_contact_roll *roll, esf_error *err);
+
 /* Rebuilds both lists from the current positions, carrying the history of contacts
  * that were touching over to the new lists. */
 int esf_neighbor_build(esf_neighbor *nb, const esf_particles *p, const esf_walls *w,

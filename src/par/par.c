@@ -1,0 +1,296 @@
+/* par.c — an MPI run's processes (par.h): attaching a sim, the ghosts' exchange every
+ * step, agreement on failures, and the sums across processes in a fixed order.
+ *
+ * Ghosts: at each rebuild (par_cut.c) every process lists, per peer, the owned
+ * particles the peer holds as ghosts and where the peer's ghosts land; each step
+ * sends x, v, w of the first and receives those of the second (9 doubles a ghost).
+ * Sums: the ledger's blocks are whole on every process and lie in the global order
+ * rank after rank, so the sum over blocks is taken as one process would, left to
+ * right: rank r adds its blocks to the running totals it receives from rank r - 1 and
+ * passes them on; the last rank's totals go to every process. Counts are integers
+ * (exact in any order). Failures: the lowest failing rank's status and message go to
+ * every process, so all stop together with the same message. Without ESF_MPI every
+ * function is the one-process case. */
+#include "par/par.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/ledger.h"
+#include "par/par_impl.h"
+
+void esf_par_world(int *rank, int *size) {
+  *rank = 0;
+  *size = 1;
+#ifdef ESF_MPI
+  int on = 0;
+  MPI_Initialized(&on);
+  if (on) {
+    MPI_Comm_rank(MPI_COMM_WORLD, rank);
+    MPI_Comm_size(MPI_COMM_WORLD, size);
+  }
+#endif
+}
+
+/* The places of what MPI runs refuse (docs/mpi.md#what-mpi-runs-support). */
+const char *esf_par_refusal(const esf_sim *s, const char **key) {
+  const esf_config *c = &s->cfg;
+  struct {
+    int on;
+    const char *key, *why;
+  } const no[] = {
+      {strcmp(c->method, "leapfrog") != 0, "integrator.method",
+       "the leapfrog only (the ODE methods and Verlet run on one process)"},
+      {!c->fused, "integrator.fused", "the fused step only (integrator.fused: false)"},
+      {!c->reorder, "search.reorder", "the renumbering is the global order's"},
+      {c->per.any, "domain.periodic", "periodic boundaries"},
+      {s->bonds.on, "materials", "bonds (the adhesive law's bonded contacts)"},
+      {s->walls.gforce != NULL, "walls", "servo walls"},
+      {s->drag != NULL, "fluid", "the fluid force"},
+      {s->events != NULL, "events", "scene events"},
+      {s->insert != NULL, "particles", "insertion during the run"},
+      {c->autod.on, "damping.adaptive", "adaptive global damping"},
+      {c->out_contacts, "output.contacts", "the contact network output"},
+      {c->out_walls || c->n_stress > 0, "output.walls", "walls.csv and stress.csv"},
+      {c->ckpt_every > 0, "output.checkpoint_every", "checkpoints"},
+  };
+  for (size_t k = 0; k < sizeof no / sizeof no[0]; k++)
+    if (no[k].on) {
+      *key = no[k].key;
+      return no[k].why;
+    }
+  return NULL;
+}
+
+#ifndef ESF_MPI
+
+int esf_par_attach(esf_sim *s, esf_error *err) {
+  (void)err;
+  s->par = NULL;
+  return ESF_OK;
+}
+void esf_par_detach(esf_sim *s) { s->par = NULL; }
+int esf_par_rank(const esf_sim *s) { return (void)s, 0; }
+int esf_par_size(const esf_sim *s) { return (void)s, 1; }
+size_t esf_par_count(const esf_sim *s) { return s->p.n; }
+int esf_par_ghosts(esf_sim *s, esf_error *err) { return (void)s, (void)err, ESF_OK; }
+int esf_par_agree(esf_sim *s, int rc, esf_error *err) { return (void)s, (void)err, rc; }
+int esf_par_any(const esf_sim *s, int flag) { return (void)s, flag != 0; }
+double esf_par_max(const esf_sim *s, double v) { return (void)s, v; }
+long long esf_par_sum(const esf_sim *s, long long v) { return (void)s, v; }
+void esf_par_ledger_step(esf_sim *s, const double *blocks, size_t nb) {
+  esf_ledger_step(&s->led, blocks, nb);
+}
+size_t esf_par_touching(esf_sim *s, size_t local) { return (void)s, local; }
+int esf_par_bcast_status(const esf_sim *s, int rc, esf_error *err) {
+  return (void)s, (void)err, rc;
+}
+void esf_par_stats(const esf_sim *s, double *bytes, double *seconds, long *rebuilds) {
+  (void)s;
+  *bytes = *seconds = 0.0;
+  *rebuilds = 0;
+}
+
+#else
+
+int esf_par_attach(esf_sim *s, esf_error *err) {
+  s->par = NULL;
+  int rank, size;
+  esf_par_world(&rank, &size);
+  if (size < 2) return ESF_OK;
+  const char *key = NULL, *why = esf_par_refusal(s, &key);
+  if (why)
+    return esf_fail(err, ESF_EINPUT,
+                    "%s: not supported on several MPI processes yet: %s (run it on one "
+                    "process, or without mpirun)",
+                    esf_config_where(&s->cfg, key), why);
+  esf_par *P = calloc(1, sizeof *P);
+  int *st = calloc((size_t)size + 1, sizeof *st),
+      *rt = calloc((size_t)size + 1, sizeof *rt);
+  MPI_Request *rq = calloc(2 * (size_t)size, sizeof *rq);
+  if (!P || !st || !rt || !rq) {
+    free(P);
+    free(st);
+    free(rt);
+    free(rq);
+    return esf_fail(err, ESF_ENOMEM, "out of memory");
+  }
+  MPI_Comm_dup(MPI_COMM_WORLD, &P->comm);
+  P->rank = rank;
+  P->size = size;
+  P->sstart = st;
+  P->rstart = rt;
+  P->req = rq;
+  P->ntot = s->p.n;
+  s->par = P;
+  s->own_lo = 0; /* until the first rebuild: rank 0 owns every particle, the others */
+  s->own_hi = rank == 0 ? s->p.n : 0; /* hold theirs only for the set-up's sake */
+  return ESF_OK;
+}
+
+void esf_par_detach(esf_sim *s) {
+  esf_par *P = s->par;
+  if (!P) return;
+  MPI_Comm_free(&P->comm);
+  free(P->gid);
+  free(P->sstart);
+  free(P->rstart);
+  free(P->sidx);
+  free(P->ridx);
+  free(P->sbuf);
+  free(P->rbuf);
+  free(P->req);
+  free(P);
+  s->par = NULL;
+}
+
+int esf_par_rank(const esf_sim *s) { return s->par ? s->par->rank : 0; }
+int esf_par_size(const esf_sim *s) { return s->par ? s->par->size : 1; }
+size_t esf_par_count(const esf_sim *s) { return s->par ? s->par->ntot : s->p.n; }
+
+static int grow_d(double **p, size_t *cap, size_t n) {
+  if (n <= *cap) return 1;
+  double *q = realloc(*p, (n ? n : 1) * sizeof *q);
+  if (!q) return 0;
+  *p = q;
+  *cap = n;
+  return 1;
+}
+
+int esf_par_ghosts(esf_sim *s, esf_error *err) {
+  esf_par *P = s->par;
+  if (!P || !P->decomposed) return ESF_OK;
+  const double t0 = esf_par_now();
+  const size_t ns = (size_t)P->sstart[P->size], nr = (size_t)P->rstart[P->size];
+  if (!grow_d(&P->sbuf, &P->sbuf_cap, 9 * ns) || !grow_d(&P->rbuf, &P->rbuf_cap, 9 * nr))
+    return esf_fail(err, ESF_ENOMEM, "out of memory for the ghosts' exchange");
+  const esf_particles *p = &s->p;
+  for (size_t j = 0; j < ns; j++) {
+    const size_t i = P->sidx[j];
+    memcpy(P->sbuf + 9 * j, p->x + 3 * i, 3 * sizeof(double));
+    memcpy(P->sbuf + 9 * j + 3, p->v + 3 * i, 3 * sizeof(double));
+    memcpy(P->sbuf + 9 * j + 6, p->w + 3 * i, 3 * sizeof(double));
+  }
+  int nq = 0;
+  for (int q = 0; q < P->size; q++) {
+    const int c = P->rstart[q + 1] - P->rstart[q];
+    if (c > 0)
+      MPI_Irecv(P->rbuf + 9 * (size_t)P->rstart[q], 9 * c, MPI_DOUBLE, q, 11, P->comm,
+                &P->req[nq++]);
+  }
+  for (int q = 0; q < P->size; q++) {
+    const int c = P->sstart[q + 1] - P->sstart[q];
+    if (c > 0)
+      MPI_Isend(P->sbuf + 9 * (size_t)P->sstart[q], 9 * c, MPI_DOUBLE, q, 11, P->comm,
+                &P->req[nq++]);
+  }
+  MPI_Waitall(nq, P->req, MPI_STATUSES_IGNORE);
+  for (size_t j = 0; j < nr; j++) {
+    const size_t i = P->ridx[j];
+    memcpy(p->x + 3 * i, P->rbuf + 9 * j, 3 * sizeof(double));
+    memcpy(p->v + 3 * i, P->rbuf + 9 * j + 3, 3 * sizeof(double));
+    memcpy(p->w + 3 * i, P->rbuf + 9 * j + 6, 3 * sizeof(double));
+  }
+  P->bytes += 72.0 * (double)ns;
+  P->seconds += esf_par_now() - t0;
+  return ESF_OK;
+}
+
+int esf_par_agree(esf_sim *s, int rc, esf_error *err) {
+  const esf_par *P = s->par;
+  if (!P) return rc;
+  int mine = rc ? P->rank : P->size, first = P->size;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, P->comm);
+  if (first == P->size) return ESF_OK;
+  int code = rc;
+  MPI_Bcast(&code, 1, MPI_INT, first, P->comm);
+  MPI_Bcast(err->msg, (int)sizeof err->msg, MPI_CHAR, first, P->comm);
+  err->code = code;
+  return code;
+}
+
+int esf_par_bcast_status(const esf_sim *s, int rc, esf_error *err) {
+  const esf_par *P = s->par;
+  if (!P) return rc;
+  MPI_Bcast(&rc, 1, MPI_INT, 0, P->comm);
+  if (rc) {
+    MPI_Bcast(err->msg, (int)sizeof err->msg, MPI_CHAR, 0, P->comm);
+    err->code = rc;
+  }
+  return rc;
+}
+
+int esf_par_any(const esf_sim *s, int flag) {
+  if (!s->par) return flag != 0;
+  int in = flag != 0, out = 0;
+  MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LOR, s->par->comm);
+  return out;
+}
+
+double esf_par_max(const esf_sim *s, double v) {
+  if (!s->par) return v;
+  double out = v;
+  MPI_Allreduce(&v, &out, 1, MPI_DOUBLE, MPI_MAX, s->par->comm);
+  return out;
+}
+
+long long esf_par_sum(const esf_sim *s, long long v) {
+  if (!s->par) return v;
+  long long out = 0;
+  MPI_Allreduce(&v, &out, 1, MPI_LONG_LONG, MPI_SUM, s->par->comm);
+  return out;
+}
+
+void esf_par_ledger_step(esf_sim *s, const double *blocks, size_t nb) {
+  esf_par *P = s->par;
+  if (!P) {
+    esf_ledger_step(&s->led, blocks, nb);
+    return;
+  }
+  const double t0 = esf_par_now();
+  double t[ESF_LB_N] = {0};
+  if (P->rank > 0)
+    MPI_Recv(t, ESF_LB_N, MPI_DOUBLE, P->rank - 1, 12, P->comm, MPI_STATUS_IGNORE);
+  for (size_t b = 0; b < nb; b++) /* as esf_ledger_step's sum, continued */
+    for (int c = 0; c < ESF_LB_N; c++) t[c] += blocks[ESF_LB_N * b + c];
+  if (P->rank + 1 < P->size) MPI_Send(t, ESF_LB_N, MPI_DOUBLE, P->rank + 1, 12, P->comm);
+  MPI_Bcast(t, ESF_LB_N, MPI_DOUBLE, P->size - 1, P->comm);
+  esf_ledger_step(&s->led, t, 1); /* 0 + t: the totals themselves */
+  P->seconds += esf_par_now() - t0;
+}
+
+/* The first entry of a list sorted by a whose a is at least i. */
+static size_t first_a(const esf_candidates *c, size_t i) {
+  size_t lo = 0, hi = c->n;
+  while (lo < hi) {
+    const size_t m = lo + (hi - lo) / 2;
+    if (c->a[m] < i)
+      lo = m + 1;
+    else
+      hi = m;
+  }
+  return lo;
+}
+
+size_t esf_par_touching(esf_sim *s, size_t local) {
+  if (!s->par) return local;
+  size_t m = 0;
+  const esf_candidates *lists[2] = {&s->nb.pp, &s->nb.pw};
+  for (int l = 0; l < 2; l++) {
+    const esf_candidates *c = lists[l];
+    const size_t k1 = first_a(c, s->own_hi);
+    for (size_t k = first_a(c, s->own_lo); k < k1; k++) m += c->touch[k];
+  }
+  return (size_t)esf_par_sum(s, (long long)m);
+}
+
+void esf_par_stats(const esf_sim *s, double *bytes, double *seconds, long *rebuilds) {
+  *bytes = *seconds = 0.0;
+  *rebuilds = 0;
+  if (!s->par) return;
+  *bytes = s->par->bytes;
+  *seconds = s->par->seconds;
+  *rebuilds = s->par->rebuilds;
+}
+
+#endif

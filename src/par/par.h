@@ -1,0 +1,81 @@
+/* par.h — one run on several MPI processes (docs/mpi.md): the particles cut among
+ * them in the global order, ghosts, migration with the contacts' state, and every sum
+ * across particles taken so that the results do not depend on the process count.
+ *
+ * The global order is the renumbering's (core/reorder.h): cells ranked with the axis of
+ * most cells slowest, ties in the previous global order. Each process owns one
+ * contiguous piece of it, cut where the count before the cut is a multiple of
+ * ESF_LEDGER_BLOCK, so that the ledger's blocks are whole on every process; as the
+ * slowest axis varies slowest, a piece is a slab of the domain. Its particles are
+ * stored in the global order, between the ghosts that come before it in that order
+ * and those after; a process's pair forces, histories and sums per particle are then
+ * those one process computes, bit for bit. Without -Dmpi=true every function here is
+ * the one-process case (s->par is NULL). */
+#ifndef ESF_PAR_H
+#define ESF_PAR_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/sim.h"
+
+typedef struct esf_par esf_par;
+
+/* Takes sim s (every process read the same scene and set it up) onto MPI_COMM_WORLD
+ * when it has more than one process; refuses, with the key's place, what MPI runs do
+ * not support. One process: s->par stays NULL and nothing changes. */
+int esf_par_attach(esf_sim *s, esf_error *err);
+void esf_par_detach(esf_sim *s);
+
+/* This process's rank (0 without MPI), the process count (1). */
+int esf_par_rank(const esf_sim *s);
+int esf_par_size(const esf_sim *s);
+
+/* MPI's rank and size of MPI_COMM_WORLD (0 and 1 without MPI, or before MPI_Init). */
+void esf_par_world(int *rank, int *size);
+
+/* The run's particle count over every process. */
+size_t esf_par_count(const esf_sim *s);
+
+/* What an MPI run refuses in this scene (NULL: nothing); *key its scene key. */
+const char *esf_par_refusal(const esf_sim *s, const char **key);
+
+/* At a list rebuild, in place of esf_sim_remove_escaped and esf_reorder_particles:
+ * particles that left the domain removed (their energy booked in the global order),
+ * the cut, particles migrated with their contacts' histories, renumbered in the global
+ * order, ghosts received; the lists renumbered, a build must follow. */
+int esf_par_rebuild(esf_sim *s, esf_error *err);
+
+/* Ghosts' x, v, w from their owners (every step, before the forces). */
+int esf_par_ghosts(esf_sim *s, esf_error *err);
+
+/* Every process learns whether any failed: returns the lowest failing rank's status
+ * with its message (rc on the process itself when it failed). */
+int esf_par_agree(esf_sim *s, int rc, esf_error *err);
+
+/* Logical or of flag over the processes; largest value; sum of counts. */
+int esf_par_any(const esf_sim *s, int flag);
+double esf_par_max(const esf_sim *s, double v);
+long long esf_par_sum(const esf_sim *s, long long v);
+
+/* Books a step of the ledger from this process's nb blocks (esf_ledger_step over
+ * all processes' blocks in the global order). */
+void esf_par_ledger_step(esf_sim *s, const double *blocks, size_t nb);
+
+/* The touching contacts of the last step whose particle A this process owns (each
+ * contact of the run counted once), summed over the processes. */
+size_t esf_par_touching(esf_sim *s, size_t local);
+
+/* The run's particles gathered on rank 0 in the global order into *all (positions,
+ * velocities, spins, forces, radii, materials, ids; the others get none); *all is
+ * NULL-safe to release. Collective. */
+int esf_par_gather(esf_sim *s, esf_particles *all, esf_error *err);
+
+/* Broadcasts rank 0's status and message to every process (after a step only rank 0
+ * takes, as a file's write). */
+int esf_par_bcast_status(const esf_sim *s, int rc, esf_error *err);
+
+/* Exchange statistics: bytes sent and seconds in exchanges since the start. */
+void esf_par_stats(const esf_sim *s, double *bytes, double *seconds, long *rebuilds);
+
+#endif

@@ -1,0 +1,632 @@
+/* par_cut.c — an MPI run's rebuild (par.h: esf_par_rebuild): what one process does at
+ * a list rebuild (esf_sim_remove_escaped, then esf_reorder_particles), done across
+ * the processes with the same result.
+ *
+ * 1. Owned particles outside the domain are removed; their energies are booked in
+ *    the global order (gathered, sorted by global index), as one process books them.
+ * 2. The renumbering's grid from the global box, count and sum of radii (the sum
+ *    taken rank after rank, in the global order, as one process's loop).
+ * 3. The cut: counts per plane of cells (the slowest axis), then per cell in the plane
+ *    where each cut's target falls; each cut is the key boundary whose count before it
+ *    is a multiple of ESF_LEDGER_BLOCK nearest its target (or a plane's start).
+ * 4. Owned particles whose cell lies in another process's keys migrate there with
+ *    their touching contacts (histories and rolling states, keyed by particle ids).
+ * 5. The owned particles are ordered by (key, previous global index) — one process's
+ *    stable counting sort — and numbered from the count on lower ranks.
+ * 6. Ghosts: each process's owned particles within m planes of another's keys, m
+ *    planes covering 2 r_max + skin (the farthest a candidate pair reaches).
+ * 7. The local arrays: ghosts before the owned ones in the global order, the owned,
+ *    ghosts after; the old lists renumbered by id (a contact's history is kept only
+ *    where its process owned one of its particles: ghosts' own contacts are not
+ *    computed in full), the migrants' contacts added; a build follows. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "par/par.h"
+
+#ifdef ESF_MPI
+#include "core/ledger.h"
+#include "core/reorder.h"
+#include "par/par_impl.h"
+#include "util/vec3.h"
+
+typedef struct idx_pair {
+  int64_t id;
+  size_t i;
+} idx_pair;
+
+static int by_id(const void *x, const void *y) {
+  const int64_t a = ((const idx_pair *)x)->id, b = ((const idx_pair *)y)->id;
+  return (a > b) - (a < b);
+}
+
+static int rec_by_gid(const void *x, const void *y) {
+  const int64_t a = ((const esf_par_rec *)x)->gid, b = ((const esf_par_rec *)y)->gid;
+  return (a > b) - (a < b);
+}
+
+static size_t find_id(const idx_pair *t, size_t n, int64_t id) {
+  size_t lo = 0, hi = n;
+  while (lo < hi) {
+    const size_t m = lo + (hi - lo) / 2;
+    if (t[m].id < id)
+      lo = m + 1;
+    else
+      hi = m;
+  }
+  return lo < n && t[lo].id == id ? t[lo].i : SIZE_MAX;
+}
+
+/* Counts in, displacements out, in bytes of `size` each; the total. */
+static size_t displs(const int *cnt, int *dsp, int K) {
+  size_t t = 0;
+  for (int q = 0; q < K; q++) {
+    dsp[q] = (int)t;
+    t += (size_t)cnt[q];
+  }
+  return t;
+}
+
+/* All-to-all of records of `size` bytes: out[cnt_out[q]] to q; *in (malloc'd) gets
+ * *nin records, rank by rank. */
+static int exchange(esf_par *P, const void *out, const int *cnt_out, size_t size,
+                    void **in, size_t *nin, esf_error *err) {
+  const int K = P->size;
+  int *co = malloc(4 * (size_t)K * sizeof *co);
+  if (!co) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  int *ci = co + K, *dout = co + 2 * K, *din = co + 3 * K;
+  MPI_Alltoall(cnt_out, 1, MPI_INT, ci, 1, MPI_INT, P->comm);
+  size_t no = 0, ni = 0;
+  for (int q = 0; q < K; q++) {
+    dout[q] = (int)(no * size);
+    no += (size_t)cnt_out[q];
+    din[q] = (int)(ni * size);
+    ni += (size_t)ci[q];
+  }
+  for (int q = 0; q < K; q++) { /* in bytes */
+    co[q] = cnt_out[q] * (int)size;
+    ci[q] *= (int)size;
+  }
+  *in = malloc(ni ? ni * size : 1);
+  if (!*in) {
+    free(co);
+    return esf_fail(err, ESF_ENOMEM, "out of memory for %zu migrating records", ni);
+  }
+  MPI_Alltoallv(out, co, dout, MPI_BYTE, *in, ci, din, MPI_BYTE, P->comm);
+  P->bytes += (double)(no * size);
+  *nin = ni;
+  free(co);
+  return ESF_OK;
+}
+
+static void rec_of(const esf_particles *p, size_t i, int64_t gid, uint32_t key,
+                   esf_par_rec *r) {
+  r->id = p->id[i];
+  r->gid = gid;
+  r->key = key;
+  r->material = p->material[i];
+  memcpy(r->x, p->x + 3 * i, sizeof r->x);
+  memcpy(r->v, p->v + 3 * i, sizeof r->v);
+  memcpy(r->w, p->w + 3 * i, sizeof r->w);
+  r->radius = p->radius[i];
+  r->mass = p->mass[i];
+  r->inv_mass = p->inv_mass[i];
+  r->inertia = p->inertia[i];
+  r->inv_inertia = p->inv_inertia[i];
+}
+
+static void rec_to(esf_particles *p, size_t i, const esf_par_rec *r) {
+  p->id[i] = r->id;
+  p->material[i] = r->material;
+  memcpy(p->x + 3 * i, r->x, sizeof r->x);
+  memcpy(p->v + 3 * i, r->v, sizeof r->v);
+  memcpy(p->w + 3 * i, r->w, sizeof r->w);
+  p->radius[i] = r->radius;
+  p->mass[i] = r->mass;
+  p->inv_mass[i] = r->inv_mass;
+  p->inertia[i] = r->inertia;
+  p->inv_inertia[i] = r->inv_inertia;
+}
+
+typedef struct removed_rec {
+  int64_t gid, id;
+  double e, x[3];
+} removed_rec;
+
+static int rem_by_gid(const void *x, const void *y) {
+  const int64_t a = ((const removed_rec *)x)->gid, b = ((const removed_rec *)y)->gid;
+  return (a > b) - (a < b);
+}
+
+/* Step 1: keep[i] for the owned particles; the removed ones booked and logged. */
+static int remove_escaped(esf_sim *s, const int64_t *gid, unsigned char *keep,
+                          esf_error *err) {
+  esf_par *P = s->par;
+  const esf_particles *p = &s->p;
+  const size_t lo = s->own_lo, hi = s->own_hi;
+  size_t out = 0;
+  for (size_t i = lo; i < hi; i++) {
+    keep[i - lo] =
+        !s->cfg.has_domain || !v3_outside(p->x + 3 * i, s->cfg.keep_lo, s->cfg.keep_hi);
+    out += !keep[i - lo];
+  }
+  if (!s->cfg.has_domain || !esf_par_any(s, out > 0)) return ESF_OK;
+  removed_rec *mine = malloc((out ? out : 1) * sizeof *mine);
+  int *cnt = malloc(2 * (size_t)P->size * sizeof *cnt);
+  if (!mine || !cnt) {
+    free(mine);
+    free(cnt);
+    return esf_fail(err, ESF_ENOMEM, "out of memory");
+  }
+  size_t m = 0;
+  for (size_t i = lo; i < hi; i++) {
+    if (keep[i - lo]) continue;
+    const double *x = p->x + 3 * i, *v = p->v + 3 * i, *w = p->w + 3 * i;
+    removed_rec *r = &mine[m++];
+    r->gid = gid[i];
+    r->id = p->id[i];
+    const double ek = 0.5 * p->mass[i] * v3_norm2(v) + 0.5 * p->inertia[i] * v3_norm2(w);
+    const double ep = -p->mass[i] * v3_dot(s->cfg.gravity, x);
+    r->e = ek + ep; /* as sim.c books it */
+    memcpy(r->x, x, sizeof r->x);
+  }
+  int mb = (int)(out * sizeof *mine), *dsp = cnt + P->size;
+  MPI_Allgather(&mb, 1, MPI_INT, cnt, 1, MPI_INT, P->comm);
+  const size_t tot = displs(cnt, dsp, P->size);
+  removed_rec *all = malloc(tot ? tot : 1);
+  if (!all) {
+    free(mine);
+    free(cnt);
+    return esf_fail(err, ESF_ENOMEM, "out of memory");
+  }
+  MPI_Allgatherv(mine, mb, MPI_BYTE, all, cnt, dsp, MPI_BYTE, P->comm);
+  const size_t nall = tot / sizeof *all;
+  qsort(all, nall, sizeof *all, rem_by_gid);
+  for (size_t k = 0; k < nall; k++) {
+    const removed_rec *r = &all[k];
+    if (s->led.started) s->led.e_removed += r->e;
+    esf_sim_log(s,
+                "t = %.6g s: particle id %lld left the domain at (%g, %g, %g); removed",
+                s->t, (long long)r->id, r->x[0], r->x[1], r->x[2]);
+  }
+  s->removed += (long)nall;
+  free(all);
+  free(mine);
+  free(cnt);
+  return ESF_OK;
+}
+
+/* Step 2: the global box, count, largest radius and sum of radii of the kept owned
+ * particles; the grid. Returns the run's count. */
+static size_t global_grid(esf_sim *s, const unsigned char *keep, esf_reorder_grid *g,
+                          double *rmax_out) {
+  esf_par *P = s->par;
+  const esf_particles *p = &s->p;
+  double lo[3] = {INFINITY, INFINITY, INFINITY},
+         hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  double rmax = 0.0, rsum = 0.0;
+  unsigned long long nk = 0, ntot = 0;
+  for (size_t i = s->own_lo; i < s->own_hi; i++) {
+    if (!keep[i - s->own_lo]) continue;
+    for (int q = 0; q < 3; q++) {
+      const double v = p->x[3 * i + q];
+      lo[q] = v < lo[q] ? v : lo[q];
+      hi[q] = v > hi[q] ? v : hi[q];
+    }
+    rmax = p->radius[i] > rmax ? p->radius[i] : rmax;
+    nk++;
+  }
+  double lh[7] = {lo[0], lo[1], lo[2], -hi[0], -hi[1], -hi[2], -rmax}, gl[7];
+  MPI_Allreduce(lh, gl, 7, MPI_DOUBLE, MPI_MIN, P->comm);
+  MPI_Allreduce(&nk, &ntot, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, P->comm);
+  /* the sum of radii in the global order: one process's loop, continued rank by rank */
+  if (P->rank > 0)
+    MPI_Recv(&rsum, 1, MPI_DOUBLE, P->rank - 1, 13, P->comm, MPI_STATUS_IGNORE);
+  for (size_t i = s->own_lo; i < s->own_hi; i++)
+    if (keep[i - s->own_lo]) rsum += p->radius[i];
+  if (P->rank + 1 < P->size) MPI_Send(&rsum, 1, MPI_DOUBLE, P->rank + 1, 13, P->comm);
+  MPI_Bcast(&rsum, 1, MPI_DOUBLE, P->size - 1, P->comm);
+  *rmax_out = -gl[6];
+  if (ntot < 3) { /* one process does not renumber so few: one cell, the order kept */
+    memset(g, 0, sizeof *g);
+    g->h = INFINITY;
+    g->dims[0] = g->dims[1] = g->dims[2] = 1.0;
+    g->ax[0] = 0;
+    g->ax[1] = 1;
+    g->ax[2] = 2;
+    g->d1 = g->d2 = g->ncell = 1;
+    return (size_t)ntot;
+  }
+  const double glo[3] = {gl[0], gl[1], gl[2]}, ghi[3] = {-gl[3], -gl[4], -gl[5]};
+  esf_reorder_grid_make(g, glo, ghi, 2.0 * rsum / (double)ntot + s->nb.skin,
+                        (size_t)ntot);
+  return (size_t)ntot;
+}
+
+/* Step 3: kcut[0 .. K], each process's keys [kcut[r], kcut[r + 1]). */
+static int make_cut(esf_sim *s, const esf_reorder_grid *g, const uint32_t *key,
+                    const unsigned char *keep, size_t ntot, size_t *kcut,
+                    esf_error *err) {
+  esf_par *P = s->par;
+  const int K = P->size;
+  const size_t nown = s->own_hi - s->own_lo, d12 = g->d1 * g->d2, np = g->ncell / d12;
+  long long *pc = calloc(np + d12, sizeof *pc);
+  size_t *cum = malloc((np + 1) * sizeof *cum);
+  if (!pc || !cum) {
+    free(pc);
+    free(cum);
+    return esf_fail(err, ESF_ENOMEM, "out of memory for the cut");
+  }
+  long long *cc = pc + np;
+  for (size_t j = 0; j < nown; j++)
+    if (keep[j]) pc[key[j] / d12]++;
+  MPI_Allreduce(MPI_IN_PLACE, pc, (int)np, MPI_LONG_LONG, MPI_SUM, P->comm);
+  cum[0] = 0;
+  for (size_t q = 0; q < np; q++) cum[q + 1] = cum[q] + (size_t)pc[q];
+  kcut[0] = 0;
+  kcut[K] = g->ncell;
+  for (int r = 1; r < K; r++) {
+    const size_t want = (size_t)r * ntot / (size_t)K, B = ESF_LEDGER_BLOCK;
+    const size_t target = (want + B / 2) / B * B;
+    size_t pl = 0; /* the plane the target falls in */
+    while (pl + 1 < np && cum[pl + 1] <= target) pl++;
+    memset(cc, 0, d12 * sizeof *cc);
+    for (size_t j = 0; j < nown; j++)
+      if (keep[j] && key[j] / d12 == pl) cc[key[j] - pl * d12]++;
+    MPI_Allreduce(MPI_IN_PLACE, cc, (int)d12, MPI_LONG_LONG, MPI_SUM, P->comm);
+    size_t best = 0, c = cum[pl];
+    double bd = (double)target;         /* key 0: count 0 */
+    for (size_t j = 0; j <= d12; j++) { /* boundaries inside the plane */
+      const double d = fabs((double)c - (double)target);
+      if (c % B == 0 && d < bd) {
+        bd = d;
+        best = pl * d12 + j;
+      }
+      if (j < d12) c += (size_t)cc[j];
+    }
+    for (size_t q = 0; q <= np; q++) { /* or a plane's start */
+      const double d = fabs((double)cum[q] - (double)target);
+      if (cum[q] % B == 0 && d < bd) {
+        bd = d;
+        best = q * d12;
+      }
+    }
+    kcut[r] = best > kcut[r - 1] ? best : kcut[r - 1];
+  }
+  free(pc);
+  free(cum);
+  return ESF_OK;
+}
+
+/* The process whose keys hold key. */
+static int owner_of(const size_t *kcut, int K, uint32_t key) {
+  int lo = 0, hi = K; /* the last r with kcut[r] <= key */
+  while (hi - lo > 1) {
+    const int m = (lo + hi) / 2;
+    if (kcut[m] <= key)
+      lo = m;
+    else
+      hi = m;
+  }
+  return lo;
+}
+
+/* Step 5: the owned records ordered by (key, previous global index): sorted by the
+ * index, then a stable counting sort on the key (keys in [k0, k1)). */
+static int order_owned(esf_par_rec *r, size_t n, size_t k0, size_t k1, esf_error *err) {
+  qsort(r, n, sizeof *r, rec_by_gid);
+  const size_t R = k1 - k0;
+  size_t *start = calloc(R + 1, sizeof *start);
+  esf_par_rec *t = malloc((n ? n : 1) * sizeof *t);
+  if (!start || !t) {
+    free(start);
+    free(t);
+    return esf_fail(err, ESF_ENOMEM, "out of memory for ordering %zu particles", n);
+  }
+  for (size_t j = 0; j < n; j++) start[r[j].key - k0 + 1]++;
+  for (size_t c = 0; c < R; c++) start[c + 1] += start[c];
+  for (size_t j = 0; j < n; j++) t[start[r[j].key - k0]++] = r[j];
+  memcpy(r, t, n * sizeof *r);
+  free(t);
+  free(start);
+  return ESF_OK;
+}
+
+/* Step 4's contacts: the touching contacts of the kept owned particles that migrate,
+ * for their new process (dest[i - own_lo], -1 for removed); *out (malloc'd) by
+ * process, cnt[q] of them for q. */
+static int pack_contacts(esf_sim *s, const int *dest, int me, int K, int *cnt,
+                         esf_par_contact **out, esf_error *err) {
+  const esf_particles *p = &s->p;
+  const size_t lo = s->own_lo, hi = s->own_hi;
+  memset(cnt, 0, (size_t)K * sizeof *cnt);
+  esf_par_contact *c = NULL;
+  size_t *at = NULL;
+  for (int pass = 0; pass < 2; pass++) {
+    for (int l = 0; l < 2; l++) {
+      const esf_candidates *L = l ? &s->nb.pw : &s->nb.pp;
+      for (size_t k = 0; k < L->n; k++) {
+        if (!L->touch[k]) continue;
+        const size_t a = L->a[k], b = L->b[k];
+        const int da = a >= lo && a < hi ? dest[a - lo] : -1;
+        const int db = !l && b >= lo && b < hi ? dest[b - lo] : -1;
+        int to[2] = {da >= 0 && da != me ? da : -1,
+                     db >= 0 && db != me && db != da ? db : -1};
+        for (int e = 0; e < 2; e++) {
+          if (to[e] < 0) continue;
+          if (!pass) {
+            cnt[to[e]]++;
+            continue;
+          }
+          esf_par_contact *x = &c[at[to[e]]++];
+          memset(x, 0, sizeof *x);
+          x->id_a = p->id[a];
+          x->id_b = l ? (int64_t)b : p->id[b];
+          x->wall = l;
+          x->h = L->h[k];
+          x->has_roll = L->roll != NULL;
+          if (L->roll) x->roll = L->roll[k];
+        }
+      }
+    }
+    if (pass) break;
+    size_t tot = 0;
+    at = malloc((size_t)K * sizeof *at);
+    for (int q = 0; at && q < K; q++) {
+      at[q] = tot;
+      tot += (size_t)cnt[q];
+    }
+    c = malloc((tot ? tot : 1) * sizeof *c);
+    if (!c || !at) {
+      free(c);
+      free(at);
+      return esf_fail(err, ESF_ENOMEM, "out of memory for migrating contacts");
+    }
+  }
+  free(at);
+  *out = c;
+  return ESF_OK;
+}
+
+/* Step 7's contacts: the received ones added to the lists (ids through t). */
+static int inject(esf_sim *s, const esf_par_contact *c, size_t n, const idx_pair *t,
+                  size_t nt, esf_error *err) {
+  uint32_t *a = malloc((n ? n : 1) * 2 * sizeof *a);
+  esf_contact_hist *h = malloc((n ? n : 1) * sizeof *h);
+  esf_contact_roll *r = malloc((n ? n : 1) * sizeof *r);
+  int rc = a && h && r ? ESF_OK : esf_fail(err, ESF_ENOMEM, "out of memory");
+  for (int wall = 0; !rc && wall < 2; wall++) {
+    size_t m = 0;
+    int roll = 0;
+    for (size_t k = 0; k < n; k++) {
+      if (c[k].wall != wall) continue;
+      const size_t ia = find_id(t, nt, c[k].id_a);
+      const size_t ib = wall ? (size_t)c[k].id_b : find_id(t, nt, c[k].id_b);
+      if (ia == SIZE_MAX || ib == SIZE_MAX) continue; /* (not within reach here) */
+      a[m] = (uint32_t)ia;
+      a[n + m] = (uint32_t)ib;
+      h[m] = c[k].h;
+      r[m] = c[k].roll;
+      roll |= c[k].has_roll;
+      m++;
+    }
+    rc = esf_neighbor_inject(&s->nb, wall, m, a, a + n, h, roll ? r : NULL, err);
+  }
+  free(a);
+  free(h);
+  free(r);
+  return rc;
+}
+
+int esf_par_rebuild(esf_sim *s, esf_error *err) {
+  esf_par *P = s->par;
+  if (!P) return ESF_OK;
+  const double t0 = esf_par_now();
+  esf_particles *p = &s->p;
+  const int K = P->size, me = P->rank;
+  const size_t n_old = p->n, olo = s->own_lo, ohi = s->own_hi, nown = ohi - olo;
+  s->ft_lazy = NULL; /* the forces are evaluated again after the rebuild */
+  esf_sim_forces_release(s);
+  int rc = ESF_OK;
+  int64_t *gid = P->gid; /* the previous global indices; first: the scene's order */
+  unsigned char *keep = malloc(nown ? nown : 1);
+  uint32_t *key = malloc((nown ? nown : 1) * sizeof *key);
+  int *dest = malloc((nown ? nown : 1) * sizeof *dest);
+  int *cnt = calloc(3 * (size_t)K, sizeof *cnt);
+  size_t *kcut = malloc(((size_t)K + 1) * sizeof *kcut);
+  esf_par_rec *out = NULL, *in = NULL, *own = NULL, *gout = NULL, *gin = NULL;
+  esf_par_contact *cout = NULL, *cin = NULL;
+  idx_pair *tab = NULL;
+  size_t *remap = NULL;
+  int64_t *ngid = NULL;
+  esf_particles q = {0};
+  if (!P->decomposed) {
+    gid = malloc((n_old ? n_old : 1) * sizeof *gid);
+    for (size_t i = 0; gid && i < n_old; i++) gid[i] = (int64_t)i;
+  }
+  if (!keep || !key || !dest || !cnt || !kcut || !gid) {
+    rc = esf_fail(err, ESF_ENOMEM, "out of memory for the rebuild of %zu particles",
+                  n_old);
+    goto done;
+  }
+  if ((rc = remove_escaped(s, gid, keep, err))) goto done;
+  esf_reorder_grid g;
+  double rmax = 0.0;
+  const size_t ntot = global_grid(s, keep, &g, &rmax);
+  for (size_t j = 0; j < nown; j++)
+    key[j] = keep[j] && g.ncell > 1 ? esf_reorder_key(&g, p->x + 3 * (olo + j)) : 0;
+  if ((rc = make_cut(s, &g, key, keep, ntot, kcut, err))) goto done;
+  /* step 4: the migrants and their contacts */
+  int *co = cnt, *cc = cnt + K;
+  size_t nstay = 0;
+  for (size_t j = 0; j < nown; j++) {
+    dest[j] = keep[j] ? owner_of(kcut, K, key[j]) : -1;
+    if (dest[j] == me) nstay++;
+    if (dest[j] >= 0 && dest[j] != me) co[dest[j]]++;
+  }
+  size_t nmig = 0;
+  for (int r = 0; r < K; r++) nmig += (size_t)co[r];
+  out = malloc((nmig ? nmig : 1) * sizeof *out);
+  if (!out) {
+    rc = esf_fail(err, ESF_ENOMEM, "out of memory for %zu migrating particles", nmig);
+    goto done;
+  }
+  {
+    size_t at[K];
+    size_t t = 0;
+    for (int r = 0; r < K; r++) {
+      at[r] = t;
+      t += (size_t)co[r];
+    }
+    for (size_t j = 0; j < nown; j++)
+      if (dest[j] >= 0 && dest[j] != me)
+        rec_of(p, olo + j, gid[olo + j], key[j], &out[at[dest[j]]++]);
+  }
+  if ((rc = pack_contacts(s, dest, me, K, cc, &cout, err))) goto done;
+  size_t nin = 0, ncin = 0;
+  if ((rc = exchange(P, out, co, sizeof *out, (void **)&in, &nin, err))) goto done;
+  if ((rc = exchange(P, cout, cc, sizeof *cout, (void **)&cin, &ncin, err))) goto done;
+  /* step 5: the new owned particles, in the global order */
+  const size_t no = nstay + nin;
+  own = malloc((no ? no : 1) * sizeof *own);
+  if (!own) {
+    rc = esf_fail(err, ESF_ENOMEM, "out of memory for %zu particles", no);
+    goto done;
+  }
+  {
+    size_t m = 0;
+    for (size_t j = 0; j < nown; j++)
+      if (dest[j] == me) rec_of(p, olo + j, gid[olo + j], key[j], &own[m++]);
+    memcpy(own + m, in, nin * sizeof *in);
+  }
+  if ((rc = order_owned(own, no, kcut[me], kcut[me + 1], err))) goto done;
+  unsigned long long nol = no, g0 = 0;
+  MPI_Exscan(&nol, &g0, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, P->comm);
+  if (me == 0) g0 = 0;
+  for (size_t j = 0; j < no; j++) own[j].gid = (int64_t)(g0 + j);
+  /* step 6: ghosts, within m planes of another process's keys */
+  const size_t d12 = g.d1 * g.d2;
+  const double reach = 2.0 * rmax + s->nb.skin;
+  const size_t mpl = isfinite(g.h) ? (size_t)ceil(reach / g.h) : 0;
+  int *cg = cnt + 2 * K;
+  for (int pass = 0; pass < 2; pass++) {
+    size_t t = 0;
+    for (int r = 0; r < K; r++) {
+      const size_t tr = t;
+      if (r != me && kcut[r + 1] > kcut[r]) {
+        const size_t plo = kcut[r] / d12, phi = (kcut[r + 1] - 1) / d12;
+        for (size_t j = 0; j < no; j++) {
+          const size_t pj = own[j].key / d12;
+          if (pj + mpl >= plo && pj <= phi + mpl) {
+            if (pass) gout[t] = own[j];
+            t++;
+          }
+        }
+      }
+      if (!pass) cg[r] = (int)(t - tr);
+    }
+    if (!pass) {
+      gout = malloc((t ? t : 1) * sizeof *gout);
+      P->sidx = realloc(P->sidx, (t ? t : 1) * sizeof *P->sidx);
+      if (!gout || !P->sidx) {
+        rc = esf_fail(err, ESF_ENOMEM, "out of memory for %zu ghosts", t);
+        goto done;
+      }
+    }
+  }
+  size_t ngin = 0;
+  if ((rc = exchange(P, gout, cg, sizeof *gout, (void **)&gin, &ngin, err))) goto done;
+  {
+    int rin[K]; /* ghosts received from each process, for the exchange's plan */
+    MPI_Alltoall(cg, 1, MPI_INT, rin, 1, MPI_INT, P->comm);
+    P->rstart[0] = P->sstart[0] = 0;
+    for (int r = 0; r < K; r++) {
+      P->sstart[r + 1] = P->sstart[r] + cg[r];
+      P->rstart[r + 1] = P->rstart[r] + rin[r];
+    }
+  }
+  for (size_t j = 0; j < ngin; j++) gin[j].pos = (uint32_t)j;
+  qsort(gin, ngin, sizeof *gin, rec_by_gid);
+  size_t nbelow = 0;
+  while (nbelow < ngin && gin[nbelow].gid < (int64_t)g0) nbelow++;
+  /* step 7: the local arrays, the lists renumbered, the migrants' contacts */
+  const size_t n_new = ngin + no;
+  if ((rc = esf_particles_alloc(&q, n_new, err))) goto done;
+  ngid = malloc((n_new ? n_new : 1) * sizeof *ngid);
+  tab = malloc((n_new ? n_new : 1) * sizeof *tab);
+  remap = malloc((n_old ? n_old : 1) * sizeof *remap);
+  P->ridx = realloc(P->ridx, (ngin ? ngin : 1) * sizeof *P->ridx);
+  if (!ngid || !tab || !remap || !P->ridx) {
+    rc = esf_fail(err, ESF_ENOMEM, "out of memory for %zu particles", n_new);
+    goto done;
+  }
+  for (size_t i = 0; i < n_new; i++) {
+    const esf_par_rec *r = i < nbelow        ? &gin[i]
+                           : i < nbelow + no ? &own[i - nbelow]
+                                             : &gin[i - no];
+    rec_to(&q, i, r);
+    ngid[i] = r->gid;
+    tab[i].id = r->id;
+    tab[i].i = i;
+    if (i < nbelow || i >= nbelow + no) P->ridx[r->pos] = (uint32_t)i;
+  }
+  { /* the owned particles sent as ghosts, by their new local index */
+    size_t t = 0;
+    for (int r = 0; r < K; r++)
+      for (size_t j = 0; j < (size_t)cg[r]; j++, t++) {
+        P->sidx[t] = (uint32_t)(nbelow + (size_t)(gout[t].gid - (int64_t)g0));
+      }
+  }
+  qsort(tab, n_new, sizeof *tab, by_id);
+  /* a contact's history is right only where its process owned one of its particles */
+  for (size_t k = 0; k < s->nb.pp.n; k++)
+    if (!((s->nb.pp.a[k] >= olo && s->nb.pp.a[k] < ohi) ||
+          (s->nb.pp.b[k] >= olo && s->nb.pp.b[k] < ohi)))
+      s->nb.pp.touch[k] = 0;
+  for (size_t k = 0; k < s->nb.pw.n; k++)
+    if (!(s->nb.pw.a[k] >= olo && s->nb.pw.a[k] < ohi)) s->nb.pw.touch[k] = 0;
+  for (size_t i = 0; i < n_old; i++) {
+    const int removed = i >= olo && i < ohi && !keep[i - olo];
+    remap[i] = removed ? SIZE_MAX : find_id(tab, n_new, p->id[i]);
+  }
+  esf_neighbor_remap(&s->nb, remap, n_old);
+  if ((rc = inject(s, cin, ncin, tab, n_new, err))) goto done;
+  esf_particles_release(&s->p);
+  s->p = q;
+  memset(&q, 0, sizeof q);
+  esf_sim_forces_release(s);
+  s->own_lo = nbelow;
+  s->own_hi = nbelow + no;
+  P->gid = ngid; /* the old one is freed below */
+  ngid = NULL;
+  P->g0 = (size_t)g0;
+  P->ntot = ntot;
+  P->decomposed = 1;
+  P->rebuilds++;
+done:
+  if (gid != P->gid) free(gid);
+  esf_particles_release(&q);
+  free(keep);
+  free(key);
+  free(dest);
+  free(cnt);
+  free(kcut);
+  free(out);
+  free(in);
+  free(own);
+  free(gout);
+  free(gin);
+  free(cout);
+  free(cin);
+  free(tab);
+  free(remap);
+  free(ngid);
+  P->seconds += esf_par_now() - t0;
+  return rc;
+}
+#endif
+
+#ifndef ESF_MPI
+int esf_par_rebuild(esf_sim *s, esf_error *err) { return (void)s, (void)err, ESF_OK; }
+#endif
