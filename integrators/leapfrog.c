@@ -129,7 +129,9 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     esf_sim_forces_release(s);     /* (not held through the first stability check) */
   if (!rc && rebuilt) rc = esf_stability_runaway(s, err); /* no particle runs away */
   if (!rc) rc = esf_stability_guard(s, 0, err);           /* every stability_every */
-  rc = esf_par_agree(s, rc, err); /* MPI: all stop when one must */
+  if (s->par && (rebuilt || (s->cfg.stability != ESF_STAB_OFF &&
+                             s->step % s->cfg.stability_every == 0)))
+    rc = esf_par_agree(s, rc, err); /* MPI: all stop when one must */
   if (rc) return rc;
   if (!lf->started) {
     rc = esf_par_agree(s, start(s, err), err);

@@ -529,7 +529,8 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     }
     int last = adaptive ? s->t >= t_end * (1 - 1e-12) : n + 1 >= nsteps;
     int ckpt = 0, stop = o->stop && *o->stop && !last;
-    if (s->par) stop = esf_par_any(s, stop); /* every process stops at the same step */
+    if (s->par) /* every process stops at the same step: asked every 16 */
+      stop = (n & 15) == 15 && esf_par_any(s, stop) && !last;
     if (tc > 0 && adaptive) {
       double tol = 1e-9 * t_end;
       ckpt = s->t >= next_c - tol && !last;
@@ -581,7 +582,10 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
   st->resumed_step = o->resume ? step0 : 0;
   st->wall_s = wall;
   st->particles_mean = s->step ? psum / (double)s->step : (double)esf_par_count(s);
-  st->contacts_mean = s->step ? s->contacts_sum / (double)s->step : 0.0;
+  /* MPI: each process counted its own contacts (integers: exact in any order) */
+  const double csum =
+      s->par ? (double)esf_par_sum(s, (long long)s->contacts_sum) : s->contacts_sum;
+  st->contacts_mean = s->step ? csum / (double)s->step : 0.0;
   st->rate = wall > 0 ? (psum - psum0) / wall : 0.0;
   st->checkpoints_total = cr.count;
   memset(&st->integ, 0, sizeof st->integ);
@@ -608,14 +612,15 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                 "output: %ld frames, %ld energy rows in frames.h5; %.3f s writing them",
                 esf_frames_count(fr), esf_frames_energy_rows(fr), esf_frames_seconds(fr));
   if (!rc && s->par) {
-    double bytes, secs;
-    long rb;
-    esf_par_stats(s, &bytes, &secs, &rb);
+    esf_par_stat ps;
+    esf_par_stats(s, &ps);
+    const double steps = (double)(s->step > 0 ? s->step : 1);
     esf_sim_log(s,
-                "mpi: %d processes; rank 0 sent %.4g bytes (%.4g a step) and spent %.3f "
-                "s exchanging or waiting in %ld rebuilds and the steps",
-                esf_par_size(s), bytes, s->step ? bytes / (double)s->step : 0.0, secs,
-                rb);
+                "mpi: %d processes, %ld cuts, %lld particles migrated; the busiest "
+                "process sent %.4g bytes (%.4g a step) and spent %.3f s exchanging or "
+                "waiting",
+                esf_par_size(s), ps.rebuilds, ps.migrated, ps.bytes_max,
+                ps.bytes_max / steps, ps.seconds_max);
   }
   if (s->bonds.on)
     esf_sim_log(s,

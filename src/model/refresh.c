@@ -36,8 +36,7 @@ int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
   int rc = esf_neighbor_check(&s->nb, &s->p, moved_by, &rebuild, err);
   s->nb.disp_valid = 0;
   if (s->par) { /* MPI: every process rebuilds when one must (par.h) */
-    rc = esf_par_agree(s, rc, err);
-    if (!rc) rebuild = esf_par_any(s, rebuild);
+    rc = esf_par_agree_flag(s, rc, &rebuild, err);
   }
   if (rc) {
     esf_error_prefix(err,

@@ -81,14 +81,16 @@ long long esf_par_sum(const esf_sim *s, long long v) { return (void)s, v; }
 void esf_par_ledger_step(esf_sim *s, const double *blocks, size_t nb) {
   esf_ledger_step(&s->led, blocks, nb);
 }
-size_t esf_par_touching(esf_sim *s, size_t local) { return (void)s, local; }
+size_t esf_par_touching(const esf_sim *s, size_t local) { return (void)s, local; }
+int esf_par_agree_flag(esf_sim *s, int rc, int *flag, esf_error *err) {
+  return (void)s, (void)flag, (void)err, rc;
+}
 int esf_par_bcast_status(const esf_sim *s, int rc, esf_error *err) {
   return (void)s, (void)err, rc;
 }
-void esf_par_stats(const esf_sim *s, double *bytes, double *seconds, long *rebuilds) {
+void esf_par_stats(const esf_sim *s, esf_par_stat *st) {
   (void)s;
-  *bytes = *seconds = 0.0;
-  *rebuilds = 0;
+  memset(st, 0, sizeof *st);
 }
 
 #else
@@ -272,7 +274,7 @@ static size_t first_a(const esf_candidates *c, size_t i) {
   return lo;
 }
 
-size_t esf_par_touching(esf_sim *s, size_t local) {
+size_t esf_par_touching(const esf_sim *s, size_t local) {
   if (!s->par) return local;
   size_t m = 0;
   const esf_candidates *lists[2] = {&s->nb.pp, &s->nb.pw};
@@ -281,16 +283,34 @@ size_t esf_par_touching(esf_sim *s, size_t local) {
     const size_t k1 = first_a(c, s->own_hi);
     for (size_t k = first_a(c, s->own_lo); k < k1; k++) m += c->touch[k];
   }
-  return (size_t)esf_par_sum(s, (long long)m);
+  return m;
 }
 
-void esf_par_stats(const esf_sim *s, double *bytes, double *seconds, long *rebuilds) {
-  *bytes = *seconds = 0.0;
-  *rebuilds = 0;
-  if (!s->par) return;
-  *bytes = s->par->bytes;
-  *seconds = s->par->seconds;
-  *rebuilds = s->par->rebuilds;
+int esf_par_agree_flag(esf_sim *s, int rc, int *flag, esf_error *err) {
+  const esf_par *P = s->par;
+  if (!P) return rc;
+  int mine[2] = {rc ? P->rank : P->size, *flag ? 0 : 1}, all[2];
+  MPI_Allreduce(mine, all, 2, MPI_INT, MPI_MIN, P->comm);
+  *flag = all[1] == 0;
+  if (all[0] == P->size) return ESF_OK;
+  int code = rc;
+  MPI_Bcast(&code, 1, MPI_INT, all[0], P->comm);
+  MPI_Bcast(err->msg, (int)sizeof err->msg, MPI_CHAR, all[0], P->comm);
+  err->code = code;
+  return code;
+}
+
+void esf_par_stats(const esf_sim *s, esf_par_stat *st) {
+  memset(st, 0, sizeof *st);
+  const esf_par *P = s->par;
+  if (!P) return;
+  double mine[2] = {P->bytes, P->seconds}, most[2];
+  MPI_Allreduce(mine, most, 2, MPI_DOUBLE, MPI_MAX, P->comm);
+  st->bytes = P->bytes;
+  st->bytes_max = most[0];
+  st->seconds_max = most[1];
+  st->rebuilds = P->rebuilds;
+  st->migrated = esf_par_sum(s, P->migrated);
 }
 
 #endif

@@ -63,8 +63,13 @@ long long esf_par_sum(const esf_sim *s, long long v);
 void esf_par_ledger_step(esf_sim *s, const double *blocks, size_t nb);
 
 /* The touching contacts of the last step whose particle A this process owns (each
- * contact of the run counted once), summed over the processes. */
-size_t esf_par_touching(esf_sim *s, size_t local);
+ * contact of the run counted once when summed over the processes; `local` without
+ * MPI). */
+size_t esf_par_touching(const esf_sim *s, size_t local);
+
+/* esf_par_agree, and *flag becomes the logical or of every process's flag: one
+ * exchange. */
+int esf_par_agree_flag(esf_sim *s, int rc, int *flag, esf_error *err);
 
 /* The run's particles gathered on rank 0 in the global order into *all (positions,
  * velocities, spins, forces, radii, materials, ids; the others get none); *all is
@@ -75,7 +80,13 @@ int esf_par_gather(esf_sim *s, esf_particles *all, esf_error *err);
  * takes, as a file's write). */
 int esf_par_bcast_status(const esf_sim *s, int rc, esf_error *err);
 
-/* Exchange statistics: bytes sent and seconds in exchanges since the start. */
-void esf_par_stats(const esf_sim *s, double *bytes, double *seconds, long *rebuilds);
+/* Exchange statistics since the start (collective). */
+typedef struct esf_par_stat {
+  double bytes, bytes_max; /* bytes this process sent; the most any process sent */
+  double seconds_max;      /* the most seconds any process spent exchanging or waiting */
+  long rebuilds;           /* rebuilds (cuts) */
+  long long migrated;      /* particles that changed process, over all processes */
+} esf_par_stat;
+void esf_par_stats(const esf_sim *s, esf_par_stat *st);
 
 #endif

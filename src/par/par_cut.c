@@ -604,6 +604,7 @@ int esf_par_rebuild(esf_sim *s, esf_error *err) {
   P->ntot = ntot;
   P->decomposed = 1;
   P->rebuilds++;
+  P->migrated += (long)nmig;
 done:
   if (gid != P->gid) free(gid);
   esf_particles_release(&q);

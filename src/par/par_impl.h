@@ -43,7 +43,7 @@ struct esf_par {
   MPI_Request *req;
   /* statistics */
   double bytes, seconds;
-  long rebuilds;
+  long rebuilds, migrated; /* rebuilds; particles this process sent away */
 };
 
 /* The exchange's wall clock. */
