@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """MPI runs give the one-process results bit for bit (docs/mpi.md, issue 31).
 
-usage: check_mpi.py ESFERA_MPI SCENES_DIR [PLAIN_ESFERA]
+usage: check_mpi.py ESFERA_MPI SCENES_DIR [PLAIN_ESFERA]  (or $ESFERA_PLAIN)
 
 Each case runs a scene without mpirun (one process: the plain code path, s->par NULL)
 and on 2 and 3 MPI processes (oversubscribed on a small machine), and compares
@@ -21,7 +21,7 @@ import h5py
 import numpy as np
 
 ESF, SCENES = sys.argv[1], sys.argv[2]
-PLAIN = sys.argv[3] if len(sys.argv) > 3 else None
+PLAIN = sys.argv[3] if len(sys.argv) > 3 else os.environ.get("ESFERA_PLAIN") or None
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
            OMPI_MCA_rmaps_base_oversubscribe="1", OMP_NUM_THREADS="1")
 checks = failed = 0
