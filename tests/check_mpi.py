@@ -108,6 +108,44 @@ def case(tmp, name, scene, sets, ranks=(2, 3), want_migrations=0):
                   (name, k, mig.group(1), want_migrations))
 
 
+def resume(ranks, out, exe=None):
+    cmd = [exe or ESF, "run", "--resume", out, "--quiet", "--threads", "1"]
+    if ranks:
+        cmd = ["mpirun", "--oversubscribe", "-np", str(ranks)] + cmd
+    return subprocess.run(cmd, env=ENV, capture_output=True, text=True, timeout=900)
+
+
+def checkpoints(tmp):
+    """A checkpoint written by 2 processes is the one process's, byte for byte; resumed
+    on 3 processes and on one, the run ends as the uninterrupted one."""
+    scene = os.path.join(SCENES, "settle.yaml")
+    sets = ["run.duration=0.06", "output.every=0.02", "output.energy_every=5e-4",
+            "output.checkpoint_every=0.02"]
+    ref, two = os.path.join(tmp, "ck-1"), os.path.join(tmp, "ck-2")
+    r1, r2 = run(0, scene, ref, sets, PLAIN), run(2, scene, two, sets)
+    check(r1.returncode == 0 and r2.returncode == 0, "checkpoints: the runs: %s %s" %
+          (r1.stderr[-300:], r2.stderr[-300:]))
+    if r1.returncode or r2.returncode:
+        return
+    ck = [open(os.path.join(d, "checkpoint.esf"), "rb").read() for d in (ref, two)]
+    check(ck[0] == ck[1], "checkpoints: 2 processes wrote another checkpoint")
+    for k, exe in ((3, None), (0, PLAIN)):
+        d = os.path.join(tmp, "ck-resumed-%d" % k)
+        shutil.copytree(two, d)
+        r = resume(k, d, exe)
+        check(r.returncode == 0 and "resumed at step" in r.stdout,
+              "checkpoints: resumed on %d: %s" % (k, r.stderr[-300:]))
+        if r.returncode:
+            continue
+        same_e = open(os.path.join(ref, "energy.csv"), "rb").read() == \
+            open(os.path.join(d, "energy.csv"), "rb").read()
+        check(same_e, "checkpoints: resumed on %d: energy.csv differs" % k)
+        f = same_frames(os.path.join(ref, "frames.h5"), os.path.join(d, "frames.h5"))
+        check(f is None, "checkpoints: resumed on %d: frames.h5 differs at %s" % (k, f))
+        print("checkpoint of 2 processes resumed on %s: the uninterrupted run's bits" %
+              (k or "one (the plain build)" if PLAIN else "one"))
+
+
 def refused(tmp, name, scene, sets, key):
     scene = os.path.join(SCENES, scene)
     r = run(2, scene, os.path.join(tmp, name), sets)
@@ -128,6 +166,7 @@ def main():
         # particles crossing the processes' slabs many times: a gas in a long box
         case(tmp, "gas", os.path.join(os.path.dirname(__file__), "mpi_gas.yaml"), [],
              want_migrations=2000)
+        checkpoints(tmp)
         # what MPI runs do not support yet: refused, with the key's place
         refused(tmp, "silo-events", "silo-quick.yaml", [], "silo-quick.yaml:")
         refused(tmp, "sand-servo", "sand_production-quick.yaml", [],

@@ -216,14 +216,10 @@ static int prepare(int argc, char **argv, cli_args *a, esf_ckpt **ck, esf_sim *s
 
 /* An MPI run of more than one process: what it cannot do refused with its reason
  * (docs/mpi.md), then the sim taken onto the processes (par.h). */
-static int attach_mpi(esf_sim *s, const cli_args *a, esf_error *err) {
+static int attach_mpi(esf_sim *s, esf_error *err) {
   int rank, size;
   esf_par_world(&rank, &size);
   if (size < 2) return ESF_OK;
-  if (a->resume)
-    return esf_fail(err, ESF_EINPUT,
-                    "--resume: checkpoints are not supported on several MPI processes "
-                    "yet; resume on one process");
   if (strcmp(s->cfg.method, "leapfrog") == 0) {
     const char *why = esf_fused_refusal(s);
     if (why)
@@ -387,7 +383,7 @@ static int cmd_run(int argc, char **argv, const char *argv0) {
   {
     esf_error e;
     esf_error_clear(&e);
-    if (attach_mpi(&s, &a, &e)) {
+    if (attach_mpi(&s, &e)) {
       free(a.sets);
       esf_ckpt_free(&ck);
       esf_sim_release(&s);

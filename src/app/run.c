@@ -413,7 +413,8 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       return rc;
     }
   } else {
-    rc = open_log(o->out_dir, "a", &logf, err);
+    rc = root ? open_log(o->out_dir, "a", &logf, err) : ESF_OK;
+    rc = esf_par_bcast_status(s, rc, err);
     if (rc) return rc;
   }
   s->log = logf;
@@ -422,14 +423,21 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     log_setup(s, it);
     rc = it->create(s, &ist, err);
     if (!rc) rc = esf_ckpt_restore(o->resume, s, it, ist, &cr, err);
-    if (!rc) rc = esf_run_ckpt_reopen(o->out_dir, s, &cr, &ef, &fr, err);
+    if (s->par) { /* MPI: every process restored the whole run; each keeps its part */
+      rc = esf_par_agree(s, rc, err);
+      if (!rc) rc = esf_par_agree(s, esf_par_resumed(s, err), err);
+    }
+    if (!rc && root) rc = esf_run_ckpt_reopen(o->out_dir, s, &cr, &ef, &fr, err);
+    rc = esf_par_bcast_status(s, rc, err);
     if (rc) goto done;
     esf_sim_log(s,
                 "resumed from checkpoint %ld at step %ld, t = %.9g s (%ld frames, %ld "
                 "energy rows kept)",
                 cr.count, s->step, s->t, cr.frames, cr.erows);
   } else {
-    esf_run_ckpt_forget(o->out_dir); /* a new run: an old checkpoint no longer fits */
+    if (root)
+      esf_run_ckpt_forget(o->out_dir); /* a new run: an old checkpoint no
+                                          longer fits */
     if (s->led.on && root) {
       snprintf(path, sizeof path, "%s/energy.csv", o->out_dir);
       ef = fopen(path, "w");
@@ -545,7 +553,17 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
       cr.next_c = next_c;
       cr.psum = psum;
       rc = esf_load_out_sync(&lo, err); /* the rows the checkpoint counts */
-      if (!rc) rc = esf_run_ckpt_save(o->out_dir, s, it, ist, o->scene, &cr, ef, fr, err);
+      if (!rc && s->par) { /* MPI: the whole run gathered on rank 0, which writes */
+        esf_sim view;
+        rc = esf_par_view(s, &view, err);
+        if (!rc && root)
+          rc = esf_run_ckpt_save(o->out_dir, &view, it, ist, o->scene, &cr, ef, fr, err);
+        esf_par_view_release(&view);
+        rc = esf_par_bcast_status(s, rc, err);
+        if (!rc && !root) cr.count++; /* as rank 0 counts it */
+      } else if (!rc) {
+        rc = esf_run_ckpt_save(o->out_dir, s, it, ist, o->scene, &cr, ef, fr, err);
+      }
       if (rc) break;
       st->checkpoints++;
       st->stop_checkpoint = stop;

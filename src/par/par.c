@@ -52,7 +52,6 @@ const char *esf_par_refusal(const esf_sim *s, const char **key) {
       {c->autod.on, "damping.adaptive", "adaptive global damping"},
       {c->out_contacts, "output.contacts", "the contact network output"},
       {c->out_walls || c->n_stress > 0, "output.walls", "walls.csv and stress.csv"},
-      {c->ckpt_every > 0, "output.checkpoint_every", "checkpoints"},
   };
   for (size_t k = 0; k < sizeof no / sizeof no[0]; k++)
     if (no[k].on) {

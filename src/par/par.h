@@ -76,6 +76,20 @@ int esf_par_agree_flag(esf_sim *s, int rc, int *flag, esf_error *err);
  * NULL-safe to release. Collective. */
 int esf_par_gather(esf_sim *s, esf_particles *all, esf_error *err);
 
+/* A checkpoint of an MPI run (collective): on rank 0, *view becomes the run as one
+ * process holds it (a shallow copy of *s with every particle, both candidate lists in
+ * the global numbering, the lists' reference positions and the contact count
+ * gathered), which the checkpoint writer takes as it is; the other processes get
+ * nothing. esf_par_view_release frees what the gather allocated. */
+int esf_par_view(esf_sim *s, esf_sim *view, esf_error *err);
+void esf_par_view_release(esf_sim *view);
+
+/* After a checkpoint's restore on every process (each holds the whole run as one
+ * process did): the particles cut in their current order, without renumbering or a
+ * rebuild, so the run goes on as one process's would; each keeps its own, the ghosts
+ * its contacts reach, and the lists' entries that touch its own. */
+int esf_par_resumed(esf_sim *s, esf_error *err);
+
 /* Broadcasts rank 0's status and message to every process (after a step only rank 0
  * takes, as a file's write). */
 int esf_par_bcast_status(const esf_sim *s, int rc, esf_error *err);
