@@ -213,7 +213,36 @@ typedef struct esf_sim {
    * order with them, read by the pair forces and never integrated here. */
   struct esf_par *par;
   size_t own_lo, own_hi;
+  const struct esf_reduce *red; /* MPI: its sums across processes (par.c), or NULL */
 } esf_sim;
+
+/* Sums across an MPI run's processes for the modules below par (par.c fills the
+ * table; NULL: one process). A fold over particles or list entries in the global
+ * order is taken as one process takes it: each process starts from chain_in (the
+ * lower ranks' running value; `start` on rank 0) and ends with chain_out, which passes
+ * its value on and returns the total to every process. */
+typedef struct esf_reduce {
+  double (*chain_in)(const struct esf_sim *s, double start);
+  double (*chain_out)(const struct esf_sim *s, double v);
+  long long (*sum)(const struct esf_sim *s, long long v);
+  /* before particles with keep[i] == 0 are removed from the local arrays: the
+     decomposition's own per-particle state follows */
+  void (*compact)(struct esf_sim *s, const unsigned char *keep);
+} esf_reduce;
+
+static inline double esf_sim_chain_in(const esf_sim *s, double start) {
+  return s->red ? s->red->chain_in(s, start) : start;
+}
+static inline double esf_sim_chain_out(const esf_sim *s, double v) {
+  return s->red ? s->red->chain_out(s, v) : v;
+}
+static inline long long esf_sim_sum(const esf_sim *s, long long v) {
+  return s->red ? s->red->sum(s, v) : v;
+}
+/* Particle i (a local index) is this process's own. */
+static inline int esf_sim_owns(const esf_sim *s, size_t i) {
+  return !s->par || (i >= s->own_lo && i < s->own_hi);
+}
 
 /* The particles this process integrates: [lo, hi) (all of them without MPI). */
 static inline size_t esf_sim_own_lo(const esf_sim *s) { return s->par ? s->own_lo : 0; }

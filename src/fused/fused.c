@@ -435,8 +435,8 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
     f->cap_logged = 2;
   }
   if (autod && n > 0) esf_sim_adapt_damping(s, s->led_blocks, B.nblocks);
-  if (s->walls.gforce && n > 0) esf_servo_update(s); /* the walls' velocities */
-  if (!ev) {                                         /* an evaluation moved nothing */
+  if (s->walls.gforce && n > 0) esf_par_servo(s); /* the walls' velocities */
+  if (!ev) {                                      /* an evaluation moved nothing */
     s->nb.max_disp2 = r.max2;
     s->nb.escaped = r.escaped;
     s->nb.disp_valid = K.xref && !r.nonfinite;

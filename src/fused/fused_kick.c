@@ -28,7 +28,8 @@ static int walls_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *K, 
   int fail = 0;
   if (s->walls.gforce && hi > lo) { /* servo walls: this range's blocks (whole) zeroed */
     const size_t per = 4 * (size_t)s->walls.ngroups;
-    const size_t b0 = lo / ESF_LEDGER_BLOCK, b1 = (hi - 1) / ESF_LEDGER_BLOCK + 1;
+    const size_t b0 = (lo - K->kbase) / ESF_LEDGER_BLOCK,
+                 b1 = (hi - 1 - K->kbase) / ESF_LEDGER_BLOCK + 1;
     memset(s->walls.gforce_blk + per * b0, 0, (b1 - b0) * per * sizeof(double));
   }
   for (size_t k = f->wstart[lo], k1; k < f->wstart[hi]; k = k1) {

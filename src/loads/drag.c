@@ -130,7 +130,9 @@ int esf_drag_prepare(esf_sim *s, const double *x, int *on_, esf_error *err) {
     d->logged = 2;
   }
   if (on && d->grid) {
-    int rc = esf_porosity_update(&d->pg, p, x, s->cfg.dim, s->cfg.disk_thickness, err);
+    int rc = d->update_porosity ? d->update_porosity(s, x, err)
+                                : esf_porosity_update(&d->pg, p, x, s->cfg.dim,
+                                                      s->cfg.disk_thickness, err);
     if (rc) return rc;
   }
   *on_ = on;

@@ -31,6 +31,9 @@ typedef struct esf_drag {
   size_t cap, n;
   double *f;
   int logged; /* set-up and switch-on written to the run's log: 1, 2 */
+  /* the porosity's update, or NULL: esf_porosity_update over the particles (an MPI
+     run's sums across its processes, par.c) */
+  int (*update_porosity)(struct esf_sim *s, const double *x, esf_error *err);
   double tau; /* shortest drag relaxation time, s */
 } esf_drag;
 

@@ -56,11 +56,11 @@ int esf_events_setup(esf_sim *s, esf_error *err) {
 static double removed_elastic(const esf_sim *s, const unsigned char *keep, int group) {
   const esf_particles *p = &s->p;
   const esf_materials *mt = &s->mats;
-  double e = 0.0;
+  double e = esf_sim_chain_in(s, 0.0); /* MPI: the entries of this process's own A */
   const esf_candidates *c = &s->nb.pp;
   for (size_t k = 0; k < c->n && keep; k++) {
     uint32_t a = c->a[k], b = c->b[k];
-    if (!c->touch[k] || (keep[a] && keep[b])) continue;
+    if (!c->touch[k] || (keep[a] && keep[b]) || !esf_sim_owns(s, a)) continue;
     double d[3], xb[3];
     v3_sub(d, esf_candidates_xb(c, k, p->x, xb), p->x + 3 * a);
     double un = p->radius[a] + p->radius[b] - v3_norm(d);
@@ -71,11 +71,14 @@ static double removed_elastic(const esf_sim *s, const unsigned char *keep, int g
       e += pp->law->energy_n(pp, esf_candidates_bond(c, k), un, rs, &fel);
     e += esf_contact_energy_t(pp, c->h[k].xi, un, rs);
   }
+  e = esf_sim_chain_out(s, e);
+  e = esf_sim_chain_in(s, e); /* the wall entries continue the same sum */
   c = &s->nb.pw;
   for (size_t k = 0; k < c->n; k++) {
     uint32_t a = c->a[k];
     const esf_wall_elem *el = &s->walls.e[c->b[k]];
-    if (!c->touch[k] || ((!keep || keep[a]) && el->group != group)) continue;
+    if (!c->touch[k] || ((!keep || keep[a]) && el->group != group) || !esf_sim_owns(s, a))
+      continue;
     esf_wall_hit hit;
     esf_wall_nearest(el, p->x + 3 * a, &hit);
     double un = p->radius[a] - hit.dist;
@@ -84,7 +87,7 @@ static double removed_elastic(const esf_sim *s, const unsigned char *keep, int g
     if (un > 0) e += pp->law->energy_n(pp, NULL, un, p->radius[a], &fel);
     e += esf_contact_energy_t(pp, c->h[k].xi, un, p->radius[a]);
   }
-  return e;
+  return esf_sim_chain_out(s, e);
 }
 
 static int apply_one(esf_sim *s, esf_event *ev, esf_error *err) {
@@ -97,22 +100,28 @@ static int apply_one(esf_sim *s, esf_event *ev, esf_error *err) {
     free(remap);
     return esf_fail(err, ESF_ENOMEM, "out of memory");
   }
-  double e_gone = 0.0;
+  double e_gone = esf_sim_chain_in(s, 0.0); /* MPI: each process's own particles */
+  size_t own_left = 0;
   for (size_t i = 0; i < n_old; i++) {
     const double *x = p->x + 3 * i;
     keep[i] = !esf_region_contains(&ev->region, x);
-    if (keep[i]) continue;
+    own_left += keep[i] && esf_sim_owns(s, i);
+    if (keep[i] || !esf_sim_owns(s, i)) continue;
     out++;
     const double *v = p->v + 3 * i, *w = p->w + 3 * i;
     e_gone += 0.5 * p->mass[i] * v3_norm2(v) + 0.5 * p->inertia[i] * v3_norm2(w) -
               p->mass[i] * v3_dot(s->cfg.gravity, x);
   }
+  e_gone = esf_sim_chain_out(s, e_gone);
+  out = (size_t)esf_sim_sum(s, (long long)out); /* over every process */
   int rc = ESF_OK;
   if (out) {
+    const double e_el = removed_elastic(s, keep, -1);
     if (s->led.started) /* before the balance starts, e0 leaves them out too */
-      s->led.e_removed += e_gone + removed_elastic(s, keep, -1);
+      s->led.e_removed += e_gone + e_el;
     rc = esf_sim_forces_sync(s, err); /* compaction carries p.f, p.t along */
     if (rc) return rc;
+    if (s->red) s->red->compact(s, keep);
     rc = esf_particles_compact(p, keep, remap, err);
     if (!rc) esf_neighbor_remap(&s->nb, remap, n_old);
   }
@@ -127,7 +136,8 @@ static int apply_one(esf_sim *s, esf_event *ev, esf_error *err) {
               "t = %.6g s (step %ld): event at %.6g s deleted %zu particles inside the "
               "%s; %zu remain",
               s->t, s->step, ev->at, out,
-              ev->region.kind == ESF_REGION_BOX ? "box" : "cylinder", p->n);
+              ev->region.kind == ESF_REGION_BOX ? "box" : "cylinder",
+              (size_t)esf_sim_sum(s, (long long)own_left));
   if (s->walls.gforce) esf_servo_log_state(s);
   return ESF_OK;
 }

@@ -21,7 +21,20 @@ typedef struct esf_porosity_grid {
   double *eps;             /* void fraction per cell (clamped) */
   size_t cap;              /* cells allocated */
   double eps_min, eps_max; /* extremes of the last update before clamping */
+  size_t ncell;            /* cells of the last update */
 } esf_porosity_grid;
+
+/* esf_porosity_update's parts, for an MPI run that takes them across its processes
+ * (par.h): the surfaces' box of particles [i0, i1); the cells for the box [lo, hi]
+ * (any: some particle), their solid volumes zeroed; the volumes of particles [i0, i1)
+ * added, in order; the void fractions from the volumes. */
+void esf_porosity_box(const esf_particles *p, const double *x, size_t i0, size_t i1,
+                      double lo[3], double hi[3]);
+int esf_porosity_cells(esf_porosity_grid *g, const double lo[3], const double hi[3],
+                       int any, int dim, double thickness, esf_error *err);
+void esf_porosity_add(esf_porosity_grid *g, const esf_particles *p, const double *x,
+                      size_t i0, size_t i1, int dim, double thickness);
+void esf_porosity_finish(esf_porosity_grid *g);
 
 /* Rebuilds the grid for positions x (3n): the bounding box of the particles'
  * surfaces, split into round(extent/h) cells (at least 1) per axis; the solid volume

@@ -120,6 +120,11 @@ void esf_servo_update(esf_sim *s) {
   memset(w->gforce, 0, per * sizeof(double));
   for (size_t b = 0; b < nb; b++)
     for (size_t q = 0; q < per; q++) w->gforce[q] += w->gforce_blk[per * b + q];
+  esf_servo_steer(s);
+}
+
+void esf_servo_steer(esf_sim *s) {
+  esf_walls *w = &s->walls;
   for (int k = 0; k < w->ngroups; k++) {
     esf_wall_group *g = &w->g[k];
     esf_wall_motion *mo = &g->motion;

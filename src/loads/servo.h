@@ -28,6 +28,10 @@ static inline double *esf_servo_slot(esf_walls *w, size_t i, int g) {
  * v = G (stress - sigma) dir limited to vmax. */
 void esf_servo_update(esf_sim *s);
 
+/* Its second half, from s->walls.gforce already summed (an MPI run sums the blocks
+ * across its processes, par.h): the stresses and the walls' velocities. */
+void esf_servo_steer(esf_sim *s);
+
 /* Adds one wall contact's spring force on the particle (the total less the dashpot
  * forces: the normal dashpot acts as -fd_n n on the particle, n toward the wall) to a
  * group's accumulator (4 doubles: force, contacts). */

@@ -374,7 +374,8 @@ static int wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
     if (slip) *slip += out.slip_work;
     if (s->tally) s->tally->p_walls += v3_dot(out.f, vw);
     if (commit && s->walls.gforce) /* servo walls (servo.c) */
-      esf_servo_add(esf_servo_slot(&s->walls, a, el->group), &out, in.n);
+      esf_servo_add(esf_servo_slot(&s->walls, a - esf_sim_own_lo(s), el->group), &out,
+                    in.n);
     v3_add(f, f, out.f);
     double m[3], ma[3];
     v3_cross(m, in.n, out.ft);

@@ -17,7 +17,7 @@ int esf_sim_refresh(esf_sim *s, int *rebuilt, esf_error *err) {
   int rebuild = 0, walls_changed = 0;
   if (rebuilt) *rebuilt = 0;
   if (s->events) { /* scene events due now (events.c) */
-    int rc = esf_events_apply(s, err);
+    int rc = esf_par_agree(s, esf_events_apply(s, err), err); /* MPI: all, or none */
     if (rc) return rc;
     walls_changed = s->events->walls_changed; /* a wall removed or added: rebuild */
     s->events->walls_changed = 0;

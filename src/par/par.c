@@ -17,6 +17,9 @@
 #include <string.h>
 
 #include "core/ledger.h"
+#include "loads/drag.h"
+#include "loads/porosity.h"
+#include "loads/servo.h"
 #include "par/par_impl.h"
 
 void esf_par_world(int *rank, int *size) {
@@ -45,9 +48,6 @@ const char *esf_par_refusal(const esf_sim *s, const char **key) {
       {!c->reorder, "search.reorder", "the renumbering is the global order's"},
       {c->per.any, "domain.periodic", "periodic boundaries"},
       {s->bonds.on, "materials", "bonds (the adhesive law's bonded contacts)"},
-      {s->walls.gforce != NULL, "walls", "servo walls"},
-      {s->drag != NULL, "fluid", "the fluid force"},
-      {s->events != NULL, "events", "scene events"},
       {s->insert != NULL, "particles", "insertion during the run"},
       {c->autod.on, "damping.adaptive", "adaptive global damping"},
       {c->out_contacts, "output.contacts", "the contact network output"},
@@ -80,6 +80,7 @@ long long esf_par_sum(const esf_sim *s, long long v) { return (void)s, v; }
 void esf_par_ledger_step(esf_sim *s, const double *blocks, size_t nb) {
   esf_ledger_step(&s->led, blocks, nb);
 }
+void esf_par_servo(esf_sim *s) { esf_servo_update(s); }
 size_t esf_par_touching(const esf_sim *s, size_t local) { return (void)s, local; }
 int esf_par_agree_flag(esf_sim *s, int rc, int *flag, esf_error *err) {
   return (void)s, (void)flag, (void)err, rc;
@@ -93,6 +94,9 @@ void esf_par_stats(const esf_sim *s, esf_par_stat *st) {
 }
 
 #else
+
+static int porosity(esf_sim *s, const double *x, esf_error *err);
+static const esf_reduce reduce_ops;
 
 int esf_par_attach(esf_sim *s, esf_error *err) {
   s->par = NULL;
@@ -124,6 +128,8 @@ int esf_par_attach(esf_sim *s, esf_error *err) {
   P->req = rq;
   P->ntot = s->p.n;
   s->par = P;
+  if (s->drag) s->drag->update_porosity = porosity;
+  s->red = &reduce_ops;
   s->own_lo = 0; /* until the first rebuild: rank 0 owns every particle, the others */
   s->own_hi = rank == 0 ? s->p.n : 0; /* hold theirs only for the set-up's sake */
   return ESF_OK;
@@ -131,6 +137,7 @@ int esf_par_attach(esf_sim *s, esf_error *err) {
 
 void esf_par_detach(esf_sim *s) {
   esf_par *P = s->par;
+  s->red = NULL;
   if (!P) return;
   MPI_Comm_free(&P->comm);
   free(P->gid);
@@ -144,6 +151,42 @@ void esf_par_detach(esf_sim *s) {
   free(P);
   s->par = NULL;
 }
+
+/* The reductions of core/sim.h's esf_reduce for the modules below par. */
+static double chain_in(const esf_sim *s, double start) {
+  const esf_par *P = s->par;
+  double v = start;
+  if (P->rank > 0)
+    MPI_Recv(&v, 1, MPI_DOUBLE, P->rank - 1, 15, P->comm, MPI_STATUS_IGNORE);
+  return v;
+}
+
+static double chain_out(const esf_sim *s, double v) {
+  const esf_par *P = s->par;
+  if (P->rank + 1 < P->size) MPI_Send(&v, 1, MPI_DOUBLE, P->rank + 1, 15, P->comm);
+  MPI_Bcast(&v, 1, MPI_DOUBLE, P->size - 1, P->comm);
+  return v;
+}
+
+static long long sum_ll(const esf_sim *s, long long v) { return esf_par_sum(s, v); }
+
+/* Particles leaving the local arrays (an event's deletion): the own range and the
+ * global indices follow; the ghosts' plan is remade at the rebuild that follows. */
+static void compact(esf_sim *s, const unsigned char *keep) {
+  esf_par *P = s->par;
+  size_t m = 0, lo = 0, own = 0;
+  for (size_t i = 0; i < s->p.n; i++) {
+    if (!keep[i]) continue;
+    if (i < s->own_lo) lo++;
+    if (i >= s->own_lo && i < s->own_hi) own++;
+    if (P->gid) P->gid[m] = P->gid[i];
+    m++;
+  }
+  s->own_lo = lo;
+  s->own_hi = lo + own;
+}
+
+static const esf_reduce reduce_ops = {chain_in, chain_out, sum_ll, compact};
 
 int esf_par_rank(const esf_sim *s) { return s->par ? s->par->rank : 0; }
 int esf_par_size(const esf_sim *s) { return s->par ? s->par->size : 1; }
@@ -242,22 +285,70 @@ long long esf_par_sum(const esf_sim *s, long long v) {
   return out;
 }
 
+/* t[0 .. m) = the sum of nb blocks of m channels over every process's blocks, taken
+ * as one process takes it: from zero, block after block in the global order (rank r
+ * continues the totals rank r - 1 passes on); every process gets the totals. */
+static void fold_blocks(esf_par *P, double *t, size_t m, const double *blocks,
+                        size_t nb) {
+  const double t0 = esf_par_now();
+  memset(t, 0, m * sizeof *t);
+  if (P->rank > 0)
+    MPI_Recv(t, (int)m, MPI_DOUBLE, P->rank - 1, 12, P->comm, MPI_STATUS_IGNORE);
+  for (size_t b = 0; b < nb; b++)
+    for (size_t c = 0; c < m; c++) t[c] += blocks[m * b + c];
+  if (P->rank + 1 < P->size) MPI_Send(t, (int)m, MPI_DOUBLE, P->rank + 1, 12, P->comm);
+  MPI_Bcast(t, (int)m, MPI_DOUBLE, P->size - 1, P->comm);
+  P->seconds += esf_par_now() - t0;
+}
+
 void esf_par_ledger_step(esf_sim *s, const double *blocks, size_t nb) {
   esf_par *P = s->par;
   if (!P) {
     esf_ledger_step(&s->led, blocks, nb);
     return;
   }
+  double t[ESF_LB_N];
+  fold_blocks(P, t, ESF_LB_N, blocks, nb); /* as esf_ledger_step's sum */
+  esf_ledger_step(&s->led, t, 1);          /* 0 + t: the totals themselves */
+}
+
+/* The fluid force's porosity grid (loads/porosity.h) over every process: the global
+ * box; the cells' solid volumes added in the global order (rank after rank, as one
+ * process's loop); the fractions. */
+static int porosity(esf_sim *s, const double *x, esf_error *err) {
+  esf_par *P = s->par;
+  esf_porosity_grid *g = &s->drag->pg;
+  const esf_particles *p = &s->p;
+  double lh[6], gl[6];
+  esf_porosity_box(p, x, s->own_lo, s->own_hi, lh, lh + 3);
+  for (int k = 3; k < 6; k++) lh[k] = -lh[k];
+  MPI_Allreduce(lh, gl, 6, MPI_DOUBLE, MPI_MIN, P->comm);
+  const double hi[3] = {-gl[3], -gl[4], -gl[5]};
+  const int rc =
+      esf_porosity_cells(g, gl, hi, P->ntot > 0, s->cfg.dim, s->cfg.disk_thickness, err);
+  if (esf_par_agree(s, rc, err)) return err->code;
   const double t0 = esf_par_now();
-  double t[ESF_LB_N] = {0};
+  const int m = (int)g->ncell;
   if (P->rank > 0)
-    MPI_Recv(t, ESF_LB_N, MPI_DOUBLE, P->rank - 1, 12, P->comm, MPI_STATUS_IGNORE);
-  for (size_t b = 0; b < nb; b++) /* as esf_ledger_step's sum, continued */
-    for (int c = 0; c < ESF_LB_N; c++) t[c] += blocks[ESF_LB_N * b + c];
-  if (P->rank + 1 < P->size) MPI_Send(t, ESF_LB_N, MPI_DOUBLE, P->rank + 1, 12, P->comm);
-  MPI_Bcast(t, ESF_LB_N, MPI_DOUBLE, P->size - 1, P->comm);
-  esf_ledger_step(&s->led, t, 1); /* 0 + t: the totals themselves */
+    MPI_Recv(g->eps, m, MPI_DOUBLE, P->rank - 1, 14, P->comm, MPI_STATUS_IGNORE);
+  esf_porosity_add(g, p, x, s->own_lo, s->own_hi, s->cfg.dim, s->cfg.disk_thickness);
+  if (P->rank + 1 < P->size) MPI_Send(g->eps, m, MPI_DOUBLE, P->rank + 1, 14, P->comm);
+  MPI_Bcast(g->eps, m, MPI_DOUBLE, P->size - 1, P->comm);
   P->seconds += esf_par_now() - t0;
+  esf_porosity_finish(g);
+  return ESF_OK;
+}
+
+void esf_par_servo(esf_sim *s) {
+  esf_par *P = s->par;
+  if (!P) {
+    esf_servo_update(s);
+    return;
+  }
+  esf_walls *w = &s->walls;
+  fold_blocks(P, w->gforce, 4 * (size_t)w->ngroups, w->gforce_blk,
+              esf_ledger_nblocks(s->own_hi - s->own_lo));
+  esf_servo_steer(s);
 }
 
 /* The first entry of a list sorted by a whose a is at least i. */

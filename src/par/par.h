@@ -62,6 +62,10 @@ long long esf_par_sum(const esf_sim *s, long long v);
  * all processes' blocks in the global order). */
 void esf_par_ledger_step(esf_sim *s, const double *blocks, size_t nb);
 
+/* The servo walls' velocities from their contacts' sums (loads/servo.h), the blocks
+ * summed over every process in the global order. */
+void esf_par_servo(esf_sim *s);
+
 /* The touching contacts of the last step whose particle A this process owns (each
  * contact of the run counted once when summed over the processes; `local` without
  * MPI). */
