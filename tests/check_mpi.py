@@ -149,6 +149,7 @@ def checkpoints(tmp):
 def refused(tmp, name, scene, sets, key):
     scene = os.path.join(SCENES, scene)
     r = run(2, scene, os.path.join(tmp, name), sets)
+    print("%s: %s" % (name, r.stderr.strip().splitlines()[0] if r.stderr.strip() else ""))
     check(r.returncode == 2 and key in r.stderr and "MPI" in r.stderr,
           "%s: refused with exit 2 naming %s: %d %s" % (name, key, r.returncode,
                                                         r.stderr[-300:]))
@@ -169,14 +170,19 @@ def main():
         case(tmp, "sand_production", "sand_production-quick.yaml",
              ["run.duration=0.03", "events.0.at=0.01", "fluid.start=0.02",
               "output.every=0.005"])
+        # bonds (the adhesive law): a bonded block hit by a ball, bonds breaking
+        case(tmp, "block_impact", "block_impact-quick.yaml",
+             ["run.duration=0.02", "output.every=0.005"])
         # particles crossing the processes' slabs many times: a gas in a long box
         case(tmp, "gas", os.path.join(os.path.dirname(__file__), "mpi_gas.yaml"), [],
              want_migrations=2000)
         checkpoints(tmp)
         # what MPI runs do not support yet: refused, with the key's place
         refused(tmp, "silo-insertion", "silo-quick.yaml", [], "silo-quick.yaml:")
-        refused(tmp, "block-bonds", "block_impact-quick.yaml", [],
-                "block_impact-quick.yaml:")
+        refused(tmp, "shear-periodic", "shear_cell-quick.yaml", [],
+                "shear_cell-quick.yaml:")
+        refused(tmp, "settle-rk4", "settle.yaml", ["integrator.method=rk4"],
+                "integrator.method")
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     print("mpi: %d checks, %d failed" % (checks, failed))

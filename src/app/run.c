@@ -204,15 +204,17 @@ static int write_frame(esf_sim *s, esf_frames *fr, esf_contact_net *net, esf_err
     if (!rc && esf_par_rank(s) == 0)
       rc = esf_frames_write(fr, s->t, &all, &s->walls, NULL, err);
     esf_particles_release(&all);
-    return esf_par_bcast_status(s, rc, err);
+    rc = esf_par_bcast_status(s, rc, err);
+  } else {
+    if (!rc) rc = s->cfg.out_contacts ? esf_contact_net_build(s, 1, net, err) : ESF_OK;
+    if (!rc)
+      rc = esf_frames_write(fr, s->t, &s->p, &s->walls, s->cfg.out_contacts ? net : NULL,
+                            err);
   }
-  if (!rc) rc = s->cfg.out_contacts ? esf_contact_net_build(s, 1, net, err) : ESF_OK;
-  if (!rc)
-    rc = esf_frames_write(fr, s->t, &s->p, &s->walls, s->cfg.out_contacts ? net : NULL,
-                          err);
-  if (!rc && s->bonds.on && !s->bonds.pending) /* bond counts per frame (bonds.h) */
-    esf_sim_log(s, "frame t = %.6g s: %ld bonds intact, %ld broken", s->t,
-                esf_bonds_alive(s), s->bonds.broken);
+  if (!rc && s->bonds.on && !s->bonds.pending) { /* bond counts per frame (bonds.h) */
+    const long alive = esf_bonds_alive(s), broken = esf_bonds_broken(s);
+    esf_sim_log(s, "frame t = %.6g s: %ld bonds intact, %ld broken", s->t, alive, broken);
+  }
   return rc;
 }
 
@@ -640,11 +642,14 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
                 esf_par_size(s), ps.rebuilds, ps.migrated, ps.bytes_max,
                 ps.bytes_max / steps, ps.seconds_max);
   }
-  if (s->bonds.on)
+  if (s->bonds.on) { /* MPI: from here on, bonds.broken holds every process's */
+    if (!rc) s->bonds.broken = esf_bonds_broken(s);
+    const long alive = !rc ? esf_bonds_alive(s) : 0;
     esf_sim_log(s,
                 "bonds: %ld at the start, %ld broken, %ld intact; %.6g J released by "
                 "ruptures",
-                s->bonds.formed, s->bonds.broken, esf_bonds_alive(s), s->led.d_bonds);
+                s->bonds.formed, s->bonds.broken, alive, s->led.d_bonds);
+  }
   if (!rc)
     esf_sim_log(s,
                 "done: %ld steps, %.3f s of loop, %.4g particle-steps/s, %ld list "

@@ -83,8 +83,9 @@ int esf_bonds_form(esf_sim *s, esf_error *err) {
     c->bond[k] = (esf_contact_bond){off, 1, 0}; /* the list has them (nb.bonds) */
     if (dist > 0) v3_scale(h->n, 1.0 / dist, d);
     c->touch[k] = 1;
-    B->formed++;
+    B->formed += esf_sim_owns(s, a); /* MPI: each bond counted where A is owned */
   }
+  B->formed = esf_sim_sum(s, B->formed);
   B->pending = 0;
   esf_sim_log(s,
               "bonds: %ld formed at t = %.6g s; the largest gap a bond opens to "
@@ -96,6 +97,9 @@ int esf_bonds_form(esf_sim *s, esf_error *err) {
 long esf_bonds_alive(const esf_sim *s) {
   const esf_candidates *c = &s->nb.pp;
   long m = 0;
-  for (size_t k = 0; k < c->n; k++) m += c->touch[k] && esf_candidates_bonded(c, k);
-  return m;
+  for (size_t k = 0; k < c->n; k++)
+    m += c->touch[k] && esf_candidates_bonded(c, k) && esf_sim_owns(s, c->a[k]);
+  return (long)esf_sim_sum(s, m);
 }
+
+long esf_bonds_broken(const esf_sim *s) { return (long)esf_sim_sum(s, s->bonds.broken); }

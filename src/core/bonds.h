@@ -40,7 +40,10 @@ int esf_bonds_setup(struct esf_sim *s, int skin_auto, esf_error *err);
 /* Forms the bonds from the freshly built candidate list (once; clears pending). */
 int esf_bonds_form(struct esf_sim *s, esf_error *err);
 
-/* Bonds still intact (scans the candidate list). */
+/* Bonds still intact (scans the candidate list; an MPI run's processes all call it). */
 long esf_bonds_alive(const struct esf_sim *s);
+
+/* Bonds ruptured so far over every process (bonds.broken counts a process's own). */
+long esf_bonds_broken(const struct esf_sim *s);
 
 #endif

@@ -539,7 +539,8 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
         const esf_contact_hist h0 = {{0, 0, 0}, {n[0][l], n[1][l], n[2][l]}};
         memcpy(h, &h0, sizeof h0);
         c->bond[kk[l]] = (esf_contact_bond){0};
-        atomic_fetch_add_explicit(c->broken, 1, memory_order_relaxed);
+        if (ia[l] >= c->own_lo && ia[l] < c->own_hi)
+          atomic_fetch_add_explicit(c->broken, 1, memory_order_relaxed);
       }
       continue;
     }

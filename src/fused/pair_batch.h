@@ -60,7 +60,9 @@ typedef struct esf_pair_batch_ctx {
   const double *mass;         /* n, kg (with roll) */
   const double *inertia;      /* n, kg m^2 (with roll) */
   int roll_cdt;               /* with roll: 1 the cdt model, 0 epsd */
-  _Atomic long *broken;       /* bonds broken (with bond) */
+  _Atomic long *broken;       /* bonds broken (with bond) whose A is in [own_lo, own_hi)
+                                 (an MPI run counts each bond on one process) */
+  size_t own_lo, own_hi;
   int trial;                  /* 1: nothing committed (history, touch flags, bonds,
                                  rolling states): the ODE methods' stage evaluations */
   double *vc0;                /* per pair, 3: the relative contact velocity at the last

@@ -47,7 +47,6 @@ const char *esf_par_refusal(const esf_sim *s, const char **key) {
       {!c->fused, "integrator.fused", "the fused step only (integrator.fused: false)"},
       {!c->reorder, "search.reorder", "the renumbering is the global order's"},
       {c->per.any, "domain.periodic", "periodic boundaries"},
-      {s->bonds.on, "materials", "bonds (the adhesive law's bonded contacts)"},
       {s->insert != NULL, "particles", "insertion during the run"},
       {c->autod.on, "damping.adaptive", "adaptive global damping"},
       {c->out_contacts, "output.contacts", "the contact network output"},

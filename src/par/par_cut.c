@@ -367,6 +367,7 @@ static int pack_contacts(esf_sim *s, const int *dest, int me, int K, int *cnt,
           x->h = L->h[k];
           x->has_roll = L->roll != NULL;
           if (L->roll) x->roll = L->roll[k];
+          if (!l && L->bond) x->bond = L->bond[k];
         }
       }
     }
@@ -395,7 +396,8 @@ static int inject(esf_sim *s, const esf_par_contact *c, size_t n, const idx_pair
   uint32_t *a = malloc((n ? n : 1) * 2 * sizeof *a);
   esf_contact_hist *h = malloc((n ? n : 1) * sizeof *h);
   esf_contact_roll *r = malloc((n ? n : 1) * sizeof *r);
-  int rc = a && h && r ? ESF_OK : esf_fail(err, ESF_ENOMEM, "out of memory");
+  esf_contact_bond *bd = malloc((n ? n : 1) * sizeof *bd);
+  int rc = a && h && r && bd ? ESF_OK : esf_fail(err, ESF_ENOMEM, "out of memory");
   for (int wall = 0; !rc && wall < 2; wall++) {
     size_t m = 0;
     int roll = 0;
@@ -408,14 +410,16 @@ static int inject(esf_sim *s, const esf_par_contact *c, size_t n, const idx_pair
       a[n + m] = (uint32_t)ib;
       h[m] = c[k].h;
       r[m] = c[k].roll;
+      bd[m] = c[k].bond;
       roll |= c[k].has_roll;
       m++;
     }
-    rc = esf_neighbor_inject(&s->nb, wall, m, a, a + n, h, roll ? r : NULL, err);
+    rc = esf_neighbor_inject(&s->nb, wall, m, a, a + n, h, roll ? r : NULL, bd, err);
   }
   free(a);
   free(h);
   free(r);
+  free(bd);
   return rc;
 }
 
@@ -724,7 +728,10 @@ int esf_par_resumed(esf_sim *s, esf_error *err) {
   P->g0 = g0;
   P->ntot = n;
   P->decomposed = 1;
-  if (me != 0) s->contacts_sum = 0.0; /* each process counts its own from here */
+  if (me != 0) { /* each process counts its own from here */
+    s->contacts_sum = 0.0;
+    s->bonds.broken = 0;
+  }
 done:
   free(cut);
   free(need);

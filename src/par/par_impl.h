@@ -25,6 +25,7 @@ typedef struct esf_par_contact {
   int32_t wall, has_roll;
   esf_contact_hist h;
   esf_contact_roll roll;
+  esf_contact_bond bond; /* zero without bonds */
 } esf_par_contact;
 
 struct esf_par {

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/bonds.h"
 #include "par/par.h"
 
 #ifdef ESF_MPI
@@ -234,6 +235,7 @@ int esf_par_view(esf_sim *s, esf_sim *view, esf_error *err) {
   if (!rc) rc = gather_bytes(P, pp, npp * sizeof *pp, &app, &tpp, err);
   if (!rc) rc = gather_bytes(P, pw, npw * sizeof *pw, &apw, &tpw, err);
   const long long csum = esf_par_sum(s, (long long)s->contacts_sum);
+  const long broken = esf_bonds_broken(s);
   const int allref = esf_par_any(s, !ref) == 0;
   free(mine);
   free(pp);
@@ -243,6 +245,7 @@ int esf_par_view(esf_sim *s, esf_sim *view, esf_error *err) {
     view->par = NULL;
     view->ft_lazy = NULL;
     view->contacts_sum = (double)csum;
+    view->bonds.broken = broken;
     memset(&view->p, 0, sizeof view->p);
     const size_t m = tp / sizeof(ck_rec);
     rc = esf_particles_alloc(&view->p, m, err);

@@ -526,7 +526,8 @@ void esf_neighbor_remap(esf_neighbor *nb, const size_t *remap, size_t n_old) {
 
 int esf_neighbor_inject(esf_neighbor *nb, int walls, size_t m, const uint32_t *a,
                         const uint32_t *b, const esf_contact_hist *h,
-                        const esf_contact_roll *roll, esf_error *err) {
+                        const esf_contact_roll *roll, const esf_contact_bond *bond,
+                        esf_error *err) {
   esf_candidates *c = walls ? &nb->pw : &nb->pp;
   const int img = !walls && nb->per && nb->per->any;
   int rc = contacts_reserve(c, c->n + m, nb->ledger, nb->carry, walls ? 0 : nb->bonds,
@@ -540,7 +541,7 @@ int esf_neighbor_inject(esf_neighbor *nb, int walls, size_t m, const uint32_t *a
     c->touch[k] = 1;
     if (c->vc0) memset(c->vc0 + 3 * k, 0, 3 * sizeof(double));
     if (c->wr0) memset(c->wr0 + 3 * k, 0, 3 * sizeof(double));
-    if (c->bond) c->bond[k] = (esf_contact_bond){0};
+    if (c->bond) c->bond[k] = bond ? bond[j] : (esf_contact_bond){0};
     if (c->roll) c->roll[k] = roll ? roll[j] : (esf_contact_roll){{0, 0, 0}, 0};
     if (c->img) memset(c->img + 3 * k, 0, 3);
     if (!walls && c->a[k] > c->b[k]) turn(c, k);

@@ -152,11 +152,12 @@ size_t esf_neighbor_idle(const esf_neighbor *nb, size_t lo, size_t hi);
 
 /* Appends m touching contacts to the particle list (walls 0: pairs (a, b), turned
  * round when a > b) or the wall list (walls 1: particle a, element b) with their
- * histories and rolling states (roll NULL: zero): an MPI run's migrating contacts
+ * histories, rolling and bond states (NULL: zero): an MPI run's migrating contacts
  * (par_cut.c), after esf_neighbor_remap and before the build that carries them. */
 int esf_neighbor_inject(esf_neighbor *nb, int walls, size_t m, const uint32_t *a,
                         const uint32_t *b, const esf_contact_hist *h,
-                        const esf_contact_roll *roll, esf_error *err);
+                        const esf_contact_roll *roll, const esf_contact_bond *bond,
+                        esf_error *err);
 
 /* Rebuilds both lists from the current positions, carrying the history of contacts
  * that were touching over to the new lists. */
