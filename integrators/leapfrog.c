@@ -161,7 +161,9 @@ static int lf_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
       if (left < burst) burst = left;
     }
     if (s->cfg.per.le) burst = 1; /* the shear images' offset is set per step */
+    esf_par_busy(s, 0); /* MPI: the step's computing time, the next cut's balance */
     rc = esf_fused_run(s, lf->fast, burst, &taken, err);
+    esf_par_busy(s, 1);
     rc = esf_par_agree(s, rc, err);
     if (taken > 0) lf->started = 1;
     return rc;

@@ -142,8 +142,10 @@ def checkpoints(tmp):
         check(same_e, "checkpoints: resumed on %d: energy.csv differs" % k)
         f = same_frames(os.path.join(ref, "frames.h5"), os.path.join(d, "frames.h5"))
         check(f is None, "checkpoints: resumed on %d: frames.h5 differs at %s" % (k, f))
+        where = "%d processes" % k if k else \
+            "one process (%s)" % ("the plain build" if PLAIN else "the MPI build")
         print("checkpoint of 2 processes resumed on %s: the uninterrupted run's bits" %
-              (k or "one (the plain build)" if PLAIN else "one"))
+              where)
 
 
 def refused(tmp, name, scene, sets, key):

@@ -456,6 +456,10 @@ static int cmd_run(int argc, char **argv, const char *argv0) {
     esf_sim_release(&s);
     return status;
   }
+  if (st.interrupted && esf_par_rank(&s) != 0) { /* MPI: rank 0 says it */
+    esf_sim_release(&s);
+    return 128 + (int)stop_signal;
+  }
   if (st.interrupted) {
     fflush(stdout);
     /* on a terminal the message starts its own line: the ^C the terminal echoed and

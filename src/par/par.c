@@ -69,6 +69,7 @@ int esf_par_attach(esf_sim *s, esf_error *err) {
 }
 void esf_par_detach(esf_sim *s) { s->par = NULL; }
 int esf_par_rank(const esf_sim *s) { return (void)s, 0; }
+void esf_par_busy(esf_sim *s, int end) { (void)s, (void)end; }
 int esf_par_size(const esf_sim *s) { return (void)s, 1; }
 size_t esf_par_count(const esf_sim *s) { return s->p.n; }
 int esf_par_ghosts(esf_sim *s, esf_error *err) { return (void)s, (void)err, ESF_OK; }
@@ -126,6 +127,7 @@ int esf_par_attach(esf_sim *s, esf_error *err) {
   P->rstart = rt;
   P->req = rq;
   P->ntot = s->p.n;
+  P->rate = 1.0;
   s->par = P;
   if (s->drag) s->drag->update_porosity = porosity;
   s->red = &reduce_ops;
@@ -188,6 +190,17 @@ static void compact(esf_sim *s, const unsigned char *keep) {
 static const esf_reduce reduce_ops = {chain_in, chain_out, sum_ll, compact};
 
 int esf_par_rank(const esf_sim *s) { return s->par ? s->par->rank : 0; }
+
+void esf_par_busy(esf_sim *s, int end) {
+  esf_par *P = s->par;
+  if (!P) return;
+  if (!end) {
+    P->busy_t0 = esf_par_now();
+    P->busy_c0 = P->seconds;
+  } else {
+    P->busy += (esf_par_now() - P->busy_t0) - (P->seconds - P->busy_c0);
+  }
+}
 int esf_par_size(const esf_sim *s) { return s->par ? s->par->size : 1; }
 size_t esf_par_count(const esf_sim *s) { return s->par ? s->par->ntot : s->p.n; }
 

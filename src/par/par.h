@@ -49,6 +49,10 @@ int esf_par_rebuild(esf_sim *s, esf_error *err);
 /* Ghosts' x, v, w from their owners (every step, before the forces). */
 int esf_par_ghosts(esf_sim *s, esf_error *err);
 
+/* Around a step's computation (end 0, then 1): its time less the exchanges' within
+ * it is added to this process's busy time, the next cut's balance. */
+void esf_par_busy(esf_sim *s, int end);
+
 /* Every process learns whether any failed: returns the lowest failing rank's status
  * with its message (rc on the process itself when it failed). */
 int esf_par_agree(esf_sim *s, int rc, esf_error *err);

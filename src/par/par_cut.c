@@ -6,9 +6,10 @@
  *    the global order (gathered, sorted by global index), as one process books them.
  * 2. The renumbering's grid from the global box, count and sum of radii (the sum
  *    taken rank after rank, in the global order, as one process's loop).
- * 3. The cut: counts per plane of cells (the slowest axis), then per cell in the plane
- *    where each cut's target falls; each cut is the key boundary whose count before it
- *    is a multiple of ESF_LEDGER_BLOCK nearest its target (or a plane's start).
+ * 3. The cut: work per plane of cells (the slowest axis; a particle's work is its
+ *    process's measured time per particle), then per cell in the plane where each
+ *    cut's target falls; each cut is a key boundary whose count before it is a
+ *    multiple of ESF_LEDGER_BLOCK, nearest its share of the work.
  * 4. Owned particles whose cell lies in another process's keys migrate there with
  *    their touching contacts (histories and rolling states, keyed by particle ids).
  * 5. The owned particles are ordered by (key, previous global index) — one process's
@@ -244,58 +245,87 @@ static size_t global_grid(esf_sim *s, const unsigned char *keep, esf_reorder_gri
   return (size_t)ntot;
 }
 
-/* Step 3: kcut[0 .. K], each process's keys [kcut[r], kcut[r + 1]). */
+/* Step 3: kcut[0 .. K], each process's keys [kcut[r], kcut[r + 1]). The work a
+ * particle costs is its process's measured seconds per particle since the last cut
+ * (relative to the mean, within [1/2, 2]; 1 before any measurement); each cut is
+ * the key boundary, with a count before it that is a multiple of ESF_LEDGER_BLOCK,
+ * whose work before it is nearest r / K of the total (the plane it falls in is
+ * searched cell by cell, the other planes at their starts). Any cut gives the same
+ * results; only the time depends on it. */
 static int make_cut(esf_sim *s, const esf_reorder_grid *g, const uint32_t *key,
-                    const unsigned char *keep, size_t ntot, size_t *kcut,
-                    esf_error *err) {
+                    const unsigned char *keep, size_t *kcut, esf_error *err) {
   esf_par *P = s->par;
   const int K = P->size;
   const size_t nown = s->own_hi - s->own_lo, d12 = g->d1 * g->d2, np = g->ncell / d12;
-  long long *pc = calloc(np + d12, sizeof *pc);
-  size_t *cum = malloc((np + 1) * sizeof *cum);
-  if (!pc || !cum) {
-    free(pc);
-    free(cum);
-    return esf_fail(err, ESF_ENOMEM, "out of memory for the cut");
+  { /* this process's cost per particle relative to the mean, smoothed over cuts */
+    double in[2] = {P->busy > 0 && nown > 0 ? P->busy / (double)nown : 0.0, 0.0}, sum[2];
+    in[1] = in[0] > 0;
+    MPI_Allreduce(in, sum, 2, MPI_DOUBLE, MPI_SUM, P->comm);
+    if (in[0] > 0 && sum[1] == K && sum[0] > 0) {
+      double r = in[0] / (sum[0] / K);
+      r = r < 0.5 ? 0.5 : r > 2.0 ? 2.0 : r;
+      P->rate = 0.5 * P->rate + 0.5 * r;
+    }
+    P->busy = 0.0;
   }
-  long long *cc = pc + np;
+  const double rate = P->rate;
+  double *pw = calloc(2 * (np + d12 + 1), sizeof *pw);
+  if (!pw) return esf_fail(err, ESF_ENOMEM, "out of memory for the cut");
+  double *pc = pw + np, *cw = pw + 2 * np, *cc = cw + d12; /* work, counts */
   for (size_t j = 0; j < nown; j++)
-    if (keep[j]) pc[key[j] / d12]++;
-  MPI_Allreduce(MPI_IN_PLACE, pc, (int)np, MPI_LONG_LONG, MPI_SUM, P->comm);
-  cum[0] = 0;
-  for (size_t q = 0; q < np; q++) cum[q + 1] = cum[q] + (size_t)pc[q];
+    if (keep[j]) {
+      pw[key[j] / d12] += rate;
+      pc[key[j] / d12] += 1.0;
+    }
+  MPI_Allreduce(MPI_IN_PLACE, pw, 2 * (int)np, MPI_DOUBLE, MPI_SUM, P->comm);
+  double wtot = 0.0;
+  for (size_t q = 0; q < np; q++) wtot += pw[q];
   kcut[0] = 0;
   kcut[K] = g->ncell;
+  const size_t B = ESF_LEDGER_BLOCK;
   for (int r = 1; r < K; r++) {
-    const size_t want = (size_t)r * ntot / (size_t)K, B = ESF_LEDGER_BLOCK;
-    const size_t target = (want + B / 2) / B * B;
-    size_t pl = 0; /* the plane the target falls in */
-    while (pl + 1 < np && cum[pl + 1] <= target) pl++;
-    memset(cc, 0, d12 * sizeof *cc);
+    const double target = wtot * r / K;
+    size_t pl = 0; /* the plane the target falls in; its work and count before it */
+    double w0 = 0.0, c0 = 0.0;
+    while (pl + 1 < np && w0 + pw[pl] <= target) {
+      w0 += pw[pl];
+      c0 += pc[pl];
+      pl++;
+    }
+    memset(cw, 0, 2 * d12 * sizeof *cw);
     for (size_t j = 0; j < nown; j++)
-      if (keep[j] && key[j] / d12 == pl) cc[key[j] - pl * d12]++;
-    MPI_Allreduce(MPI_IN_PLACE, cc, (int)d12, MPI_LONG_LONG, MPI_SUM, P->comm);
-    size_t best = 0, c = cum[pl];
-    double bd = (double)target;         /* key 0: count 0 */
+      if (keep[j] && key[j] / d12 == pl) {
+        cw[key[j] - pl * d12] += rate;
+        cc[key[j] - pl * d12] += 1.0;
+      }
+    MPI_Allreduce(MPI_IN_PLACE, cw, 2 * (int)d12, MPI_DOUBLE, MPI_SUM, P->comm);
+    size_t best = 0;
+    double bd = target; /* key 0: no work before it */
+    double w = w0, c = c0;
     for (size_t j = 0; j <= d12; j++) { /* boundaries inside the plane */
-      const double d = fabs((double)c - (double)target);
-      if (c % B == 0 && d < bd) {
-        bd = d;
+      if (fmod(c, (double)B) == 0.0 && fabs(w - target) < bd) {
+        bd = fabs(w - target);
         best = pl * d12 + j;
       }
-      if (j < d12) c += (size_t)cc[j];
+      if (j < d12) {
+        w += cw[j];
+        c += cc[j];
+      }
     }
+    w = c = 0.0;
     for (size_t q = 0; q <= np; q++) { /* or a plane's start */
-      const double d = fabs((double)cum[q] - (double)target);
-      if (cum[q] % B == 0 && d < bd) {
-        bd = d;
+      if (fmod(c, (double)B) == 0.0 && fabs(w - target) < bd) {
+        bd = fabs(w - target);
         best = q * d12;
+      }
+      if (q < np) {
+        w += pw[q];
+        c += pc[q];
       }
     }
     kcut[r] = best > kcut[r - 1] ? best : kcut[r - 1];
   }
-  free(pc);
-  free(cum);
+  free(pw);
   return ESF_OK;
 }
 
@@ -460,7 +490,7 @@ int esf_par_rebuild(esf_sim *s, esf_error *err) {
   const size_t ntot = global_grid(s, keep, &g, &rmax);
   for (size_t j = 0; j < nown; j++)
     key[j] = keep[j] && g.ncell > 1 ? esf_reorder_key(&g, p->x + 3 * (olo + j)) : 0;
-  if ((rc = make_cut(s, &g, key, keep, ntot, kcut, err))) goto done;
+  if ((rc = make_cut(s, &g, key, keep, kcut, err))) goto done;
   /* step 4: the migrants and their contacts */
   int *co = cnt, *cc = cnt + K;
   size_t nstay = 0;

@@ -42,6 +42,9 @@ struct esf_par {
   double *sbuf, *rbuf;
   size_t sbuf_cap, rbuf_cap;
   MPI_Request *req;
+  double busy; /* seconds this process computed steps since the last cut (the balance) */
+  double rate; /* the work one of its particles counts for at the cut (1 at first) */
+  double busy_t0, busy_c0; /* the current step's start, and the exchanges' seconds then */
   /* statistics */
   double bytes, seconds;
   long rebuilds, migrated; /* rebuilds; particles this process sent away */
