@@ -252,17 +252,24 @@ int esf_par_ghosts(esf_sim *s, esf_error *err) {
   return ESF_OK;
 }
 
+/* The failing process's status and message to every process, the message prefixed
+ * with its rank (out of memory, say, happens on one). */
+static int share_failure(const esf_par *P, int first, int rc, esf_error *err) {
+  int code = rc;
+  MPI_Bcast(&code, 1, MPI_INT, first, P->comm);
+  if (P->rank == first) esf_error_prefix(err, "(MPI process %d of %d) ", first, P->size);
+  MPI_Bcast(err->msg, (int)sizeof err->msg, MPI_CHAR, first, P->comm);
+  err->code = code;
+  return code;
+}
+
 int esf_par_agree(esf_sim *s, int rc, esf_error *err) {
   const esf_par *P = s->par;
   if (!P) return rc;
   int mine = rc ? P->rank : P->size, first = P->size;
   MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, P->comm);
   if (first == P->size) return ESF_OK;
-  int code = rc;
-  MPI_Bcast(&code, 1, MPI_INT, first, P->comm);
-  MPI_Bcast(err->msg, (int)sizeof err->msg, MPI_CHAR, first, P->comm);
-  err->code = code;
-  return code;
+  return share_failure(P, first, rc, err);
 }
 
 int esf_par_bcast_status(const esf_sim *s, int rc, esf_error *err) {
@@ -395,11 +402,7 @@ int esf_par_agree_flag(esf_sim *s, int rc, int *flag, esf_error *err) {
   MPI_Allreduce(mine, all, 2, MPI_INT, MPI_MIN, P->comm);
   *flag = all[1] == 0;
   if (all[0] == P->size) return ESF_OK;
-  int code = rc;
-  MPI_Bcast(&code, 1, MPI_INT, all[0], P->comm);
-  MPI_Bcast(err->msg, (int)sizeof err->msg, MPI_CHAR, all[0], P->comm);
-  err->code = code;
-  return code;
+  return share_failure(P, all[0], rc, err);
 }
 
 void esf_par_stats(const esf_sim *s, esf_par_stat *st) {

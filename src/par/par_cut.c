@@ -249,9 +249,9 @@ static size_t global_grid(esf_sim *s, const unsigned char *keep, esf_reorder_gri
  * particle costs is its process's measured seconds per particle since the last cut
  * (relative to the mean, within [1/2, 2]; 1 before any measurement); each cut is
  * the key boundary, with a count before it that is a multiple of ESF_LEDGER_BLOCK,
- * whose work before it is nearest r / K of the total (the plane it falls in is
- * searched cell by cell, the other planes at their starts). Any cut gives the same
- * results; only the time depends on it. */
+ * whose work before it is nearest r / K of the total (the plane it falls in and its
+ * neighbours are searched cell by cell, the other planes at their starts). Any cut gives
+ * the same results; only the time depends on it. */
 static int make_cut(esf_sim *s, const esf_reorder_grid *g, const uint32_t *key,
                     const unsigned char *keep, size_t *kcut, esf_error *err) {
   esf_par *P = s->par;
@@ -269,9 +269,9 @@ static int make_cut(esf_sim *s, const esf_reorder_grid *g, const uint32_t *key,
     P->busy = 0.0;
   }
   const double rate = P->rate;
-  double *pw = calloc(2 * (np + d12 + 1), sizeof *pw);
+  double *pw = calloc(2 * (np + 3 * d12 + 1), sizeof *pw);
   if (!pw) return esf_fail(err, ESF_ENOMEM, "out of memory for the cut");
-  double *pc = pw + np, *cw = pw + 2 * np, *cc = cw + d12; /* work, counts */
+  double *pc = pw + np, *cw = pw + 2 * np; /* work, counts per plane; cells' work */
   for (size_t j = 0; j < nown; j++)
     if (keep[j]) {
       pw[key[j] / d12] += rate;
@@ -292,22 +292,31 @@ static int make_cut(esf_sim *s, const esf_reorder_grid *g, const uint32_t *key,
       c0 += pc[pl];
       pl++;
     }
-    memset(cw, 0, 2 * d12 * sizeof *cw);
+    /* the cells of that plane and its neighbours (a plane of few, crowded cells may
+       hold no boundary at a multiple of the block) */
+    const size_t p0 = pl > 0 ? pl - 1 : 0, p1 = pl + 1 < np ? pl + 2 : np;
+    const size_t nc = (p1 - p0) * d12;
+    double *cc = cw + nc; /* the cells' counts */
+    memset(cw, 0, 2 * nc * sizeof *cw);
     for (size_t j = 0; j < nown; j++)
-      if (keep[j] && key[j] / d12 == pl) {
-        cw[key[j] - pl * d12] += rate;
-        cc[key[j] - pl * d12] += 1.0;
+      if (keep[j] && key[j] / d12 >= p0 && key[j] / d12 < p1) {
+        cw[key[j] - p0 * d12] += rate;
+        cc[key[j] - p0 * d12] += 1.0;
       }
-    MPI_Allreduce(MPI_IN_PLACE, cw, 2 * (int)d12, MPI_DOUBLE, MPI_SUM, P->comm);
+    MPI_Allreduce(MPI_IN_PLACE, cw, 2 * (int)nc, MPI_DOUBLE, MPI_SUM, P->comm);
     size_t best = 0;
     double bd = target; /* key 0: no work before it */
     double w = w0, c = c0;
-    for (size_t j = 0; j <= d12; j++) { /* boundaries inside the plane */
+    for (size_t q = pl; q > p0; q--) { /* the start of the first plane searched */
+      w -= pw[q - 1];
+      c -= pc[q - 1];
+    }
+    for (size_t j = 0; j <= nc; j++) { /* boundaries inside the planes */
       if (fmod(c, (double)B) == 0.0 && fabs(w - target) < bd) {
         bd = fabs(w - target);
-        best = pl * d12 + j;
+        best = p0 * d12 + j;
       }
-      if (j < d12) {
+      if (j < nc) {
         w += cw[j];
         c += cc[j];
       }
@@ -639,6 +648,17 @@ int esf_par_rebuild(esf_sim *s, esf_error *err) {
   P->decomposed = 1;
   P->rebuilds++;
   P->migrated += (long)nmig;
+  { /* processes left without particles: said once (they wait at every exchange) */
+    const long long empty = esf_par_sum(s, no == 0);
+    if (empty > 0 && !P->empty_said) {
+      esf_sim_log(s,
+                  "mpi: t = %.6g s: %lld of %d processes own no particles (%zu particles "
+                  "in %zu planes of cells along the longest axis): fewer processes would "
+                  "run as fast",
+                  s->t, empty, K, ntot, g.ncell / d12);
+      P->empty_said = 1;
+    }
+  }
 done:
   if (gid != P->gid) free(gid);
   esf_particles_release(&q);

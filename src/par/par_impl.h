@@ -32,6 +32,7 @@ struct esf_par {
   MPI_Comm comm;
   int rank, size;
   int decomposed; /* the first rebuild has cut the particles among the processes */
+  int empty_said; /* the log said that some process owns no particles */
   int64_t *gid;   /* n: each local particle's global index (owned and ghosts) */
   size_t gid_cap;
   size_t g0, ntot; /* global index of the first owned particle; the run's count */
