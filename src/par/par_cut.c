@@ -353,23 +353,44 @@ static int owner_of(const size_t *kcut, int K, uint32_t key) {
 
 /* Step 5: the owned records ordered by (key, previous global index): sorted by the
  * index, then a stable counting sort on the key (keys in [k0, k1)). */
-static int order_owned(esf_par_rec *r, size_t n, size_t k0, size_t k1, esf_error *err) {
-  qsort(r, n, sizeof *r, rec_by_gid);
+static int order_owned(esf_par_rec *r, size_t n, size_t nstay, size_t k0, size_t k1,
+                       esf_error *err) {
+  /* r[0 .. nstay) stayed, in the previous global order already; the arrivals are
+     sorted, then both runs merged: no sort of the whole */
+  qsort(r + nstay, n - nstay, sizeof *r, rec_by_gid);
   const size_t R = k1 - k0;
   size_t *start = calloc(R + 1, sizeof *start);
   esf_par_rec *t = malloc((n ? n : 1) * sizeof *t);
-  if (!start || !t) {
+  size_t *src = malloc((n ? n : 1) * sizeof *src);
+  if (!start || !t || !src) {
     free(start);
     free(t);
+    free(src);
     return esf_fail(err, ESF_ENOMEM, "out of memory for ordering %zu particles", n);
   }
+  for (size_t i = 0, j = nstay, m = 0; m < n; m++) /* the merge, as indices */
+    src[m] = j >= n || (i < nstay && r[i].gid < r[j].gid) ? i++ : j++;
   for (size_t j = 0; j < n; j++) start[r[j].key - k0 + 1]++;
   for (size_t c = 0; c < R; c++) start[c + 1] += start[c];
-  for (size_t j = 0; j < n; j++) t[start[r[j].key - k0]++] = r[j];
+  for (size_t m = 0; m < n; m++) t[start[r[src[m]].key - k0]++] = r[src[m]];
   memcpy(r, t, n * sizeof *r);
   free(t);
   free(start);
+  free(src);
   return ESF_OK;
+}
+
+/* The first of the n records (sorted by key) whose plane is at least pl. */
+static size_t first_plane(const esf_par_rec *r, size_t n, size_t d12, size_t pl) {
+  size_t lo = 0, hi = n;
+  while (lo < hi) {
+    const size_t m = lo + (hi - lo) / 2;
+    if (r[m].key / d12 < pl)
+      lo = m + 1;
+    else
+      hi = m;
+  }
+  return lo;
 }
 
 /* Step 4's contacts: the touching contacts of the kept owned particles that migrate,
@@ -543,7 +564,7 @@ int esf_par_rebuild(esf_sim *s, esf_error *err) {
       if (dest[j] == me) rec_of(p, olo + j, gid[olo + j], key[j], &own[m++]);
     memcpy(own + m, in, nin * sizeof *in);
   }
-  if ((rc = order_owned(own, no, kcut[me], kcut[me + 1], err))) goto done;
+  if ((rc = order_owned(own, no, nstay, kcut[me], kcut[me + 1], err))) goto done;
   unsigned long long nol = no, g0 = 0;
   MPI_Exscan(&nol, &g0, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, P->comm);
   if (me == 0) g0 = 0;
@@ -559,12 +580,11 @@ int esf_par_rebuild(esf_sim *s, esf_error *err) {
       const size_t tr = t;
       if (r != me && kcut[r + 1] > kcut[r]) {
         const size_t plo = kcut[r] / d12, phi = (kcut[r + 1] - 1) / d12;
-        for (size_t j = 0; j < no; j++) {
-          const size_t pj = own[j].key / d12;
-          if (pj + mpl >= plo && pj <= phi + mpl) {
-            if (pass) gout[t] = own[j];
-            t++;
-          }
+        const size_t j0 = first_plane(own, no, d12, plo > mpl ? plo - mpl : 0),
+                     j1 = first_plane(own, no, d12, phi + mpl + 1);
+        for (size_t j = j0; j < j1; j++) { /* own is in key order: planes in order */
+          if (pass) gout[t] = own[j];
+          t++;
         }
       }
       if (!pass) cg[r] = (int)(t - tr);
