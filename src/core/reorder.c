@@ -24,12 +24,16 @@
 #include <stdint.h>
 #include <stdlib.h>
 
+#include "util/xsum.h"
+
 int esf_reorder_particles(esf_sim *s, int *changed, esf_error *err) {
   esf_particles *p = &s->p;
   const size_t n = p->n;
   *changed = 0;
   if (n < 3) return ESF_OK;
-  double lo[3], hi[3], rsum = 0.0;
+  double lo[3], hi[3];
+  esf_xsum rsum; /* exact: the cell size does not depend on the particles' order */
+  esf_xsum_zero(&rsum);
   for (int q = 0; q < 3; q++) lo[q] = hi[q] = p->x[q];
   for (size_t i = 0; i < n; i++) {
     for (int q = 0; q < 3; q++) {
@@ -37,9 +41,9 @@ int esf_reorder_particles(esf_sim *s, int *changed, esf_error *err) {
       lo[q] = v < lo[q] ? v : lo[q];
       hi[q] = v > hi[q] ? v : hi[q];
     }
-    rsum += p->radius[i];
   }
-  double h = 2.0 * rsum / (double)n + s->nb.skin, dims[3];
+  esf_xsum_add_n(&rsum, p->radius, n, 1);
+  double h = 2.0 * esf_xsum_value(&rsum) / (double)n + s->nb.skin, dims[3];
   for (;;) { /* at most 2n cells */
     double cells = 1.0;
     for (int q = 0; q < 3; q++) cells *= dims[q] = floor((hi[q] - lo[q]) / h) + 1.0;
