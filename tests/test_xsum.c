@@ -14,12 +14,17 @@
  *    double sum to 1 ulp.
  * 3. Large counts: 2^30 + 5 adds of -DBL_MAX (past a lazy normalisation), and 2^40
  *    copies of DBL_MAX by merges, cancel exactly against the other side.
- * 4. Non-finite terms: NaN, +-Inf, +Inf with -Inf, through merges, as a plain sum. */
+ * 4. Non-finite terms: NaN, +-Inf, +Inf with -Inf, through merges, as a plain sum.
+ * 5. The ledger's and adaptive damping's block sums split as processes would: the
+ *    blocks permuted and cut into parts, each part's accumulators merged, then booked
+ *    (esf_ledger_step_sums), give the ledger esf_ledger_step gives on the whole (memcmp),
+ *    and the damping sums the same limbs. */
 #include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "check.h"
+#include "core/sim.h"
 #include "util/rng.h"
 #include "util/xsum.h"
 
@@ -292,8 +297,66 @@ static void non_finite(void) {
   }
 }
 
+static void book(esf_ledger *l, esf_xsum acc[ESF_LB_N]) {
+  double t[ESF_LB_N];
+  for (int c = 0; c < ESF_LB_N; c++) t[c] = esf_xsum_value(&acc[c]);
+  esf_ledger_step_sums(l, t);
+}
+
+static void ledger_split(void) {
+  enum { NB = 300, NP = 7 };
+  static double blk[NB * ESF_LB_N], perm[NB * ESF_LB_N];
+  esf_rng r;
+  esf_rng_seed(&r, 23);
+  for (int i = 0; i < NB * ESF_LB_N; i++) /* energies of blocks: wide range, signs */
+    blk[i] = (esf_rng_uniform(&r) - 0.3) * ldexp(1.0, (int)(esf_rng_next(&r) % 60) - 40);
+  esf_ledger whole, split;
+  memset(&whole, 0, sizeof whole);
+  memset(&split, 0, sizeof split);
+  esf_xsum dw[2], ds[2], part[NP][ESF_LB_N], dpart[2];
+  for (int step = 0; step < 3; step++) {
+    esf_ledger_step(&whole, blk, NB);
+    memcpy(perm, blk, sizeof perm); /* the blocks permuted, as another numbering */
+    for (int i = NB; i > 1; i--) {
+      const int j = (int)(esf_rng_next(&r) % (uint64_t)i);
+      double t[ESF_LB_N];
+      memcpy(t, perm + ESF_LB_N * (i - 1), sizeof t);
+      memcpy(perm + ESF_LB_N * (i - 1), perm + ESF_LB_N * j, sizeof t);
+      memcpy(perm + ESF_LB_N * j, t, sizeof t);
+    }
+    esf_xsum_zero(&ds[0]);
+    esf_xsum_zero(&ds[1]);
+    for (int k = 0; k < NP; k++) { /* part k: blocks [k NB / NP, (k + 1) NB / NP) */
+      const int b0 = k * NB / NP, b1 = (k + 1) * NB / NP;
+      for (int c = 0; c < ESF_LB_N; c++) esf_xsum_zero(&part[k][c]);
+      esf_ledger_block_sums(perm + ESF_LB_N * b0, (size_t)(b1 - b0), part[k]);
+      esf_xsum_zero(&dpart[0]);
+      esf_xsum_zero(&dpart[1]);
+      esf_sim_damping_sums(perm + ESF_LB_N * b0, (size_t)(b1 - b0), dpart);
+      esf_xsum_merge(&ds[0], &dpart[0]);
+      esf_xsum_merge(&ds[1], &dpart[1]);
+    }
+    for (int k = NP - 1; k > 0; k--) /* merged from the last part down */
+      for (int c = 0; c < ESF_LB_N; c++) esf_xsum_merge(&part[0][c], &part[k][c]);
+    book(&split, part[0]);
+  }
+  CHECK(memcmp(&whole, &split, sizeof whole) == 0,
+        "ledger from permuted, split blocks differs: kinetic %a vs %a", whole.kin_t,
+        split.kin_t);
+  esf_xsum_zero(&dw[0]);
+  esf_xsum_zero(&dw[1]);
+  esf_sim_damping_sums(blk, NB, dw);
+  for (int k = 0; k < 2; k++) {
+    esf_xsum_normalize(&dw[k]);
+    esf_xsum_normalize(&ds[k]);
+    CHECK(memcmp(dw[k].limb, ds[k].limb, sizeof dw[k].limb) == 0,
+          "damping sum %d depends on the split", k);
+  }
+}
+
 int main(void) {
   closed_forms();
+  ledger_split();
   random_sets();
   large_counts();
   non_finite();
