@@ -31,6 +31,8 @@ typedef struct esf_xsum {
   int64_t pending; /* bound: every limb below the top has |limb| < 2^32 pending (1 when
                       normalised; sums under merges, ESF_XSUM_TERM a term) */
 } esf_xsum;
+_Static_assert(sizeof(esf_xsum) == ESF_XSUM_WORDS * sizeof(int64_t),
+               "an esf_xsum is ESF_XSUM_WORDS int64_t words (MPI_SUM adds them)");
 
 void esf_xsum_zero(esf_xsum *a);
 /* Carries propagated: the canonical form of the exact sum (pending 1). */
