@@ -79,7 +79,7 @@ typedef struct esf_walls {
                          each committed evaluation;
                          NULL unless a servo wall exists (servo.c) */
   double *gforce_blk; /* the same per block of ESF_LEDGER_BLOCK particles, 4 ngroups a
-                         block, summed in order into gforce (servo.c) */
+                         block, summed exactly into gforce (servo.c) */
   size_t gforce_nb;   /* blocks it has room for */
   void **own;         /* allocations the motions point into (tables, sequences) */
   int nown;

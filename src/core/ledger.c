@@ -3,7 +3,9 @@
  * them, esf_ledger_header and esf_ledger_row print them as CSV (time with 10
  * significant digits, energies in J with 13, alpha in 1/s with 7). Columns added
  * later (work_fluid, work_tangential_stiffness, energy_inserted) go at the end, so
- * readers by position keep working. */
+ * readers by position keep working. A step's channels are summed over the blocks
+ * exactly (util/xsum.h) and rounded once, so they do not depend on the blocks' order or
+ * on how they are shared among processes. */
 #include "core/ledger.h"
 
 const char *const esf_ledger_columns[ESF_LEDGER_NCOLS] = {"time",
@@ -88,10 +90,20 @@ void esf_ledger_row(FILE *f, double t, const esf_ledger *l, double alpha) {
   fputc('\n', f);
 }
 
+void esf_ledger_block_sums(const double *blocks, size_t nb, esf_xsum acc[ESF_LB_N]) {
+  for (int c = 0; c < ESF_LB_N; c++) esf_xsum_add_n(&acc[c], blocks + c, nb, ESF_LB_N);
+}
+
 void esf_ledger_step(esf_ledger *l, const double *blocks, size_t nb) {
-  double t[ESF_LB_N] = {0};
-  for (size_t b = 0; b < nb; b++)
-    for (int c = 0; c < ESF_LB_N; c++) t[c] += blocks[ESF_LB_N * b + c];
+  esf_xsum acc[ESF_LB_N];
+  double t[ESF_LB_N];
+  for (int c = 0; c < ESF_LB_N; c++) esf_xsum_zero(&acc[c]);
+  esf_ledger_block_sums(blocks, nb, acc);
+  for (int c = 0; c < ESF_LB_N; c++) t[c] = esf_xsum_value(&acc[c]);
+  esf_ledger_step_sums(l, t);
+}
+
+void esf_ledger_step_sums(esf_ledger *l, const double t[ESF_LB_N]) {
   l->kin_t = t[ESF_LB_KT];
   l->kin_r = t[ESF_LB_KR];
   l->pot_g = t[ESF_LB_PE];

@@ -13,6 +13,7 @@
 #include <stdio.h>
 
 #include "util/vec4.h"
+#include "util/xsum.h"
 
 typedef struct esf_ledger {
   int on;
@@ -91,9 +92,10 @@ typedef struct esf_force_tally {
  * leapfrog's measure W(u_n) + (1/2) f . (u_{n+1} - u_n) uses the new velocities: both
  * sums over particles of rows . velocities (esf_ledger_particle); a wall contact adds
  * its wall's side (the prescribed wall velocity) as scalars. Particles are summed
- * in blocks of ESF_LEDGER_BLOCK (channels ESF_LB_*), and the blocks in order
- * (esf_ledger_step): the fused step's ranges hold whole blocks, so no sum depends on
- * how the particles are cut. */
+ * in blocks of ESF_LEDGER_BLOCK (channels ESF_LB_*), and the blocks exactly
+ * (esf_ledger_step, util/xsum.h): the fused step's ranges hold whole blocks, and the
+ * blocks' totals do not depend on their order, so no sum depends on how whole blocks
+ * are shared among threads or processes. */
 #define ESF_LR           40 /* ledger rows per particle with rolling resistance */
 #define ESF_LR_PLAIN     32 /* without: the rolling rows (ESF_LR_RD, _RE) are absent */
 #define ESF_LEDGER_BLOCK 64 /* particles per block of the ledger's sums */
@@ -342,8 +344,14 @@ static inline void esf_ledger_kick_particle(const esf_ledger_kick *k, double m, 
   if (r) esf_ledger_particle(r, v0, v, w0, w, k->dt, k->roll, blk);
 }
 
-/* Sums the nb blocks' channels (ESF_LB_N each) in order and books the step: stored
- * energies set, dissipation and work added; the first booked step also sets e0. */
+/* Sums the nb blocks' channels (ESF_LB_N each) exactly, rounds each total once, and
+ * books the step (esf_ledger_step_sums): the same bits in any order of the blocks. */
 void esf_ledger_step(esf_ledger *l, const double *blocks, size_t nb);
+/* The two halves of esf_ledger_step, for sums spread over processes: adds the nb
+ * blocks' channels to the accumulators acc (one a channel; merge those of all parts,
+ * esf_xsum_merge or a limb-wise integer sum), then books the totals t (acc's values):
+ * stored energies set, dissipation and work added; the first booked step also sets e0. */
+void esf_ledger_block_sums(const double *blocks, size_t nb, esf_xsum acc[ESF_LB_N]);
+void esf_ledger_step_sums(esf_ledger *l, const double t[ESF_LB_N]);
 
 #endif

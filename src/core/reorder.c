@@ -24,6 +24,8 @@
 #include <stdint.h>
 #include <stdlib.h>
 
+#include "util/xsum.h"
+
 void esf_reorder_grid_make(esf_reorder_grid *g, const double lo[3], const double hi[3],
                            double h, size_t n) {
   for (;;) { /* at most 2n cells */
@@ -54,7 +56,9 @@ int esf_reorder_particles(esf_sim *s, int *changed, esf_error *err) {
   const size_t n = p->n;
   *changed = 0;
   if (n < 3) return ESF_OK;
-  double lo[3], hi[3], rsum = 0.0;
+  double lo[3], hi[3];
+  esf_xsum rsum; /* exact: the cell size does not depend on the particles' order */
+  esf_xsum_zero(&rsum);
   for (int q = 0; q < 3; q++) lo[q] = hi[q] = p->x[q];
   for (size_t i = 0; i < n; i++) {
     for (int q = 0; q < 3; q++) {
@@ -62,10 +66,11 @@ int esf_reorder_particles(esf_sim *s, int *changed, esf_error *err) {
       lo[q] = v < lo[q] ? v : lo[q];
       hi[q] = v > hi[q] ? v : hi[q];
     }
-    rsum += p->radius[i];
   }
+  esf_xsum_add_n(&rsum, p->radius, n, 1);
   esf_reorder_grid g;
-  esf_reorder_grid_make(&g, lo, hi, 2.0 * rsum / (double)n + s->nb.skin, n);
+  esf_reorder_grid_make(&g, lo, hi, 2.0 * esf_xsum_value(&rsum) / (double)n + s->nb.skin,
+                        n);
   const size_t ncell = g.ncell;
   uint32_t *key = malloc(n * sizeof *key);
   size_t *start = calloc(ncell + 1, sizeof *start);

@@ -179,15 +179,24 @@ int esf_sim_ledger_room(esf_sim *s, int zero, esf_error *err) {
   return ESF_OK;
 }
 
-void esf_sim_adapt_damping(esf_sim *s, const double *blocks, size_t nb) {
-  double ke_old = 0, ke_new = 0;
-  for (size_t b = 0; b < nb; b++) {
-    ke_old += blocks[ESF_LB_N * b + ESF_LB_KO];
-    ke_new += blocks[ESF_LB_N * b + ESF_LB_KT] + blocks[ESF_LB_N * b + ESF_LB_KR];
-  }
+void esf_sim_damping_sums(const double *blocks, size_t nb, esf_xsum acc[2]) {
+  esf_xsum_add_n(&acc[0], blocks + ESF_LB_KO, nb, ESF_LB_N);
+  esf_xsum_add_n(&acc[1], blocks + ESF_LB_KT, nb, ESF_LB_N);
+  esf_xsum_add_n(&acc[1], blocks + ESF_LB_KR, nb, ESF_LB_N);
+}
+
+void esf_sim_damping_apply(esf_sim *s, double ke_old, double ke_new) {
   const double a =
       esf_auto_damping_update(&s->cfg.autod, s->alpha_r, ke_old, ke_new, s->dt);
   const double ratio = s->alpha_r > 0 ? a / s->alpha_r : 1.0;
   s->alpha_r = a;
   s->alpha_t *= ratio;
+}
+
+void esf_sim_adapt_damping(esf_sim *s, const double *blocks, size_t nb) {
+  esf_xsum acc[2];
+  esf_xsum_zero(&acc[0]);
+  esf_xsum_zero(&acc[1]);
+  esf_sim_damping_sums(blocks, nb, acc);
+  esf_sim_damping_apply(s, esf_xsum_value(&acc[0]), esf_xsum_value(&acc[1]));
 }

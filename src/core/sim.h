@@ -285,9 +285,14 @@ void esf_dt_estimate_compute(const esf_sim *s, esf_dt_estimate *e);
 int esf_sim_ledger_room(esf_sim *s, int zero, esf_error *err);
 
 /* Adaptive global damping after a leapfrog step (damping.h): alpha_r from the kinetic
- * energies either side of the kick, summed from the nb ledger blocks in order, alpha_t
- * scaled alike. */
+ * energies either side of the kick, summed exactly from the nb ledger blocks (the same
+ * bits in any order), alpha_t scaled alike. */
 void esf_sim_adapt_damping(esf_sim *s, const double *blocks, size_t nb);
+/* Its two halves, for sums spread over processes: adds the blocks' kinetic energies
+ * before the kick (acc[0]) and after it (acc[1], translational and rotational) to the
+ * accumulators; then the update from the totals (acc's values), J. */
+void esf_sim_damping_sums(const double *blocks, size_t nb, esf_xsum acc[2]);
+void esf_sim_damping_apply(esf_sim *s, double ke_old, double ke_new);
 
 /* Blocks of the ledger's sums for n particles. */
 static inline size_t esf_ledger_nblocks(size_t n) {

@@ -14,7 +14,8 @@
  * drifted by v dt in esf_walls_set_time: a leapfrog for the wall itself). The gain is
  * G = alpha A / (kn N_c dt) (esf_servo_update) or a fixed one, m/(s Pa).
  * The wall's work on the particles enters the ledger as wall work through the wall
- * velocity (forces.c), as for prescribed motion. Units: SI. */
+ * velocity (forces.c), as for prescribed motion. The blocks' forces are summed exactly
+ * (util/xsum.h), so the walls' motion does not depend on the blocks' order. Units: SI. */
 #include "loads/servo.h"
 
 #include <math.h>
@@ -114,16 +115,26 @@ int esf_servo_blocks(esf_sim *s, int zero, esf_error *err) {
   return ESF_OK;
 }
 
+void esf_servo_block_sums(const esf_sim *s, esf_xsum *acc) {
+  const esf_walls *w = &s->walls; /* (an MPI run's blocks: its own particles') */
+  const size_t nb = esf_ledger_nblocks(esf_sim_own_hi(s) - esf_sim_own_lo(s)),
+               per = 4 * (size_t)w->ngroups;
+  for (size_t q = 0; q < per; q++) esf_xsum_add_n(&acc[q], w->gforce_blk + q, nb, per);
+}
+
 void esf_servo_update(esf_sim *s) {
   esf_walls *w = &s->walls;
   const size_t nb = esf_ledger_nblocks(s->p.n), per = 4 * (size_t)w->ngroups;
-  memset(w->gforce, 0, per * sizeof(double));
-  for (size_t b = 0; b < nb; b++)
-    for (size_t q = 0; q < per; q++) w->gforce[q] += w->gforce_blk[per * b + q];
-  esf_servo_steer(s);
+  for (size_t q = 0; q < per; q++) { /* one channel at a time: no accumulator array */
+    esf_xsum acc;
+    esf_xsum_zero(&acc);
+    esf_xsum_add_n(&acc, w->gforce_blk + q, nb, per);
+    w->gforce[q] = esf_xsum_value(&acc);
+  }
+  esf_servo_control(s);
 }
 
-void esf_servo_steer(esf_sim *s) {
+void esf_servo_control(esf_sim *s) {
   esf_walls *w = &s->walls;
   for (int k = 0; k < w->ngroups; k++) {
     esf_wall_group *g = &w->g[k];

@@ -24,13 +24,15 @@ static inline double *esf_servo_slot(esf_walls *w, size_t i, int g) {
 }
 
 /* After a committed evaluation filled the blocks of n particles: s->walls.gforce their
- * sum in block order, measured stress sigma = (F . dir)/A, velocity
- * v = G (stress - sigma) dir limited to vmax. */
+ * exact sum rounded once (the same bits in any order of the blocks), then
+ * esf_servo_control. */
 void esf_servo_update(esf_sim *s);
-
-/* Its second half, from s->walls.gforce already summed (an MPI run sums the blocks
- * across its processes, par.h): the stresses and the walls' velocities. */
-void esf_servo_steer(esf_sim *s);
+/* esf_servo_update's two halves, for sums spread over processes: adds the blocks to the
+ * accumulators acc (4 a group: force xyz, contacts; merge those of all parts), and,
+ * with s->walls.gforce set to the totals (acc's values), each servo group's measured
+ * stress sigma = (F . dir)/A and velocity v = G (stress - sigma) dir limited to vmax. */
+void esf_servo_block_sums(const esf_sim *s, esf_xsum *acc);
+void esf_servo_control(esf_sim *s);
 
 /* Adds one wall contact's spring force on the particle (the total less the dashpot
  * forces: the normal dashpot acts as -fd_n n on the particle, n toward the wall) to a

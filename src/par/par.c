@@ -4,15 +4,18 @@
  * Ghosts: at each rebuild (par_cut.c) every process lists, per peer, the owned
  * particles the peer holds as ghosts and where the peer's ghosts land; each step
  * sends x, v, w of the first and receives those of the second (9 doubles a ghost).
- * Sums: the ledger's blocks are whole on every process and lie in the global order
- * rank after rank, so the sum over blocks is taken as one process would, left to
- * right: rank r adds its blocks to the running totals it receives from rank r - 1 and
- * passes them on; the last rank's totals go to every process. Counts are integers
- * (exact in any order). Failures: the lowest failing rank's status and message go to
+ * Sums: the ledger's and the servo walls' blocks are whole on every process and
+ * summed exactly (util/xsum.h), so each process's accumulators, added limb by limb by
+ * MPI_Allreduce and rounded once, give one process's bits. Folds that one process
+ * takes in order (the porosity grid's cells; the esf_reduce chain of the modules
+ * below) are taken rank after rank: rank r continues the running value rank r - 1
+ * passes on; the last rank's goes to every process. Counts are integers (exact in
+ * any order). Failures: the lowest failing rank's status and message go to
  * every process, so all stop together with the same message. Without ESF_MPI every
  * function is the one-process case. */
 #include "par/par.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -20,6 +23,7 @@
 #include "loads/drag.h"
 #include "loads/porosity.h"
 #include "loads/servo.h"
+#include "util/xsum.h"
 #include "par/par_impl.h"
 
 void esf_par_world(int *rank, int *size) {
@@ -304,19 +308,14 @@ long long esf_par_sum(const esf_sim *s, long long v) {
   return out;
 }
 
-/* t[0 .. m) = the sum of nb blocks of m channels over every process's blocks, taken
- * as one process takes it: from zero, block after block in the global order (rank r
- * continues the totals rank r - 1 passes on); every process gets the totals. */
-static void fold_blocks(esf_par *P, double *t, size_t m, const double *blocks,
-                        size_t nb) {
+/* t[0 .. m) = the exact sums of m accumulators over every process (util/xsum.h:
+ * normalised, their integer limbs added by MPI, rounded once): one process's bits. */
+static void exact_sums(esf_par *P, esf_xsum *acc, double *t, int m) {
   const double t0 = esf_par_now();
-  memset(t, 0, m * sizeof *t);
-  if (P->rank > 0)
-    MPI_Recv(t, (int)m, MPI_DOUBLE, P->rank - 1, 12, P->comm, MPI_STATUS_IGNORE);
-  for (size_t b = 0; b < nb; b++)
-    for (size_t c = 0; c < m; c++) t[c] += blocks[m * b + c];
-  if (P->rank + 1 < P->size) MPI_Send(t, (int)m, MPI_DOUBLE, P->rank + 1, 12, P->comm);
-  MPI_Bcast(t, (int)m, MPI_DOUBLE, P->size - 1, P->comm);
+  for (int c = 0; c < m; c++) esf_xsum_normalize(&acc[c]);
+  MPI_Allreduce(MPI_IN_PLACE, acc, m * ESF_XSUM_WORDS, MPI_INT64_T, MPI_SUM, P->comm);
+  for (int c = 0; c < m; c++) t[c] = esf_xsum_value(&acc[c]);
+  P->bytes += (double)m * sizeof *acc;
   P->seconds += esf_par_now() - t0;
 }
 
@@ -326,9 +325,12 @@ void esf_par_ledger_step(esf_sim *s, const double *blocks, size_t nb) {
     esf_ledger_step(&s->led, blocks, nb);
     return;
   }
+  esf_xsum acc[ESF_LB_N];
   double t[ESF_LB_N];
-  fold_blocks(P, t, ESF_LB_N, blocks, nb); /* as esf_ledger_step's sum */
-  esf_ledger_step(&s->led, t, 1);          /* 0 + t: the totals themselves */
+  for (int c = 0; c < ESF_LB_N; c++) esf_xsum_zero(&acc[c]);
+  esf_ledger_block_sums(blocks, nb, acc); /* this process's blocks */
+  exact_sums(P, acc, t, ESF_LB_N);
+  esf_ledger_step_sums(&s->led, t);
 }
 
 /* The fluid force's porosity grid (loads/porosity.h) over every process: the global
@@ -365,9 +367,19 @@ void esf_par_servo(esf_sim *s) {
     return;
   }
   esf_walls *w = &s->walls;
-  fold_blocks(P, w->gforce, 4 * (size_t)w->ngroups, w->gforce_blk,
-              esf_ledger_nblocks(s->own_hi - s->own_lo));
-  esf_servo_steer(s);
+  const int m = 4 * w->ngroups;
+  esf_xsum *acc = malloc((size_t)m * sizeof *acc);
+  int ok = acc != NULL, all = 0;
+  MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_LAND, P->comm);
+  if (all) {
+    for (int q = 0; q < m; q++) esf_xsum_zero(&acc[q]);
+    esf_servo_block_sums(s, acc); /* this process's blocks */
+    exact_sums(P, acc, w->gforce, m);
+  } else { /* (a few KB): the non-finite forces stop every process at the next check */
+    for (int q = 0; q < m; q++) w->gforce[q] = NAN;
+  }
+  free(acc);
+  esf_servo_control(s);
 }
 
 /* The first entry of a list sorted by a whose a is at least i. */

@@ -4,8 +4,7 @@
  *
  * 1. Owned particles outside the domain are removed; their energies are booked in
  *    the global order (gathered, sorted by global index), as one process books them.
- * 2. The renumbering's grid from the global box, count and sum of radii (the sum
- *    taken rank after rank, in the global order, as one process's loop).
+ * 2. The renumbering's grid from the global box, count and exact sum of radii.
  * 3. The cut: work per plane of cells (the slowest axis; a particle's work is its
  *    process's measured time per particle), then per cell in the plane where each
  *    cut's target falls; each cut is a key boundary whose count before it is a
@@ -31,6 +30,7 @@
 #include "core/reorder.h"
 #include "par/par_impl.h"
 #include "util/vec3.h"
+#include "util/xsum.h"
 
 typedef struct idx_pair {
   int64_t id;
@@ -206,7 +206,7 @@ static size_t global_grid(esf_sim *s, const unsigned char *keep, esf_reorder_gri
   const esf_particles *p = &s->p;
   double lo[3] = {INFINITY, INFINITY, INFINITY},
          hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  double rmax = 0.0, rsum = 0.0;
+  double rmax = 0.0;
   unsigned long long nk = 0, ntot = 0;
   for (size_t i = s->own_lo; i < s->own_hi; i++) {
     if (!keep[i - s->own_lo]) continue;
@@ -221,13 +221,14 @@ static size_t global_grid(esf_sim *s, const unsigned char *keep, esf_reorder_gri
   double lh[7] = {lo[0], lo[1], lo[2], -hi[0], -hi[1], -hi[2], -rmax}, gl[7];
   MPI_Allreduce(lh, gl, 7, MPI_DOUBLE, MPI_MIN, P->comm);
   MPI_Allreduce(&nk, &ntot, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, P->comm);
-  /* the sum of radii in the global order: one process's loop, continued rank by rank */
-  if (P->rank > 0)
-    MPI_Recv(&rsum, 1, MPI_DOUBLE, P->rank - 1, 13, P->comm, MPI_STATUS_IGNORE);
+  /* the sum of radii, exact (as esf_reorder_particles takes it) */
+  esf_xsum rs;
+  esf_xsum_zero(&rs);
   for (size_t i = s->own_lo; i < s->own_hi; i++)
-    if (keep[i - s->own_lo]) rsum += p->radius[i];
-  if (P->rank + 1 < P->size) MPI_Send(&rsum, 1, MPI_DOUBLE, P->rank + 1, 13, P->comm);
-  MPI_Bcast(&rsum, 1, MPI_DOUBLE, P->size - 1, P->comm);
+    if (keep[i - s->own_lo]) esf_xsum_add(&rs, p->radius[i]);
+  esf_xsum_normalize(&rs);
+  MPI_Allreduce(MPI_IN_PLACE, &rs, ESF_XSUM_WORDS, MPI_INT64_T, MPI_SUM, P->comm);
+  const double rsum = esf_xsum_value(&rs);
   *rmax_out = -gl[6];
   if (ntot < 3) { /* one process does not renumber so few: one cell, the order kept */
     memset(g, 0, sizeof *g);
