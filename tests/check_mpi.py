@@ -163,6 +163,10 @@ def main():
         # S1's bed: friction, the energy ledger every 50 steps, a box, gravity
         case(tmp, "settle", "settle.yaml",
              ["run.duration=0.1", "output.every=0.025", "output.energy_every=5e-4"])
+        # adaptive global damping (its rate from the kinetic energies' exact sums)
+        case(tmp, "settle_adaptive", "settle.yaml",
+             ["run.duration=0.05", "output.every=0.025", "output.energy_every=5e-4",
+              "damping.global.translation=5", "damping.global.auto=true"], ranks=(2,))
         # moving walls (a vibrated box) and a moving mesh (a screw)
         case(tmp, "vibrated_bed", "vibrated_bed-quick.yaml", ["run.duration=0.05"])
         # (strong gravity: the columns reach the screw within the case's 0.1 s)

@@ -436,7 +436,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
                 s->t, f->cap + 1, 100.0 * f->cap_eff, ESF_FUSED_BACKOFF);
     f->cap_logged = 2;
   }
-  if (autod && n > 0) esf_sim_adapt_damping(s, s->led_blocks, B.nblocks);
+  if (autod && n > 0) esf_par_adapt_damping(s, s->led_blocks, B.nblocks);
   if (s->walls.gforce && n > 0) esf_par_servo(s); /* the walls' velocities */
   if (!ev) {                                      /* an evaluation moved nothing */
     s->nb.max_disp2 = r.max2;

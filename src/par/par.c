@@ -52,7 +52,6 @@ const char *esf_par_refusal(const esf_sim *s, const char **key) {
       {!c->reorder, "search.reorder", "the renumbering is the global order's"},
       {c->per.any, "domain.periodic", "periodic boundaries"},
       {s->insert != NULL, "particles", "insertion during the run"},
-      {c->autod.on, "damping.adaptive", "adaptive global damping"},
       {c->out_contacts, "output.contacts", "the contact network output"},
       {c->out_walls || c->n_stress > 0, "output.walls", "walls.csv and stress.csv"},
   };
@@ -85,6 +84,9 @@ void esf_par_ledger_step(esf_sim *s, const double *blocks, size_t nb) {
   esf_ledger_step(&s->led, blocks, nb);
 }
 void esf_par_servo(esf_sim *s) { esf_servo_update(s); }
+void esf_par_adapt_damping(esf_sim *s, const double *blocks, size_t nb) {
+  esf_sim_adapt_damping(s, blocks, nb);
+}
 size_t esf_par_touching(const esf_sim *s, size_t local) { return (void)s, local; }
 int esf_par_agree_flag(esf_sim *s, int rc, int *flag, esf_error *err) {
   return (void)s, (void)flag, (void)err, rc;
@@ -358,6 +360,21 @@ static int porosity(esf_sim *s, const double *x, esf_error *err) {
   P->seconds += esf_par_now() - t0;
   esf_porosity_finish(g);
   return ESF_OK;
+}
+
+void esf_par_adapt_damping(esf_sim *s, const double *blocks, size_t nb) {
+  esf_par *P = s->par;
+  if (!P) {
+    esf_sim_adapt_damping(s, blocks, nb);
+    return;
+  }
+  esf_xsum acc[2];
+  double ke[2];
+  esf_xsum_zero(&acc[0]);
+  esf_xsum_zero(&acc[1]);
+  esf_sim_damping_sums(blocks, nb, acc);
+  exact_sums(P, acc, ke, 2);
+  esf_sim_damping_apply(s, ke[0], ke[1]);
 }
 
 void esf_par_servo(esf_sim *s) {

@@ -66,6 +66,10 @@ long long esf_par_sum(const esf_sim *s, long long v);
  * all processes' blocks in the global order). */
 void esf_par_ledger_step(esf_sim *s, const double *blocks, size_t nb);
 
+/* Adaptive global damping from the kinetic energies in nb blocks of this process's
+ * (esf_sim_adapt_damping over every process's blocks). */
+void esf_par_adapt_damping(esf_sim *s, const double *blocks, size_t nb);
+
 /* The servo walls' velocities from their contacts' sums (loads/servo.h), the blocks
  * summed over every process in the global order. */
 void esf_par_servo(esf_sim *s);
