@@ -19,6 +19,7 @@
  *    ghosts after; the old lists renumbered by id (a contact's history is kept only
  *    where its process owned one of its particles: ghosts' own contacts are not
  *    computed in full), the migrants' contacts added; a build follows. */
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -79,22 +80,22 @@ static int exchange(esf_par *P, const void *out, const int *cnt_out, size_t size
   int *ci = co + K, *dout = co + 2 * K, *din = co + 3 * K;
   MPI_Alltoall(cnt_out, 1, MPI_INT, ci, 1, MPI_INT, P->comm);
   size_t no = 0, ni = 0;
-  for (int q = 0; q < K; q++) {
-    dout[q] = (int)(no * size);
+  for (int q = 0; q < K; q++) { /* counts and offsets in records (a record type) */
+    dout[q] = (int)no;
     no += (size_t)cnt_out[q];
-    din[q] = (int)(ni * size);
+    din[q] = (int)ni;
     ni += (size_t)ci[q];
   }
-  for (int q = 0; q < K; q++) { /* in bytes */
-    co[q] = cnt_out[q] * (int)size;
-    ci[q] *= (int)size;
-  }
   *in = malloc(ni ? ni * size : 1);
-  if (!*in) {
+  if (!*in || no > INT_MAX || ni > INT_MAX) {
     free(co);
     return esf_fail(err, ESF_ENOMEM, "out of memory for %zu migrating records", ni);
   }
-  MPI_Alltoallv(out, co, dout, MPI_BYTE, *in, ci, din, MPI_BYTE, P->comm);
+  MPI_Datatype rec;
+  MPI_Type_contiguous((int)size, MPI_BYTE, &rec);
+  MPI_Type_commit(&rec);
+  MPI_Alltoallv(out, cnt_out, dout, rec, *in, ci, din, rec, P->comm);
+  MPI_Type_free(&rec);
   P->bytes += (double)(no * size);
   *nin = ni;
   free(co);

@@ -8,6 +8,7 @@
  * esf_par_view gathers the same way, with the candidate lists' entries of each
  * process's own particles (their A), for the checkpoint writer (ckpt/checkpoint.c).
  * Entry: p.f current (esf_sim_forces_sync). */
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -23,6 +24,40 @@ typedef struct out_rec {
   double x[3], v[3], w[3], f[3], radius;
 } out_rec;
 
+/* Gathers n records of `size` bytes from every process on rank 0, rank after rank:
+ * *all (malloc'd on rank 0, NULL elsewhere) and their count *total. A process that
+ * failed before (rc) takes part with none; rank 0's failure to allocate is returned
+ * there. */
+static int gather_recs(esf_par *P, const void *mine, size_t n, size_t size, int rc,
+                       void **all, size_t *total, esf_error *err) {
+  *all = NULL;
+  *total = 0;
+  int mn = rc || n > INT_MAX ? 0 : (int)n, *cnt = NULL, *dsp = NULL;
+  if (P->rank == 0) {
+    cnt = malloc(2 * (size_t)P->size * sizeof *cnt);
+    if (!cnt) return esf_fail(err, ESF_ENOMEM, "out of memory");
+    dsp = cnt + P->size;
+  }
+  MPI_Gather(&mn, 1, MPI_INT, cnt, 1, MPI_INT, 0, P->comm);
+  if (P->rank == 0) {
+    for (int q = 0; q < P->size; q++) {
+      dsp[q] = (int)*total;
+      *total += (size_t)cnt[q];
+    }
+    *all = malloc(*total ? *total * size : 1);
+  }
+  MPI_Datatype rec;
+  MPI_Type_contiguous((int)size, MPI_BYTE, &rec);
+  MPI_Type_commit(&rec);
+  MPI_Gatherv(mine, mn, rec, *all, cnt, dsp, rec, 0, P->comm);
+  MPI_Type_free(&rec);
+  free(cnt);
+  P->bytes += (double)(n * size);
+  if (P->rank == 0 && !*all && !rc)
+    rc = esf_fail(err, ESF_ENOMEM, "out of memory gathering %zu records", *total);
+  return rc;
+}
+
 int esf_par_gather(esf_sim *s, esf_particles *all, esf_error *err) {
   memset(all, 0, sizeof *all);
   esf_par *P = s->par;
@@ -31,9 +66,7 @@ int esf_par_gather(esf_sim *s, esf_particles *all, esf_error *err) {
   const esf_particles *p = &s->p;
   const size_t lo = s->own_lo, n = s->own_hi - s->own_lo;
   out_rec *mine = malloc((n ? n : 1) * sizeof *mine);
-  int *cnt = P->rank == 0 ? malloc(2 * (size_t)P->size * sizeof *cnt) : NULL;
-  int rc =
-      mine && (P->rank != 0 || cnt) ? ESF_OK : esf_fail(err, ESF_ENOMEM, "out of memory");
+  int rc = mine ? ESF_OK : esf_fail(err, ESF_ENOMEM, "out of memory");
   for (size_t j = 0; !rc && j < n; j++) {
     const size_t i = lo + j;
     out_rec *r = &mine[j];
@@ -49,23 +82,9 @@ int esf_par_gather(esf_sim *s, esf_particles *all, esf_error *err) {
       memset(r->f, 0, sizeof r->f);
     r->radius = p->radius[i];
   }
-  int mb = (int)(n * sizeof *mine);
-  MPI_Gather(&mb, 1, MPI_INT, cnt, 1, MPI_INT, 0, P->comm);
   out_rec *got = NULL;
-  size_t tot = 0;
-  if (P->rank == 0 && cnt) {
-    int *dsp = cnt + P->size;
-    for (int q = 0; q < P->size; q++) {
-      dsp[q] = (int)tot;
-      tot += (size_t)cnt[q];
-    }
-    got = malloc(tot ? tot : 1);
-    if (!got && !rc) rc = esf_fail(err, ESF_ENOMEM, "out of memory for a frame");
-  }
-  /* a process without memory still takes part, sending nothing */
-  MPI_Gatherv(mine, rc ? 0 : mb, MPI_BYTE, got, cnt, cnt ? cnt + P->size : NULL, MPI_BYTE,
-              0, P->comm);
-  const size_t m = tot / sizeof(out_rec);
+  size_t m = 0;
+  rc = gather_recs(P, mine, n, sizeof *mine, rc, (void **)&got, &m, err);
   if (!rc && P->rank == 0) rc = esf_particles_alloc(all, m, err);
   for (size_t k = 0; !rc && P->rank == 0 && k < m; k++) {
     const out_rec *r = &got[k];
@@ -78,38 +97,9 @@ int esf_par_gather(esf_sim *s, esf_particles *all, esf_error *err) {
     all->radius[k] = r->radius;
   }
   free(mine);
-  free(cnt);
   free(got);
-  P->bytes += (double)n * sizeof(out_rec);
   P->seconds += esf_par_now() - t0;
   return rc;
-}
-
-/* Gathers `bytes` bytes of every process on rank 0, rank after rank: *all (malloc'd on
- * rank 0, NULL elsewhere) and *total. */
-static int gather_bytes(esf_par *P, const void *mine, size_t bytes, void **all,
-                        size_t *total, esf_error *err) {
-  *all = NULL;
-  *total = 0;
-  int mb = (int)bytes, *cnt = NULL, *dsp = NULL;
-  if (P->rank == 0) {
-    cnt = malloc(2 * (size_t)P->size * sizeof *cnt);
-    if (!cnt) return esf_fail(err, ESF_ENOMEM, "out of memory");
-    dsp = cnt + P->size;
-  }
-  MPI_Gather(&mb, 1, MPI_INT, cnt, 1, MPI_INT, 0, P->comm);
-  if (P->rank == 0) {
-    for (int q = 0; q < P->size; q++) {
-      dsp[q] = (int)*total;
-      *total += (size_t)cnt[q];
-    }
-    *all = malloc(*total ? *total : 1);
-  }
-  MPI_Gatherv(mine, mb, MPI_BYTE, *all, cnt, dsp, MPI_BYTE, 0, P->comm);
-  free(cnt);
-  P->bytes += (double)bytes;
-  if (P->rank == 0 && !*all) return esf_fail(err, ESF_ENOMEM, "out of memory");
-  return ESF_OK;
 }
 
 typedef struct ck_rec {
@@ -231,9 +221,9 @@ int esf_par_view(esf_sim *s, esf_sim *view, esf_error *err) {
   rc = esf_par_agree(s, rc, err);
   void *ap = NULL, *app = NULL, *apw = NULL;
   size_t tp = 0, tpp = 0, tpw = 0;
-  if (!rc) rc = gather_bytes(P, mine, n * sizeof *mine, &ap, &tp, err);
-  if (!rc) rc = gather_bytes(P, pp, npp * sizeof *pp, &app, &tpp, err);
-  if (!rc) rc = gather_bytes(P, pw, npw * sizeof *pw, &apw, &tpw, err);
+  rc = gather_recs(P, mine, n, sizeof *mine, rc, &ap, &tp, err); /* (collective: */
+  rc = gather_recs(P, pp, npp, sizeof *pp, rc, &app, &tpp, err); /*  each one is */
+  rc = gather_recs(P, pw, npw, sizeof *pw, rc, &apw, &tpw, err); /*  always made) */
   const long long csum = esf_par_sum(s, (long long)s->contacts_sum);
   const long broken = esf_bonds_broken(s);
   const int allref = esf_par_any(s, !ref) == 0;
@@ -247,7 +237,7 @@ int esf_par_view(esf_sim *s, esf_sim *view, esf_error *err) {
     view->contacts_sum = (double)csum;
     view->bonds.broken = broken;
     memset(&view->p, 0, sizeof view->p);
-    const size_t m = tp / sizeof(ck_rec);
+    const size_t m = tp;
     rc = esf_particles_alloc(&view->p, m, err);
     const ck_rec *r = ap;
     for (size_t k = 0; !rc && k < m; k++) {
@@ -274,8 +264,8 @@ int esf_par_view(esf_sim *s, esf_sim *view, esf_error *err) {
         memcpy(view->nb.xref + 3 * k, r[k].xref, 3 * sizeof(double));
       view->nb.nref = m;
     }
-    if (!rc && (!view_list(&view->nb.pp, &s->nb.pp, app, tpp / sizeof(pair_rec)) ||
-                !view_list(&view->nb.pw, &s->nb.pw, apw, tpw / sizeof(pair_rec))))
+    if (!rc && (!view_list(&view->nb.pp, &s->nb.pp, app, tpp) ||
+                !view_list(&view->nb.pw, &s->nb.pw, apw, tpw)))
       rc = esf_fail(err, ESF_ENOMEM, "out of memory for the checkpoint's lists");
     if (rc) esf_par_view_release(view);
   }
