@@ -638,9 +638,9 @@ int esf_run(esf_sim *s, const esf_run_opts *o, esf_run_stats *st, esf_error *err
     esf_sim_log(s,
                 "mpi: %d processes, %ld cuts, %lld particles migrated; the busiest "
                 "process sent %.4g bytes (%.4g a step) and spent %.3f s exchanging or "
-                "waiting",
+                "waiting; at the end at most %lld particles and %lld ghosts a process",
                 esf_par_size(s), ps.rebuilds, ps.migrated, ps.bytes_max,
-                ps.bytes_max / steps, ps.seconds_max);
+                ps.bytes_max / steps, ps.seconds_max, ps.own_max, ps.ghosts_max);
   }
   if (s->bonds.on) { /* MPI: from here on, bonds.broken holds every process's */
     if (!rc) s->bonds.broken = esf_bonds_broken(s);

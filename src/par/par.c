@@ -445,6 +445,12 @@ void esf_par_stats(const esf_sim *s, esf_par_stat *st) {
   st->seconds_max = most[1];
   st->rebuilds = P->rebuilds;
   st->migrated = esf_par_sum(s, P->migrated);
+  long long mine2[2] = {(long long)(s->own_hi - s->own_lo),
+                        (long long)(s->p.n - (s->own_hi - s->own_lo))},
+            max2[2];
+  MPI_Allreduce(mine2, max2, 2, MPI_LONG_LONG, MPI_MAX, P->comm);
+  st->own_max = max2[0];
+  st->ghosts_max = max2[1];
 }
 
 #endif

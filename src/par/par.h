@@ -112,6 +112,7 @@ typedef struct esf_par_stat {
   double seconds_max;      /* the most seconds any process spent exchanging or waiting */
   long rebuilds;           /* rebuilds (cuts) */
   long long migrated;      /* particles that changed process, over all processes */
+  long long own_max, ghosts_max; /* now: the most particles and ghosts a process holds */
 } esf_par_stat;
 void esf_par_stats(const esf_sim *s, esf_par_stat *st);
 
