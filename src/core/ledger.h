@@ -81,53 +81,73 @@ typedef struct esf_force_tally {
 /* The leapfrog's ledger, summed the same way on the general path and the fused step,
  * on any thread count (docs/physics.md#energy-ledger).
  *
- * Per step, every contact adds to per-particle rows (ESF_LR doubles a particle, six
- * rows of four, in the order the particle receives its forces): the forces and torques
- * of its normal dashpot, normal spring, tangential dashpot and tangential spring, and in
- * the fourth lane of its first particle's rows (A: the pair's lower index, or the
- * particle of a wall contact) its scalars: slip work, the springs' energies, the wall's
- * work rate, a ruptured bond's energy. A contact's dissipation over the step is then the
- * power of its dashpots at the mid-step velocities, and its spring's energy in the
- * leapfrog's measure W(u_n) + (1/2) f . (u_{n+1} - u_n) uses the new velocities: both
- * sums over particles of rows . velocities (esf_ledger_particle); a wall contact adds
- * its wall's side (the prescribed wall velocity) as scalars. Particles are summed
- * in blocks of ESF_LEDGER_BLOCK (channels ESF_LB_*), and the blocks in order
- * (esf_ledger_step): the fused step's ranges hold whole blocks, so no sum depends on
- * how the particles are cut. */
+ * Per step, every contact adds to per-particle rows (ESF_LR doubles a particle, rows of
+ * four, in the order the particle receives its forces): the forces and torques of its
+ * normal dashpot, tangential dashpot, normal spring and tangential spring, and in the
+ * fourth lane of its first particle's rows (A: the pair's lower index, or the particle
+ * of a wall contact) its scalars: slip work, a ruptured bond's energy, the Hertz
+ * springs' stiffness change, the wall's work rate, the springs' energies. A contact's
+ * dissipation over the step is then the power of its dashpots at the mid-step
+ * velocities, and its spring's energy in the leapfrog's measure
+ * W(u_n) + (1/2) f . (u_{n+1} - u_n) uses the new velocities: both sums over particles
+ * of rows . velocities (esf_ledger_particle); a wall contact adds its wall's side (the
+ * prescribed wall velocity) as scalars. Particles are summed in blocks of
+ * ESF_LEDGER_BLOCK (channels ESF_LB_*), and the blocks in order (esf_ledger_step): the
+ * fused step's ranges hold whole blocks, so no sum depends on how the particles are
+ * cut.
+ *
+ * The first ESF_LR_DISS doubles (and the rolling resistance's ESF_LR_RD) hold what the
+ * cumulative terms need (dissipation, slip, bonds, wall work, stiffness changes); the
+ * rest only the stored energies (springs). A step whose stored energies nobody reads
+ * may leave the latter out (esf_ledger_kick.light: the fused step's steps inside a
+ * burst, docs/performance.md#the-energy-ledger-on-the-fused-step): the cumulative
+ * terms are the same bits either way. */
 #define ESF_LR           40 /* ledger rows per particle with rolling resistance */
 #define ESF_LR_PLAIN     32 /* without: the rolling rows (ESF_LR_RD, _RE) are absent */
+#define ESF_LR_DISS      16 /* the rows of the cumulative terms: DN, DT, MDT, W */
 #define ESF_LEDGER_BLOCK 64 /* particles per block of the ledger's sums */
 enum {                      /* row offsets (xyz, then the scalar lane) */
        ESF_LR_DN = 0,       /* normal dashpot force | slip work (J) */
-       ESF_LR_EN = 4,       /* normal spring force | its energy W (J) */
-       ESF_LR_DT = 8,   /* tangential dashpot force | the tangential spring's energy */
-       ESF_LR_MDT = 12, /* tangential dashpot torque | wall work rate F.v_wall (W) */
-       ESF_LR_ET = 16,  /* tangential spring force | energy of ruptured bonds (J) */
-       ESF_LR_MET = 20, /* tangential spring torque | the energy a Hertz tangential
-                           spring gained from its stiffness's change (J) */
-       ESF_LR_W = 24,   /* a moving wall's side of the dashpots' power: normal -fd vw.n,
-                           tangential fdt.vw (W) | rolling md.omega (W) | 0 */
+       ESF_LR_DT = 4,       /* tangential dashpot force | energy of ruptured bonds (J) */
+       ESF_LR_MDT = 8,      /* tangential dashpot torque | the energy a Hertz tangential
+                               spring gained from its stiffness's change (J) */
+       ESF_LR_W = 12,  /* a moving wall's side of the dashpots' power: normal -fd vw.n,
+                          tangential fdt.vw (W) | rolling md.omega (W) | wall work rate
+                          F.v_wall (W) */
+       ESF_LR_EN = 16, /* normal spring force | its energy W (J) */
+       ESF_LR_ET = 20, /* tangential spring force | the tangential spring's energy */
+       ESF_LR_MET = 24, /* tangential spring torque | -0 */
        ESF_LR_RD = 32,  /* rolling resistance's dissipative torque | its plastic work */
        ESF_LR_RE = 36   /* rolling resistance's spring torque | the springs' energy */
 };
+#define ESF_LR_BOND  (ESF_LR_DT + 3)  /* lane: ruptured bonds' energy (J) */
+#define ESF_LR_STIFF (ESF_LR_MDT + 3) /* lane: Hertz stiffness change (J) */
+#define ESF_LR_WWORK (ESF_LR_W + 3)   /* lane: the walls' work rate (W) */
 /* A particle's rows: esf_ledger_lr(roll) doubles, roll 1 when the scene has rolling
  * resistance (the rows of a scene without it hold no rolling rows: it neither stores
  * nor streams them). */
 static inline size_t esf_ledger_lr(int roll) { return roll ? ESF_LR : ESF_LR_PLAIN; }
 /* A pair contact's rows of one particle, as the fused step's batches and slots write a
- * side: the first ESF_LR_PAIR doubles (through ESF_LR_MET), then with rolling
+ * side: ESF_LR_PAIR doubles, the rows DN, DT, MDT (ESF_LR_PAIR_DISS doubles, at the same
+ * offsets as a particle's) then EN, ET, MET (to ESF_LR_EN ...), then with rolling
  * resistance its two rows (ESF_LR_PAIR_ROLL in all), which go to ESF_LR_RD and
  * ESF_LR_RE of the particle's rows (esf_ledger_side_add). */
 #define ESF_LR_PAIR      24
+#define ESF_LR_PAIR_DISS 12
 #define ESF_LR_PAIR_ROLL 32
 
 /* Adds a pair side's rows s (ESF_LR_PAIR doubles, then with roll the two rolling rows)
- * to a particle's rows r; four at a time, in order. */
-static inline void esf_ledger_side_add(double *r, const double *s, int roll) {
-  for (int j = 0; j < ESF_LR_PAIR; j += 4) v4_acc(r + j, s + j);
-  if (roll)
-    for (int j = 0; j < ESF_LR_PAIR_ROLL - ESF_LR_PAIR; j += 4)
-      v4_acc(r + ESF_LR_RD + j, s + ESF_LR_PAIR + j);
+ * to a particle's rows r; four at a time, in order. light: only the rows of the
+ * cumulative terms (DN, DT, MDT, RD). */
+static inline void esf_ledger_side_add(double *r, const double *s, int roll, int light) {
+  for (int j = 0; j < ESF_LR_PAIR_DISS; j += 4) v4_acc(r + j, s + j);
+  if (!light)
+    for (int j = ESF_LR_PAIR_DISS; j < ESF_LR_PAIR; j += 4)
+      v4_acc(r + ESF_LR_EN - ESF_LR_PAIR_DISS + j, s + j);
+  if (roll) {
+    v4_acc(r + ESF_LR_RD, s + ESF_LR_PAIR);
+    if (!light) v4_acc(r + ESF_LR_RE, s + ESF_LR_PAIR + 4);
+  }
 }
 enum {            /* channels of a block's sums */
        ESF_LB_KT, /* kinetic, translational, at v_{n+1/2}, J */
@@ -191,7 +211,7 @@ static inline void esf_ledger_pair_rows(double *ra, double *rb, const double n[3
   }
   ra[ESF_LR_DN + 3] += slip;
   ra[ESF_LR_EN + 3] += e_n;
-  ra[ESF_LR_DT + 3] += e_t;
+  ra[ESF_LR_ET + 3] += e_t;
 }
 
 /* Adds one touching wall contact of a particle to its rows r: as a pair's A side
@@ -219,8 +239,8 @@ static inline void esf_ledger_wall_rows(double *r, const double n[3], double la,
   const double kv = ket[0] * vw[0] + ket[1] * vw[1] + ket[2] * vw[2];
   r[ESF_LR_DN + 3] += slip;
   r[ESF_LR_EN + 3] += e_n - 0.5 * dt * fel * vwn;
-  r[ESF_LR_DT + 3] += e_t + 0.5 * dt * kv;
-  r[ESF_LR_MDT + 3] += f[0] * vw[0] + f[1] * vw[1] + f[2] * vw[2];
+  r[ESF_LR_ET + 3] += e_t + 0.5 * dt * kv;
+  r[ESF_LR_WWORK] += f[0] * vw[0] + f[1] * vw[1] + f[2] * vw[2];
   r[ESF_LR_W] += -fd * vwn;
   r[ESF_LR_W + 1] += fdt[0] * vw[0] + fdt[1] * vw[1] + fdt[2] * vw[2];
 }
@@ -252,49 +272,56 @@ static inline void esf_ledger_roll_rows(double *ra, double *rb, const double md[
     }
     ra[ESF_LR_W + 2] += pd;
     ra[ESF_LR_RE + 3] += 0.5 * dt * ps;
-    ra[ESF_LR_MDT + 3] += pd + ps;
+    ra[ESF_LR_WWORK] += pd + ps;
   }
 }
 
 /* The rows of a step's particle i: rows r (ESF_LR), velocities and spins before (vo,
  * wo: v_{n-1/2}) and after the kick (vn, wn), step dt. Adds to its block's channels
- * blk the dashpots' dissipation -(F . vbar + M . wbar) dt, the springs' energies less
- * (1/2) (F . v_{n+1/2} + M . w_{n+1/2}) dt, and the scalars (slip, wall work, bonds);
- * with roll, the rolling resistance's rows likewise. */
+ * blk the dashpots' dissipation -(F . vbar + M . wbar) dt and the scalars (slip, wall
+ * work, bonds, stiffness changes), and unless light the springs' energies less
+ * (1/2) (F . v_{n+1/2} + M . w_{n+1/2}) dt; with roll, the rolling resistance's rows
+ * likewise. Each channel's operations are the same whether light or not. */
 static inline void esf_ledger_particle(const double *r, const double vo[3],
                                        const double vn[3], const double wo[3],
-                                       const double wn[3], double dt, int roll,
+                                       const double wn[3], double dt, int roll, int light,
                                        double *blk) {
   double vb[3], wb[3];
   for (int q = 0; q < 3; q++) {
     vb[q] = 0.5 * (vo[q] + vn[q]);
     wb[q] = 0.5 * (wo[q] + wn[q]);
   }
-  const double *dn = r + ESF_LR_DN, *en = r + ESF_LR_EN, *dtg = r + ESF_LR_DT,
-               *mdt = r + ESF_LR_MDT, *et = r + ESF_LR_ET, *met = r + ESF_LR_MET;
-  double pdn = 0, pdt = 0, pen = 0, pet = 0;
+  const double *dn = r + ESF_LR_DN, *dtg = r + ESF_LR_DT, *mdt = r + ESF_LR_MDT,
+               *wl = r + ESF_LR_W;
+  double pdn = 0, pdt = 0;
   for (int q = 0; q < 3; q++) {
     pdn += dn[q] * vb[q];
     pdt += dtg[q] * vb[q] + mdt[q] * wb[q];
-    pen += en[q] * vn[q];
-    pet += et[q] * vn[q] + met[q] * wn[q];
   }
-  blk[ESF_LB_DN] -= (pdn - r[ESF_LR_W]) * dt;
-  blk[ESF_LB_DT] -= (pdt - r[ESF_LR_W + 1]) * dt;
-  blk[ESF_LB_EN] += en[3] - 0.5 * pen * dt;
-  blk[ESF_LB_ET] += dtg[3] - 0.5 * pet * dt;
+  blk[ESF_LB_DN] -= (pdn - wl[0]) * dt;
+  blk[ESF_LB_DT] -= (pdt - wl[1]) * dt;
   blk[ESF_LB_SL] += dn[3];
-  blk[ESF_LB_WW] += mdt[3] * dt;
-  blk[ESF_LB_BD] += et[3];
-  blk[ESF_LB_SW] += met[3];
+  blk[ESF_LB_WW] += wl[3] * dt;
+  blk[ESF_LB_BD] += dtg[3];
+  blk[ESF_LB_SW] += mdt[3];
+  if (!light) {
+    const double *en = r + ESF_LR_EN, *et = r + ESF_LR_ET, *met = r + ESF_LR_MET;
+    double pen = 0, pet = 0;
+    for (int q = 0; q < 3; q++) {
+      pen += en[q] * vn[q];
+      pet += et[q] * vn[q] + met[q] * wn[q];
+    }
+    blk[ESF_LB_EN] += en[3] - 0.5 * pen * dt;
+    blk[ESF_LB_ET] += et[3] - 0.5 * pet * dt;
+  }
   if (!roll) return; /* no rolling resistance: its rows are zero */
   const double *rd = r + ESF_LR_RD, *re = r + ESF_LR_RE; /* rolling (zero without) */
-  double pdr = 0, per = 0;
-  for (int q = 0; q < 3; q++) {
-    pdr += rd[q] * wb[q];
-    per += re[q] * wn[q];
-  }
-  blk[ESF_LB_DR] += rd[3] - (pdr - r[ESF_LR_W + 2]) * dt;
+  double pdr = 0;
+  for (int q = 0; q < 3; q++) pdr += rd[q] * wb[q];
+  blk[ESF_LB_DR] += rd[3] - (pdr - wl[2]) * dt;
+  if (light) return;
+  double per = 0;
+  for (int q = 0; q < 3; q++) per += re[q] * wn[q];
   blk[ESF_LB_ER] += re[3] - 0.5 * per * dt;
 }
 
@@ -302,11 +329,14 @@ static inline void esf_ledger_particle(const double *r, const double vo[3],
  * and v_{n-1/2} (v0, w0), gravity at x_n +- (dt/2) v (x: x_n), global damping
  * alpha_r m |vbar|^2 + alpha_t I |wbar|^2 and local damping -(fl . vbar + ml . wbar)
  * over dt (fl, ml: the local damping force and moment, or NULL), the fluid force's work
- * ff . vbar dt (ff or NULL), and its ledger rows (r or NULL: esf_ledger_particle). */
+ * ff . vbar dt (ff or NULL), and its ledger rows (r or NULL: esf_ledger_particle).
+ * k->light: the cumulative channels only (no kinetic, gravitational or elastic
+ * energies: a step whose stored energies nobody reads; the rows' stored part unread). */
 typedef struct esf_ledger_kick {
   double dt, alpha_r, alpha_t; /* s, 1/s */
   const double *g;             /* gravity, m/s^2 */
   int roll;                    /* the rows carry rolling resistance (ESF_LR_RD, _RE) */
+  int light;                   /* 1: the cumulative channels only */
 } esf_ledger_kick;
 static inline void esf_ledger_kick_particle(const esf_ledger_kick *k, double m, double I,
                                             const double x[3], const double v0[3],
@@ -314,32 +344,37 @@ static inline void esf_ledger_kick_particle(const esf_ledger_kick *k, double m, 
                                             const double w[3], const double *fl,
                                             const double *ml, const double *ff,
                                             const double *r, double *blk) {
-  const double h = 0.5 * k->dt;
-  double vb[3], wb[3], g0 = 0, g1 = 0, vo2 = 0, wo2 = 0, v2 = 0, w2 = 0, vb2 = 0, wb2 = 0;
+  double vb[3], wb[3], vb2 = 0, wb2 = 0;
   for (int q = 0; q < 3; q++) {
     vb[q] = 0.5 * (v0[q] + v[q]);
     wb[q] = 0.5 * (w0[q] + w[q]);
-    g0 += k->g[q] * (x[q] - h * v0[q]);
-    g1 += k->g[q] * (x[q] + h * v[q]);
-    vo2 += v0[q] * v0[q];
-    wo2 += w0[q] * w0[q];
-    v2 += v[q] * v[q];
-    w2 += w[q] * w[q];
     vb2 += vb[q] * vb[q];
     wb2 += wb[q] * wb[q];
   }
-  blk[ESF_LB_KO] += 0.5 * m * vo2 + 0.5 * I * wo2;
-  blk[ESF_LB_KT] += 0.5 * m * v2;
-  blk[ESF_LB_KR] += 0.5 * I * w2;
-  blk[ESF_LB_PO] -= m * g0;
-  blk[ESF_LB_PE] -= m * g1;
+  if (!k->light) {
+    const double h = 0.5 * k->dt;
+    double g0 = 0, g1 = 0, vo2 = 0, wo2 = 0, v2 = 0, w2 = 0;
+    for (int q = 0; q < 3; q++) {
+      g0 += k->g[q] * (x[q] - h * v0[q]);
+      g1 += k->g[q] * (x[q] + h * v[q]);
+      vo2 += v0[q] * v0[q];
+      wo2 += w0[q] * w0[q];
+      v2 += v[q] * v[q];
+      w2 += w[q] * w[q];
+    }
+    blk[ESF_LB_KO] += 0.5 * m * vo2 + 0.5 * I * wo2;
+    blk[ESF_LB_KT] += 0.5 * m * v2;
+    blk[ESF_LB_KR] += 0.5 * I * w2;
+    blk[ESF_LB_PO] -= m * g0;
+    blk[ESF_LB_PE] -= m * g1;
+  }
   blk[ESF_LB_DG] += (k->alpha_r * m * vb2 + k->alpha_t * I * wb2) * k->dt;
   if (fl)
     blk[ESF_LB_DL] -= (fl[0] * vb[0] + fl[1] * vb[1] + fl[2] * vb[2] + ml[0] * wb[0] +
                        ml[1] * wb[1] + ml[2] * wb[2]) *
                       k->dt;
   if (ff) blk[ESF_LB_WF] += (ff[0] * vb[0] + ff[1] * vb[1] + ff[2] * vb[2]) * k->dt;
-  if (r) esf_ledger_particle(r, v0, v, w0, w, k->dt, k->roll, blk);
+  if (r) esf_ledger_particle(r, v0, v, w0, w, k->dt, k->roll, k->light, blk);
 }
 
 /* Sums the nb blocks' channels (ESF_LB_N each) in order and books the step: stored

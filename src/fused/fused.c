@@ -190,8 +190,13 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
       if (atomic_load_explicit(&f->go, memory_order_relaxed) & 1) break;
       for (size_t u = t + 1; u < T; u++) waited += esf_fused_wait(&f->rr[u].done, e - 1);
     }
+    /* the ledger's stored energies: on the burst's last step (what is read after it)
+       and the first one it books */
+    const int light = B->bc_light && i + 1 < B->steps && (i > 0 || B->led->started);
+    const esf_pair_batch_ctx *bc = light ? B->bc_light : B->bc;
+    const esf_fused_kick *K = light ? B->K_light : B->K;
     esf_fused_out o = ESF_FUSED_OUT_NONE;
-    o.bad_pair = f->k->boundary(s, f, B->bc, f->bout[t], f->bout[t + 1], &nt_pp);
+    o.bad_pair = f->k->boundary(s, f, bc, f->bout[t], f->bout[t + 1], &nt_pp);
     if (o.bad_pair != SIZE_MAX) atomic_store_explicit(&f->bfail, e, memory_order_relaxed);
     atomic_store_explicit(&me->ready, e, memory_order_release);
     if (j < L.ni)
@@ -200,7 +205,7 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
       waited += esf_fused_wait(&f->rr[u].ready, e);
     const size_t cnt = esf_fused_merge_new(L.sq, L.tl, L.nt, top, nn);
     size_t ne, kept;
-    const size_t bad = f->k->pairs(s, f, B->bc, t, lo, hi, L.sq, cnt, L.tl, &ne, &kept);
+    const size_t bad = f->k->pairs(s, f, bc, t, lo, hi, L.sq, cnt, L.tl, &ne, &kept);
     L.ni =
         esf_fused_idle_update(L.il, L.ni, top, nn, L.tl, ne); /* ended: in tl, free now */
     uint32_t *const tl = L.tl;
@@ -211,7 +216,7 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
     if (bad < o.bad_pair) o.bad_pair = bad;
     if (o.bad_pair == SIZE_MAX &&
         atomic_load_explicit(&f->bfail, memory_order_relaxed) != e)
-      f->k->kick_range(s, f, B->K, lo, hi, &o, &nt_pw);
+      f->k->kick_range(s, f, K, lo, hi, &o, &nt_pw);
     o.nt = nt_pp + nt_pw;
     me->out = o;
 #ifdef _OPENMP
@@ -340,8 +345,14 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   const int many = s->nb.xref && s->nb.nref == p->n && !s->walls.moving &&
                    !esf_events_pending(s->events) && !autod &&
                    !s->drag; /* alpha, the porosity: updated after every step */
+  esf_pair_batch_ctx bcl = bc; /* the light steps' (esf_fused_burst) */
+  esf_fused_kick Kl = K;
+  bcl.light = 1;
+  Kl.lk.light = 1;
   const esf_fused_burst B = {.bc = &bc,
                              .K = &K,
+                             .bc_light = ledger && !autod ? &bcl : NULL,
+                             .K_light = &Kl,
                              .e0 = f->epoch + 1,
                              .steps = many && nmax > 1 && !ev ? nmax : 1,
                              .lim2 = esf_neighbor_limit2(&s->nb),

@@ -182,6 +182,11 @@ typedef struct esf_fused_kick {
 typedef struct esf_fused_burst {
   const esf_pair_batch_ctx *bc;
   const esf_fused_kick *K;
+  /* with the ledger, the same for the steps whose stored energies nobody reads (all
+     but the last, and the first when the ledger has not started: core/ledger.h's
+     light rows and kick), or NULL */
+  const esf_pair_batch_ctx *bc_light;
+  const esf_fused_kick *K_light;
   long e0;         /* the epoch of the call's first step */
   long steps;      /* steps at most */
   double lim2;     /* the lists need a rebuild past this squared displacement, m^2 */

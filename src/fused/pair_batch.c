@@ -211,39 +211,60 @@ static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
 static inline vd dot(const vd a[3], const vd b[3]) { return esf_law_dot_v(a, b); }
 
 /* The ledger's rows of the batch's lanes (esf_ledger_pair_rows's operations, per lane):
- * A's [-fd n | slip], [-fel n | W], [fdt | e_t], [lA n x fdt | -0], [ket | -0],
- * [lA n x ket | -0] with ket = kt xi, and B's the opposite forces and its own torques
- * (lB), each with -0 in its fourth lane (the one value whose addition leaves every
- * double as it was); a lane not in keep (the contact ended) adds -0 everywhere but,
- * when its bond broke, the bond's energy e_brk in A's fourth lane of [ket]. Added to
- * the rows of the lanes not in skip, in lane order, or written to lout. */
+ * A's [-fd n | slip], [fdt | -0], [lA n x fdt | w_st], [-fel n | W], [ket | e_t],
+ * [lA n x ket | -0] with ket = kt xi (core/ledger.h's order of a side), and B's the
+ * opposite forces and its own torques (lB), each with -0 in its fourth lane (the one
+ * value whose addition leaves every double as it was); a lane not in keep (the contact
+ * ended) adds -0 everywhere but, when its bond broke, the bond's energy e_brk in A's
+ * fourth lane of [fdt]. With c->light only the rows of the cumulative terms (the first
+ * three, and rolling's first). Added to the rows of the lanes not in skip, in lane
+ * order, or written to lout. */
 static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_n,
                         const vd n[3], vd la, vd lb, const esf_law_tout_v *T,
                         const esf_law_rout_v *R, vm keep, vm broke, vd e_brk,
                         const size_t *ia, const size_t *ib, int nl, unsigned skip,
                         double lout[ESF_BATCH][ESF_BATCH_LOUT]) {
   const vd mz = {-0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0};
-  vd ket[3], md[3], me[3];
-  for (int q = 0; q < 3; q++) ket[q] = kt * T->xi[q];
+  const int light = c->light;
+  vd md[3];
   esf_law_cross_v(md, n, T->fdt);
-  esf_law_cross_v(me, n, ket);
-  /* columns: A's six rows, B's six, then with rolling resistance (esf_ledger_roll_rows)
-     A's [md | slip], [ms | e], B's [-md | -0], [-ms | -0] */
-  const int nc = R ? 16 : 12;
+  /* a side's rows j: A's column j, B's 6 + j; with rolling resistance
+     (esf_ledger_roll_rows) A's [md | slip], [ms | e], B's [-md | -0], [-ms | -0] in
+     the columns 12-15; their places in a particle's rows */
+  const int ca[8] = {0, 1, 2, 3, 4, 5, 12, 13}, cb[8] = {6, 7, 8, 9, 10, 11, 14, 15};
+  const int pos[8] = {ESF_LR_DN, ESF_LR_DT, ESF_LR_MDT, ESF_LR_EN,
+                      ESF_LR_ET, ESF_LR_MET, ESF_LR_RD,  ESF_LR_RE};
+  int js[8], nj = 0; /* the side's rows written */
+  for (int j = 0; j < (light ? 3 : 6); j++) js[nj++] = j;
+  if (R) js[nj++] = 6;
+  if (R && !light) js[nj++] = 7;
   vd col[16][4];
   for (int q = 0; q < 3; q++) {
     col[0][q] = -fd * n[q];
-    col[1][q] = -fel * n[q];
-    col[2][q] = T->fdt[q];
-    col[3][q] = la * md[q];
-    col[4][q] = ket[q];
-    col[5][q] = la * me[q];
+    col[1][q] = T->fdt[q];
+    col[2][q] = la * md[q];
     col[6][q] = -col[0][q];
     col[7][q] = -col[1][q];
-    col[8][q] = -col[2][q];
-    col[9][q] = lb * md[q];
-    col[10][q] = -col[4][q];
-    col[11][q] = lb * me[q];
+    col[8][q] = lb * md[q];
+  }
+  col[0][3] = T->slip;
+  col[1][3] = mz;
+  col[2][3] = c->hertz ? (R ? T->w_st + R->w_k : T->w_st) : mz; /* as forces.c's */
+  if (!light) {
+    vd ket[3], me[3];
+    for (int q = 0; q < 3; q++) ket[q] = kt * T->xi[q];
+    esf_law_cross_v(me, n, ket);
+    for (int q = 0; q < 3; q++) {
+      col[3][q] = -fel * n[q];
+      col[4][q] = ket[q];
+      col[5][q] = la * me[q];
+      col[9][q] = -col[3][q];
+      col[10][q] = -col[4][q];
+      col[11][q] = lb * me[q];
+    }
+    col[3][3] = e_n;
+    col[4][3] = T->e_el;
+    col[5][3] = mz;
   }
   if (R)
     for (int q = 0; q < 3; q++) {
@@ -252,46 +273,39 @@ static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_
       col[14][q] = -R->md[q];
       col[15][q] = -R->ms[q];
     }
-  col[0][3] = T->slip;
-  col[1][3] = e_n;
-  col[2][3] = T->e_el;
-  for (int j = 3; j < nc; j++) col[j][3] = mz;
-  if (c->hertz) /* the stiffness changes' energy (ESF_LR_MET), rolling's (forces.c) */
-    col[5][3] = R ? T->w_st + R->w_k : T->w_st;
   if (R) {
     col[12][3] = R->slip;
     col[13][3] = R->e_el;
   }
-  for (int j = 0; j < nc; j++) /* a contact that ended adds nothing... */
-    for (int q = 0; q < 4; q++) col[j][q] = sel(keep, col[j][q], mz);
-  col[4][3] = sel(broke, e_brk, mz); /* ...but the energy its bond held */
+  for (int u = 0; u < nj; u++) {
+    const int j = js[u];
+    col[cb[j]][3] = mz;
+    for (int q = 0; q < 4; q++) { /* a contact that ended adds nothing... */
+      col[ca[j]][q] = sel(keep, col[ca[j]][q], mz);
+      col[cb[j]][q] = sel(keep, col[cb[j]][q], mz);
+    }
+  }
+  col[1][3] = sel(broke, e_brk, mz); /* ...but the energy its bond held */
   v4 r[16][ESF_BATCH];
-  for (int j = 0; j < nc; j++) rows_of(col[j], r[j]);
-  /* the columns' offsets in a particle's rows; in lout, a side's rows are contiguous
-     (A's, B's from ESF_BATCH_LSIDE: the rolling rows follow ESF_LR_PAIR) */
-  const int ra_off[8] = {0, 4, 8, 12, 16, 20, ESF_LR_RD, ESF_LR_RE};
-  const int na = nc / 2; /* rows a side */
+  for (int u = 0; u < nj; u++) {
+    rows_of(col[ca[js[u]]], r[ca[js[u]]]);
+    rows_of(col[cb[js[u]]], r[cb[js[u]]]);
+  }
   for (int l = 0; l < nl; l++) {
     if (skip >> l & 1u) continue;
-    if (lout) {
-      for (int j = 0; j < 6; j++) {
-        v4_st(lout[l] + 4 * j, r[j][l]);
-        v4_st(lout[l] + ESF_BATCH_LSIDE + 4 * j, r[6 + j][l]);
-      }
-      for (int j = 6; j < na; j++) {
-        v4_st(lout[l] + 4 * j, r[6 + j][l]);
-        v4_st(lout[l] + ESF_BATCH_LSIDE + 4 * j, r[8 + j][l]);
+    if (lout) { /* a side's rows contiguous (A's, B's from ESF_BATCH_LSIDE) */
+      for (int u = 0; u < nj; u++) {
+        const int j = js[u];
+        v4_st(lout[l] + 4 * j, r[ca[j]][l]);
+        v4_st(lout[l] + ESF_BATCH_LSIDE + 4 * j, r[cb[j]][l]);
       }
       continue;
     }
     double *ra = c->rows + c->lr * ia[l], *rb = c->rows + c->lr * ib[l];
-    for (int j = 0; j < 6; j++) {
-      v4_st(ra + 4 * j, v4_ld(ra + 4 * j) + r[j][l]);
-      v4_st(rb + 4 * j, v4_ld(rb + 4 * j) + r[6 + j][l]);
-    }
-    for (int j = 6; j < na; j++) {
-      v4_st(ra + ra_off[j], v4_ld(ra + ra_off[j]) + r[6 + j][l]);
-      v4_st(rb + ra_off[j], v4_ld(rb + ra_off[j]) + r[8 + j][l]);
+    for (int u = 0; u < nj; u++) {
+      const int j = js[u];
+      v4_st(ra + pos[j], v4_ld(ra + pos[j]) + r[ca[j]][l]);
+      v4_st(rb + pos[j], v4_ld(rb + pos[j]) + r[cb[j]][l]);
     }
   }
 }

@@ -55,6 +55,8 @@ typedef struct esf_pair_batch_ctx {
                                  line-aligned), or NULL: no ledger */
   esf_contact_bond *bond;     /* per pair: the bond state, or NULL: no bonds */
   size_t lr;                  /* with rows: a particle's rows, esf_ledger_lr */
+  int light;                  /* with rows: only the rows of the ledger's cumulative
+                                 terms (core/ledger.h: DN, DT, MDT, RD) */
   esf_contact_roll *roll;     /* per pair: the rolling resistance state (committed), or
                                  NULL: no rolling resistance (contact_rolling.h) */
   const double *mass;         /* n, kg (with roll) */
@@ -91,11 +93,11 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *ctx, const uint32_t *k,
 
 /* Adds one pair's ledger rows lout (esf_pair_batch_linear's, A's side then B's from
  * ESF_BATCH_LSIDE) to the rows of its particles a and b (lr doubles a particle;
- * esf_ledger_side_add, roll 1 with rolling resistance). */
+ * esf_ledger_side_add, roll 1 with rolling resistance, light: ctx->light's rows). */
 static inline void esf_pair_batch_led_add(double *rows, size_t lr, size_t a, size_t b,
-                                          const double *lout, int roll) {
-  esf_ledger_side_add(rows + lr * a, lout, roll);
-  esf_ledger_side_add(rows + lr * b, lout + ESF_BATCH_LSIDE, roll);
+                                          const double *lout, int roll, int light) {
+  esf_ledger_side_add(rows + lr * a, lout, roll, light);
+  esf_ledger_side_add(rows + lr * b, lout + ESF_BATCH_LSIDE, roll, light);
 }
 
 /* The ledger rows a pair writes per side in the batches of ctx. */

@@ -121,7 +121,7 @@ static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
     esf_contact_ket(pp, c->h[k].xi, ket);
     esf_ledger_wall_rows(rows, in.n, la, out.fd_n, out.fel, out.fd_t, ket, out.slip_work,
                          out.e_el_n, out.e_el_t, out.f, zero3, dt);
-    if (pp->ht > 0) rows[ESF_LR_MET + 3] += out.w_st;
+    if (pp->ht > 0) rows[ESF_LR_STIFF] += out.w_st;
   }
 }
 
