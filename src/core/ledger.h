@@ -104,18 +104,18 @@ typedef struct esf_force_tally {
  * terms are the same bits either way. */
 #define ESF_LR           40 /* ledger rows per particle with rolling resistance */
 #define ESF_LR_PLAIN     32 /* without: the rolling rows (ESF_LR_RD, _RE) are absent */
-#define ESF_LR_DISS      16 /* the rows of the cumulative terms: DN, DT, MDT, W */
+#define ESF_LR_DISS      16 /* the rows of the cumulative terms: DN, W, DT, MDT */
 #define ESF_LEDGER_BLOCK 64 /* particles per block of the ledger's sums */
 enum {                      /* row offsets (xyz, then the scalar lane) */
        ESF_LR_DN = 0,       /* normal dashpot force | slip work (J) */
-       ESF_LR_DT = 4,       /* tangential dashpot force | energy of ruptured bonds (J) */
-       ESF_LR_MDT = 8,      /* tangential dashpot torque | the energy a Hertz tangential
-                               spring gained from its stiffness's change (J) */
-       ESF_LR_W = 12,  /* a moving wall's side of the dashpots' power: normal -fd vw.n,
-                          tangential fdt.vw (W) | rolling md.omega (W) | wall work rate
-                          F.v_wall (W) */
-       ESF_LR_EN = 16, /* normal spring force | its energy W (J) */
-       ESF_LR_ET = 20, /* tangential spring force | the tangential spring's energy */
+       ESF_LR_W = 4,    /* a moving wall's side of the dashpots' power: normal -fd vw.n,
+                           tangential fdt.vw (W) | rolling md.omega (W) | wall work rate
+                           F.v_wall (W) */
+       ESF_LR_DT = 8,   /* tangential dashpot force | energy of ruptured bonds (J) */
+       ESF_LR_MDT = 12, /* tangential dashpot torque | the energy a Hertz tangential
+                           spring gained from its stiffness's change (J) */
+       ESF_LR_EN = 16,  /* normal spring force | its energy W (J) */
+       ESF_LR_ET = 20,  /* tangential spring force | the tangential spring's energy */
        ESF_LR_MET = 24, /* tangential spring torque | -0 */
        ESF_LR_RD = 32,  /* rolling resistance's dissipative torque | its plastic work */
        ESF_LR_RE = 36   /* rolling resistance's spring torque | the springs' energy */
@@ -128,26 +128,37 @@ enum {                      /* row offsets (xyz, then the scalar lane) */
  * nor streams them). */
 static inline size_t esf_ledger_lr(int roll) { return roll ? ESF_LR : ESF_LR_PLAIN; }
 /* A pair contact's rows of one particle, as the fused step's batches and slots write a
- * side: ESF_LR_PAIR doubles, the rows DN, DT, MDT (ESF_LR_PAIR_DISS doubles, at the same
- * offsets as a particle's) then EN, ET, MET (to ESF_LR_EN ...), then with rolling
- * resistance its two rows (ESF_LR_PAIR_ROLL in all), which go to ESF_LR_RD and
- * ESF_LR_RE of the particle's rows (esf_ledger_side_add). */
+ * side: ESF_LR_PAIR doubles, the rows DN, DT, MDT, EN, ET, MET (side row j at 4 j),
+ * then with rolling resistance RD and RE (ESF_LR_PAIR_ROLL in all); side row j goes
+ * to esf_ledger_side_pos(j) of the particle's rows (esf_ledger_side_add). */
 #define ESF_LR_PAIR      24
-#define ESF_LR_PAIR_DISS 12
 #define ESF_LR_PAIR_ROLL 32
+#define ESF_LS_BOND      7 /* a side's lane of ESF_LR_BOND */
+static inline int esf_ledger_side_pos(int j) {
+  return j == 0  ? ESF_LR_DN
+         : j < 3 ? ESF_LR_DT + 4 * (j - 1)
+         : j < 6 ? ESF_LR_EN + 4 * (j - 3)
+                 : ESF_LR_RD + 4 * (j - 6);
+}
+/* The rows a step of the fused step writes and reads (esf_ledger_side_add, the
+ * batches' esf_pair_batch_ctx, esf_ledger_kick): */
+enum {
+  ESF_LEDGER_LIGHT = 1, /* the cumulative terms' rows only: DN, W, DT, MDT, RD (a step
+                           whose stored energies nobody reads) */
+  ESF_LEDGER_NO_T = 2,  /* not DT, MDT: no tangential dashpot, bond or Hertz spring in
+                           the scene (their rows and lanes would stay +0) */
+  ESF_LEDGER_ROLL = 4   /* the rolling resistance's rows */
+};
 
-/* Adds a pair side's rows s (ESF_LR_PAIR doubles, then with roll the two rolling rows)
- * to a particle's rows r; four at a time, in order. light: only the rows of the
- * cumulative terms (DN, DT, MDT, RD). */
-static inline void esf_ledger_side_add(double *r, const double *s, int roll, int light) {
-  for (int j = 0; j < ESF_LR_PAIR_DISS; j += 4) v4_acc(r + j, s + j);
-  if (!light)
-    for (int j = ESF_LR_PAIR_DISS; j < ESF_LR_PAIR; j += 4)
-      v4_acc(r + ESF_LR_EN - ESF_LR_PAIR_DISS + j, s + j);
-  if (roll) {
-    v4_acc(r + ESF_LR_RD, s + ESF_LR_PAIR);
-    if (!light) v4_acc(r + ESF_LR_RE, s + ESF_LR_PAIR + 4);
-  }
+/* Adds a pair side's rows s (ESF_LR_PAIR doubles, then with ESF_LEDGER_ROLL the two
+ * rolling rows) to a particle's rows r, those that the flags set in `set` ask for;
+ * four at a time, in order. */
+static inline void esf_ledger_side_add(double *r, const double *s, unsigned set) {
+  const int light = set & ESF_LEDGER_LIGHT, t = !(set & ESF_LEDGER_NO_T);
+  const int roll = set & ESF_LEDGER_ROLL;
+  for (int j = 0; j < (roll ? 8 : 6); j++)
+    if ((j != 1 && j != 2) || t)
+      if (!light || j < 3 || j == 6) v4_acc(r + esf_ledger_side_pos(j), s + 4 * j);
 }
 enum {            /* channels of a block's sums */
        ESF_LB_KT, /* kinetic, translational, at v_{n+1/2}, J */
@@ -276,35 +287,55 @@ static inline void esf_ledger_roll_rows(double *ra, double *rb, const double md[
   }
 }
 
+/* One particle's kick in the ledger's blocks (esf_ledger_kick_particle): the step, the
+ * damping coefficients, gravity, and which rows the step has. */
+typedef struct esf_ledger_kick {
+  double dt, alpha_r, alpha_t; /* s, 1/s */
+  const double *g;             /* gravity, m/s^2 */
+  int roll;                    /* the rows carry rolling resistance (ESF_LR_RD, _RE) */
+  int light;                   /* 1: the cumulative channels only (ESF_LEDGER_LIGHT) */
+  int no_t;                    /* 1: rows DT, MDT absent (ESF_LEDGER_NO_T) */
+} esf_ledger_kick;
+
+/* The terms of a particle's dashpots over the step, (F . vbar - P_wall) dt, from its
+ * rows r and mid-step velocities vb, wb: normal (rows DN, W), tangential (DT, MDT, W;
+ * without them, no_t, the wall's side alone: the same bits as rows of +0). */
+static inline double esf_ledger_dn_term(const double *r, const double vb[3], double dt) {
+  const double *dn = r + ESF_LR_DN;
+  double pdn = 0;
+  for (int q = 0; q < 3; q++) pdn += dn[q] * vb[q];
+  return (pdn - r[ESF_LR_W]) * dt;
+}
+static inline double esf_ledger_dt_term(const double *r, const double vb[3],
+                                        const double wb[3], double dt, int no_t) {
+  const double *dtg = r + ESF_LR_DT, *mdt = r + ESF_LR_MDT;
+  double pdt = 0;
+  if (!no_t)
+    for (int q = 0; q < 3; q++) pdt += dtg[q] * vb[q] + mdt[q] * wb[q];
+  return (pdt - r[ESF_LR_W + 1]) * dt;
+}
+
 /* The rows of a step's particle i: rows r (ESF_LR), velocities and spins before (vo,
- * wo: v_{n-1/2}) and after the kick (vn, wn), step dt. Adds to its block's channels
- * blk the dashpots' dissipation -(F . vbar + M . wbar) dt and the scalars (slip, wall
- * work, bonds, stiffness changes), and unless light the springs' energies less
- * (1/2) (F . v_{n+1/2} + M . w_{n+1/2}) dt; with roll, the rolling resistance's rows
- * likewise. Each channel's operations are the same whether light or not. */
-static inline void esf_ledger_particle(const double *r, const double vo[3],
-                                       const double vn[3], const double wo[3],
-                                       const double wn[3], double dt, int roll, int light,
+ * wo: v_{n-1/2}) and after the kick (vn, wn), mid-step vb, wb. Adds to its block's
+ * channels blk the dashpots' dissipation -(F . vbar + M . wbar) dt and the scalars
+ * (slip, wall work, bonds, stiffness changes), and unless k->light the springs'
+ * energies less (1/2) (F . v_{n+1/2} + M . w_{n+1/2}) dt; with roll, the rolling
+ * resistance's rows likewise. Each channel's operations are the same whether light or
+ * not. */
+static inline void esf_ledger_particle(const esf_ledger_kick *k, const double *r,
+                                       const double vn[3], const double wn[3],
+                                       const double vb[3], const double wb[3],
                                        double *blk) {
-  double vb[3], wb[3];
-  for (int q = 0; q < 3; q++) {
-    vb[q] = 0.5 * (vo[q] + vn[q]);
-    wb[q] = 0.5 * (wo[q] + wn[q]);
+  const double dt = k->dt;
+  blk[ESF_LB_DN] -= esf_ledger_dn_term(r, vb, dt);
+  blk[ESF_LB_DT] -= esf_ledger_dt_term(r, vb, wb, dt, k->no_t);
+  blk[ESF_LB_SL] += r[ESF_LR_DN + 3];
+  blk[ESF_LB_WW] += r[ESF_LR_WWORK] * dt;
+  if (!k->no_t) { /* else +0, which adds nothing */
+    blk[ESF_LB_BD] += r[ESF_LR_BOND];
+    blk[ESF_LB_SW] += r[ESF_LR_STIFF];
   }
-  const double *dn = r + ESF_LR_DN, *dtg = r + ESF_LR_DT, *mdt = r + ESF_LR_MDT,
-               *wl = r + ESF_LR_W;
-  double pdn = 0, pdt = 0;
-  for (int q = 0; q < 3; q++) {
-    pdn += dn[q] * vb[q];
-    pdt += dtg[q] * vb[q] + mdt[q] * wb[q];
-  }
-  blk[ESF_LB_DN] -= (pdn - wl[0]) * dt;
-  blk[ESF_LB_DT] -= (pdt - wl[1]) * dt;
-  blk[ESF_LB_SL] += dn[3];
-  blk[ESF_LB_WW] += wl[3] * dt;
-  blk[ESF_LB_BD] += dtg[3];
-  blk[ESF_LB_SW] += mdt[3];
-  if (!light) {
+  if (!k->light) {
     const double *en = r + ESF_LR_EN, *et = r + ESF_LR_ET, *met = r + ESF_LR_MET;
     double pen = 0, pet = 0;
     for (int q = 0; q < 3; q++) {
@@ -314,12 +345,12 @@ static inline void esf_ledger_particle(const double *r, const double vo[3],
     blk[ESF_LB_EN] += en[3] - 0.5 * pen * dt;
     blk[ESF_LB_ET] += et[3] - 0.5 * pet * dt;
   }
-  if (!roll) return; /* no rolling resistance: its rows are zero */
+  if (!k->roll) return; /* no rolling resistance: its rows are zero */
   const double *rd = r + ESF_LR_RD, *re = r + ESF_LR_RE; /* rolling (zero without) */
   double pdr = 0;
   for (int q = 0; q < 3; q++) pdr += rd[q] * wb[q];
-  blk[ESF_LB_DR] += rd[3] - (pdr - wl[2]) * dt;
-  if (light) return;
+  blk[ESF_LB_DR] += rd[3] - (pdr - r[ESF_LR_W + 2]) * dt;
+  if (k->light) return;
   double per = 0;
   for (int q = 0; q < 3; q++) per += re[q] * wn[q];
   blk[ESF_LB_ER] += re[3] - 0.5 * per * dt;
@@ -332,12 +363,6 @@ static inline void esf_ledger_particle(const double *r, const double vo[3],
  * ff . vbar dt (ff or NULL), and its ledger rows (r or NULL: esf_ledger_particle).
  * k->light: the cumulative channels only (no kinetic, gravitational or elastic
  * energies: a step whose stored energies nobody reads; the rows' stored part unread). */
-typedef struct esf_ledger_kick {
-  double dt, alpha_r, alpha_t; /* s, 1/s */
-  const double *g;             /* gravity, m/s^2 */
-  int roll;                    /* the rows carry rolling resistance (ESF_LR_RD, _RE) */
-  int light;                   /* 1: the cumulative channels only */
-} esf_ledger_kick;
 static inline void esf_ledger_kick_particle(const esf_ledger_kick *k, double m, double I,
                                             const double x[3], const double v0[3],
                                             const double v[3], const double w0[3],
@@ -374,7 +399,7 @@ static inline void esf_ledger_kick_particle(const esf_ledger_kick *k, double m, 
                        ml[1] * wb[1] + ml[2] * wb[2]) *
                       k->dt;
   if (ff) blk[ESF_LB_WF] += (ff[0] * vb[0] + ff[1] * vb[1] + ff[2] * vb[2]) * k->dt;
-  if (r) esf_ledger_particle(r, v0, v, w0, w, k->dt, k->roll, k->light, blk);
+  if (r) esf_ledger_particle(k, r, v, w, vb, wb, blk);
 }
 
 /* Sums the nb blocks' channels (ESF_LB_N each) in order and books the step: stored

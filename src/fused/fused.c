@@ -233,6 +233,17 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
   }
 }
 
+/* Whether the ledger's rows DT and MDT stay +0 in the scene (core/ledger.h's
+ * ESF_LEDGER_NO_T): no tangential dashpot (beta = 0 and every pair's ct_factor 0, the
+ * linear law), no bonds, no Hertz springs' stiffness change. */
+static int ledger_no_t(const esf_sim *s) {
+  const esf_materials *m = &s->mats;
+  if (s->beta > 0 || s->bonds.on || !m->all_linear) return 0;
+  for (int i = 0; i < m->n * m->n; i++)
+    if (m->pair[i].ct_factor != 0.0) return 0;
+  return 1;
+}
+
 /* esf_fused_run's steps, or with ev one force evaluation (esf_fused_forces): ev's
  * interval and mode, the particle pass writing p.f, p.t (no kick, no drift), *nt the
  * touching contacts, none of the step's counters advanced. */
@@ -300,6 +311,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       .hertz_cst = s->mats.hertz_constant,
       .rows = ledger ? s->led_rows : NULL,
       .lr = s->led_lr,
+      .no_t = ledger && ledger_no_t(s),
       .bond = s->bonds.on ? cp->bond : NULL,
       .roll = cp->roll,
       .mass = p->mass,
@@ -340,11 +352,12 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       .lk = {
           .dt = dt, .alpha_r = s->alpha_r, .alpha_t = s->alpha_t, .g = s->cfg.gravity}};
   K.lk.roll = s->mats.any_rolling; /* the rows carry rolling resistance */
+  K.lk.no_t = bc.no_t;
   /* more than one step only when the lists' check between steps needs nothing but
      the displacements (esf_neighbor_check) and nothing else happens between them */
   const int many = s->nb.xref && s->nb.nref == p->n && !s->walls.moving &&
                    !esf_events_pending(s->events) && !autod &&
-                   !s->drag; /* alpha, the porosity: updated after every step */
+                   !s->drag;   /* alpha, the porosity: updated after every step */
   esf_pair_batch_ctx bcl = bc; /* the light steps' (esf_fused_burst) */
   esf_fused_kick Kl = K;
   bcl.light = 1;

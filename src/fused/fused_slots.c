@@ -78,7 +78,7 @@ size_t esf_fused_boundary(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc
           esf_fused_slot_clear(f, j);
         }
         if (bc->rows) /* a bond that broke last step left its energy here */
-          f->lslot_a[ESF_FUSED_LSLOT * j + ESF_LR_BOND] = -0.0;
+          f->lslot_a[ESF_FUSED_LSLOT * j + ESF_LS_BOND] = -0.0;
         j++;
         continue;
       }

@@ -217,8 +217,8 @@ static inline vd dot(const vd a[3], const vd b[3]) { return esf_law_dot_v(a, b);
  * value whose addition leaves every double as it was); a lane not in keep (the contact
  * ended) adds -0 everywhere but, when its bond broke, the bond's energy e_brk in A's
  * fourth lane of [fdt]. With c->light only the rows of the cumulative terms (the first
- * three, and rolling's first). Added to the rows of the lanes not in skip, in lane
- * order, or written to lout. */
+ * three, and rolling's first), with c->no_t not the second and third. Added to the rows
+ * of the lanes not in skip, in lane order, or written to lout. */
 static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_n,
                         const vd n[3], vd la, vd lb, const esf_law_tout_v *T,
                         const esf_law_rout_v *R, vm keep, vm broke, vd e_brk,
@@ -232,12 +232,13 @@ static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_
      (esf_ledger_roll_rows) A's [md | slip], [ms | e], B's [-md | -0], [-ms | -0] in
      the columns 12-15; their places in a particle's rows */
   const int ca[8] = {0, 1, 2, 3, 4, 5, 12, 13}, cb[8] = {6, 7, 8, 9, 10, 11, 14, 15};
-  const int pos[8] = {ESF_LR_DN, ESF_LR_DT, ESF_LR_MDT, ESF_LR_EN,
-                      ESF_LR_ET, ESF_LR_MET, ESF_LR_RD,  ESF_LR_RE};
-  int js[8], nj = 0; /* the side's rows written */
-  for (int j = 0; j < (light ? 3 : 6); j++) js[nj++] = j;
-  if (R) js[nj++] = 6;
-  if (R && !light) js[nj++] = 7;
+  int js[8], pos[8], nj = 0; /* the side's rows written (ctx->light, ctx->no_t) */
+  for (int j = 0; j < (R ? 8 : 6); j++)
+    if ((j != 1 && j != 2) || !c->no_t)
+      if (!light || j < 3 || j == 6) {
+        pos[nj] = esf_ledger_side_pos(j);
+        js[nj++] = j;
+      }
   vd col[16][4];
   for (int q = 0; q < 3; q++) {
     col[0][q] = -fd * n[q];
@@ -304,8 +305,8 @@ static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_
     double *ra = c->rows + c->lr * ia[l], *rb = c->rows + c->lr * ib[l];
     for (int u = 0; u < nj; u++) {
       const int j = js[u];
-      v4_st(ra + pos[j], v4_ld(ra + pos[j]) + r[ca[j]][l]);
-      v4_st(rb + pos[j], v4_ld(rb + pos[j]) + r[cb[j]][l]);
+      v4_st(ra + pos[u], v4_ld(ra + pos[u]) + r[ca[j]][l]);
+      v4_st(rb + pos[u], v4_ld(rb + pos[u]) + r[cb[j]][l]);
     }
   }
 }

@@ -56,7 +56,8 @@ typedef struct esf_pair_batch_ctx {
   esf_contact_bond *bond;     /* per pair: the bond state, or NULL: no bonds */
   size_t lr;                  /* with rows: a particle's rows, esf_ledger_lr */
   int light;                  /* with rows: only the rows of the ledger's cumulative
-                                 terms (core/ledger.h: DN, DT, MDT, RD) */
+                                 terms (core/ledger.h: ESF_LEDGER_LIGHT) */
+  int no_t;                   /* with rows: not DT, MDT (ESF_LEDGER_NO_T) */
   esf_contact_roll *roll;     /* per pair: the rolling resistance state (committed), or
                                  NULL: no rolling resistance (contact_rolling.h) */
   const double *mass;         /* n, kg (with roll) */
@@ -93,11 +94,17 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *ctx, const uint32_t *k,
 
 /* Adds one pair's ledger rows lout (esf_pair_batch_linear's, A's side then B's from
  * ESF_BATCH_LSIDE) to the rows of its particles a and b (lr doubles a particle;
- * esf_ledger_side_add, roll 1 with rolling resistance, light: ctx->light's rows). */
+ * esf_ledger_side_add's rows `set`, esf_pair_batch_lset). */
 static inline void esf_pair_batch_led_add(double *rows, size_t lr, size_t a, size_t b,
-                                          const double *lout, int roll, int light) {
-  esf_ledger_side_add(rows + lr * a, lout, roll, light);
-  esf_ledger_side_add(rows + lr * b, lout + ESF_BATCH_LSIDE, roll, light);
+                                          const double *lout, unsigned set) {
+  esf_ledger_side_add(rows + lr * a, lout, set);
+  esf_ledger_side_add(rows + lr * b, lout + ESF_BATCH_LSIDE, set);
+}
+
+/* The ledger rows the batches of ctx write (esf_ledger_side_add's set). */
+static inline unsigned esf_pair_batch_lset(const esf_pair_batch_ctx *ctx) {
+  return (ctx->light ? ESF_LEDGER_LIGHT : 0u) | (ctx->no_t ? ESF_LEDGER_NO_T : 0u) |
+         (ctx->roll ? ESF_LEDGER_ROLL : 0u);
 }
 
 /* The ledger rows a pair writes per side in the batches of ctx. */
