@@ -228,32 +228,43 @@ static inline void esf_ledger_pair_rows(double *ra, double *rb, const double n[3
 /* Adds one touching wall contact of a particle to its rows r: as a pair's A side
  * (esf_ledger_pair_rows), with the wall's side at its point velocity vw: the contact
  * force f's work rate f . vw, the dashpots' power on the wall, and the springs'
- * extrapolation -(dt/2) fel vw.n and (dt/2) ket.vw folded into their energies. */
-static inline void esf_ledger_wall_rows(double *r, const double n[3], double la,
-                                        double fd, double fel, const double fdt[3],
-                                        const double ket[3], double slip, double e_n,
-                                        double e_t, const double f[3], const double vw[3],
-                                        double dt) {
+ * extrapolation -(dt/2) fel vw.n and (dt/2) ket.vw folded into their energies.
+ * light: the rows of the cumulative terms only (the first ESF_LR_DISS). */
+static inline void esf_ledger_wall_rows_set(double *r, const double n[3], double la,
+                                            double fd, double fel, const double fdt[3],
+                                            const double ket[3], double slip, double e_n,
+                                            double e_t, const double f[3],
+                                            const double vw[3], double dt, int light) {
   double md[3], me[3], x;
   esf_ledger_torques(n, fdt, ket, md, me);
   for (int q = 0; q < 3; q++) {
     x = -fd * n[q];
     r[ESF_LR_DN + q] += x;
-    x = -fel * n[q];
-    r[ESF_LR_EN + q] += x;
     r[ESF_LR_DT + q] += fdt[q];
     r[ESF_LR_MDT + q] += la * md[q];
-    r[ESF_LR_ET + q] += ket[q];
-    r[ESF_LR_MET + q] += la * me[q];
   }
   const double vwn = vw[0] * n[0] + vw[1] * n[1] + vw[2] * n[2];
-  const double kv = ket[0] * vw[0] + ket[1] * vw[1] + ket[2] * vw[2];
   r[ESF_LR_DN + 3] += slip;
-  r[ESF_LR_EN + 3] += e_n - 0.5 * dt * fel * vwn;
-  r[ESF_LR_ET + 3] += e_t + 0.5 * dt * kv;
   r[ESF_LR_WWORK] += f[0] * vw[0] + f[1] * vw[1] + f[2] * vw[2];
   r[ESF_LR_W] += -fd * vwn;
   r[ESF_LR_W + 1] += fdt[0] * vw[0] + fdt[1] * vw[1] + fdt[2] * vw[2];
+  if (light) return;
+  for (int q = 0; q < 3; q++) {
+    x = -fel * n[q];
+    r[ESF_LR_EN + q] += x;
+    r[ESF_LR_ET + q] += ket[q];
+    r[ESF_LR_MET + q] += la * me[q];
+  }
+  const double kv = ket[0] * vw[0] + ket[1] * vw[1] + ket[2] * vw[2];
+  r[ESF_LR_EN + 3] += e_n - 0.5 * dt * fel * vwn;
+  r[ESF_LR_ET + 3] += e_t + 0.5 * dt * kv;
+}
+static inline void esf_ledger_wall_rows(double *r, const double n[3], double la,
+                                        double fd, double fel, const double fdt[3],
+                                        const double ket[3], double slip, double e_n,
+                                        double e_t, const double f[3], const double vw[3],
+                                        double dt) {
+  esf_ledger_wall_rows_set(r, n, la, fd, fel, fdt, ket, slip, e_n, e_t, f, vw, dt, 0);
 }
 
 /* Adds one touching contact's rolling resistance (contact_rolling.h) to the rows of A
@@ -356,6 +367,12 @@ static inline void esf_ledger_particle(const esf_ledger_kick *k, const double *r
   blk[ESF_LB_ER] += re[3] - 0.5 * per * dt;
 }
 
+/* Global damping's work over the step, (alpha_r m |vbar|^2 + alpha_t I |wbar|^2) dt. */
+static inline double esf_ledger_dg_term(const esf_ledger_kick *k, double m, double I,
+                                        double vb2, double wb2) {
+  return (k->alpha_r * m * vb2 + k->alpha_t * I * wb2) * k->dt;
+}
+
 /* One particle's kick in the ledger's blocks: its kinetic energies at v_{n+1/2} (v, w)
  * and v_{n-1/2} (v0, w0), gravity at x_n +- (dt/2) v (x: x_n), global damping
  * alpha_r m |vbar|^2 + alpha_t I |wbar|^2 and local damping -(fl . vbar + ml . wbar)
@@ -393,7 +410,7 @@ static inline void esf_ledger_kick_particle(const esf_ledger_kick *k, double m, 
     blk[ESF_LB_PO] -= m * g0;
     blk[ESF_LB_PE] -= m * g1;
   }
-  blk[ESF_LB_DG] += (k->alpha_r * m * vb2 + k->alpha_t * I * wb2) * k->dt;
+  blk[ESF_LB_DG] += esf_ledger_dg_term(k, m, I, vb2, wb2);
   if (fl)
     blk[ESF_LB_DL] -= (fl[0] * vb[0] + fl[1] * vb[1] + fl[2] * vb[2] + ml[0] * wb[0] +
                        ml[1] * wb[1] + ml[2] * wb[2]) *

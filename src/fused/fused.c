@@ -93,6 +93,7 @@ void esf_fused_free(esf_fused **f) {
   free(q->slot_a);
   free(q->lslot);
   free(q->lslot_a);
+  free(q->lrows);
   free(q->bout);
   free(q->bin);
   free(q->binstart);
@@ -244,6 +245,28 @@ static int ledger_no_t(const esf_sim *s) {
   return 1;
 }
 
+/* The light steps' rows (esf_fused_burst): when the scene has no rolling resistance
+ * and the walls' fast pass, rows of their own with only the rows they use
+ * (ESF_LR_DISS doubles a particle, the first of core/ledger.h's, at the same offsets:
+ * a quarter of the lines the full rows span), which the wall pass's light variant
+ * writes; else the full rows. */
+static int light_rows(esf_sim *s, esf_fused *f, esf_pair_batch_ctx *bc, esf_fused_kick *K,
+                      esf_error *err) {
+  if (s->mats.any_rolling || K->wall_pass != esf_wall_fast_particle) return ESF_OK;
+  const size_t n = s->p.n;
+  if (n > f->cap_lr || !f->lrows) {
+    const size_t cap = n > 2 * f->cap_lr ? n : 2 * f->cap_lr;
+    double *r = esf_lines_realloc(f->lrows, 0, (cap ? cap : 1) * ESF_LR_DISS * sizeof *r);
+    if (!r) return esf_fail(err, ESF_ENOMEM, "out of memory (the ledger's light rows)");
+    f->lrows = r;
+    f->cap_lr = cap;
+  }
+  bc->rows = K->rows = f->lrows;
+  bc->lr = K->lr = ESF_LR_DISS;
+  K->wall_pass = esf_wall_fast_particle_light;
+  return ESF_OK;
+}
+
 /* esf_fused_run's steps, or with ev one force evaluation (esf_fused_forces): ev's
  * interval and mode, the particle pass writing p.f, p.t (no kick, no drift), *nt the
  * touching contacts, none of the step's counters advanced. */
@@ -339,6 +362,9 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       .dim2 = s->cfg.dim == 2,
       .plain = cr0 == 1.0 && cr1 == 1.0 && ct0 == 1.0 && ct1 == 1.0 && !s->local &&
                s->cfg.dim == 3 && !ledger && !autod && !s->drag,
+      .plain_led = cr0 == 1.0 && cr1 == 1.0 && ct0 == 1.0 && ct1 == 1.0 && !s->local &&
+                   s->cfg.dim == 3 && ledger && !autod && !s->drag &&
+                   !s->mats.any_rolling,
       .wall_pass = ev ? esf_wall_pass_eval(s, ev->trial) : esf_wall_pass_select(s),
       .forces_only = ev != NULL,
       .loc = s->local,
@@ -347,6 +373,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       .dom_hi = s->nb.dom_hi,
       .rows = ledger ? s->led_rows : NULL,
       .blocks = ledger || autod ? s->led_blocks : NULL,
+      .lr = s->led_lr,
       .drag = s->drag,
       .drag_on = drag_on,
       .lk = {
@@ -362,6 +389,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   esf_fused_kick Kl = K;
   bcl.light = 1;
   Kl.lk.light = 1;
+  if (ledger && !autod && (rc = light_rows(s, f, &bcl, &Kl, err))) return rc;
   const esf_fused_burst B = {.bc = &bc,
                              .K = &K,
                              .bc_light = ledger && !autod ? &bcl : NULL,

@@ -110,6 +110,9 @@ struct esf_fused {
   double *slot_a;    /* ESF_FUSED_SLOT_A per boundary pair, zero when not touching */
   double *lslot, *lslot_a; /* with the ledger: ESF_FUSED_LSLOT per boundary pair, B's and
                               A's ledger rows, zero when not touching; else NULL */
+  double *lrows;           /* with the ledger: the light steps' rows, ESF_LR_DISS a
+                              particle (fused.c's light_rows), line-aligned, or NULL */
+  size_t cap_lr;           /* particles lrows has room for */
   size_t cap_lb;           /* boundary pairs they have room for */
   size_t *bout;            /* nth+1: bk[bout[t] .. bout[t+1]) have a in range t */
   uint32_t *bin;           /* boundary ordinals by the range of b, ascending within */
@@ -166,13 +169,17 @@ typedef struct esf_fused_kick {
   double dt, cr0, cr1, ct0, ct1, lc; /* s; (1 -+ alpha h) factors; local coefficient */
   int dim2;
   int plain;                  /* 1: no damping of either form, 3D (a vectorised loop) */
+  int plain_led;              /* 1: the same with the ledger on, without rolling
+                                 resistance (its light steps: a loop of their own) */
   esf_wall_pass_fn wall_pass; /* wall_fast.h, chosen once per call */
   int forces_only;            /* 1: walls, then F, M to p.f, p.t (esf_fused_forces) */
   const esf_local_damping *loc;
   const double *xref;            /* positions at the lists' build, or NULL */
   const double *dom_lo, *dom_hi; /* the domain, or NULL */
-  /* the ledger (core/ledger.h), or rows NULL: the particles' rows, their blocks */
+  /* the ledger (core/ledger.h), or rows NULL: the particles' rows (lr doubles a
+     particle), their blocks */
   double *rows, *blocks;
+  size_t lr;
   esf_ledger_kick lk;
   struct esf_drag *drag; /* the fluid force (loads/drag.h), or NULL */
   int drag_on;           /* it acts at this step's time */
