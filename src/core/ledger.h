@@ -105,6 +105,7 @@ typedef struct esf_force_tally {
 #define ESF_LR           40 /* ledger rows per particle with rolling resistance */
 #define ESF_LR_PLAIN     32 /* without: the rolling rows (ESF_LR_RD, _RE) are absent */
 #define ESF_LR_DISS      16 /* the rows of the cumulative terms: DN, W, DT, MDT */
+#define ESF_LR_DISS_N    8  /* those without DT, MDT (ESF_LEDGER_NO_T) */
 #define ESF_LEDGER_BLOCK 64 /* particles per block of the ledger's sums */
 enum {                      /* row offsets (xyz, then the scalar lane) */
        ESF_LR_DN = 0,       /* normal dashpot force | slip work (J) */
@@ -229,26 +230,29 @@ static inline void esf_ledger_pair_rows(double *ra, double *rb, const double n[3
  * (esf_ledger_pair_rows), with the wall's side at its point velocity vw: the contact
  * force f's work rate f . vw, the dashpots' power on the wall, and the springs'
  * extrapolation -(dt/2) fel vw.n and (dt/2) ket.vw folded into their energies.
- * light: the rows of the cumulative terms only (the first ESF_LR_DISS). */
+ * The rows esf_ledger_side_add's `set` asks for (not ESF_LEDGER_ROLL's). */
 static inline void esf_ledger_wall_rows_set(double *r, const double n[3], double la,
                                             double fd, double fel, const double fdt[3],
                                             const double ket[3], double slip, double e_n,
                                             double e_t, const double f[3],
-                                            const double vw[3], double dt, int light) {
+                                            const double vw[3], double dt, unsigned set) {
   double md[3], me[3], x;
   esf_ledger_torques(n, fdt, ket, md, me);
   for (int q = 0; q < 3; q++) {
     x = -fd * n[q];
     r[ESF_LR_DN + q] += x;
-    r[ESF_LR_DT + q] += fdt[q];
-    r[ESF_LR_MDT + q] += la * md[q];
   }
+  if (!(set & ESF_LEDGER_NO_T))
+    for (int q = 0; q < 3; q++) {
+      r[ESF_LR_DT + q] += fdt[q];
+      r[ESF_LR_MDT + q] += la * md[q];
+    }
   const double vwn = vw[0] * n[0] + vw[1] * n[1] + vw[2] * n[2];
   r[ESF_LR_DN + 3] += slip;
   r[ESF_LR_WWORK] += f[0] * vw[0] + f[1] * vw[1] + f[2] * vw[2];
   r[ESF_LR_W] += -fd * vwn;
   r[ESF_LR_W + 1] += fdt[0] * vw[0] + fdt[1] * vw[1] + fdt[2] * vw[2];
-  if (light) return;
+  if (set & ESF_LEDGER_LIGHT) return;
   for (int q = 0; q < 3; q++) {
     x = -fel * n[q];
     r[ESF_LR_EN + q] += x;

@@ -107,8 +107,7 @@ static void kick_ledger_light(size_t lo, size_t hi, const esf_fused_kick *K,
   const double dt = K->dt;
   double v0[3 * ESF_LEDGER_BLOCK], w0[3 * ESF_LEDGER_BLOCK];
   double tdn[ESF_LEDGER_BLOCK], tdt[ESF_LEDGER_BLOCK], tsl[ESF_LEDGER_BLOCK],
-      tww[ESF_LEDGER_BLOCK], tdg[ESF_LEDGER_BLOCK], tbd[ESF_LEDGER_BLOCK],
-      tsw[ESF_LEDGER_BLOCK];
+      tww[ESF_LEDGER_BLOCK], tdg[ESF_LEDGER_BLOCK];
   for (size_t b0 = lo, b1; b0 < hi; b0 = b1) {
     b1 = (b0 / ESF_LEDGER_BLOCK + 1) * ESF_LEDGER_BLOCK;
     if (b1 > hi) b1 = hi;
@@ -132,8 +131,6 @@ static void kick_ledger_light(size_t lo, size_t hi, const esf_fused_kick *K,
       tdt[j] = esf_ledger_dt_term(r, vb, wb, dt, k->no_t);
       tsl[j] = r[ESF_LR_DN + 3];
       tww[j] = r[ESF_LR_WWORK] * dt;
-      tbd[j] = r[ESF_LR_BOND];
-      tsw[j] = r[ESF_LR_STIFF];
     }
     double *blk = K->blocks + ESF_LB_N * (b0 / ESF_LEDGER_BLOCK);
     if (b0 % ESF_LEDGER_BLOCK == 0) memset(blk, 0, ESF_LB_N * sizeof(double));
@@ -144,10 +141,11 @@ static void kick_ledger_light(size_t lo, size_t hi, const esf_fused_kick *K,
       blk[ESF_LB_SL] += tsl[j];
       blk[ESF_LB_WW] += tww[j];
     }
-    if (!k->no_t)
+    if (!k->no_t) /* else rows of +0 (and no room for them: ESF_LR_DISS_N) */
       for (size_t j = 0; j < nb; j++) {
-        blk[ESF_LB_BD] += tbd[j];
-        blk[ESF_LB_SW] += tsw[j];
+        const double *r = K->rows + lr * (b0 + j);
+        blk[ESF_LB_BD] += r[ESF_LR_BOND];
+        blk[ESF_LB_SW] += r[ESF_LR_STIFF];
       }
   }
 }
