@@ -105,7 +105,7 @@ typedef struct esf_force_tally {
 #define ESF_LR           40 /* ledger rows per particle with rolling resistance */
 #define ESF_LR_PLAIN     32 /* without: the rolling rows (ESF_LR_RD, _RE) are absent */
 #define ESF_LR_DISS      16 /* the rows of the cumulative terms: DN, W, DT, MDT */
-#define ESF_LR_DISS_N    8  /* those without DT, MDT (ESF_LEDGER_NO_T) */
+#define ESF_LR_DISS_N    4  /* DN alone (ESF_LEDGER_NO_T and ESF_LEDGER_NO_W) */
 #define ESF_LEDGER_BLOCK 64 /* particles per block of the ledger's sums */
 enum {                      /* row offsets (xyz, then the scalar lane) */
        ESF_LR_DN = 0,       /* normal dashpot force | slip work (J) */
@@ -148,7 +148,8 @@ enum {
                            whose stored energies nobody reads) */
   ESF_LEDGER_NO_T = 2,  /* not DT, MDT: no tangential dashpot, bond or Hertz spring in
                            the scene (their rows and lanes would stay +0) */
-  ESF_LEDGER_ROLL = 4   /* the rolling resistance's rows */
+  ESF_LEDGER_ROLL = 4,  /* the rolling resistance's rows */
+  ESF_LEDGER_NO_W = 8   /* not W: static walls (their side of every term +0) */
 };
 
 /* Adds a pair side's rows s (ESF_LR_PAIR doubles, then with ESF_LEDGER_ROLL the two
@@ -249,9 +250,11 @@ static inline void esf_ledger_wall_rows_set(double *r, const double n[3], double
     }
   const double vwn = vw[0] * n[0] + vw[1] * n[1] + vw[2] * n[2];
   r[ESF_LR_DN + 3] += slip;
-  r[ESF_LR_WWORK] += f[0] * vw[0] + f[1] * vw[1] + f[2] * vw[2];
-  r[ESF_LR_W] += -fd * vwn;
-  r[ESF_LR_W + 1] += fdt[0] * vw[0] + fdt[1] * vw[1] + fdt[2] * vw[2];
+  if (!(set & ESF_LEDGER_NO_W)) {
+    r[ESF_LR_WWORK] += f[0] * vw[0] + f[1] * vw[1] + f[2] * vw[2];
+    r[ESF_LR_W] += -fd * vwn;
+    r[ESF_LR_W + 1] += fdt[0] * vw[0] + fdt[1] * vw[1] + fdt[2] * vw[2];
+  }
   if (set & ESF_LEDGER_LIGHT) return;
   for (int q = 0; q < 3; q++) {
     x = -fel * n[q];
@@ -310,24 +313,27 @@ typedef struct esf_ledger_kick {
   int roll;                    /* the rows carry rolling resistance (ESF_LR_RD, _RE) */
   int light;                   /* 1: the cumulative channels only (ESF_LEDGER_LIGHT) */
   int no_t;                    /* 1: rows DT, MDT absent (ESF_LEDGER_NO_T) */
+  int no_w;                    /* 1: row W absent (ESF_LEDGER_NO_W) */
 } esf_ledger_kick;
 
 /* The terms of a particle's dashpots over the step, (F . vbar - P_wall) dt, from its
  * rows r and mid-step velocities vb, wb: normal (rows DN, W), tangential (DT, MDT, W;
  * without them, no_t, the wall's side alone: the same bits as rows of +0). */
-static inline double esf_ledger_dn_term(const double *r, const double vb[3], double dt) {
+static inline double esf_ledger_dn_term(const double *r, const double vb[3], double dt,
+                                        int no_w) {
   const double *dn = r + ESF_LR_DN;
   double pdn = 0;
   for (int q = 0; q < 3; q++) pdn += dn[q] * vb[q];
-  return (pdn - r[ESF_LR_W]) * dt;
+  return (pdn - (no_w ? 0.0 : r[ESF_LR_W])) * dt;
 }
 static inline double esf_ledger_dt_term(const double *r, const double vb[3],
-                                        const double wb[3], double dt, int no_t) {
+                                        const double wb[3], double dt, int no_t,
+                                        int no_w) {
   const double *dtg = r + ESF_LR_DT, *mdt = r + ESF_LR_MDT;
   double pdt = 0;
   if (!no_t)
     for (int q = 0; q < 3; q++) pdt += dtg[q] * vb[q] + mdt[q] * wb[q];
-  return (pdt - r[ESF_LR_W + 1]) * dt;
+  return (pdt - (no_w ? 0.0 : r[ESF_LR_W + 1])) * dt;
 }
 
 /* The rows of a step's particle i: rows r (ESF_LR), velocities and spins before (vo,
@@ -342,10 +348,10 @@ static inline void esf_ledger_particle(const esf_ledger_kick *k, const double *r
                                        const double vb[3], const double wb[3],
                                        double *blk) {
   const double dt = k->dt;
-  blk[ESF_LB_DN] -= esf_ledger_dn_term(r, vb, dt);
-  blk[ESF_LB_DT] -= esf_ledger_dt_term(r, vb, wb, dt, k->no_t);
+  blk[ESF_LB_DN] -= esf_ledger_dn_term(r, vb, dt, k->no_w);
+  blk[ESF_LB_DT] -= esf_ledger_dt_term(r, vb, wb, dt, k->no_t, k->no_w);
   blk[ESF_LB_SL] += r[ESF_LR_DN + 3];
-  blk[ESF_LB_WW] += r[ESF_LR_WWORK] * dt;
+  if (!k->no_w) blk[ESF_LB_WW] += r[ESF_LR_WWORK] * dt; /* else +0 */
   if (!k->no_t) { /* else +0, which adds nothing */
     blk[ESF_LB_BD] += r[ESF_LR_BOND];
     blk[ESF_LB_SW] += r[ESF_LR_STIFF];
@@ -364,7 +370,7 @@ static inline void esf_ledger_particle(const esf_ledger_kick *k, const double *r
   const double *rd = r + ESF_LR_RD, *re = r + ESF_LR_RE; /* rolling (zero without) */
   double pdr = 0;
   for (int q = 0; q < 3; q++) pdr += rd[q] * wb[q];
-  blk[ESF_LB_DR] += rd[3] - (pdr - r[ESF_LR_W + 2]) * dt;
+  blk[ESF_LB_DR] += rd[3] - (pdr - (k->no_w ? 0.0 : r[ESF_LR_W + 2])) * dt;
   if (k->light) return;
   double per = 0;
   for (int q = 0; q < 3; q++) per += re[q] * wn[q];

@@ -248,8 +248,8 @@ static int ledger_no_t(const esf_sim *s) {
 /* The light steps' rows (esf_fused_burst): when the scene has no rolling resistance
  * and the walls' fast pass, rows of their own with only the rows they use
  * (ESF_LR_DISS doubles a particle, ESF_LR_DISS_N without DT, MDT: the first of
- * core/ledger.h's, at the same offsets, a half or a quarter of the lines the full rows
- * span), which the wall pass's light variant writes; else the full rows. */
+ * core/ledger.h's, at the same offsets; W, +0 at static walls, neither written nor
+ * read), which the wall pass's light variant writes; else the full rows. */
 static int light_rows(esf_sim *s, esf_fused *f, esf_pair_batch_ctx *bc, esf_fused_kick *K,
                       esf_error *err) {
   if (s->mats.any_rolling || K->wall_pass != esf_wall_fast_particle) return ESF_OK;
@@ -262,6 +262,7 @@ static int light_rows(esf_sim *s, esf_fused *f, esf_pair_batch_ctx *bc, esf_fuse
     f->cap_lr = cap;
   }
   bc->rows = K->rows = f->lrows;
+  bc->no_w = K->lk.no_w = 1; /* static walls (the fast pass's): their side +0 */
   bc->lr = K->lr = bc->no_t ? ESF_LR_DISS_N : ESF_LR_DISS;
   K->wall_pass = bc->no_t ? esf_wall_fast_particle_light_n : esf_wall_fast_particle_light;
   return ESF_OK;

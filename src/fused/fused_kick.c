@@ -105,6 +105,9 @@ static void kick_ledger_light(size_t lo, size_t hi, const esf_fused_kick *K,
                               int *escaped, size_t lr) {
   const esf_ledger_kick *k = &K->lk;
   const double dt = K->dt;
+  /* channels whose every term is +0 (which adds nothing) left out: global damping at
+     alpha 0, the tangential dashpots without their rows and the walls' side */
+  const int dg_on = k->alpha_r != 0.0 || k->alpha_t != 0.0, dt_on = !k->no_t || !k->no_w;
   double v0[3 * ESF_LEDGER_BLOCK], w0[3 * ESF_LEDGER_BLOCK];
   double tdn[ESF_LEDGER_BLOCK], tdt[ESF_LEDGER_BLOCK], tsl[ESF_LEDGER_BLOCK],
       tww[ESF_LEDGER_BLOCK], tdg[ESF_LEDGER_BLOCK];
@@ -126,21 +129,24 @@ static void kick_ledger_light(size_t lo, size_t hi, const esf_fused_kick *K,
         vb2 += vb[q] * vb[q];
         wb2 += wb[q] * wb[q];
       }
-      tdg[j] = esf_ledger_dg_term(k, p->mass[i], p->inertia[i], vb2, wb2);
-      tdn[j] = esf_ledger_dn_term(r, vb, dt);
-      tdt[j] = esf_ledger_dt_term(r, vb, wb, dt, k->no_t);
+      if (dg_on) tdg[j] = esf_ledger_dg_term(k, p->mass[i], p->inertia[i], vb2, wb2);
+      tdn[j] = esf_ledger_dn_term(r, vb, dt, k->no_w);
       tsl[j] = r[ESF_LR_DN + 3];
-      tww[j] = r[ESF_LR_WWORK] * dt;
+      if (dt_on) tdt[j] = esf_ledger_dt_term(r, vb, wb, dt, k->no_t, k->no_w);
+      if (!k->no_w) tww[j] = r[ESF_LR_WWORK] * dt;
     }
     double *blk = K->blocks + ESF_LB_N * (b0 / ESF_LEDGER_BLOCK);
     if (b0 % ESF_LEDGER_BLOCK == 0) memset(blk, 0, ESF_LB_N * sizeof(double));
     for (size_t j = 0; j < nb; j++) { /* esf_ledger_kick_particle's order per channel */
-      blk[ESF_LB_DG] += tdg[j];
       blk[ESF_LB_DN] -= tdn[j];
-      blk[ESF_LB_DT] -= tdt[j];
       blk[ESF_LB_SL] += tsl[j];
-      blk[ESF_LB_WW] += tww[j];
     }
+    if (dg_on)
+      for (size_t j = 0; j < nb; j++) blk[ESF_LB_DG] += tdg[j];
+    if (dt_on)
+      for (size_t j = 0; j < nb; j++) blk[ESF_LB_DT] -= tdt[j];
+    if (!k->no_w)
+      for (size_t j = 0; j < nb; j++) blk[ESF_LB_WW] += tww[j];
     if (!k->no_t) /* else rows of +0 (and no room for them: ESF_LR_DISS_N) */
       for (size_t j = 0; j < nb; j++) {
         const double *r = K->rows + lr * (b0 + j);

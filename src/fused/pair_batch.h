@@ -58,6 +58,7 @@ typedef struct esf_pair_batch_ctx {
   int light;                  /* with rows: only the rows of the ledger's cumulative
                                  terms (core/ledger.h: ESF_LEDGER_LIGHT) */
   int no_t;                   /* with rows: not DT, MDT (ESF_LEDGER_NO_T) */
+  int no_w;                   /* with rows: row W not zeroed (ESF_LEDGER_NO_W) */
   esf_contact_roll *roll;     /* per pair: the rolling resistance state (committed), or
                                  NULL: no rolling resistance (contact_rolling.h) */
   const double *mass;         /* n, kg (with roll) */
@@ -104,7 +105,7 @@ static inline void esf_pair_batch_led_add(double *rows, size_t lr, size_t a, siz
 /* The ledger rows the batches of ctx write (esf_ledger_side_add's set). */
 static inline unsigned esf_pair_batch_lset(const esf_pair_batch_ctx *ctx) {
   return (ctx->light ? ESF_LEDGER_LIGHT : 0u) | (ctx->no_t ? ESF_LEDGER_NO_T : 0u) |
-         (ctx->roll ? ESF_LEDGER_ROLL : 0u);
+         (ctx->roll ? ESF_LEDGER_ROLL : 0u) | (ctx->no_w ? ESF_LEDGER_NO_W : 0u);
 }
 
 /* The ledger rows a pair writes per side in the batches of ctx. */

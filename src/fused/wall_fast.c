@@ -178,12 +178,13 @@ int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *
 
 int esf_wall_fast_particle_light(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
                                  double *f, double *t, double *rows) {
-  return fast_particle(s, k0, k1, dt, nt, f, t, rows, ESF_LEDGER_LIGHT);
+  return fast_particle(s, k0, k1, dt, nt, f, t, rows, ESF_LEDGER_LIGHT | ESF_LEDGER_NO_W);
 }
 
 int esf_wall_fast_particle_light_n(esf_sim *s, size_t k0, size_t k1, double dt,
                                    size_t *nt, double *f, double *t, double *rows) {
-  return fast_particle(s, k0, k1, dt, nt, f, t, rows, ESF_LEDGER_LIGHT | ESF_LEDGER_NO_T);
+  return fast_particle(s, k0, k1, dt, nt, f, t, rows,
+                       ESF_LEDGER_LIGHT | ESF_LEDGER_NO_T | ESF_LEDGER_NO_W);
 }
 
 int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
