@@ -210,6 +210,35 @@ static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
 
 static inline vd dot(const vd a[3], const vd b[3]) { return esf_law_dot_v(a, b); }
 
+/* ledger_rows' of a light step without the rows DT, MDT and rolling resistance: A's
+ * [-fd n | slip] transposed, B's its opposite with +0 in the fourth lane (for -0:
+ * adding either to rows, which start at +0 and so are never -0, gives the same bits). */
+static void light_dn(const esf_pair_batch_ctx *c, vd fd, const vd n[3], vd slip, vm keep,
+                     const size_t *ia, const size_t *ib, int nl, unsigned skip,
+                     double lout[ESF_BATCH][ESF_BATCH_LOUT]) {
+  const vd mz = {-0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0};
+  vd col[4];
+  for (int q = 0; q < 3; q++) col[q] = sel(keep, -fd * n[q], mz);
+  col[3] = sel(keep, slip, mz);
+  v4 r[ESF_BATCH];
+  rows_of(col, r);
+  const v4m flip = {(long long)0x8000000000000000ULL, (long long)0x8000000000000000ULL,
+                    (long long)0x8000000000000000ULL, 0},
+            xyz = {-1, -1, -1, 0};
+  for (int l = 0; l < nl; l++) {
+    if (skip >> l & 1u) continue;
+    const v4 rb4 = (v4)(((v4m)r[l] ^ flip) & xyz);
+    if (lout) {
+      v4_st(lout[l], r[l]);
+      v4_st(lout[l] + ESF_BATCH_LSIDE, rb4);
+      continue;
+    }
+    double *ra = c->rows + c->lr * ia[l], *rb = c->rows + c->lr * ib[l];
+    v4_st(ra, v4_ld(ra) + r[l]);
+    v4_st(rb, v4_ld(rb) + rb4);
+  }
+}
+
 /* The ledger's rows of the batch's lanes (esf_ledger_pair_rows's operations, per lane):
  * A's [-fd n | slip], [fdt | -0], [lA n x fdt | w_st], [-fel n | W], [ket | e_t],
  * [lA n x ket | -0] with ket = kt xi (core/ledger.h's order of a side), and B's the
@@ -226,6 +255,10 @@ static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_
                         double lout[ESF_BATCH][ESF_BATCH_LOUT]) {
   const vd mz = {-0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0};
   const int light = c->light;
+  if (light && c->no_t && !R) { /* DN alone (light_dn) */
+    light_dn(c, fd, n, T->slip, keep, ia, ib, nl, skip, lout);
+    return;
+  }
   vd md[3];
   esf_law_cross_v(md, n, T->fdt);
   /* a side's rows j: A's column j, B's 6 + j; with rolling resistance
