@@ -144,12 +144,13 @@ static inline int esf_ledger_side_pos(int j) {
 /* The rows a step of the fused step writes and reads (esf_ledger_side_add, the
  * batches' esf_pair_batch_ctx, esf_ledger_kick): */
 enum {
-  ESF_LEDGER_LIGHT = 1, /* the cumulative terms' rows only: DN, W, DT, MDT, RD (a step
-                           whose stored energies nobody reads) */
-  ESF_LEDGER_NO_T = 2,  /* not DT, MDT: no tangential dashpot, bond or Hertz spring in
-                           the scene (their rows and lanes would stay +0) */
-  ESF_LEDGER_ROLL = 4,  /* the rolling resistance's rows */
-  ESF_LEDGER_NO_W = 8   /* not W: static walls (their side of every term +0) */
+  ESF_LEDGER_LIGHT = 1,  /* the cumulative terms' rows only: DN, W, DT, MDT, RD (a step
+                            whose stored energies nobody reads) */
+  ESF_LEDGER_NO_T = 2,   /* not DT, MDT: no tangential dashpot, bond or Hertz spring in
+                            the scene (their rows and lanes would stay +0) */
+  ESF_LEDGER_ROLL = 4,   /* the rolling resistance's rows */
+  ESF_LEDGER_NO_W = 8,   /* not W: static walls (their side of every term +0) */
+  ESF_LEDGER_ZEROED = 16 /* the rows are zero already (the fused step's pair pass) */
 };
 
 /* Adds a pair side's rows s (ESF_LR_PAIR doubles, then with ESF_LEDGER_ROLL the two
@@ -352,7 +353,7 @@ static inline void esf_ledger_particle(const esf_ledger_kick *k, const double *r
   blk[ESF_LB_DT] -= esf_ledger_dt_term(r, vb, wb, dt, k->no_t, k->no_w);
   blk[ESF_LB_SL] += r[ESF_LR_DN + 3];
   if (!k->no_w) blk[ESF_LB_WW] += r[ESF_LR_WWORK] * dt; /* else +0 */
-  if (!k->no_t) { /* else +0, which adds nothing */
+  if (!k->no_t) {                                       /* else +0, which adds nothing */
     blk[ESF_LB_BD] += r[ESF_LR_BOND];
     blk[ESF_LB_SW] += r[ESF_LR_STIFF];
   }

@@ -194,7 +194,10 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
     /* the ledger's stored energies: on the burst's last step (what is read after it)
        and the first one it books */
     const int light = B->bc_light && i + 1 < B->steps && (i > 0 || B->led->started);
-    const esf_pair_batch_ctx *bc = light ? B->bc_light : B->bc;
+    const int after = i > 1 || (i > 0 && B->led->started); /* step i - 1 light too */
+    const esf_pair_batch_ctx *bc = !light                            ? B->bc
+                                   : after && B->K_light->clear_rows ? B->bc_light_z
+                                                                     : B->bc_light;
     const esf_fused_kick *K = light ? B->K_light : B->K;
     esf_fused_out o = ESF_FUSED_OUT_NONE;
     o.bad_pair = f->k->boundary(s, f, bc, f->bout[t], f->bout[t + 1], &nt_pp);
@@ -265,6 +268,7 @@ static int light_rows(esf_sim *s, esf_fused *f, esf_pair_batch_ctx *bc, esf_fuse
   bc->no_w = K->lk.no_w = 1; /* static walls (the fast pass's): their side +0 */
   bc->lr = K->lr = bc->no_t ? ESF_LR_DISS_N : ESF_LR_DISS;
   K->wall_pass = bc->no_t ? esf_wall_fast_particle_light_n : esf_wall_fast_particle_light;
+  K->clear_rows = K->plain_led && K->xref; /* kick_ledger_light's (fused_kick.c) */
   return ESF_OK;
 }
 
@@ -391,10 +395,13 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   bcl.light = 1;
   Kl.lk.light = 1;
   if (ledger && !autod && (rc = light_rows(s, f, &bcl, &Kl, err))) return rc;
+  esf_pair_batch_ctx bclz = bcl;
+  bclz.zeroed = 1;
   const esf_fused_burst B = {.bc = &bc,
                              .K = &K,
                              .bc_light = ledger && !autod ? &bcl : NULL,
                              .K_light = &Kl,
+                             .bc_light_z = &bclz,
                              .e0 = f->epoch + 1,
                              .steps = many && nmax > 1 && !ev ? nmax : 1,
                              .lim2 = esf_neighbor_limit2(&s->nb),

@@ -180,6 +180,8 @@ typedef struct esf_fused_kick {
      particle), their blocks */
   double *rows, *blocks;
   size_t lr;
+  int clear_rows; /* 1: the light steps' loop leaves the rows it read zero (fused.c's
+                     light_rows: the next light step's pair pass then skips it) */
   esf_ledger_kick lk;
   struct esf_drag *drag; /* the fluid force (loads/drag.h), or NULL */
   int drag_on;           /* it acts at this step's time */
@@ -194,8 +196,10 @@ typedef struct esf_fused_burst {
      light rows and kick), or NULL */
   const esf_pair_batch_ctx *bc_light;
   const esf_fused_kick *K_light;
-  long e0;         /* the epoch of the call's first step */
-  long steps;      /* steps at most */
+  const esf_pair_batch_ctx *bc_light_z; /* bc_light with rows already zero, for a light
+                                           step after one that cleared them */
+  long e0;                              /* the epoch of the call's first step */
+  long steps;                           /* steps at most */
   double lim2;     /* the lists need a rebuild past this squared displacement, m^2 */
   esf_ledger *led; /* the ledger, booked step by step from K->blocks; NULL: off */
   size_t nblocks;  /* its blocks */

@@ -98,7 +98,8 @@ static void kick_plain_loop(size_t lo, size_t hi, double dt, double *restrict x,
  * resistance, local damping or fluid force): block by block (ESF_LEDGER_BLOCK), the
  * velocities before the kick kept, the block kicked, each particle's terms computed
  * in a loop without branches or calls, then added to the block's channels in
- * particle order, as the scalar path adds them. */
+ * particle order, as the scalar path adds them; with K->clear_rows the rows read are
+ * left zero for the next light step (whose pair pass then does not zero them). */
 static void kick_ledger_light(size_t lo, size_t hi, const esf_fused_kick *K,
                               esf_particles *p, const double *acc, const double *lo3,
                               const double *hi3, double *max2, int *nonfinite,
@@ -108,6 +109,7 @@ static void kick_ledger_light(size_t lo, size_t hi, const esf_fused_kick *K,
   /* channels whose every term is +0 (which adds nothing) left out: global damping at
      alpha 0, the tangential dashpots without their rows and the walls' side */
   const int dg_on = k->alpha_r != 0.0 || k->alpha_t != 0.0, dt_on = !k->no_t || !k->no_w;
+  const int spin = dg_on || dt_on; /* the spins' terms wanted */
   double v0[3 * ESF_LEDGER_BLOCK], w0[3 * ESF_LEDGER_BLOCK];
   double tdn[ESF_LEDGER_BLOCK], tdt[ESF_LEDGER_BLOCK], tsl[ESF_LEDGER_BLOCK],
       tww[ESF_LEDGER_BLOCK], tdg[ESF_LEDGER_BLOCK];
@@ -116,25 +118,35 @@ static void kick_ledger_light(size_t lo, size_t hi, const esf_fused_kick *K,
     if (b1 > hi) b1 = hi;
     const size_t nb = b1 - b0;
     memcpy(v0, p->v + 3 * b0, 3 * nb * sizeof(double));
-    memcpy(w0, p->w + 3 * b0, 3 * nb * sizeof(double));
+    if (spin) memcpy(w0, p->w + 3 * b0, 3 * nb * sizeof(double));
     kick_plain_loop(b0, b1, dt, p->x, p->v, p->w, acc, p->inv_mass, p->inv_inertia,
                     K->xref, lo3, hi3, max2, nonfinite, escaped);
-    for (size_t j = 0; j < nb; j++) {
-      const size_t i = b0 + j;
-      const double *r = K->rows + lr * i, *v = p->v + 3 * i, *w = p->w + 3 * i;
-      double vb[3], wb[3], vb2 = 0, wb2 = 0;
-      for (int q = 0; q < 3; q++) { /* as esf_ledger_kick_particle */
-        vb[q] = 0.5 * (v0[3 * j + q] + v[q]);
-        wb[q] = 0.5 * (w0[3 * j + q] + w[q]);
-        vb2 += vb[q] * vb[q];
-        wb2 += wb[q] * wb[q];
+    if (!spin) /* the normal dashpots and slip alone */
+      for (size_t j = 0; j < nb; j++) {
+        const size_t i = b0 + j;
+        const double *r = K->rows + lr * i, *v = p->v + 3 * i;
+        double vb[3];
+        for (int q = 0; q < 3; q++) vb[q] = 0.5 * (v0[3 * j + q] + v[q]);
+        tdn[j] = esf_ledger_dn_term(r, vb, dt, k->no_w);
+        tsl[j] = r[ESF_LR_DN + 3];
       }
-      if (dg_on) tdg[j] = esf_ledger_dg_term(k, p->mass[i], p->inertia[i], vb2, wb2);
-      tdn[j] = esf_ledger_dn_term(r, vb, dt, k->no_w);
-      tsl[j] = r[ESF_LR_DN + 3];
-      if (dt_on) tdt[j] = esf_ledger_dt_term(r, vb, wb, dt, k->no_t, k->no_w);
-      if (!k->no_w) tww[j] = r[ESF_LR_WWORK] * dt;
-    }
+    else
+      for (size_t j = 0; j < nb; j++) {
+        const size_t i = b0 + j;
+        const double *r = K->rows + lr * i, *v = p->v + 3 * i, *w = p->w + 3 * i;
+        double vb[3], wb[3], vb2 = 0, wb2 = 0;
+        for (int q = 0; q < 3; q++) { /* as esf_ledger_kick_particle */
+          vb[q] = 0.5 * (v0[3 * j + q] + v[q]);
+          wb[q] = 0.5 * (w0[3 * j + q] + w[q]);
+          vb2 += vb[q] * vb[q];
+          wb2 += wb[q] * wb[q];
+        }
+        if (dg_on) tdg[j] = esf_ledger_dg_term(k, p->mass[i], p->inertia[i], vb2, wb2);
+        tdn[j] = esf_ledger_dn_term(r, vb, dt, k->no_w);
+        tsl[j] = r[ESF_LR_DN + 3];
+        if (dt_on) tdt[j] = esf_ledger_dt_term(r, vb, wb, dt, k->no_t, k->no_w);
+        if (!k->no_w) tww[j] = r[ESF_LR_WWORK] * dt;
+      }
     double *blk = K->blocks + ESF_LB_N * (b0 / ESF_LEDGER_BLOCK);
     if (b0 % ESF_LEDGER_BLOCK == 0) memset(blk, 0, ESF_LB_N * sizeof(double));
     for (size_t j = 0; j < nb; j++) { /* esf_ledger_kick_particle's order per channel */
@@ -153,6 +165,7 @@ static void kick_ledger_light(size_t lo, size_t hi, const esf_fused_kick *K,
         blk[ESF_LB_BD] += r[ESF_LR_BOND];
         blk[ESF_LB_SW] += r[ESF_LR_STIFF];
       }
+    if (K->clear_rows) memset(K->rows + lr * b0, 0, lr * nb * sizeof(double));
   }
 }
 

@@ -26,7 +26,8 @@ static inline void outgoing(const esf_fused *f, const esf_candidates *c, size_t 
 
 /* Sets the accumulators of particles [from, to) to f = m g, t = 0, and their ledger rows
  * to zero (rows not NULL): those of the rows `set` (esf_ledger_side_add's), and the
- * wall's row W unless ESF_LEDGER_NO_W; returns the new frontier (max(from, to)). */
+ * wall's row W unless ESF_LEDGER_NO_W (none with ESF_LEDGER_ZEROED); returns the new
+ * frontier (max(from, to)). */
 static inline size_t acc_set(const esf_particles *p, const double *g, double *acc,
                              double *rows, size_t lr, unsigned set, size_t from,
                              size_t to) {
@@ -36,7 +37,7 @@ static inline size_t acc_set(const esf_particles *p, const double *g, double *ac
     v4_st(acc + ESF_FUSED_ACC * i,
           p->mass[i] * gv); /* are then forwarded from the store buffer */
     v4_st(acc + ESF_FUSED_ACC * i + 4, zero);
-    if (rows) {
+    if (rows && !(set & ESF_LEDGER_ZEROED)) {
       double *r = rows + lr * i;
       v4_st(r + ESF_LR_DN, zero);
       if (!(set & ESF_LEDGER_NO_W)) v4_st(r + ESF_LR_W, zero);
