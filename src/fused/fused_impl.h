@@ -198,9 +198,10 @@ typedef struct esf_fused_burst {
   const esf_fused_kick *K_light;
   const esf_pair_batch_ctx *bc_light_z; /* bc_light with rows already zero, for a light
                                            step after one that cleared them */
-  long e0;                              /* the epoch of the call's first step */
-  long steps;                           /* steps at most */
-  double lim2;     /* the lists need a rebuild past this squared displacement, m^2 */
+  int started; /* the ledger had booked a step before the call (its first step: full) */
+  long e0;     /* the epoch of the call's first step */
+  long steps;  /* steps at most */
+  double lim2; /* the lists need a rebuild past this squared displacement, m^2 */
   esf_ledger *led; /* the ledger, booked step by step from K->blocks; NULL: off */
   size_t nblocks;  /* its blocks */
 } esf_fused_burst;
