@@ -211,23 +211,32 @@ static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
 static inline vd dot(const vd a[3], const vd b[3]) { return esf_law_dot_v(a, b); }
 
 /* ledger_rows' of a light step without the rows DT, MDT and rolling resistance: A's
- * [-fd n | slip] transposed, B's its opposite with +0 in the fourth lane (for -0:
- * adding either to rows, which start at +0 and so are never -0, gives the same bits). */
-static void light_dn(const esf_pair_batch_ctx *c, vd fd, const vd n[3], vd slip, vm keep,
-                     const size_t *ia, const size_t *ib, int nl, unsigned skip,
-                     double lout[ESF_BATCH][ESF_BATCH_LOUT]) {
+ * [-fd n | slip] transposed into r, and B's (light_dn_b) its opposite with +0 in the
+ * fourth lane (for -0: adding either to rows, which start at +0 and so are never -0,
+ * gives the same bits; so does adding nothing for a contact that ended, whose rows
+ * are -0). */
+static inline __attribute__((always_inline)) void
+light_dn_rows(vd fd, const vd n[3], vd slip, vm keep, v4 r[ESF_BATCH]) {
   const vd mz = {-0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0};
   vd col[4];
   for (int q = 0; q < 3; q++) col[q] = sel(keep, -fd * n[q], mz);
   col[3] = sel(keep, slip, mz);
-  v4 r[ESF_BATCH];
   rows_of(col, r);
+}
+static inline v4 light_dn_b(v4 a) {
   const v4m flip = {(long long)0x8000000000000000ULL, (long long)0x8000000000000000ULL,
                     (long long)0x8000000000000000ULL, 0},
             xyz = {-1, -1, -1, 0};
+  return (v4)(((v4m)a ^ flip) & xyz);
+}
+static void light_dn(const esf_pair_batch_ctx *c, vd fd, const vd n[3], vd slip, vm keep,
+                     const size_t *ia, const size_t *ib, int nl, unsigned skip,
+                     double lout[ESF_BATCH][ESF_BATCH_LOUT]) {
+  v4 r[ESF_BATCH];
+  light_dn_rows(fd, n, slip, keep, r);
   for (int l = 0; l < nl; l++) {
     if (skip >> l & 1u) continue;
-    const v4 rb4 = (v4)(((v4m)r[l] ^ flip) & xyz);
+    const v4 rb4 = light_dn_b(r[l]);
     if (lout) {
       v4_st(lout[l], r[l]);
       v4_st(lout[l] + ESF_BATCH_LSIDE, rb4);
@@ -606,12 +615,21 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
     if (c->roll)
       c->roll[kk[l]] = (esf_contact_roll){{R.hm[0][l], R.hm[1][l], R.hm[2][l]}, R.ht[l]};
   }
+  /* a light step's normal dashpot rows alone (light_dn) go with the forces */
+  const int ldn = acc && c->rows && c->light && c->no_t && !c->roll;
+  v4 rdn[ESF_BATCH];
+  if (ldn) light_dn_rows(fd, n, T.slip, keep, rdn);
   if (acc)
     for (int l = 0; l < nl; l++) {
       if ((badmask | gone) >> l & 1u) continue;
       esf_pair_batch_acc_add(acc, ia[l], ib[l], rf[l], rta[l], rtb[l]);
+      if (ldn) {
+        double *ra = c->rows + c->lr * ia[l], *rb = c->rows + c->lr * ib[l];
+        v4_st(ra, v4_ld(ra) + rdn[l]);
+        v4_st(rb, v4_ld(rb) + light_dn_b(rdn[l]));
+      }
     }
-  if (c->rows)
+  if (c->rows && !ldn)
     ledger_rows(c, kt, fd, fel, e_n, n, la, lb, &T, c->roll ? &R : NULL, keep, broke,
                 e_brk, ia, ib, nl, badmask, acc ? NULL : lout);
   *apart = gone;
