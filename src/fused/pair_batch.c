@@ -53,9 +53,11 @@ _Static_assert(offsetof(esf_contact_hist, n) == HXI + 3 * sizeof(double) &&
                    HX2 + 4 * sizeof(double) == sizeof(esf_contact_hist),
                "xi, n contiguous, the record's last 32 bytes from xi[2]");
 
-static inline vd sel(vm m, vd a, vd b) { return (vd)(((vm)a & m) | ((vm)b & ~m)); }
+static inline __attribute__((always_inline)) vd sel(vm m, vd a, vd b) {
+  return (vd)(((vm)a & m) | ((vm)b & ~m));
+}
 
-static inline vd vsqrt(vd x) {
+static inline __attribute__((always_inline)) vd vsqrt(vd x) {
 #if defined(__AVX512F__)
   return (vd)_mm512_sqrt_pd((__m512d)x);
 #elif defined(__AVX__)
@@ -70,7 +72,7 @@ static inline vd vsqrt(vd x) {
 #endif
 }
 
-static inline int any(vm m) {
+static inline __attribute__((always_inline)) int any(vm m) {
 #if defined(__AVX512F__)
   return _mm512_test_epi64_mask((__m512i)m, (__m512i)m) != 0;
 #else
@@ -208,7 +210,9 @@ static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
 #undef LANE_POW
 #undef LANE_FN
 
-static inline vd dot(const vd a[3], const vd b[3]) { return esf_law_dot_v(a, b); }
+static inline __attribute__((always_inline)) vd dot(const vd a[3], const vd b[3]) {
+  return esf_law_dot_v(a, b);
+}
 
 /* ledger_rows' of a light step without the rows DT, MDT and rolling resistance: A's
  * [-fd n | slip] transposed into r, and B's (light_dn_b) its opposite with +0 in the
@@ -404,7 +408,7 @@ static void rolling(const esf_pair_batch_ctx *c, const esf_pair_params *const *p
 static inline __attribute__((always_inline)) unsigned
 batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
            double out[ESF_BATCH][ESF_BATCH_OUT], double lout[ESF_BATCH][ESF_BATCH_LOUT],
-           double *acc, unsigned *apart, const int gen) {
+           double *acc, unsigned *apart, const int gen, const int ldn) {
   size_t kk[ESF_BATCH], ia[ESF_BATCH], ib[ESF_BATCH], a3[ESF_BATCH], b3[ESF_BATCH];
   size_t hk[ESF_BATCH]; /* byte offsets of the histories */
   vm tch;
@@ -616,7 +620,7 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
       c->roll[kk[l]] = (esf_contact_roll){{R.hm[0][l], R.hm[1][l], R.hm[2][l]}, R.ht[l]};
   }
   /* a light step's normal dashpot rows alone (light_dn) go with the forces */
-  const int ldn = acc && c->rows && c->light && c->no_t && !c->roll;
+  /* ldn (a light step's normal dashpot rows alone, light_dn) only from batch() */
   v4 rdn[ESF_BATCH];
   if (ldn) light_dn_rows(fd, n, T.slip, keep, rdn);
   if (acc)
@@ -636,17 +640,21 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
   return badmask;
 }
 
-/* The body twice: the leapfrog's batches without periodic images (gen 0: what every
- * other scene runs, with nothing of the images, the ODE methods' carry or their trials
- * in it; a test of each inside the batch made the S1 bed 5% slower,
- * docs/performance.md) and the general one. */
+/* The body three times: the leapfrog's batches without periodic images (gen 0: what
+ * every other scene runs, with nothing of the images, the ODE methods' carry or their
+ * trials in it; a test of each inside the batch made the S1 bed 5% slower,
+ * docs/performance.md), the same for a light ledger step's normal dashpot rows alone
+ * (ldn: its test kept out of the others' copies), and the general one. */
 static __attribute__((noinline)) unsigned batch(const esf_pair_batch_ctx *c,
                                                 const uint32_t *k, int nl,
                                                 double out[ESF_BATCH][ESF_BATCH_OUT],
                                                 double lout[ESF_BATCH][ESF_BATCH_LOUT],
                                                 double *acc, unsigned *apart) {
-  return c->img || c->vc0 || c->trial ? batch_body(c, k, nl, out, lout, acc, apart, 1)
-                                      : batch_body(c, k, nl, out, lout, acc, apart, 0);
+  if (c->img || c->vc0 || c->trial)
+    return batch_body(c, k, nl, out, lout, acc, apart, 1, 0);
+  if (acc && c->rows && c->light && c->no_t && !c->roll)
+    return batch_body(c, k, nl, out, lout, acc, apart, 0, 1);
+  return batch_body(c, k, nl, out, lout, acc, apart, 0, 0);
 }
 
 unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
