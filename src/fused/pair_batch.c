@@ -233,6 +233,27 @@ static inline v4 light_dn_b(v4 a) {
             xyz = {-1, -1, -1, 0};
   return (v4)(((v4m)a ^ flip) & xyz);
 }
+/* The same for the rows DT and MDT (no bonds, no rolling resistance): A's
+ * [fdt | -0], whose opposite is B's (light_dn_b), A's [lA n x fdt | w_st] (Hertz) and
+ * B's [lB n x fdt | -0]. */
+static inline __attribute__((always_inline)) void
+light_dt_rows(const esf_pair_batch_ctx *c, const vd fdt[3], const vd n[3], vd la, vd lb,
+              vd w_st, vm keep, v4 rdt[ESF_BATCH], v4 rma[ESF_BATCH], v4 rmb[ESF_BATCH]) {
+  const vd mz = {-0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0};
+  vd md[3], c1[4], c2[4], c3[4];
+  esf_law_cross_v(md, n, fdt);
+  for (int q = 0; q < 3; q++) {
+    c1[q] = sel(keep, fdt[q], mz);
+    c2[q] = sel(keep, la * md[q], mz);
+    c3[q] = sel(keep, lb * md[q], mz);
+  }
+  c1[3] = c3[3] = mz;
+  c2[3] = c->hertz ? sel(keep, w_st, mz) : mz; /* as ledger_rows */
+  rows_of(c1, rdt);
+  rows_of(c2, rma);
+  rows_of(c3, rmb);
+}
+
 static void light_dn(const esf_pair_batch_ctx *c, vd fd, const vd n[3], vd slip, vm keep,
                      const size_t *ia, const size_t *ib, int nl, unsigned skip,
                      double lout[ESF_BATCH][ESF_BATCH_LOUT]) {
@@ -619,19 +640,25 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
     if (c->roll)
       c->roll[kk[l]] = (esf_contact_roll){{R.hm[0][l], R.hm[1][l], R.hm[2][l]}, R.ht[l]};
   }
-  /* a light step's normal dashpot rows alone (light_dn) go with the forces */
-  /* ldn (a light step's normal dashpot rows alone, light_dn) only from batch() */
-  v4 rdn[ESF_BATCH];
+  /* ldn (from batch() alone): a light step's rows, without bonds or rolling resistance,
+     go with the forces (light_dn_rows, light_dt_rows); a lane left out adds -0 there */
+  v4 rdn[ESF_BATCH], rdt[ESF_BATCH], rma[ESF_BATCH], rmb[ESF_BATCH];
+  const int ldt = ldn && !c->no_t;
   if (ldn) light_dn_rows(fd, n, T.slip, keep, rdn);
+  if (ldt) light_dt_rows(c, T.fdt, n, la, lb, T.w_st, keep, rdt, rma, rmb);
   if (acc)
     for (int l = 0; l < nl; l++) {
       if ((badmask | gone) >> l & 1u) continue;
       esf_pair_batch_acc_add(acc, ia[l], ib[l], rf[l], rta[l], rtb[l]);
-      if (ldn) {
-        double *ra = c->rows + c->lr * ia[l], *rb = c->rows + c->lr * ib[l];
-        v4_st(ra, v4_ld(ra) + rdn[l]);
-        v4_st(rb, v4_ld(rb) + light_dn_b(rdn[l]));
-      }
+      if (!ldn) continue;
+      double *ra = c->rows + c->lr * ia[l], *rb = c->rows + c->lr * ib[l];
+      v4_st(ra, v4_ld(ra) + rdn[l]);
+      v4_st(rb, v4_ld(rb) + light_dn_b(rdn[l]));
+      if (!ldt) continue;
+      v4_st(ra + ESF_LR_DT, v4_ld(ra + ESF_LR_DT) + rdt[l]);
+      v4_st(rb + ESF_LR_DT, v4_ld(rb + ESF_LR_DT) + light_dn_b(rdt[l]));
+      v4_st(ra + ESF_LR_MDT, v4_ld(ra + ESF_LR_MDT) + rma[l]);
+      v4_st(rb + ESF_LR_MDT, v4_ld(rb + ESF_LR_MDT) + rmb[l]);
     }
   if (c->rows && !ldn)
     ledger_rows(c, kt, fd, fel, e_n, n, la, lb, &T, c->roll ? &R : NULL, keep, broke,
@@ -643,7 +670,7 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
 /* The body three times: the leapfrog's batches without periodic images (gen 0: what
  * every other scene runs, with nothing of the images, the ODE methods' carry or their
  * trials in it; a test of each inside the batch made the S1 bed 5% slower,
- * docs/performance.md), the same for a light ledger step's normal dashpot rows alone
+ * docs/performance.md), the same for a light ledger step's rows added with the forces
  * (ldn: its test kept out of the others' copies), and the general one. */
 static __attribute__((noinline)) unsigned batch(const esf_pair_batch_ctx *c,
                                                 const uint32_t *k, int nl,
@@ -652,7 +679,7 @@ static __attribute__((noinline)) unsigned batch(const esf_pair_batch_ctx *c,
                                                 double *acc, unsigned *apart) {
   if (c->img || c->vc0 || c->trial)
     return batch_body(c, k, nl, out, lout, acc, apart, 1, 0);
-  if (acc && c->rows && c->light && c->no_t && !c->roll)
+  if (acc && c->rows && c->light && !c->roll && !c->bond)
     return batch_body(c, k, nl, out, lout, acc, apart, 0, 1);
   return batch_body(c, k, nl, out, lout, acc, apart, 0, 0);
 }
