@@ -99,9 +99,9 @@ typedef struct esf_force_tally {
  * The first ESF_LR_DISS doubles (and the rolling resistance's ESF_LR_RD) hold what the
  * cumulative terms need (dissipation, slip, bonds, wall work, stiffness changes); the
  * rest only the stored energies (springs). A step whose stored energies nobody reads
- * may leave the latter out (esf_ledger_kick.light: the fused step's steps inside a
- * burst, docs/performance.md#the-energy-ledger-on-the-fused-step): the cumulative
- * terms are the same bits either way. */
+ * may leave the latter out (esf_ledger_kick.light: the fused step's steps of a call
+ * but its last, docs/performance.md#light-steps-issue-26): the cumulative terms are
+ * the same bits either way. */
 #define ESF_LR           40 /* ledger rows per particle with rolling resistance */
 #define ESF_LR_PLAIN     32 /* without: the rolling rows (ESF_LR_RD, _RE) are absent */
 #define ESF_LR_DISS      16 /* the rows of the cumulative terms: DN, W, DT, MDT */
