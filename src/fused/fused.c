@@ -94,6 +94,7 @@ void esf_fused_free(esf_fused **f) {
   free(q->slot_a);
   free(q->lslot);
   free(q->lslot_a);
+  free(q->lrows);
   free(q->bout);
   free(q->bin);
   free(q->binstart);
@@ -191,8 +192,16 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
       if (atomic_load_explicit(&f->go, memory_order_relaxed) & 1) break;
       for (size_t u = t + 1; u < T; u++) waited += esf_fused_wait(&f->rr[u].done, e - 1);
     }
+    /* the ledger's stored energies: on the burst's last step (what is read after it)
+       and the first one it books */
+    const int light = B->bc_light && i + 1 < B->steps && (i > 0 || B->started);
+    const int after = i > 1 || (i > 0 && B->started); /* step i - 1 light too */
+    const esf_pair_batch_ctx *bc = !light                            ? B->bc
+                                   : after && B->K_light->clear_rows ? B->bc_light_z
+                                                                     : B->bc_light;
+    const esf_fused_kick *K = light ? B->K_light : B->K;
     esf_fused_out o = ESF_FUSED_OUT_NONE;
-    o.bad_pair = f->k->boundary(s, f, B->bc, f->bout[t], f->bout[t + 1], &nt_pp);
+    o.bad_pair = f->k->boundary(s, f, bc, f->bout[t], f->bout[t + 1], &nt_pp);
     if (o.bad_pair != SIZE_MAX) atomic_store_explicit(&f->bfail, e, memory_order_relaxed);
     atomic_store_explicit(&me->ready, e, memory_order_release);
     if (j < L.ni)
@@ -201,7 +210,7 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
       waited += esf_fused_wait(&f->rr[u].ready, e);
     const size_t cnt = esf_fused_merge_new(L.sq, L.tl, L.nt, top, nn);
     size_t ne, kept;
-    const size_t bad = f->k->pairs(s, f, B->bc, t, lo, hi, L.sq, cnt, L.tl, &ne, &kept);
+    const size_t bad = f->k->pairs(s, f, bc, t, lo, hi, L.sq, cnt, L.tl, &ne, &kept);
     L.ni =
         esf_fused_idle_update(L.il, L.ni, top, nn, L.tl, ne); /* ended: in tl, free now */
     uint32_t *const tl = L.tl;
@@ -215,7 +224,7 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
             e) { /* an MPI run's ghosts are not integrated here (par/par.h) */
       const size_t olo = esf_sim_own_lo(s), ohi = esf_sim_own_hi(s);
       const size_t klo = lo > olo ? lo : olo, khi = hi < ohi ? hi : ohi;
-      if (klo < khi) f->k->kick_range(s, f, B->K, klo, khi, &o, &nt_pw);
+      if (klo < khi) f->k->kick_range(s, f, K, klo, khi, &o, &nt_pw);
     }
     o.nt = nt_pp + nt_pw;
     me->out = o;
@@ -231,6 +240,41 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
     f->taken = i;
     f->decided = i < B->steps;
   }
+}
+
+/* Whether the ledger's rows DT and MDT stay +0 in the scene (core/ledger.h's
+ * ESF_LEDGER_NO_T): no tangential dashpot (beta = 0 and every pair's ct_factor 0, the
+ * linear law), no bonds, no Hertz springs' stiffness change. */
+static int ledger_no_t(const esf_sim *s) {
+  const esf_materials *m = &s->mats;
+  if (s->beta > 0 || s->bonds.on || !m->all_linear) return 0;
+  for (int i = 0; i < m->n * m->n; i++)
+    if (m->pair[i].ct_factor != 0.0) return 0;
+  return 1;
+}
+
+/* The light steps' rows (esf_fused_burst): when the scene has no rolling resistance
+ * and the walls' fast pass, rows of their own with only the rows they use
+ * (ESF_LR_DISS doubles a particle, ESF_LR_DISS_N without DT, MDT: the first of
+ * core/ledger.h's, at the same offsets; W, +0 at static walls, neither written nor
+ * read), which the wall pass's light variant writes; else the full rows. */
+static int light_rows(esf_sim *s, esf_fused *f, esf_pair_batch_ctx *bc, esf_fused_kick *K,
+                      esf_error *err) {
+  if (s->mats.any_rolling || K->wall_pass != esf_wall_fast_particle) return ESF_OK;
+  const size_t n = s->p.n;
+  if (n > f->cap_lr || !f->lrows) {
+    const size_t cap = n > 2 * f->cap_lr ? n : 2 * f->cap_lr;
+    double *r = esf_lines_realloc(f->lrows, 0, (cap ? cap : 1) * ESF_LR_DISS * sizeof *r);
+    if (!r) return esf_fail(err, ESF_ENOMEM, "out of memory (the ledger's light rows)");
+    f->lrows = r;
+    f->cap_lr = cap;
+  }
+  bc->rows = K->rows = f->lrows;
+  bc->no_w = K->lk.no_w = 1; /* static walls (the fast pass's): their side +0 */
+  bc->lr = K->lr = bc->no_t ? ESF_LR_DISS_N : ESF_LR_DISS;
+  K->wall_pass = bc->no_t ? esf_wall_fast_particle_light_n : esf_wall_fast_particle_light;
+  K->clear_rows = K->plain_led && K->xref; /* kick_ledger_light's (fused_kick.c) */
+  return ESF_OK;
 }
 
 /* esf_fused_run's steps, or with ev one force evaluation (esf_fused_forces): ev's
@@ -300,6 +344,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       .hertz_cst = s->mats.hertz_constant,
       .rows = ledger ? s->led_rows : NULL,
       .lr = s->led_lr,
+      .no_t = ledger && ledger_no_t(s),
       .bond = s->bonds.on ? cp->bond : NULL,
       .roll = cp->roll,
       .mass = p->mass,
@@ -329,6 +374,9 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       .dim2 = s->cfg.dim == 2,
       .plain = cr0 == 1.0 && cr1 == 1.0 && ct0 == 1.0 && ct1 == 1.0 && !s->local &&
                s->cfg.dim == 3 && !ledger && !autod && !s->drag,
+      .plain_led = cr0 == 1.0 && cr1 == 1.0 && ct0 == 1.0 && ct1 == 1.0 && !s->local &&
+                   s->cfg.dim == 3 && ledger && !autod && !s->drag &&
+                   !s->mats.any_rolling,
       .wall_pass = ev ? esf_wall_pass_eval(s, ev->trial) : esf_wall_pass_select(s),
       .forces_only = ev != NULL,
       .loc = s->local,
@@ -338,19 +386,32 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       .rows = ledger ? s->led_rows : NULL,
       .blocks = ledger || autod ? s->led_blocks : NULL,
       .kbase = esf_sim_own_lo(s),
+      .lr = s->led_lr,
       .drag = s->drag,
       .drag_on = drag_on,
       .lk = {
           .dt = dt, .alpha_r = s->alpha_r, .alpha_t = s->alpha_t, .g = s->cfg.gravity}};
   K.lk.roll = s->mats.any_rolling; /* the rows carry rolling resistance */
+  K.lk.no_t = bc.no_t;
   /* more than one step only when the lists' check between steps needs nothing but
      the displacements (esf_neighbor_check) and nothing else happens between them */
   const int many = s->nb.xref && s->nb.nref == p->n && !s->walls.moving &&
                    !esf_events_pending(s->events) && !autod &&
-                   !s->drag; /* alpha, the porosity: updated after every step */
+                   !s->drag;   /* alpha, the porosity: updated after every step */
+  esf_pair_batch_ctx bcl = bc; /* the light steps' (esf_fused_burst) */
+  esf_fused_kick Kl = K;
+  bcl.light = 1;
+  Kl.lk.light = 1;
+  if (ledger && !autod && (rc = light_rows(s, f, &bcl, &Kl, err))) return rc;
+  esf_pair_batch_ctx bclz = bcl;
+  bclz.zeroed = 1;
   const esf_fused_burst B = {
       .bc = &bc,
       .K = &K,
+      .bc_light = ledger && !autod ? &bcl : NULL,
+      .K_light = &Kl,
+      .bc_light_z = &bclz,
+      .started = s->led.started,
       .e0 = f->epoch + 1,
       .steps = many && nmax > 1 && !ev && !s->par ? nmax : 1,
       .lim2 = esf_neighbor_limit2(&s->nb),

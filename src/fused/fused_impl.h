@@ -110,6 +110,9 @@ struct esf_fused {
   double *slot_a;    /* ESF_FUSED_SLOT_A per boundary pair, zero when not touching */
   double *lslot, *lslot_a; /* with the ledger: ESF_FUSED_LSLOT per boundary pair, B's and
                               A's ledger rows, zero when not touching; else NULL */
+  double *lrows;           /* with the ledger: the light steps' rows, ESF_LR_DISS a
+                              particle (fused.c's light_rows), line-aligned, or NULL */
+  size_t cap_lr;           /* particles lrows has room for */
   size_t cap_lb;           /* boundary pairs they have room for */
   size_t *bout;            /* nth+1: bk[bout[t] .. bout[t+1]) have a in range t */
   uint32_t *bin;           /* boundary ordinals by the range of b, ascending within */
@@ -166,14 +169,20 @@ typedef struct esf_fused_kick {
   double dt, cr0, cr1, ct0, ct1, lc; /* s; (1 -+ alpha h) factors; local coefficient */
   int dim2;
   int plain;                  /* 1: no damping of either form, 3D (a vectorised loop) */
+  int plain_led;              /* 1: the same with the ledger on, without rolling
+                                 resistance (its light steps: a loop of their own) */
   esf_wall_pass_fn wall_pass; /* wall_fast.h, chosen once per call */
   int forces_only;            /* 1: walls, then F, M to p.f, p.t (esf_fused_forces) */
   const esf_local_damping *loc;
   const double *xref;            /* positions at the lists' build, or NULL */
   const double *dom_lo, *dom_hi; /* the domain, or NULL */
-  /* the ledger (core/ledger.h), or rows NULL: the particles' rows, their blocks */
+  /* the ledger (core/ledger.h), or rows NULL: the particles' rows (lr doubles a
+     particle), their blocks */
   double *rows, *blocks;
   size_t kbase; /* the particle of the first block's start (MPI: the first owned one) */
+  size_t lr;
+  int clear_rows; /* 1: the light steps' loop leaves the rows it read zero (fused.c's
+                     light_rows: the next light step's pair pass then skips it) */
   esf_ledger_kick lk;
   struct esf_drag *drag; /* the fluid force (loads/drag.h), or NULL */
   int drag_on;           /* it acts at this step's time */
@@ -183,9 +192,17 @@ typedef struct esf_fused_kick {
 typedef struct esf_fused_burst {
   const esf_pair_batch_ctx *bc;
   const esf_fused_kick *K;
-  long e0;         /* the epoch of the call's first step */
-  long steps;      /* steps at most */
-  double lim2;     /* the lists need a rebuild past this squared displacement, m^2 */
+  /* with the ledger, the same for the steps whose stored energies nobody reads (all
+     but the last, and the first when the ledger has not started: core/ledger.h's
+     light rows and kick), or NULL */
+  const esf_pair_batch_ctx *bc_light;
+  const esf_fused_kick *K_light;
+  const esf_pair_batch_ctx *bc_light_z; /* bc_light with rows already zero, for a light
+                                           step after one that cleared them */
+  int started; /* the ledger had booked a step before the call (its first step: full) */
+  long e0;     /* the epoch of the call's first step */
+  long steps;  /* steps at most */
+  double lim2; /* the lists need a rebuild past this squared displacement, m^2 */
   esf_ledger *led; /* the ledger, booked step by step from K->blocks; NULL: off */
   size_t nblocks;  /* its blocks */
 } esf_fused_burst;

@@ -37,7 +37,7 @@ static int walls_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *K, 
     k1 = f->wstart[i + 1];
     double *fi = f->acc + ESF_FUSED_ACC * i;
     if (wall_pass(s, k, k1, K->dt, nt_pw, fi, fi + 4,
-                  K->rows ? K->rows + s->led_lr * i : NULL)) {
+                  K->rows ? K->rows + K->lr * i : NULL)) {
       if (i < *bad_part) *bad_part = i;
       fail = 1;
     }
@@ -92,6 +92,83 @@ static void kick_plain_loop(size_t lo, size_t hi, double dt, double *restrict x,
   if (m2 > *max2) *max2 = m2;
   *nonfinite |= nan;
   *escaped |= out;
+}
+
+/* kick_plain_loop's kick and drift of range [lo, hi) with the ledger's cumulative
+ * channels of a light step (esf_ledger_kick_particle's, K->lk.light; no rolling
+ * resistance, local damping or fluid force): block by block (ESF_LEDGER_BLOCK), the
+ * velocities before the kick kept, the block kicked, each particle's terms computed
+ * in a loop without branches or calls, then added to the block's channels in
+ * particle order, as the scalar path adds them; with K->clear_rows the rows read are
+ * left zero for the next light step (whose pair pass then does not zero them). */
+static void kick_ledger_light(size_t lo, size_t hi, const esf_fused_kick *K,
+                              esf_particles *p, const double *acc, const double *lo3,
+                              const double *hi3, double *max2, int *nonfinite,
+                              int *escaped, size_t lr) {
+  const esf_ledger_kick *k = &K->lk;
+  const double dt = K->dt;
+  /* channels whose every term is +0 (which adds nothing) left out: global damping at
+     alpha 0, the tangential dashpots without their rows and the walls' side */
+  const int dg_on = k->alpha_r != 0.0 || k->alpha_t != 0.0, dt_on = !k->no_t || !k->no_w;
+  const int spin = dg_on || dt_on; /* the spins' terms wanted */
+  double v0[3 * ESF_LEDGER_BLOCK], w0[3 * ESF_LEDGER_BLOCK];
+  double tdn[ESF_LEDGER_BLOCK], tdt[ESF_LEDGER_BLOCK], tsl[ESF_LEDGER_BLOCK],
+      tww[ESF_LEDGER_BLOCK], tdg[ESF_LEDGER_BLOCK];
+  for (size_t b0 = lo, b1; b0 < hi; b0 = b1) { /* blocks from K->kbase (MPI) */
+    b1 = K->kbase + ((b0 - K->kbase) / ESF_LEDGER_BLOCK + 1) * ESF_LEDGER_BLOCK;
+    if (b1 > hi) b1 = hi;
+    const size_t nb = b1 - b0;
+    memcpy(v0, p->v + 3 * b0, 3 * nb * sizeof(double));
+    if (spin) memcpy(w0, p->w + 3 * b0, 3 * nb * sizeof(double));
+    kick_plain_loop(b0, b1, dt, p->x, p->v, p->w, acc, p->inv_mass, p->inv_inertia,
+                    K->xref, lo3, hi3, max2, nonfinite, escaped);
+    if (!spin) /* the normal dashpots and slip alone */
+      for (size_t j = 0; j < nb; j++) {
+        const size_t i = b0 + j;
+        const double *r = K->rows + lr * i, *v = p->v + 3 * i;
+        double vb[3];
+        for (int q = 0; q < 3; q++) vb[q] = 0.5 * (v0[3 * j + q] + v[q]);
+        tdn[j] = esf_ledger_dn_term(r, vb, dt, k->no_w);
+        tsl[j] = r[ESF_LR_DN + 3];
+      }
+    else
+      for (size_t j = 0; j < nb; j++) {
+        const size_t i = b0 + j;
+        const double *r = K->rows + lr * i, *v = p->v + 3 * i, *w = p->w + 3 * i;
+        double vb[3], wb[3], vb2 = 0, wb2 = 0;
+        for (int q = 0; q < 3; q++) { /* as esf_ledger_kick_particle */
+          vb[q] = 0.5 * (v0[3 * j + q] + v[q]);
+          wb[q] = 0.5 * (w0[3 * j + q] + w[q]);
+          vb2 += vb[q] * vb[q];
+          wb2 += wb[q] * wb[q];
+        }
+        if (dg_on) tdg[j] = esf_ledger_dg_term(k, p->mass[i], p->inertia[i], vb2, wb2);
+        tdn[j] = esf_ledger_dn_term(r, vb, dt, k->no_w);
+        tsl[j] = r[ESF_LR_DN + 3];
+        if (dt_on) tdt[j] = esf_ledger_dt_term(r, vb, wb, dt, k->no_t, k->no_w);
+        if (!k->no_w) tww[j] = r[ESF_LR_WWORK] * dt;
+      }
+    double *blk = K->blocks + ESF_LB_N * ((b0 - K->kbase) / ESF_LEDGER_BLOCK);
+    if ((b0 - K->kbase) % ESF_LEDGER_BLOCK == 0)
+      memset(blk, 0, ESF_LB_N * sizeof(double));
+    for (size_t j = 0; j < nb; j++) { /* esf_ledger_kick_particle's order per channel */
+      blk[ESF_LB_DN] -= tdn[j];
+      blk[ESF_LB_SL] += tsl[j];
+    }
+    if (dg_on)
+      for (size_t j = 0; j < nb; j++) blk[ESF_LB_DG] += tdg[j];
+    if (dt_on)
+      for (size_t j = 0; j < nb; j++) blk[ESF_LB_DT] -= tdt[j];
+    if (!k->no_w)
+      for (size_t j = 0; j < nb; j++) blk[ESF_LB_WW] += tww[j];
+    if (!k->no_t) /* else rows of +0 (and no room for them: ESF_LR_DISS_N) */
+      for (size_t j = 0; j < nb; j++) {
+        const double *r = K->rows + lr * (b0 + j);
+        blk[ESF_LB_BD] += r[ESF_LR_BOND];
+        blk[ESF_LB_SW] += r[ESF_LR_STIFF];
+      }
+    if (K->clear_rows) memset(K->rows + lr * b0, 0, lr * nb * sizeof(double));
+  }
 }
 
 /* The kick and drift of particle i from its totals fi, ti (F_n, M_n; left as they
@@ -159,7 +236,7 @@ static inline void kick_one(const esf_sim *s, esf_particles *p, const esf_fused_
                              ESF_FUSED_FEATURES && K->loc ? fl : NULL,
                              ESF_FUSED_FEATURES && K->loc ? ml : NULL,
                              ESF_FUSED_FEATURES && K->drag ? K->drag->f + 3 * i : NULL,
-                             K->rows ? K->rows + s->led_lr * i : NULL, blk);
+                             K->rows ? K->rows + K->lr * i : NULL, blk);
   }
 }
 
@@ -184,14 +261,19 @@ void esf_fused_kick_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *
     }
     return;
   }
+  const double inf3[2][3] = {{-INFINITY, -INFINITY, -INFINITY},
+                             {INFINITY, INFINITY, INFINITY}};
+  const double *lo3 = K->dom_lo ? K->dom_lo : inf3[0],
+               *hi3 = K->dom_lo ? K->dom_hi : inf3[1];
   if (K->plain && K->xref) {
-    const double inf3[2][3] = {{-INFINITY, -INFINITY, -INFINITY},
-                               {INFINITY, INFINITY, INFINITY}};
     esf_particles *p = &s->p;
     kick_plain_loop(lo, hi, K->dt, p->x, p->v, p->w, f->acc, p->inv_mass, p->inv_inertia,
-                    K->xref, K->dom_lo ? K->dom_lo : inf3[0],
-                    K->dom_lo ? K->dom_hi : inf3[1], &o->max2, &o->nonfinite,
-                    &o->escaped);
+                    K->xref, lo3, hi3, &o->max2, &o->nonfinite, &o->escaped);
+    return;
+  }
+  if (K->plain_led && K->lk.light && K->xref) {
+    kick_ledger_light(lo, hi, K, &s->p, f->acc, lo3, hi3, &o->max2, &o->nonfinite,
+                      &o->escaped, K->lr);
     return;
   }
   for (size_t i = lo; i < hi; i++) {

@@ -15,29 +15,42 @@
 /* Adds the A side of outgoing boundary pair j (its pair's a is in range), and its
  * ledger rows to A's (rows not NULL). */
 static inline void outgoing(const esf_fused *f, const esf_candidates *c, size_t j,
-                            double *rows, size_t lr, int roll) {
+                            double *rows, size_t lr, unsigned set) {
   const size_t a = c->a[f->bk[j]];
   double *fa = f->acc + ESF_FUSED_ACC * a;
   const double *sl = f->slot_a + ESF_FUSED_SLOT_A * j;
   v4_acc(fa, sl);
   v4_acc(fa + 4, sl + 4);
-  if (rows) esf_ledger_side_add(rows + lr * a, f->lslot_a + ESF_FUSED_LSLOT * j, roll);
+  if (rows) esf_ledger_side_add(rows + lr * a, f->lslot_a + ESF_FUSED_LSLOT * j, set);
 }
 
 /* Sets the accumulators of particles [from, to) to f = m g, t = 0, and their ledger rows
- * to zero (rows not NULL); returns the new frontier (max(from, to)). */
+ * to zero (rows not NULL): those of the rows `set` (esf_ledger_side_add's), and the
+ * wall's row W unless ESF_LEDGER_NO_W (none with ESF_LEDGER_ZEROED); returns the new
+ * frontier (max(from, to)). */
 static inline size_t acc_set(const esf_particles *p, const double *g, double *acc,
-                             double *rows, size_t lr, size_t from, size_t to) {
+                             double *rows, size_t lr, unsigned set, size_t from,
+                             size_t to) {
   const esf_v4 gv = {g[0], g[1], g[2], 0.0}, zero = {0.0, 0.0, 0.0, 0.0};
+  const int light = set & ESF_LEDGER_LIGHT, t = !(set & ESF_LEDGER_NO_T);
   for (size_t i = from; i < to; i++) { /* four-wide stores: the adds' four-wide loads */
     v4_st(acc + ESF_FUSED_ACC * i,
           p->mass[i] * gv); /* are then forwarded from the store buffer */
     v4_st(acc + ESF_FUSED_ACC * i + 4, zero);
-    if (rows) { /* constant bounds: ESF_LR_PLAIN, and the rolling rows when present */
+    if (rows && !(set & ESF_LEDGER_ZEROED)) {
       double *r = rows + lr * i;
-      for (int j = 0; j < ESF_LR_PLAIN; j += 4) v4_st(r + j, zero);
-      if (lr == ESF_LR)
-        for (int j = ESF_LR_PLAIN; j < ESF_LR; j += 4) v4_st(r + j, zero);
+      v4_st(r + ESF_LR_DN, zero);
+      if (!(set & ESF_LEDGER_NO_W)) v4_st(r + ESF_LR_W, zero);
+      if (t) {
+        v4_st(r + ESF_LR_DT, zero);
+        v4_st(r + ESF_LR_MDT, zero);
+      }
+      if (!light)
+        for (int j = ESF_LR_DISS; j < ESF_LR_PLAIN; j += 4) v4_st(r + j, zero);
+      if (lr == ESF_LR) {
+        v4_st(r + ESF_LR_RD, zero);
+        if (!light) v4_st(r + ESF_LR_RE, zero);
+      }
     }
   }
   return from > to ? from : to;
@@ -73,8 +86,8 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
   esf_particles *p = &s->p;
   const esf_candidates *c = &s->nb.pp;
   const double *g = s->cfg.gravity;
-  double *acc = f->acc, *rows = bc->rows; /* rows: the ledger's, or NULL */
-  const int roll = bc->roll != NULL;      /* ledger rows: esf_ledger_side_add's */
+  double *acc = f->acc, *rows = bc->rows;       /* rows: the ledger's, or NULL */
+  const unsigned set = esf_pair_batch_lset(bc); /* ledger rows: esf_ledger_side_add's */
   const size_t lr = bc->lr;
   size_t bad = SIZE_MAX;
   /* The accumulators are set (f = m g, t = 0) just ahead of their first use, not in a
@@ -86,14 +99,14 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
     const size_t b = c->b[f->bk[f->bin[q]]];
     if (b >= bmax) bmax = b + 1;
   }
-  fr = acc_set(p, g, acc, rows, lr, fr, bmax);
+  fr = acc_set(p, g, acc, rows, lr, set, fr, bmax);
   for (size_t q = f->binstart[t]; q < f->binstart[t + 1]; q++) { /* incoming */
     const size_t j = f->bin[q], b = c->b[f->bk[j]];
     double *ab = acc + ESF_FUSED_ACC * b;
     const double *sl = f->slot + ESF_FUSED_SLOT * j;
     v4_dec(ab, sl);
     v4_acc(ab + 4, sl + 4);
-    if (rows) esf_ledger_side_add(rows + lr * b, f->lslot + ESF_FUSED_LSLOT * j, roll);
+    if (rows) esf_ledger_side_add(rows + lr * b, f->lslot + ESF_FUSED_LSLOT * j, set);
   }
   size_t jo = f->bout[t];
   const size_t jo1 = f->bout[t + 1];
@@ -113,7 +126,7 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
     }
     for (int l = 0; l < nl; l++) /* b > a: covers the a sides and outgoing slots too */
       if (c->b[list[q0 + l]] >= bmax) bmax = c->b[list[q0 + l]] + 1;
-    fr = acc_set(p, g, acc, rows, lr, fr, bmax);
+    fr = acc_set(p, g, acc, rows, lr, set, fr, bmax);
     if (jo == jo1 || f->bk[jo] > list[q0 + nl - 1]) {
       /* no outgoing slot falls among these pairs: the batch adds its results itself,
          as the loop below does (esf_pair_batch_acc_add) */
@@ -128,9 +141,9 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
     const unsigned fail = esf_pair_batch_linear(bc, list + q0, nl, out, lout, &apart);
     for (int l = 0; l < nl; l++) {
       const size_t k = list[q0 + l];
-      for (; jo < jo1 && f->bk[jo] < k; jo++) outgoing(f, c, jo, rows, lr, roll);
+      for (; jo < jo1 && f->bk[jo] < k; jo++) outgoing(f, c, jo, rows, lr, set);
       if (apart >> l & 1u) { /* nothing, but a broken bond's energy (ledger) */
-        if (rows) esf_pair_batch_led_add(rows, lr, c->a[k], c->b[k], lout[l], roll);
+        if (rows) esf_pair_batch_led_add(rows, lr, c->a[k], c->b[k], lout[l], set);
         continue;
       }
       if (fail >> l & 1u) {
@@ -139,12 +152,12 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
       }
       esf_pair_batch_acc_add(acc, c->a[k], c->b[k], v4_ld(out[l]), v4_ld(out[l] + 4),
                              v4_ld(out[l] + 8));
-      if (rows) esf_pair_batch_led_add(rows, lr, c->a[k], c->b[k], lout[l], roll);
+      if (rows) esf_pair_batch_led_add(rows, lr, c->a[k], c->b[k], lout[l], set);
     }
     w = compact(list, q0, nl, apart, w, ended, &ng);
   }
-  acc_set(p, g, acc, rows, lr, fr, hi);
-  for (; jo < jo1; jo++) outgoing(f, c, jo, rows, lr, roll);
+  acc_set(p, g, acc, rows, lr, set, fr, hi);
+  for (; jo < jo1; jo++) outgoing(f, c, jo, rows, lr, set);
   *kept = w;
   *ne = ng;
   return bad;

@@ -65,7 +65,12 @@ size_t esf_fused_boundary(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc
   size_t jb[ESF_BATCH], bad = SIZE_MAX;
   int m = 0;
   double out[ESF_BATCH][ESF_BATCH_OUT], lout[ESF_BATCH][ESF_BATCH_LOUT];
-  const size_t lb = (size_t)ESF_PAIR_BATCH_LROWS(bc) * sizeof(double);
+  /* the ledger rows a side carries: a light step without tangential dashpots' the
+     first row alone (its others unread, core/ledger.h) */
+  const size_t lb =
+      (bc->light && bc->no_t && !bc->roll ? (size_t)4
+                                          : (size_t)ESF_PAIR_BATCH_LROWS(bc)) *
+      sizeof(double);
   for (size_t j = j0; j < j1 || m > 0;) {
     if (j < j1) {
       const size_t k = f->bk[j];
@@ -78,7 +83,7 @@ size_t esf_fused_boundary(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc
           esf_fused_slot_clear(f, j);
         }
         if (bc->rows) /* a bond that broke last step left its energy here */
-          f->lslot_a[ESF_FUSED_LSLOT * j + ESF_LR_ET + 3] = -0.0;
+          f->lslot_a[ESF_FUSED_LSLOT * j + ESF_LS_BOND] = -0.0;
         j++;
         continue;
       }

@@ -53,9 +53,11 @@ _Static_assert(offsetof(esf_contact_hist, n) == HXI + 3 * sizeof(double) &&
                    HX2 + 4 * sizeof(double) == sizeof(esf_contact_hist),
                "xi, n contiguous, the record's last 32 bytes from xi[2]");
 
-static inline vd sel(vm m, vd a, vd b) { return (vd)(((vm)a & m) | ((vm)b & ~m)); }
+static inline __attribute__((always_inline)) vd sel(vm m, vd a, vd b) {
+  return (vd)(((vm)a & m) | ((vm)b & ~m));
+}
 
-static inline vd vsqrt(vd x) {
+static inline __attribute__((always_inline)) vd vsqrt(vd x) {
 #if defined(__AVX512F__)
   return (vd)_mm512_sqrt_pd((__m512d)x);
 #elif defined(__AVX__)
@@ -70,7 +72,7 @@ static inline vd vsqrt(vd x) {
 #endif
 }
 
-static inline int any(vm m) {
+static inline __attribute__((always_inline)) int any(vm m) {
 #if defined(__AVX512F__)
   return _mm512_test_epi64_mask((__m512i)m, (__m512i)m) != 0;
 #else
@@ -208,42 +210,129 @@ static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
 #undef LANE_POW
 #undef LANE_FN
 
-static inline vd dot(const vd a[3], const vd b[3]) { return esf_law_dot_v(a, b); }
+static inline __attribute__((always_inline)) vd dot(const vd a[3], const vd b[3]) {
+  return esf_law_dot_v(a, b);
+}
+
+/* ledger_rows' of a light step without the rows DT, MDT and rolling resistance: A's
+ * [-fd n | slip] transposed into r, and B's (light_dn_b) its opposite with +0 in the
+ * fourth lane (for -0: adding either to rows, which start at +0 and so are never -0,
+ * gives the same bits; so does adding nothing for a contact that ended, whose rows
+ * are -0). */
+static inline __attribute__((always_inline)) void
+light_dn_rows(vd fd, const vd n[3], vd slip, vm keep, v4 r[ESF_BATCH]) {
+  const vd mz = {-0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0};
+  vd col[4];
+  for (int q = 0; q < 3; q++) col[q] = sel(keep, -fd * n[q], mz);
+  col[3] = sel(keep, slip, mz);
+  rows_of(col, r);
+}
+static inline v4 light_dn_b(v4 a) {
+  const v4m flip = {(long long)0x8000000000000000ULL, (long long)0x8000000000000000ULL,
+                    (long long)0x8000000000000000ULL, 0},
+            xyz = {-1, -1, -1, 0};
+  return (v4)(((v4m)a ^ flip) & xyz);
+}
+/* The same for the rows DT and MDT (no bonds, no rolling resistance): A's
+ * [fdt | -0], whose opposite is B's (light_dn_b), A's [lA n x fdt | w_st] (Hertz) and
+ * B's [lB n x fdt | -0]. */
+static inline __attribute__((always_inline)) void
+light_dt_rows(const esf_pair_batch_ctx *c, const vd fdt[3], const vd n[3], vd la, vd lb,
+              vd w_st, vm keep, v4 rdt[ESF_BATCH], v4 rma[ESF_BATCH], v4 rmb[ESF_BATCH]) {
+  const vd mz = {-0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0};
+  vd md[3], c1[4], c2[4], c3[4];
+  esf_law_cross_v(md, n, fdt);
+  for (int q = 0; q < 3; q++) {
+    c1[q] = sel(keep, fdt[q], mz);
+    c2[q] = sel(keep, la * md[q], mz);
+    c3[q] = sel(keep, lb * md[q], mz);
+  }
+  c1[3] = c3[3] = mz;
+  c2[3] = c->hertz ? sel(keep, w_st, mz) : mz; /* as ledger_rows */
+  rows_of(c1, rdt);
+  rows_of(c2, rma);
+  rows_of(c3, rmb);
+}
+
+static void light_dn(const esf_pair_batch_ctx *c, vd fd, const vd n[3], vd slip, vm keep,
+                     const size_t *ia, const size_t *ib, int nl, unsigned skip,
+                     double lout[ESF_BATCH][ESF_BATCH_LOUT]) {
+  v4 r[ESF_BATCH];
+  light_dn_rows(fd, n, slip, keep, r);
+  for (int l = 0; l < nl; l++) {
+    if (skip >> l & 1u) continue;
+    const v4 rb4 = light_dn_b(r[l]);
+    if (lout) {
+      v4_st(lout[l], r[l]);
+      v4_st(lout[l] + ESF_BATCH_LSIDE, rb4);
+      continue;
+    }
+    double *ra = c->rows + c->lr * ia[l], *rb = c->rows + c->lr * ib[l];
+    v4_st(ra, v4_ld(ra) + r[l]);
+    v4_st(rb, v4_ld(rb) + rb4);
+  }
+}
 
 /* The ledger's rows of the batch's lanes (esf_ledger_pair_rows's operations, per lane):
- * A's [-fd n | slip], [-fel n | W], [fdt | e_t], [lA n x fdt | -0], [ket | -0],
- * [lA n x ket | -0] with ket = kt xi, and B's the opposite forces and its own torques
- * (lB), each with -0 in its fourth lane (the one value whose addition leaves every
- * double as it was); a lane not in keep (the contact ended) adds -0 everywhere but,
- * when its bond broke, the bond's energy e_brk in A's fourth lane of [ket]. Added to
- * the rows of the lanes not in skip, in lane order, or written to lout. */
+ * A's [-fd n | slip], [fdt | -0], [lA n x fdt | w_st], [-fel n | W], [ket | e_t],
+ * [lA n x ket | -0] with ket = kt xi (core/ledger.h's order of a side), and B's the
+ * opposite forces and its own torques (lB), each with -0 in its fourth lane (the one
+ * value whose addition leaves every double as it was); a lane not in keep (the contact
+ * ended) adds -0 everywhere but, when its bond broke, the bond's energy e_brk in A's
+ * fourth lane of [fdt]. With c->light only the rows of the cumulative terms (the first
+ * three, and rolling's first), with c->no_t not the second and third. Added to the rows
+ * of the lanes not in skip, in lane order, or written to lout. */
 static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_n,
                         const vd n[3], vd la, vd lb, const esf_law_tout_v *T,
                         const esf_law_rout_v *R, vm keep, vm broke, vd e_brk,
                         const size_t *ia, const size_t *ib, int nl, unsigned skip,
                         double lout[ESF_BATCH][ESF_BATCH_LOUT]) {
   const vd mz = {-0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0, -0.0};
-  vd ket[3], md[3], me[3];
-  for (int q = 0; q < 3; q++) ket[q] = kt * T->xi[q];
+  const int light = c->light;
+  if (light && c->no_t && !R) { /* DN alone (light_dn) */
+    light_dn(c, fd, n, T->slip, keep, ia, ib, nl, skip, lout);
+    return;
+  }
+  vd md[3];
   esf_law_cross_v(md, n, T->fdt);
-  esf_law_cross_v(me, n, ket);
-  /* columns: A's six rows, B's six, then with rolling resistance (esf_ledger_roll_rows)
-     A's [md | slip], [ms | e], B's [-md | -0], [-ms | -0] */
-  const int nc = R ? 16 : 12;
+  /* a side's rows j: A's column j, B's 6 + j; with rolling resistance
+     (esf_ledger_roll_rows) A's [md | slip], [ms | e], B's [-md | -0], [-ms | -0] in
+     the columns 12-15; their places in a particle's rows */
+  const int ca[8] = {0, 1, 2, 3, 4, 5, 12, 13}, cb[8] = {6, 7, 8, 9, 10, 11, 14, 15};
+  int js[8], pos[8], nj = 0; /* the side's rows written (ctx->light, ctx->no_t) */
+  for (int j = 0; j < (R ? 8 : 6); j++)
+    if ((j != 1 && j != 2) || !c->no_t)
+      if (!light || j < 3 || j == 6) {
+        pos[nj] = esf_ledger_side_pos(j);
+        js[nj++] = j;
+      }
   vd col[16][4];
   for (int q = 0; q < 3; q++) {
     col[0][q] = -fd * n[q];
-    col[1][q] = -fel * n[q];
-    col[2][q] = T->fdt[q];
-    col[3][q] = la * md[q];
-    col[4][q] = ket[q];
-    col[5][q] = la * me[q];
+    col[1][q] = T->fdt[q];
+    col[2][q] = la * md[q];
     col[6][q] = -col[0][q];
     col[7][q] = -col[1][q];
-    col[8][q] = -col[2][q];
-    col[9][q] = lb * md[q];
-    col[10][q] = -col[4][q];
-    col[11][q] = lb * me[q];
+    col[8][q] = lb * md[q];
+  }
+  col[0][3] = T->slip;
+  col[1][3] = mz;
+  col[2][3] = c->hertz ? (R ? T->w_st + R->w_k : T->w_st) : mz; /* as forces.c's */
+  if (!light) {
+    vd ket[3], me[3];
+    for (int q = 0; q < 3; q++) ket[q] = kt * T->xi[q];
+    esf_law_cross_v(me, n, ket);
+    for (int q = 0; q < 3; q++) {
+      col[3][q] = -fel * n[q];
+      col[4][q] = ket[q];
+      col[5][q] = la * me[q];
+      col[9][q] = -col[3][q];
+      col[10][q] = -col[4][q];
+      col[11][q] = lb * me[q];
+    }
+    col[3][3] = e_n;
+    col[4][3] = T->e_el;
+    col[5][3] = mz;
   }
   if (R)
     for (int q = 0; q < 3; q++) {
@@ -252,46 +341,39 @@ static void ledger_rows(const esf_pair_batch_ctx *c, vd kt, vd fd, vd fel, vd e_
       col[14][q] = -R->md[q];
       col[15][q] = -R->ms[q];
     }
-  col[0][3] = T->slip;
-  col[1][3] = e_n;
-  col[2][3] = T->e_el;
-  for (int j = 3; j < nc; j++) col[j][3] = mz;
-  if (c->hertz) /* the stiffness changes' energy (ESF_LR_MET), rolling's (forces.c) */
-    col[5][3] = R ? T->w_st + R->w_k : T->w_st;
   if (R) {
     col[12][3] = R->slip;
     col[13][3] = R->e_el;
   }
-  for (int j = 0; j < nc; j++) /* a contact that ended adds nothing... */
-    for (int q = 0; q < 4; q++) col[j][q] = sel(keep, col[j][q], mz);
-  col[4][3] = sel(broke, e_brk, mz); /* ...but the energy its bond held */
+  for (int u = 0; u < nj; u++) {
+    const int j = js[u];
+    col[cb[j]][3] = mz;
+    for (int q = 0; q < 4; q++) { /* a contact that ended adds nothing... */
+      col[ca[j]][q] = sel(keep, col[ca[j]][q], mz);
+      col[cb[j]][q] = sel(keep, col[cb[j]][q], mz);
+    }
+  }
+  col[1][3] = sel(broke, e_brk, mz); /* ...but the energy its bond held */
   v4 r[16][ESF_BATCH];
-  for (int j = 0; j < nc; j++) rows_of(col[j], r[j]);
-  /* the columns' offsets in a particle's rows; in lout, a side's rows are contiguous
-     (A's, B's from ESF_BATCH_LSIDE: the rolling rows follow ESF_LR_PAIR) */
-  const int ra_off[8] = {0, 4, 8, 12, 16, 20, ESF_LR_RD, ESF_LR_RE};
-  const int na = nc / 2; /* rows a side */
+  for (int u = 0; u < nj; u++) {
+    rows_of(col[ca[js[u]]], r[ca[js[u]]]);
+    rows_of(col[cb[js[u]]], r[cb[js[u]]]);
+  }
   for (int l = 0; l < nl; l++) {
     if (skip >> l & 1u) continue;
-    if (lout) {
-      for (int j = 0; j < 6; j++) {
-        v4_st(lout[l] + 4 * j, r[j][l]);
-        v4_st(lout[l] + ESF_BATCH_LSIDE + 4 * j, r[6 + j][l]);
-      }
-      for (int j = 6; j < na; j++) {
-        v4_st(lout[l] + 4 * j, r[6 + j][l]);
-        v4_st(lout[l] + ESF_BATCH_LSIDE + 4 * j, r[8 + j][l]);
+    if (lout) { /* a side's rows contiguous (A's, B's from ESF_BATCH_LSIDE) */
+      for (int u = 0; u < nj; u++) {
+        const int j = js[u];
+        v4_st(lout[l] + 4 * j, r[ca[j]][l]);
+        v4_st(lout[l] + ESF_BATCH_LSIDE + 4 * j, r[cb[j]][l]);
       }
       continue;
     }
     double *ra = c->rows + c->lr * ia[l], *rb = c->rows + c->lr * ib[l];
-    for (int j = 0; j < 6; j++) {
-      v4_st(ra + 4 * j, v4_ld(ra + 4 * j) + r[j][l]);
-      v4_st(rb + 4 * j, v4_ld(rb + 4 * j) + r[6 + j][l]);
-    }
-    for (int j = 6; j < na; j++) {
-      v4_st(ra + ra_off[j], v4_ld(ra + ra_off[j]) + r[6 + j][l]);
-      v4_st(rb + ra_off[j], v4_ld(rb + ra_off[j]) + r[8 + j][l]);
+    for (int u = 0; u < nj; u++) {
+      const int j = js[u];
+      v4_st(ra + pos[u], v4_ld(ra + pos[u]) + r[ca[j]][l]);
+      v4_st(rb + pos[u], v4_ld(rb + pos[u]) + r[cb[j]][l]);
     }
   }
 }
@@ -347,7 +429,7 @@ static void rolling(const esf_pair_batch_ctx *c, const esf_pair_params *const *p
 static inline __attribute__((always_inline)) unsigned
 batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
            double out[ESF_BATCH][ESF_BATCH_OUT], double lout[ESF_BATCH][ESF_BATCH_LOUT],
-           double *acc, unsigned *apart, const int gen) {
+           double *acc, unsigned *apart, const int gen, const int ldn) {
   size_t kk[ESF_BATCH], ia[ESF_BATCH], ib[ESF_BATCH], a3[ESF_BATCH], b3[ESF_BATCH];
   size_t hk[ESF_BATCH]; /* byte offsets of the histories */
   vm tch;
@@ -559,29 +641,48 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
     if (c->roll)
       c->roll[kk[l]] = (esf_contact_roll){{R.hm[0][l], R.hm[1][l], R.hm[2][l]}, R.ht[l]};
   }
+  /* ldn (from batch() alone): a light step's rows, without bonds or rolling resistance,
+     go with the forces (light_dn_rows, light_dt_rows); a lane left out adds -0 there */
+  v4 rdn[ESF_BATCH], rdt[ESF_BATCH], rma[ESF_BATCH], rmb[ESF_BATCH];
+  const int ldt = ldn && !c->no_t;
+  if (ldn) light_dn_rows(fd, n, T.slip, keep, rdn);
+  if (ldt) light_dt_rows(c, T.fdt, n, la, lb, T.w_st, keep, rdt, rma, rmb);
   if (acc)
     for (int l = 0; l < nl; l++) {
       if ((badmask | gone) >> l & 1u) continue;
       esf_pair_batch_acc_add(acc, ia[l], ib[l], rf[l], rta[l], rtb[l]);
+      if (!ldn) continue;
+      double *ra = c->rows + c->lr * ia[l], *rb = c->rows + c->lr * ib[l];
+      v4_st(ra, v4_ld(ra) + rdn[l]);
+      v4_st(rb, v4_ld(rb) + light_dn_b(rdn[l]));
+      if (!ldt) continue;
+      v4_st(ra + ESF_LR_DT, v4_ld(ra + ESF_LR_DT) + rdt[l]);
+      v4_st(rb + ESF_LR_DT, v4_ld(rb + ESF_LR_DT) + light_dn_b(rdt[l]));
+      v4_st(ra + ESF_LR_MDT, v4_ld(ra + ESF_LR_MDT) + rma[l]);
+      v4_st(rb + ESF_LR_MDT, v4_ld(rb + ESF_LR_MDT) + rmb[l]);
     }
-  if (c->rows)
+  if (c->rows && !ldn)
     ledger_rows(c, kt, fd, fel, e_n, n, la, lb, &T, c->roll ? &R : NULL, keep, broke,
                 e_brk, ia, ib, nl, badmask, acc ? NULL : lout);
   *apart = gone;
   return badmask;
 }
 
-/* The body twice: the leapfrog's batches without periodic images (gen 0: what every
- * other scene runs, with nothing of the images, the ODE methods' carry or their trials
- * in it; a test of each inside the batch made the S1 bed 5% slower,
- * docs/performance.md) and the general one. */
+/* The body three times: the leapfrog's batches without periodic images (gen 0: what
+ * every other scene runs, with nothing of the images, the ODE methods' carry or their
+ * trials in it; a test of each inside the batch made the S1 bed 5% slower,
+ * docs/performance.md), the same for a light ledger step's rows added with the forces
+ * (ldn: its test kept out of the others' copies), and the general one. */
 static __attribute__((noinline)) unsigned batch(const esf_pair_batch_ctx *c,
                                                 const uint32_t *k, int nl,
                                                 double out[ESF_BATCH][ESF_BATCH_OUT],
                                                 double lout[ESF_BATCH][ESF_BATCH_LOUT],
                                                 double *acc, unsigned *apart) {
-  return c->img || c->vc0 || c->trial ? batch_body(c, k, nl, out, lout, acc, apart, 1)
-                                      : batch_body(c, k, nl, out, lout, acc, apart, 0);
+  if (c->img || c->vc0 || c->trial)
+    return batch_body(c, k, nl, out, lout, acc, apart, 1, 0);
+  if (acc && c->rows && c->light && !c->roll && !c->bond)
+    return batch_body(c, k, nl, out, lout, acc, apart, 0, 1);
+  return batch_body(c, k, nl, out, lout, acc, apart, 0, 0);
 }
 
 unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,

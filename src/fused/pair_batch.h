@@ -55,26 +55,31 @@ typedef struct esf_pair_batch_ctx {
                                  line-aligned), or NULL: no ledger */
   esf_contact_bond *bond;     /* per pair: the bond state, or NULL: no bonds */
   size_t lr;                  /* with rows: a particle's rows, esf_ledger_lr */
-  esf_contact_roll *roll;     /* per pair: the rolling resistance state (committed), or
-                                 NULL: no rolling resistance (contact_rolling.h) */
-  const double *mass;         /* n, kg (with roll) */
-  const double *inertia;      /* n, kg m^2 (with roll) */
-  int roll_cdt;               /* with roll: 1 the cdt model, 0 epsd */
-  _Atomic long *broken;       /* bonds broken (with bond) whose A is in [own_lo, own_hi)
-                                 (an MPI run counts each bond on one process) */
+  int light;                  /* with rows: only the rows of the ledger's cumulative
+                                 terms (core/ledger.h: ESF_LEDGER_LIGHT) */
+  int no_t;                   /* with rows: not DT, MDT (ESF_LEDGER_NO_T) */
+  int no_w;                   /* with rows: row W not zeroed (ESF_LEDGER_NO_W) */
+  int zeroed;             /* with rows: the rows are zero already (ESF_LEDGER_ZEROED) */
+  esf_contact_roll *roll; /* per pair: the rolling resistance state (committed), or
+                             NULL: no rolling resistance (contact_rolling.h) */
+  const double *mass;     /* n, kg (with roll) */
+  const double *inertia;  /* n, kg m^2 (with roll) */
+  int roll_cdt;           /* with roll: 1 the cdt model, 0 epsd */
+  _Atomic long *broken;   /* bonds broken (with bond) whose A is in [own_lo, own_hi)
+                             (an MPI run counts each bond on one process) */
   size_t own_lo, own_hi;
-  int trial;                  /* 1: nothing committed (history, touch flags, bonds,
-                                 rolling states): the ODE methods' stage evaluations */
-  double *vc0;                /* per pair, 3: the relative contact velocity at the last
-                                 commit (the ODE methods' trapezoidal carry: a live
-                                 contact's increment integrates (vc0 + vc)/2 over dt;
-                                 committing writes vc), or NULL */
-  const int8_t *img;          /* per pair: B's periodic image (search/periodic.h), or
-                                 NULL: no periodic axis (nothing added to the batch) */
-  double plen[3];             /* with img: the periods, m */
-  int le;                     /* with img: Lees-Edwards shear (periodic.h): B's image */
-  int le_flow, le_grad;       /* also moves le_off m along the flow axis times its */
-  double le_off, le_vel;      /* gradient image, at le_vel m/s (esf_candidates_xb, _vb) */
+  int trial;             /* 1: nothing committed (history, touch flags, bonds,
+                            rolling states): the ODE methods' stage evaluations */
+  double *vc0;           /* per pair, 3: the relative contact velocity at the last
+                            commit (the ODE methods' trapezoidal carry: a live
+                            contact's increment integrates (vc0 + vc)/2 over dt;
+                            committing writes vc), or NULL */
+  const int8_t *img;     /* per pair: B's periodic image (search/periodic.h), or
+                            NULL: no periodic axis (nothing added to the batch) */
+  double plen[3];        /* with img: the periods, m */
+  int le;                /* with img: Lees-Edwards shear (periodic.h): B's image */
+  int le_flow, le_grad;  /* also moves le_off m along the flow axis times its */
+  double le_off, le_vel; /* gradient image, at le_vel m/s (esf_candidates_xb, _vb) */
 } esf_pair_batch_ctx;
 
 /* The contacts of pairs k[0 .. nl) (1 <= nl <= ESF_BATCH). A pair whose spheres do
@@ -93,11 +98,18 @@ unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *ctx, const uint32_t *k,
 
 /* Adds one pair's ledger rows lout (esf_pair_batch_linear's, A's side then B's from
  * ESF_BATCH_LSIDE) to the rows of its particles a and b (lr doubles a particle;
- * esf_ledger_side_add, roll 1 with rolling resistance). */
+ * esf_ledger_side_add's rows `set`, esf_pair_batch_lset). */
 static inline void esf_pair_batch_led_add(double *rows, size_t lr, size_t a, size_t b,
-                                          const double *lout, int roll) {
-  esf_ledger_side_add(rows + lr * a, lout, roll);
-  esf_ledger_side_add(rows + lr * b, lout + ESF_BATCH_LSIDE, roll);
+                                          const double *lout, unsigned set) {
+  esf_ledger_side_add(rows + lr * a, lout, set);
+  esf_ledger_side_add(rows + lr * b, lout + ESF_BATCH_LSIDE, set);
+}
+
+/* The ledger rows the batches of ctx write (esf_ledger_side_add's set). */
+static inline unsigned esf_pair_batch_lset(const esf_pair_batch_ctx *ctx) {
+  return (ctx->light ? ESF_LEDGER_LIGHT : 0u) | (ctx->no_t ? ESF_LEDGER_NO_T : 0u) |
+         (ctx->roll ? ESF_LEDGER_ROLL : 0u) | (ctx->no_w ? ESF_LEDGER_NO_W : 0u) |
+         (ctx->zeroed ? ESF_LEDGER_ZEROED : 0u);
 }
 
 /* The ledger rows a pair writes per side in the batches of ctx. */

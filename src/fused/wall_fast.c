@@ -78,10 +78,10 @@ static inline double wall_overlap(const esf_wall_elem *e, const double *x, doubl
  * static wall's point velocity is +0 exactly as esf_wall_point_velocity computes it for a
  * group with zero vel and omega, and the spin (wA.n + 0.n)/2; f += force, t += lA n x ft.
  */
-static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
-                                const esf_wall_hit *hit, double un, size_t a, size_t k,
-                                double dt, size_t *nt, double *f, double *t,
-                                double *rows) {
+static inline __attribute__((always_inline)) void
+wall_contact(esf_sim *s, const esf_wall_elem *el, const esf_wall_hit *hit, double un,
+             size_t a, size_t k, double dt, size_t *nt, double *f, double *t,
+             double *rows, unsigned set) {
   const esf_particles *p = &s->p;
   esf_candidates *c = &s->nb.pw;
   const double *v = p->v + 3 * a, *w = p->w + 3 * a;
@@ -119,14 +119,16 @@ static inline void wall_contact(esf_sim *s, const esf_wall_elem *el,
   if (rows) { /* the ledger, as forces.c's (a static wall: its point velocity +0) */
     double ket[3];
     esf_contact_ket(pp, c->h[k].xi, ket);
-    esf_ledger_wall_rows(rows, in.n, la, out.fd_n, out.fel, out.fd_t, ket, out.slip_work,
-                         out.e_el_n, out.e_el_t, out.f, zero3, dt);
-    if (pp->ht > 0) rows[ESF_LR_MET + 3] += out.w_st;
+    esf_ledger_wall_rows_set(rows, in.n, la, out.fd_n, out.fel, out.fd_t, ket,
+                             out.slip_work, out.e_el_n, out.e_el_t, out.f, zero3, dt,
+                             set);
+    if (pp->ht > 0) rows[ESF_LR_STIFF] += out.w_st;
   }
 }
 
-int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
-                           double *f, double *t, double *rows) {
+static inline __attribute__((always_inline)) int
+fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt, double *f,
+              double *t, double *rows, unsigned set) {
   const esf_particles *p = &s->p;
   esf_candidates *c = &s->nb.pw;
   const esf_wall_elem *E = s->walls.e;
@@ -164,9 +166,25 @@ int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *
       continue;
     }
     if (un[j] > lim) return 1; /* esf_forces_wall_particle words the failure */
-    wall_contact(s, &E[c->b[k]], &hits[j], un[j], a, k, dt, nt, f, t, rows);
+    wall_contact(s, &E[c->b[k]], &hits[j], un[j], a, k, dt, nt, f, t, rows, set);
   }
   return 0;
+}
+
+int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
+                           double *f, double *t, double *rows) {
+  return fast_particle(s, k0, k1, dt, nt, f, t, rows, 0);
+}
+
+int esf_wall_fast_particle_light(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
+                                 double *f, double *t, double *rows) {
+  return fast_particle(s, k0, k1, dt, nt, f, t, rows, ESF_LEDGER_LIGHT | ESF_LEDGER_NO_W);
+}
+
+int esf_wall_fast_particle_light_n(esf_sim *s, size_t k0, size_t k1, double dt,
+                                   size_t *nt, double *f, double *t, double *rows) {
+  return fast_particle(s, k0, k1, dt, nt, f, t, rows,
+                       ESF_LEDGER_LIGHT | ESF_LEDGER_NO_T | ESF_LEDGER_NO_W);
 }
 
 int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,

@@ -22,6 +22,15 @@ typedef int (*esf_wall_pass_fn)(esf_sim *s, size_t k0, size_t k1, double dt, siz
 int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
                            double *f, double *t, double *rows);
 
+/* The same with the ledger's rows of the cumulative terms only (the first ESF_LR_DISS
+ * of core/ledger.h: a light step of the fused step) but W (static walls:
+ * ESF_LEDGER_NO_W); _n without the rows DT and MDT either (ESF_LEDGER_NO_T: DN alone,
+ * the first ESF_LR_DISS_N). */
+int esf_wall_fast_particle_light(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
+                                 double *f, double *t, double *rows);
+int esf_wall_fast_particle_light_n(esf_sim *s, size_t k0, size_t k1, double dt,
+                                   size_t *nt, double *f, double *t, double *rows);
+
 /* esf_forces_wall_particle committing, without an error message. */
 int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
                               double *f, double *t, double *rows);

@@ -113,7 +113,7 @@ static int eval_contact(esf_sim *s, const esf_pair_params *pp, esf_contact_in *i
     c->bond[k] = (esf_contact_bond){0}; /* for good: as a contact that never bonded */
     s->bonds.broken++;
     if (ra)
-      ra[ESF_LR_ET + 3] += out->e_break;
+      ra[ESF_LR_BOND] += out->e_break;
     else
       s->led.d_bonds += out->e_break;
   }
@@ -258,7 +258,7 @@ static int pair_forces(esf_sim *s, const double *x, const double *v, const doubl
                   out.fn, dt, ma, mb, rows_a, rows_a ? rows + s->led_lr * b : NULL, NULL);
       if (stiff) w_st = out.w_st + wk;
     }
-    if (rows_a && pp->ht > 0) rows_a[ESF_LR_MET + 3] += w_st;
+    if (rows_a && pp->ht > 0) rows_a[ESF_LR_STIFF] += w_st;
     if (probe) { /* output (esf_forces_probe): reported, not added */
       esf_probe_contact pc = {a, b, -1, {0}, out.f, out.ft, {0}, out.fn};
       for (int q = 0; q < 3; q++) pc.pc[q] = x[3 * a + q] + la * in.n[q];
@@ -392,7 +392,7 @@ static int wall_particle(esf_sim *s, size_t k0, size_t k1, const double *x,
                                 rows, NULL, g->omega);
       if (stiff) w_st = out.w_st + wk;
     }
-    if (rows && pp->ht > 0) rows[ESF_LR_MET + 3] += w_st;
+    if (rows && pp->ht > 0) rows[ESF_LR_STIFF] += w_st;
     if (slip) s->led.w_stiff += w_st; /* the other schemes' ledger (as the slip) */
     v3_add(t, t, ma);
     if (probe) { /* output (esf_forces_probe) */
