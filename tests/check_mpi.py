@@ -180,13 +180,19 @@ def main():
         case(tmp, "block_impact", "block_impact-quick.yaml",
              ["run.duration=0.02", "output.every=0.005"])
         # particles crossing the processes' slabs many times: a gas in a long box
-        case(tmp, "gas", os.path.join(os.path.dirname(__file__), "mpi_gas.yaml"), [],
+        case(tmp, "gas", os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                      "mpi_gas.yaml"), [],
              want_migrations=2000)
+        # periodic boundaries across the processes (the slabs' axis periodic), then
+        # Lees-Edwards shear with its flow along the slabs
+        here = os.path.dirname(os.path.abspath(__file__))
+        case(tmp, "periodic", os.path.join(here, "mpi_periodic.yaml"), [],
+             want_migrations=2000)
+        case(tmp, "lees_edwards", os.path.join(here, "mpi_periodic.yaml"),
+             ["domain.shear={rate: 50, flow: x, gradient: y}", "output.energy_every=0"])
         checkpoints(tmp)
         # what MPI runs do not support yet: refused, with the key's place
         refused(tmp, "silo-insertion", "silo-quick.yaml", [], "silo-quick.yaml:")
-        refused(tmp, "shear-periodic", "shear_cell-quick.yaml", [],
-                "shear_cell-quick.yaml:")
         refused(tmp, "settle-rk4", "settle.yaml", ["integrator.method=rk4"],
                 "integrator.method")
     finally:

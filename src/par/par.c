@@ -50,7 +50,6 @@ const char *esf_par_refusal(const esf_sim *s, const char **key) {
        "the leapfrog only (the ODE methods and Verlet run on one process)"},
       {!c->fused, "integrator.fused", "the fused step only (integrator.fused: false)"},
       {!c->reorder, "search.reorder", "the renumbering is the global order's"},
-      {c->per.any, "domain.periodic", "periodic boundaries"},
       {s->insert != NULL, "particles", "insertion during the run"},
       {c->out_contacts, "output.contacts", "the contact network output"},
       {c->out_walls || c->n_stress > 0, "output.walls", "walls.csv and stress.csv"},

@@ -116,9 +116,14 @@ static void rec_of(const esf_particles *p, size_t i, int64_t gid, uint32_t key,
   r->inv_mass = p->inv_mass[i];
   r->inertia = p->inertia[i];
   r->inv_inertia = p->inv_inertia[i];
+  if (p->img)
+    memcpy(r->img, p->img + 3 * i, sizeof r->img);
+  else
+    memset(r->img, 0, sizeof r->img);
 }
 
 static void rec_to(esf_particles *p, size_t i, const esf_par_rec *r) {
+  if (p->img) memcpy(p->img + 3 * i, r->img, sizeof r->img);
   p->id[i] = r->id;
   p->material[i] = r->material;
   memcpy(p->x + 3 * i, r->x, sizeof r->x);
@@ -252,7 +257,8 @@ static size_t global_grid(esf_sim *s, const unsigned char *keep, esf_reorder_gri
  * (relative to the mean, within [1/2, 2]; 1 before any measurement); each cut is
  * the key boundary, with a count before it that is a multiple of ESF_LEDGER_BLOCK,
  * whose work before it is nearest r / K of the total (the plane it falls in and its
- * neighbours are searched cell by cell, the other planes at their starts). Any cut gives
+ * neighbours, more of them until one is found, are searched cell by cell, the other
+ * planes at their starts). Any cut gives
  * the same results; only the time depends on it. */
 static int make_cut(esf_sim *s, const esf_reorder_grid *g, const uint32_t *key,
                     const unsigned char *keep, size_t *kcut, esf_error *err) {
@@ -271,9 +277,9 @@ static int make_cut(esf_sim *s, const esf_reorder_grid *g, const uint32_t *key,
     P->busy = 0.0;
   }
   const double rate = P->rate;
-  double *pw = calloc(2 * (np + 3 * d12 + 1), sizeof *pw);
+  double *pw = calloc(2 * (np + 1), sizeof *pw), *cwb = NULL;
   if (!pw) return esf_fail(err, ESF_ENOMEM, "out of memory for the cut");
-  double *pc = pw + np, *cw = pw + 2 * np; /* work, counts per plane; cells' work */
+  double *pc = pw + np; /* work and counts per plane */
   for (size_t j = 0; j < nown; j++)
     if (keep[j]) {
       pw[key[j] / d12] += rate;
@@ -294,36 +300,47 @@ static int make_cut(esf_sim *s, const esf_reorder_grid *g, const uint32_t *key,
       c0 += pc[pl];
       pl++;
     }
-    /* the cells of that plane and its neighbours (a plane of few, crowded cells may
-       hold no boundary at a multiple of the block) */
-    const size_t p0 = pl > 0 ? pl - 1 : 0, p1 = pl + 1 < np ? pl + 2 : np;
-    const size_t nc = (p1 - p0) * d12;
-    double *cc = cw + nc; /* the cells' counts */
-    memset(cw, 0, 2 * nc * sizeof *cw);
-    for (size_t j = 0; j < nown; j++)
-      if (keep[j] && key[j] / d12 >= p0 && key[j] / d12 < p1) {
-        cw[key[j] - p0 * d12] += rate;
-        cc[key[j] - p0 * d12] += 1.0;
-      }
-    MPI_Allreduce(MPI_IN_PLACE, cw, 2 * (int)nc, MPI_DOUBLE, MPI_SUM, P->comm);
+    /* the cells of that plane and its neighbours, W planes either side (a plane of
+       few, crowded cells may hold no boundary at a multiple of the block): W doubles
+       until one is found or every plane was searched */
     size_t best = 0;
     double bd = target; /* key 0: no work before it */
-    double w = w0, c = c0;
-    for (size_t q = pl; q > p0; q--) { /* the start of the first plane searched */
-      w -= pw[q - 1];
-      c -= pc[q - 1];
-    }
-    for (size_t j = 0; j <= nc; j++) { /* boundaries inside the planes */
-      if (fmod(c, (double)B) == 0.0 && fabs(w - target) < bd) {
-        bd = fabs(w - target);
-        best = p0 * d12 + j;
+    for (size_t W = 1;; W *= 2) {
+      const size_t p0 = pl > W ? pl - W : 0, p1 = pl + W + 1 < np ? pl + W + 1 : np;
+      const size_t nc = (p1 - p0) * d12;
+      double *cw = realloc(cwb, 2 * (nc ? nc : 1) * sizeof *cw);
+      if (!cw) {
+        free(pw);
+        free(cwb);
+        return esf_fail(err, ESF_ENOMEM, "out of memory for the cut");
       }
-      if (j < nc) {
-        w += cw[j];
-        c += cc[j];
+      cwb = cw;
+      double *cc = cw + nc; /* the cells' counts */
+      memset(cw, 0, 2 * nc * sizeof *cw);
+      for (size_t j = 0; j < nown; j++)
+        if (keep[j] && key[j] / d12 >= p0 && key[j] / d12 < p1) {
+          cw[key[j] - p0 * d12] += rate;
+          cc[key[j] - p0 * d12] += 1.0;
+        }
+      MPI_Allreduce(MPI_IN_PLACE, cw, 2 * (int)nc, MPI_DOUBLE, MPI_SUM, P->comm);
+      double w = w0, c = c0;
+      for (size_t q = pl; q > p0; q--) { /* the start of the first plane searched */
+        w -= pw[q - 1];
+        c -= pc[q - 1];
       }
+      for (size_t j = 0; j <= nc; j++) { /* boundaries inside the planes */
+        if (fmod(c, (double)B) == 0.0 && fabs(w - target) < bd) {
+          bd = fabs(w - target);
+          best = p0 * d12 + j;
+        }
+        if (j < nc) {
+          w += cw[j];
+          c += cc[j];
+        }
+      }
+      if (best > 0 || (p0 == 0 && p1 == np)) break;
     }
-    w = c = 0.0;
+    double w = 0.0, c = 0.0;
     for (size_t q = 0; q <= np; q++) { /* or a plane's start */
       if (fmod(c, (double)B) == 0.0 && fabs(w - target) < bd) {
         bd = fabs(w - target);
@@ -337,6 +354,7 @@ static int make_cut(esf_sim *s, const esf_reorder_grid *g, const uint32_t *key,
     kcut[r] = best > kcut[r - 1] ? best : kcut[r - 1];
   }
   free(pw);
+  free(cwb);
   return ESF_OK;
 }
 
@@ -571,10 +589,20 @@ int esf_par_rebuild(esf_sim *s, esf_error *err) {
   MPI_Exscan(&nol, &g0, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, P->comm);
   if (me == 0) g0 = 0;
   for (size_t j = 0; j < no; j++) own[j].gid = (int64_t)(g0 + j);
-  /* step 6: ghosts, within m planes of another process's keys */
-  const size_t d12 = g.d1 * g.d2;
+  /* step 6: ghosts, within m planes of another process's keys (and, when the slabs'
+     axis is periodic, within reach of its slab through the periodic faces) */
+  const size_t d12 = g.d1 * g.d2, np = g.ncell / d12;
   const double reach = 2.0 * rmax + s->nb.skin;
   const size_t mpl = isfinite(g.h) ? (size_t)ceil(reach / g.h) : 0;
+  const esf_periodic *pb = &s->cfg.per;
+  const int ks = g.ax[0], wrap = pb->on[ks] && isfinite(g.h);
+  const double per = wrap ? pb->len[ks] : 0.0;
+  /* Lees-Edwards with the flow along the slabs' axis: the images across the gradient
+     faces are shifted along the slabs by the offset, so the particles within reach of
+     those faces are every other process's ghosts */
+  const int le_all = pb->le && pb->flow == ks;
+  const double ge_lo = pb->lo[pb->grad] + reach,
+               ge_hi = pb->lo[pb->grad] + pb->len[pb->grad] - reach;
   int *cg = cnt + 2 * K;
   for (int pass = 0; pass < 2; pass++) {
     size_t t = 0;
@@ -587,6 +615,23 @@ int esf_par_rebuild(esf_sim *s, esf_error *err) {
         for (size_t j = j0; j < j1; j++) { /* own is in key order: planes in order */
           if (pass) gout[t] = own[j];
           t++;
+        }
+        if (wrap ||
+            le_all) { /* r's slab, widened by the reach, against x -+ the period */
+          const double elo = plo == 0 ? -INFINITY : g.lo[ks] + (double)plo * g.h - reach,
+                       ehi = phi + 1 >= np ? INFINITY
+                                           : g.lo[ks] + (double)(phi + 1) * g.h + reach;
+          for (size_t j = 0; j < no; j++) {
+            if (j == j0) j = j1; /* (those are sent already) */
+            if (j >= no) break;
+            const double xu = own[j].x[ks] + per, xd = own[j].x[ks] - per;
+            const double xg = own[j].x[pb->grad];
+            if ((wrap && ((xu >= elo && xu <= ehi) || (xd >= elo && xd <= ehi))) ||
+                (le_all && (xg < ge_lo || xg > ge_hi))) {
+              if (pass) gout[t] = own[j];
+              t++;
+            }
+          }
         }
       }
       if (!pass) cg[r] = (int)(t - tr);
@@ -618,6 +663,7 @@ int esf_par_rebuild(esf_sim *s, esf_error *err) {
   /* step 7: the local arrays, the lists renumbered, the migrants' contacts */
   const size_t n_new = ngin + no;
   if ((rc = esf_particles_alloc(&q, n_new, err))) goto done;
+  if (p->img && (rc = esf_particles_images(&q, err))) goto done;
   ngid = malloc((n_new ? n_new : 1) * sizeof *ngid);
   tab = malloc((n_new ? n_new : 1) * sizeof *tab);
   remap = malloc((n_old ? n_old : 1) * sizeof *remap);

@@ -14,6 +14,7 @@ typedef struct esf_par_rec {
   uint32_t key;    /* cell key of the renumbering's grid */
   int32_t material;
   uint32_t pos, spare; /* a received ghost's place in the arrival order */
+  int32_t img[3], spare2; /* periodic image counters (periodic scenes) */
   double x[3], v[3], w[3];
   double radius, mass, inv_mass, inertia, inv_inertia;
 } esf_par_rec;

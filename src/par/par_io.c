@@ -22,6 +22,7 @@ typedef struct out_rec {
   int64_t id;
   int32_t material, spare;
   double x[3], v[3], w[3], f[3], radius;
+  int32_t img[3], spare2; /* periodic image counters (periodic scenes) */
 } out_rec;
 
 /* Gathers n records of `size` bytes from every process on rank 0, rank after rank:
@@ -81,11 +82,16 @@ int esf_par_gather(esf_sim *s, esf_particles *all, esf_error *err) {
     else
       memset(r->f, 0, sizeof r->f);
     r->radius = p->radius[i];
+    if (p->img)
+      memcpy(r->img, p->img + 3 * i, sizeof r->img);
+    else
+      memset(r->img, 0, sizeof r->img);
   }
   out_rec *got = NULL;
   size_t m = 0;
   rc = gather_recs(P, mine, n, sizeof *mine, rc, (void **)&got, &m, err);
   if (!rc && P->rank == 0) rc = esf_particles_alloc(all, m, err);
+  if (!rc && P->rank == 0 && p->img) rc = esf_particles_images(all, err);
   for (size_t k = 0; !rc && P->rank == 0 && k < m; k++) {
     const out_rec *r = &got[k];
     all->id[k] = r->id;
@@ -95,6 +101,7 @@ int esf_par_gather(esf_sim *s, esf_particles *all, esf_error *err) {
     memcpy(all->w + 3 * k, r->w, sizeof r->w);
     memcpy(all->f + 3 * k, r->f, sizeof r->f);
     all->radius[k] = r->radius;
+    if (all->img) memcpy(all->img + 3 * k, r->img, sizeof r->img);
   }
   free(mine);
   free(got);
@@ -106,6 +113,7 @@ typedef struct ck_rec {
   int64_t id;
   int32_t material, spare;
   double y[9], f[3], t[3], radius, mass, inv_mass, inertia, inv_inertia, xref[3];
+  int32_t img[3], spare2;
 } ck_rec;
 
 typedef struct pair_rec {
@@ -113,7 +121,8 @@ typedef struct pair_rec {
   esf_contact_hist h;
   esf_contact_bond bond;
   esf_contact_roll roll;
-  uint8_t touch, spare[7];
+  uint8_t touch;
+  int8_t img[3], spare[4]; /* B's periodic image */
 } pair_rec;
 
 /* The entries of list c whose A this process owns, A and B numbered globally (B a wall
@@ -134,6 +143,7 @@ static pair_rec *own_entries(const esf_sim *s, const esf_candidates *c, int wall
     e->h = c->h[k];
     if (c->bond) e->bond = c->bond[k];
     if (c->roll) e->roll = c->roll[k];
+    if (c->img) memcpy(e->img, c->img + 3 * k, 3);
     e->touch = c->touch[k];
   }
   *n = m;
@@ -152,9 +162,17 @@ static int view_list(esf_candidates *dst, const esf_candidates *like, const pair
   dst->touch = malloc(c);
   dst->bond = like->bond ? malloc(c * sizeof *dst->bond) : NULL;
   dst->roll = like->roll ? malloc(c * sizeof *dst->roll) : NULL;
+  dst->img = like->img ? malloc(3 * c) : NULL;
   if (!dst->a || !dst->b || !dst->h || !dst->touch || (like->bond && !dst->bond) ||
-      (like->roll && !dst->roll))
+      (like->roll && !dst->roll) || (like->img && !dst->img))
     return 0;
+  if (like->img) { /* the periods and Lees-Edwards references: every process's */
+    memcpy(dst->plen, like->plen, sizeof dst->plen);
+    dst->per = like->per;
+    dst->le_off = like->le_off;
+    dst->le_ref = like->le_ref;
+    dst->le_tb = like->le_tb;
+  }
   for (size_t k = 0; k < m; k++) {
     dst->a[k] = (uint32_t)r[k].a;
     dst->b[k] = (uint32_t)r[k].b;
@@ -162,6 +180,7 @@ static int view_list(esf_candidates *dst, const esf_candidates *like, const pair
     dst->touch[k] = r[k].touch;
     if (dst->bond) dst->bond[k] = r[k].bond;
     if (dst->roll) dst->roll[k] = r[k].roll;
+    if (dst->img) memcpy(dst->img + 3 * k, r[k].img, 3);
   }
   dst->n = dst->cap = m;
   return 1;
@@ -174,6 +193,7 @@ static void view_list_free(esf_candidates *c) {
   free(c->touch);
   free(c->bond);
   free(c->roll);
+  free(c->img);
   memset(c, 0, sizeof *c);
 }
 
@@ -217,6 +237,7 @@ int esf_par_view(esf_sim *s, esf_sim *view, esf_error *err) {
     r->inertia = p->inertia[i];
     r->inv_inertia = p->inv_inertia[i];
     if (ref) memcpy(r->xref, s->nb.xref + 3 * i, sizeof r->xref);
+    if (p->img) memcpy(r->img, p->img + 3 * i, sizeof r->img);
   }
   rc = esf_par_agree(s, rc, err);
   void *ap = NULL, *app = NULL, *apw = NULL;
@@ -239,6 +260,7 @@ int esf_par_view(esf_sim *s, esf_sim *view, esf_error *err) {
     memset(&view->p, 0, sizeof view->p);
     const size_t m = tp;
     rc = esf_particles_alloc(&view->p, m, err);
+    if (!rc && p->img) rc = esf_particles_images(&view->p, err);
     const ck_rec *r = ap;
     for (size_t k = 0; !rc && k < m; k++) {
       esf_particles *q = &view->p;
@@ -254,6 +276,7 @@ int esf_par_view(esf_sim *s, esf_sim *view, esf_error *err) {
       q->inv_mass[k] = r[k].inv_mass;
       q->inertia[k] = r[k].inertia;
       q->inv_inertia[k] = r[k].inv_inertia;
+      if (q->img) memcpy(q->img + 3 * k, r[k].img, sizeof r[k].img);
     }
     view->nb.xref = NULL;
     view->nb.nref = 0;
