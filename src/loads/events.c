@@ -116,10 +116,10 @@ static int apply_one(esf_sim *s, esf_event *ev, esf_error *err) {
   out = (size_t)esf_sim_sum(s, (long long)out); /* over every process */
   int rc = ESF_OK;
   if (out) {
-    const double e_el = removed_elastic(s, keep, -1);
-    if (s->led.started) /* before the balance starts, e0 leaves them out too */
-      s->led.e_removed += e_gone + e_el;
-    rc = esf_sim_forces_sync(s, err); /* compaction carries p.f, p.t along */
+    if (s->led.started) /* before the balance starts, e0 leaves them out too (the */
+      s->led.e_removed +=
+          e_gone + removed_elastic(s, keep, -1); /* same on every process) */
+    rc = esf_sim_forces_sync(s, err);            /* compaction carries p.f, p.t along */
     if (rc) return rc;
     if (s->red) s->red->compact(s, keep);
     rc = esf_particles_compact(p, keep, remap, err);

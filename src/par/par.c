@@ -77,7 +77,6 @@ size_t esf_par_count(const esf_sim *s) { return s->p.n; }
 int esf_par_ghosts(esf_sim *s, esf_error *err) { return (void)s, (void)err, ESF_OK; }
 int esf_par_agree(esf_sim *s, int rc, esf_error *err) { return (void)s, (void)err, rc; }
 int esf_par_any(const esf_sim *s, int flag) { return (void)s, flag != 0; }
-double esf_par_max(const esf_sim *s, double v) { return (void)s, v; }
 long long esf_par_sum(const esf_sim *s, long long v) { return (void)s, v; }
 void esf_par_ledger_step(esf_sim *s, const double *blocks, size_t nb) {
   esf_ledger_step(&s->led, blocks, nb);
@@ -292,13 +291,6 @@ int esf_par_any(const esf_sim *s, int flag) {
   if (!s->par) return flag != 0;
   int in = flag != 0, out = 0;
   MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LOR, s->par->comm);
-  return out;
-}
-
-double esf_par_max(const esf_sim *s, double v) {
-  if (!s->par) return v;
-  double out = v;
-  MPI_Allreduce(&v, &out, 1, MPI_DOUBLE, MPI_MAX, s->par->comm);
   return out;
 }
 

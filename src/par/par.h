@@ -57,9 +57,8 @@ void esf_par_busy(esf_sim *s, int end);
  * with its message (rc on the process itself when it failed). */
 int esf_par_agree(esf_sim *s, int rc, esf_error *err);
 
-/* Logical or of flag over the processes; largest value; sum of counts. */
+/* Logical or of flag over the processes; sum of counts. */
 int esf_par_any(const esf_sim *s, int flag);
-double esf_par_max(const esf_sim *s, double v);
 long long esf_par_sum(const esf_sim *s, long long v);
 
 /* Books a step of the ledger from this process's nb blocks (esf_ledger_step over

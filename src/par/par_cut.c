@@ -102,40 +102,6 @@ static int exchange(esf_par *P, const void *out, const int *cnt_out, size_t size
   return ESF_OK;
 }
 
-static void rec_of(const esf_particles *p, size_t i, int64_t gid, uint32_t key,
-                   esf_par_rec *r) {
-  r->id = p->id[i];
-  r->gid = gid;
-  r->key = key;
-  r->material = p->material[i];
-  memcpy(r->x, p->x + 3 * i, sizeof r->x);
-  memcpy(r->v, p->v + 3 * i, sizeof r->v);
-  memcpy(r->w, p->w + 3 * i, sizeof r->w);
-  r->radius = p->radius[i];
-  r->mass = p->mass[i];
-  r->inv_mass = p->inv_mass[i];
-  r->inertia = p->inertia[i];
-  r->inv_inertia = p->inv_inertia[i];
-  if (p->img)
-    memcpy(r->img, p->img + 3 * i, sizeof r->img);
-  else
-    memset(r->img, 0, sizeof r->img);
-}
-
-static void rec_to(esf_particles *p, size_t i, const esf_par_rec *r) {
-  if (p->img) memcpy(p->img + 3 * i, r->img, sizeof r->img);
-  p->id[i] = r->id;
-  p->material[i] = r->material;
-  memcpy(p->x + 3 * i, r->x, sizeof r->x);
-  memcpy(p->v + 3 * i, r->v, sizeof r->v);
-  memcpy(p->w + 3 * i, r->w, sizeof r->w);
-  p->radius[i] = r->radius;
-  p->mass[i] = r->mass;
-  p->inv_mass[i] = r->inv_mass;
-  p->inertia[i] = r->inertia;
-  p->inv_inertia[i] = r->inv_inertia;
-}
-
 typedef struct removed_rec {
   int64_t gid, id;
   double e, x[3];
@@ -565,7 +531,7 @@ int esf_par_rebuild(esf_sim *s, esf_error *err) {
     }
     for (size_t j = 0; j < nown; j++)
       if (dest[j] >= 0 && dest[j] != me)
-        rec_of(p, olo + j, gid[olo + j], key[j], &out[at[dest[j]]++]);
+        esf_par_rec_of(p, olo + j, gid[olo + j], key[j], &out[at[dest[j]]++]);
   }
   if ((rc = pack_contacts(s, dest, me, K, cc, &cout, err))) goto done;
   size_t nin = 0, ncin = 0;
@@ -581,7 +547,7 @@ int esf_par_rebuild(esf_sim *s, esf_error *err) {
   {
     size_t m = 0;
     for (size_t j = 0; j < nown; j++)
-      if (dest[j] == me) rec_of(p, olo + j, gid[olo + j], key[j], &own[m++]);
+      if (dest[j] == me) esf_par_rec_of(p, olo + j, gid[olo + j], key[j], &own[m++]);
     memcpy(own + m, in, nin * sizeof *in);
   }
   if ((rc = order_owned(own, no, nstay, kcut[me], kcut[me + 1], err))) goto done;
@@ -676,7 +642,7 @@ int esf_par_rebuild(esf_sim *s, esf_error *err) {
     const esf_par_rec *r = i < nbelow        ? &gin[i]
                            : i < nbelow + no ? &own[i - nbelow]
                                              : &gin[i - no];
-    rec_to(&q, i, r);
+    esf_par_rec_to(&q, i, r);
     ngid[i] = r->gid;
     tab[i].id = r->id;
     tab[i].i = i;

@@ -2,7 +2,7 @@
  *
  * Rank 0 writes frames.h5 alone, through the same writer as one process
  * (output/frames.c, which orders particles by id): every process sends its owned
- * particles (id, material, x, v, w, F, radius: 120 bytes each) and rank 0 receives them
+ * particles (esf_par_rec and F: 184 bytes each) and rank 0 receives them
  * rank after rank, the global order. Parallel HDF5 would spare rank 0 the memory of
  * one frame's particles; docs/mpi.md gives the measured cost of the gather.
  * esf_par_view gathers the same way, with the candidate lists' entries of each
@@ -18,11 +18,9 @@
 #ifdef ESF_MPI
 #include "par/par_impl.h"
 
-typedef struct out_rec {
-  int64_t id;
-  int32_t material, spare;
-  double x[3], v[3], w[3], f[3], radius;
-  int32_t img[3], spare2; /* periodic image counters (periodic scenes) */
+typedef struct out_rec { /* a particle of a frame: the record and its force */
+  esf_par_rec p;
+  double f[3];
 } out_rec;
 
 /* Gathers n records of `size` bytes from every process on rank 0, rank after rank:
@@ -71,21 +69,11 @@ int esf_par_gather(esf_sim *s, esf_particles *all, esf_error *err) {
   for (size_t j = 0; !rc && j < n; j++) {
     const size_t i = lo + j;
     out_rec *r = &mine[j];
-    r->id = p->id[i];
-    r->material = p->material[i];
-    r->spare = 0;
-    memcpy(r->x, p->x + 3 * i, sizeof r->x);
-    memcpy(r->v, p->v + 3 * i, sizeof r->v);
-    memcpy(r->w, p->w + 3 * i, sizeof r->w);
+    esf_par_rec_of(p, i, 0, 0, &r->p);
     if (p->f)
       memcpy(r->f, p->f + 3 * i, sizeof r->f);
     else
       memset(r->f, 0, sizeof r->f);
-    r->radius = p->radius[i];
-    if (p->img)
-      memcpy(r->img, p->img + 3 * i, sizeof r->img);
-    else
-      memset(r->img, 0, sizeof r->img);
   }
   out_rec *got = NULL;
   size_t m = 0;
@@ -93,15 +81,8 @@ int esf_par_gather(esf_sim *s, esf_particles *all, esf_error *err) {
   if (!rc && P->rank == 0) rc = esf_particles_alloc(all, m, err);
   if (!rc && P->rank == 0 && p->img) rc = esf_particles_images(all, err);
   for (size_t k = 0; !rc && P->rank == 0 && k < m; k++) {
-    const out_rec *r = &got[k];
-    all->id[k] = r->id;
-    all->material[k] = r->material;
-    memcpy(all->x + 3 * k, r->x, sizeof r->x);
-    memcpy(all->v + 3 * k, r->v, sizeof r->v);
-    memcpy(all->w + 3 * k, r->w, sizeof r->w);
-    memcpy(all->f + 3 * k, r->f, sizeof r->f);
-    all->radius[k] = r->radius;
-    if (all->img) memcpy(all->img + 3 * k, r->img, sizeof r->img);
+    esf_par_rec_to(all, k, &got[k].p);
+    memcpy(all->f + 3 * k, got[k].f, sizeof got[k].f);
   }
   free(mine);
   free(got);
@@ -109,11 +90,9 @@ int esf_par_gather(esf_sim *s, esf_particles *all, esf_error *err) {
   return rc;
 }
 
-typedef struct ck_rec {
-  int64_t id;
-  int32_t material, spare;
-  double y[9], f[3], t[3], radius, mass, inv_mass, inertia, inv_inertia, xref[3];
-  int32_t img[3], spare2;
+typedef struct ck_rec { /* a particle of a checkpoint: the record, F_n, M_n, xref */
+  esf_par_rec p;
+  double f[3], t[3], xref[3];
 } ck_rec;
 
 typedef struct pair_rec {
@@ -224,20 +203,10 @@ int esf_par_view(esf_sim *s, esf_sim *view, esf_error *err) {
   for (size_t j = 0; !rc && j < n; j++) {
     const size_t i = lo + j;
     ck_rec *r = &mine[j];
-    r->id = p->id[i];
-    r->material = p->material[i];
-    memcpy(r->y, p->x + 3 * i, 3 * sizeof(double));
-    memcpy(r->y + 3, p->v + 3 * i, 3 * sizeof(double));
-    memcpy(r->y + 6, p->w + 3 * i, 3 * sizeof(double));
+    esf_par_rec_of(p, i, 0, 0, &r->p);
     memcpy(r->f, p->f + 3 * i, sizeof r->f);
     memcpy(r->t, p->t + 3 * i, sizeof r->t);
-    r->radius = p->radius[i];
-    r->mass = p->mass[i];
-    r->inv_mass = p->inv_mass[i];
-    r->inertia = p->inertia[i];
-    r->inv_inertia = p->inv_inertia[i];
     if (ref) memcpy(r->xref, s->nb.xref + 3 * i, sizeof r->xref);
-    if (p->img) memcpy(r->img, p->img + 3 * i, sizeof r->img);
   }
   rc = esf_par_agree(s, rc, err);
   void *ap = NULL, *app = NULL, *apw = NULL;
@@ -264,19 +233,9 @@ int esf_par_view(esf_sim *s, esf_sim *view, esf_error *err) {
     const ck_rec *r = ap;
     for (size_t k = 0; !rc && k < m; k++) {
       esf_particles *q = &view->p;
-      q->id[k] = r[k].id;
-      q->material[k] = r[k].material;
-      memcpy(q->x + 3 * k, r[k].y, 3 * sizeof(double));
-      memcpy(q->v + 3 * k, r[k].y + 3, 3 * sizeof(double));
-      memcpy(q->w + 3 * k, r[k].y + 6, 3 * sizeof(double));
+      esf_par_rec_to(q, k, &r[k].p);
       memcpy(q->f + 3 * k, r[k].f, sizeof r[k].f);
       memcpy(q->t + 3 * k, r[k].t, sizeof r[k].t);
-      q->radius[k] = r[k].radius;
-      q->mass[k] = r[k].mass;
-      q->inv_mass[k] = r[k].inv_mass;
-      q->inertia[k] = r[k].inertia;
-      q->inv_inertia[k] = r[k].inv_inertia;
-      if (q->img) memcpy(q->img + 3 * k, r[k].img, sizeof r[k].img);
     }
     view->nb.xref = NULL;
     view->nb.nref = 0;
