@@ -517,7 +517,7 @@ static void test_errors(void) {
   /* the XDMF writer: an unwritable place is ESF_EIO naming the file */
   esf_xdmf_frame x = {0.5, 0, 3, 0, 0, 0, 0, 0, 0};
   snprintf(path, sizeof path, "%s/no/such/dir/frames.xdmf", tmpdir);
-  rc = esf_xdmf_write(path, "frames.h5", ESF_XDMF_ALL, &x, 1, &err);
+  rc = esf_xdmf_write(path, "frames.h5", ESF_XDMF_ALL, &x, 1, 1, &err);
   CHECK(rc == ESF_EIO && strstr(err.msg, path) != NULL, "XDMF to '%s': %d '%s'", path, rc,
         err.msg);
 }

@@ -1,10 +1,11 @@
 /* xdmf.c — the XDMF 3 description of frames.h5 (xdmf.h).
  *
- * Writes the whole file each time: NAME.tmp is written with stdio, flushed, fsync'ed
- * and renamed over NAME (rename is atomic on POSIX file systems); the directory is
- * fsync'ed afterwards, best effort. Times are printed with 17 significant digits, so
- * they read back as the frames' exact `time` attributes. On failure NAME.tmp is
- * removed and NAME keeps its previous content. State: none kept between calls. */
+ * Writes the whole file each time: NAME.tmp is written with stdio, flushed (and, when
+ * durable, fsync'ed) and renamed over NAME (rename is atomic on POSIX file systems);
+ * when durable the directory is fsync'ed afterwards, best effort. Times are printed with
+ * 17 significant digits, so they read back as the frames' exact `time` attributes. On
+ * failure NAME.tmp is removed and NAME keeps its previous content. State: none kept
+ * between calls. */
 #include "formats/xdmf.h"
 
 #include "util/atomic_file.h"
@@ -215,7 +216,8 @@ int esf_xdmf_any(int kind, const esf_xdmf_frame *frames, size_t nframes) {
 }
 
 int esf_xdmf_write(const char *path, const char *h5_name, int kinds,
-                   const esf_xdmf_frame *frames, size_t nframes, esf_error *err) {
+                   const esf_xdmf_frame *frames, size_t nframes, int durable,
+                   esf_error *err) {
   char tmp[1100];
   if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp)
     return esf_fail(err, ESF_EIO, "path too long: %s", path);
@@ -234,7 +236,7 @@ int esf_xdmf_write(const char *path, const char *h5_name, int kinds,
   if (kinds & ESF_XDMF_CONTACTS)
     collection(f, "contacts", ESF_XDMF_CONTACTS, contacts, &c, frames, nframes);
   fputs("  </Domain>\n</Xdmf>\n", f);
-  int ok = fflush(f) == 0 && !ferror(f) && fsync(fileno(f)) == 0;
+  int ok = fflush(f) == 0 && !ferror(f) && (!durable || fsync(fileno(f)) == 0);
   int e = ok ? 0 : errno;
   if (fclose(f) != 0 && ok) {
     ok = 0;
@@ -248,6 +250,6 @@ int esf_xdmf_write(const char *path, const char *h5_name, int kinds,
     remove(tmp);
     return esf_fail(err, ESF_EIO, "cannot write '%s': %s", path, strerror(e));
   }
-  (void)esf_fsync_parent(path, NULL); /* best effort: makes the rename durable */
+  if (durable) (void)esf_fsync_parent(path, NULL); /* best effort: the rename */
   return ESF_OK;
 }

@@ -47,10 +47,13 @@ enum {
 /* Writes the XDMF of the grids of `kinds` for nframes frames of h5_name (the HDF5
  * file's name as the XDMF should reference it, normally its base name) to path,
  * atomically. A file of the particles alone also gives their positions as a node
- * attribute `position` (what meshio's time series reader returns per frame). Errors:
- * ESF_EIO naming the path. */
+ * attribute `position` (what meshio's time series reader returns per frame). With
+ * durable, the file and its directory are fsync'ed (a checkpoint, the run's end);
+ * without, the replacement is atomic for a killed process but not across a power
+ * loss. Errors: ESF_EIO naming the path. */
 int esf_xdmf_write(const char *path, const char *h5_name, int kinds,
-                   const esf_xdmf_frame *frames, size_t nframes, esf_error *err);
+                   const esf_xdmf_frame *frames, size_t nframes, int durable,
+                   esf_error *err);
 
 /* Whether some frame has a grid of this kind (one bit). */
 int esf_xdmf_any(int kind, const esf_xdmf_frame *frames, size_t nframes);

@@ -217,11 +217,13 @@ static int publish(esf_frames *fr, int force, int durable, esf_error *err) {
   int rc = esf_frames_index_write(fr->path, &ix, durable, err);
   const size_t nf = (size_t)fr->count;
   if (!rc && fr->count > 0)
-    rc = esf_xdmf_write(fr->xdmf_path, fr->h5_name, ESF_XDMF_ALL, fr->xf, nf, err);
+    rc = esf_xdmf_write(fr->xdmf_path, fr->h5_name, ESF_XDMF_ALL, fr->xf, nf, durable,
+                        err);
   /* each kind alone, for the readers that merge a file's grids into one dataset */
   for (int i = 0; i < 3 && !rc && fr->count > 0; i++)
     if (esf_xdmf_any(1 << i, fr->xf, nf))
-      rc = esf_xdmf_write(fr->kind_path[i], fr->h5_name, 1 << i, fr->xf, nf, err);
+      rc =
+          esf_xdmf_write(fr->kind_path[i], fr->h5_name, 1 << i, fr->xf, nf, durable, err);
   if (!rc) {
     fr->pub_frames = fr->count;
     fr->pub_rows = fr->nrows;
