@@ -242,6 +242,19 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
   }
 }
 
+/* Thread me of got runs its range, or (fewer threads than ranges) one step of the ranges
+ * me, me + got, ... in ascending order. */
+static void run_ranges(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t me,
+                       size_t got, size_t T) {
+  if (got == T) {
+    run_range(s, f, B, me);
+  } else {
+    esf_fused_burst B1 = *B;
+    B1.steps = 1;
+    for (size_t t = me; t < T; t += got) run_range(s, f, &B1, t);
+  }
+}
+
 /* Whether the ledger's rows DT and MDT stay +0 in the scene (core/ledger.h's
  * ESF_LEDGER_NO_T): no tangential dashpot (beta = 0 and every pair's ct_factor 0, the
  * linear law), no bonds, no Hertz springs' stiffness change. */
@@ -428,19 +441,17 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   if (f->t_left > 0 && nth > 1 && gap < 0.5 * f->t_step) /* not a frame write */
     f->busy[0] += gap;
 #endif
+  if (nth == 1) { /* no parallel region: libgomp's for one thread costs a syscall */
+    run_ranges(s, f, &B, 0, 1, T);
+  } else {
 #pragma omp parallel num_threads(nth)
-  {
+    {
 #ifdef _OPENMP
-    const size_t me = (size_t)omp_get_thread_num(), got = (size_t)omp_get_num_threads();
+      const size_t me = (size_t)omp_get_thread_num(), got = (size_t)omp_get_num_threads();
 #else
-    const size_t me = 0, got = 1;
+      const size_t me = 0, got = 1;
 #endif
-    if (got == T) {
-      run_range(s, f, &B, me);
-    } else { /* fewer threads than ranges: one step, the ranges in ascending order */
-      esf_fused_burst B1 = B;
-      B1.steps = 1;
-      for (size_t t = me; t < T; t += got) run_range(s, f, &B1, t);
+      run_ranges(s, f, &B, me, got, T);
     }
   }
   const long n = f->taken;
