@@ -41,7 +41,7 @@
  * later only once the time since the last rewrite is PUBLISH_COST_RATIO times what
  * that rewrite took (its whole-run cost then stays near 1%), and at checkpoints and
  * close. */
-enum { PUBLISH_EVERY_MAX = 100, PUBLISH_COST_RATIO = 100 };
+enum { PUBLISH_EVERY_MAX = 10, PUBLISH_COST_RATIO = 100 };
 
 struct esf_frames {
   hid_t seg, segframes; /* the open segment and its /frames; -1: none open */
