@@ -194,7 +194,7 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
     }
     /* the ledger's stored energies: on the burst's last step (what is read after it)
        and the first one it books */
-    const int light = B->bc_light && i + 1 < B->steps && (i > 0 || B->started);
+    const int light = B->bc_light && i + 1 < B->need && (i > 0 || B->started);
     const int after = i > 1 || (i > 0 && B->started); /* step i - 1 light too */
     const esf_pair_batch_ctx *bc = !light                            ? B->bc
                                    : after && B->K_light->clear_rows ? B->bc_light_z
@@ -427,6 +427,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       .started = s->led.started,
       .e0 = f->epoch + 1,
       .steps = many && nmax > 1 && !ev && !s->par ? nmax : 1,
+      .need = ev ? 1 : nmax,
       .lim2 = esf_neighbor_limit2(&s->nb),
       .led = ledger ? &s->led : NULL,
       .nblocks = esf_ledger_nblocks(esf_sim_own_hi(s) - esf_sim_own_lo(s))};

@@ -193,8 +193,8 @@ typedef struct esf_fused_burst {
   const esf_pair_batch_ctx *bc;
   const esf_fused_kick *K;
   /* with the ledger, the same for the steps whose stored energies nobody reads (all
-     but the last, and the first when the ledger has not started: core/ledger.h's
-     light rows and kick), or NULL */
+     but the last of the caller's `need`, and the first when the ledger has not
+     started: core/ledger.h's light rows and kick), or NULL */
   const esf_pair_batch_ctx *bc_light;
   const esf_fused_kick *K_light;
   const esf_pair_batch_ctx *bc_light_z; /* bc_light with rows already zero, for a light
@@ -202,6 +202,9 @@ typedef struct esf_fused_burst {
   int started; /* the ledger had booked a step before the call (its first step: full) */
   long e0;     /* the epoch of the call's first step */
   long steps;  /* steps at most */
+  long need;   /* the caller's steps up to a read of the stored energies (its burst:
+                  an energy row, a check, the end), >= steps; a call of fewer steps
+                  (moving walls, servo, fluid: one) ends on a light step before it */
   double lim2; /* the lists need a rebuild past this squared displacement, m^2 */
   esf_ledger *led; /* the ledger, booked step by step from K->blocks; NULL: off */
   size_t nblocks;  /* its blocks */
