@@ -206,21 +206,28 @@ static inline void kick_one(const esf_sim *s, esf_particles *p, const esf_fused_
     v3_copy(v0, v);
     v3_copy(w0, w);
   }
-  double d2 = 0.0;
+  /* the new state in locals first (K and the arrays may alias as far as the compiler
+     knows: stores between loads would reload every factor) */
+  const double cr0 = K->cr0, cr1 = K->cr1, ct0 = K->ct0, ct1 = K->ct1;
+  double vn[3], wn[3], xn[3], d2 = 0.0;
   for (int q = 0; q < 3; q++) {
     if (ESF_FUSED_FEATURES) {
-      v[q] = (K->cr0 * v[q] + fk[q] * im) * K->cr1;
-      w[q] = (K->ct0 * w[q] + tk[q] * ii) * K->ct1;
+      vn[q] = (cr0 * v[q] + fk[q] * im) * cr1;
+      wn[q] = (ct0 * w[q] + tk[q] * ii) * ct1;
     } else {
-      v[q] += fk[q] * im;
-      w[q] += tk[q] * ii;
+      vn[q] = v[q] + fk[q] * im;
+      wn[q] = w[q] + tk[q] * ii;
     }
-    x[q] += v[q] * dt;
-    if (K->xref) {
-      const double d = x[q] - K->xref[3 * i + q];
+    xn[q] = x[q] + vn[q] * dt;
+  }
+  if (K->xref)
+    for (int q = 0; q < 3; q++) {
+      const double d = xn[q] - K->xref[3 * i + q];
       d2 += d * d;
     }
-  }
+  v3_copy(v, vn);
+  v3_copy(w, wn);
+  v3_copy(x, xn);
   if (!(d2 <= *max2)) {
     if (d2 > *max2)
       *max2 = d2;
