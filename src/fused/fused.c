@@ -195,7 +195,8 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
     /* the ledger's stored energies: on the burst's last step (what is read after it)
        and the first one it books */
     const int light = B->bc_light && i + 1 < B->need && (i > 0 || B->started);
-    const int after = i > 1 || (i > 0 && B->started); /* step i - 1 light too */
+    const int after = /* step i - 1 light too, its rows left zero */
+        i > 1 || (i > 0 && B->started) || (i == 0 && B->pre_zeroed);
     const esf_pair_batch_ctx *bc = !light                            ? B->bc
                                    : after && B->K_light->clear_rows ? B->bc_light_z
                                                                      : B->bc_light;
@@ -416,6 +417,12 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   bcl.light = 1;
   Kl.lk.light = 1;
   if (ledger && !autod && (rc = light_rows(s, f, &bcl, &Kl, err))) return rc;
+  if (ledger && !autod && !s->par) /* (MPI: the ghosts' rows are not kicked) */
+    Kl.clear_rows = 1;
+  /* the last call's last step was light and left these rows zero, nothing since */
+  const int pre_zeroed = Kl.clear_rows && f->z_rows == Kl.rows && f->z_step == s->step &&
+                         f->z_n == p->n && f->z_builds == s->nb.builds && !ev;
+  f->z_rows = NULL;
   esf_pair_batch_ctx bclz = bcl;
   bclz.zeroed = 1;
   const esf_fused_burst B = {
@@ -425,6 +432,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       .K_light = &Kl,
       .bc_light_z = &bclz,
       .started = s->led.started,
+      .pre_zeroed = pre_zeroed,
       .e0 = f->epoch + 1,
       .steps = many && nmax > 1 && !ev && !s->par ? nmax : 1,
       .need = ev ? 1 : nmax,
@@ -477,6 +485,13 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   }
   s->bonds.broken += atomic_load_explicit(&f->broken, memory_order_relaxed);
   *taken = ok;
+  if (!fail && !ev && n > 0 && B.bc_light && Kl.clear_rows && n < B.need &&
+      (n > 1 || B.started)) { /* the last step light: its rows left zero */
+    f->z_rows = Kl.rows;
+    f->z_step = s->step;
+    f->z_n = p->n;
+    f->z_builds = s->nb.builds;
+  }
   /* the accumulators hold F_n, M_n; on failure they are partly overwritten, and p.f,
    * p.t keep what the last sync left (an evaluation wrote p.f, p.t itself) */
   s->ft_lazy = fail || ev ? NULL : f->acc;

@@ -113,12 +113,18 @@ struct esf_fused {
   double *lrows;           /* with the ledger: the light steps' rows, ESF_LR_DISS a
                               particle (fused.c's light_rows), line-aligned, or NULL */
   size_t cap_lr;           /* particles lrows has room for */
-  size_t cap_lb;           /* boundary pairs they have room for */
-  size_t *bout;            /* nth+1: bk[bout[t] .. bout[t+1]) have a in range t */
-  uint32_t *bin;           /* boundary ordinals by the range of b, ascending within */
-  size_t *binstart;        /* nth+1 */
-  size_t *rlo;             /* nth+1: the particle ranges (fused_ranges.c) */
-  int32_t m0; /* the material every particle has, or -1 (pair_batch.h's one) */
+  /* the rows a call's last (light) step left zero, and the step, particle count and
+     list build they hold for (the next call's first light step skips zeroing them),
+     or z_rows NULL */
+  const double *z_rows;
+  long z_step, z_builds;
+  size_t z_n;
+  size_t cap_lb;    /* boundary pairs they have room for */
+  size_t *bout;     /* nth+1: bk[bout[t] .. bout[t+1]) have a in range t */
+  uint32_t *bin;    /* boundary ordinals by the range of b, ascending within */
+  size_t *binstart; /* nth+1 */
+  size_t *rlo;      /* nth+1: the particle ranges (fused_ranges.c) */
+  int32_t m0;       /* the material every particle has, or -1 (pair_batch.h's one) */
   /* balance (esf_fused_balance): the pair and kick pass's seconds per range since the
    * cut, the estimated work of each range, and, when a re-cut is due, seconds per unit
    * of work */
@@ -181,8 +187,8 @@ typedef struct esf_fused_kick {
   double *rows, *blocks;
   size_t kbase; /* the particle of the first block's start (MPI: the first owned one) */
   size_t lr;
-  int clear_rows; /* 1: the light steps' loop leaves the rows it read zero (fused.c's
-                     light_rows: the next light step's pair pass then skips it) */
+  int clear_rows; /* 1: a light step leaves the rows it read zero (kick_ledger_light,
+                     kick_one; the next light step's pair pass then skips zeroing) */
   esf_ledger_kick lk;
   struct esf_drag *drag; /* the fluid force (loads/drag.h), or NULL */
   int drag_on;           /* it acts at this step's time */
@@ -200,12 +206,14 @@ typedef struct esf_fused_burst {
   const esf_pair_batch_ctx *bc_light_z; /* bc_light with rows already zero, for a light
                                            step after one that cleared them */
   int started; /* the ledger had booked a step before the call (its first step: full) */
-  long e0;     /* the epoch of the call's first step */
-  long steps;  /* steps at most */
-  long need;   /* the caller's steps up to a read of the stored energies (its burst:
-                  an energy row, a check, the end), >= steps; a call of fewer steps
-                  (moving walls, servo, fluid: one) ends on a light step before it */
-  double lim2; /* the lists need a rebuild past this squared displacement, m^2 */
+  int pre_zeroed;  /* the step before the call left the light rows zero (esf_fused.z_rows)
+                    */
+  long e0;         /* the epoch of the call's first step */
+  long steps;      /* steps at most */
+  long need;       /* the caller's steps up to a read of the stored energies (its burst:
+                      an energy row, a check, the end), >= steps; a call of fewer steps
+                      (moving walls, servo, fluid: one) ends on a light step before it */
+  double lim2;     /* the lists need a rebuild past this squared displacement, m^2 */
   esf_ledger *led; /* the ledger, booked step by step from K->blocks; NULL: off */
   size_t nblocks;  /* its blocks */
 } esf_fused_burst;

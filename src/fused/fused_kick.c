@@ -94,6 +94,21 @@ static void kick_plain_loop(size_t lo, size_t hi, double dt, double *restrict x,
   *escaped |= out;
 }
 
+/* A light step's channels of row r (those fused_pairs.c's acc_set zeroes) set to +0,
+ * each group of four only when not +0 already (a row no contact touched stays clean in
+ * the cache). */
+static inline void clear_light_row(const esf_fused_kick *K, double *r) {
+  const size_t off[5] = {ESF_LR_DN, ESF_LR_W, ESF_LR_DT, ESF_LR_MDT, ESF_LR_RD};
+  const int on[5] = {1, !K->lk.no_w, !K->lk.no_t, !K->lk.no_t, K->lr == ESF_LR};
+  for (int g = 0; g < 5; g++) {
+    if (!on[g]) continue;
+    uint64_t u[4], any = 0;
+    memcpy(u, r + off[g], sizeof u);
+    for (int q = 0; q < 4; q++) any |= u[q];
+    if (any) memset(r + off[g], 0, sizeof u);
+  }
+}
+
 /* kick_plain_loop's kick and drift of range [lo, hi) with the ledger's cumulative
  * channels of a light step (esf_ledger_kick_particle's, K->lk.light; no rolling
  * resistance, local damping or fluid force): block by block (ESF_LEDGER_BLOCK), the
@@ -167,7 +182,10 @@ static void kick_ledger_light(size_t lo, size_t hi, const esf_fused_kick *K,
         blk[ESF_LB_BD] += r[ESF_LR_BOND];
         blk[ESF_LB_SW] += r[ESF_LR_STIFF];
       }
-    if (K->clear_rows) memset(K->rows + lr * b0, 0, lr * nb * sizeof(double));
+    if (K->clear_rows && lr <= ESF_LR_DISS) /* light_rows' own rows: all of them */
+      memset(K->rows + lr * b0, 0, lr * nb * sizeof(double));
+    else if (K->clear_rows)
+      for (size_t j = 0; j < nb; j++) clear_light_row(K, K->rows + lr * (b0 + j));
   }
 }
 
@@ -244,6 +262,7 @@ static inline void kick_one(const esf_sim *s, esf_particles *p, const esf_fused_
                              ESF_FUSED_FEATURES && K->loc ? ml : NULL,
                              ESF_FUSED_FEATURES && K->drag ? K->drag->f + 3 * i : NULL,
                              K->rows ? K->rows + K->lr * i : NULL, blk);
+    if (K->clear_rows && K->lk.light && K->rows) clear_light_row(K, K->rows + K->lr * i);
   }
 }
 
