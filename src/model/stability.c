@@ -56,21 +56,36 @@ void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar, doub
   kc[3] = beta > 0 ? beta * pp->kt : pp->ct_factor * sqrt(mstar);
 }
 
-static int pair_geometry(const esf_sim *s, size_t k, double n[3], double *la,
-                         double *lb) {
+/* Pair candidate k's centre-to-centre vector d (A to B or its image) and d[3] its
+ * square; 1 when it touches (overlap, or a bond). Without branches on the outcome. */
+static inline int pair_near(const esf_sim *s, size_t k, double d[4]) {
   const esf_particles *p = &s->p;
   const esf_candidates *c = &s->nb.pp;
   uint32_t a = c->a[k], b = c->b[k];
-  double d[3], rs = p->radius[a] + p->radius[b], xb[3];
+  double rs = p->radius[a] + p->radius[b], xb[3];
   v3_sub(d, esf_candidates_xb(c, k, p->x, xb), p->x + 3 * a);
-  double d2 = v3_norm2(d);
-  if (!(d2 < rs * rs) && !(c->touch[k] && esf_candidates_bonded(c, k))) return 0;
-  double dist = sqrt(d2), un = rs - dist;
+  d[3] = v3_norm2(d);
+  return (d[3] < rs * rs) | (c->bond && esf_candidates_bonded(c, k) && c->touch[k]);
+}
+
+/* A touching pair's unit normal n and lever arms from pair_near's d; 0 when the
+ * centres coincide. */
+static inline int pair_finish(const esf_sim *s, size_t k, const double d[4], double n[3],
+                              double *la, double *lb) {
+  const esf_particles *p = &s->p;
+  uint32_t a = s->nb.pp.a[k], b = s->nb.pp.b[k];
+  double rs = p->radius[a] + p->radius[b], dist = sqrt(d[3]), un = rs - dist;
   if (!(dist > 0)) return 0;
   v3_scale(n, 1.0 / dist, d);
   *la = p->radius[a] - 0.5 * un;
   *lb = p->radius[b] - 0.5 * un;
   return 1;
+}
+
+static int pair_geometry(const esf_sim *s, size_t k, double n[3], double *la,
+                         double *lb) {
+  double d[4];
+  return pair_near(s, k, d) && pair_finish(s, k, d, n, la, lb);
 }
 
 /* The tangential terms of a linear-law contact (law_body.h): none when its cap
@@ -121,80 +136,118 @@ static void roll_springs(const esf_sim *s, const esf_pair_params *par, size_t a,
   c->kr[3] = P.ctw;
 }
 
-size_t esf_stab_contacts(const esf_sim *s, esf_stab_visit fn, void *ctx) {
+/* Touching pair candidate k (pair_near's d) as the check sees it in *c; 0 when its
+ * centres coincide. */
+static inline int pair_contact_at(const esf_sim *s, size_t k, const double d[4],
+                                  esf_stab_contact *c) {
   const esf_particles *p = &s->p;
   const esf_materials *mt = &s->mats;
-  const esf_candidates *pp = &s->nb.pp, *pw = &s->nb.pw;
-  esf_stab_contact c;
-  size_t cnt = 0;
-  for (size_t k = 0; k < pp->n; k++) {
-    if (!pair_geometry(s, k, c.n, &c.la, &c.lb)) continue;
-    c.a = pp->a[k];
-    c.b = pp->b[k];
-    const esf_pair_params *par = &mt->pair[p->material[c.a] * mt->n + p->material[c.b]];
-    const double ra = p->radius[c.a], rb = p->radius[c.b];
-    const double u = ra - c.la + rb - c.lb;
-    esf_stab_springs(par, s->beta,
-                     p->mass[c.a] * p->mass[c.b] / (p->mass[c.a] + p->mass[c.b]),
-                     ra * rb / (ra + rb), u, c.kc);
-    tangential(par, &pp->h[k], pp->touch[k], u, c.n, &c);
-    roll_springs(s, par, c.a, c.b, u, &c);
-    fn(&c, ctx);
-    cnt++;
-  }
-  /* the wall contacts of one particle at a time, those that carry force (forces.c's
-     choice among hits on shared mesh edges and vertices) */
+  const esf_candidates *pp = &s->nb.pp;
+  if (!pair_finish(s, k, d, c->n, &c->la, &c->lb)) return 0;
+  c->a = pp->a[k];
+  c->b = pp->b[k];
+  const esf_pair_params *par = &mt->pair[p->material[c->a] * mt->n + p->material[c->b]];
+  const double ra = p->radius[c->a], rb = p->radius[c->b];
+  const double u = ra - c->la + rb - c->lb;
+  esf_stab_springs(par, s->beta,
+                   p->mass[c->a] * p->mass[c->b] / (p->mass[c->a] + p->mass[c->b]),
+                   ra * rb / (ra + rb), u, c->kc);
+  tangential(par, &pp->h[k], pp->touch[k], u, c->n, c);
+  roll_springs(s, par, c->a, c->b, u, c);
+  return 1;
+}
+
+/* Pair candidate k as the check sees it in *c; 0 when it does not touch. */
+static inline int pair_contact(const esf_sim *s, size_t k, esf_stab_contact *c) {
+  double d[4];
+  return pair_near(s, k, d) && pair_contact_at(s, k, d, c);
+}
+
+/* The wall contacts of particle pw->a[k0] (its candidates k0 .. the returned end) that
+ * carry force (forces.c's choice among hits on shared mesh edges and vertices): fn on
+ * each, their count added to *cnt. */
+static inline size_t wall_contacts(const esf_sim *s, size_t k0, esf_stab_visit fn,
+                                   void *ctx, size_t *cnt) {
+  const esf_particles *p = &s->p;
+  const esf_materials *mt = &s->mats;
+  const esf_candidates *pw = &s->nb.pw;
   enum { MAXH = 32 };
   esf_wall_hit hits[MAXH];
   double un[MAXH];
   uint32_t elem[MAXH];
-  size_t kk[MAXH];
+  size_t kk[MAXH], k1;
   unsigned char keep[MAXH];
-  for (size_t k0 = 0, k1; k0 < pw->n; k0 = k1) {
-    const uint32_t a = pw->a[k0];
-    size_t m = 0;
-    for (k1 = k0; k1 < pw->n && pw->a[k1] == a; k1++) {
-      esf_wall_hit h;
-      esf_wall_nearest(&s->walls.e[pw->b[k1]], p->x + 3 * (size_t)a, &h);
-      if (!(h.dist < p->radius[a]) || m == MAXH) continue; /* beyond MAXH: ignored */
-      hits[m] = h;
-      un[m] = p->radius[a] - h.dist;
-      elem[m] = pw->b[k1];
-      kk[m++] = k1;
-    }
-    if (m == 0) continue;
-    esf_forces_select_wall_hits(&s->walls, elem, hits, un, m, p->radius[a], keep);
-    for (size_t j = 0; j < m; j++) {
-      if (!keep[j]) continue;
-      c.a = a;
-      c.b = -1;
-      v3_copy(c.n, hits[j].n);
-      c.la = esf_wall_lever(s->cfg.wall_lever, p->radius[a], un[j], hits[j].dist);
-      c.lb = 0.0;
-      const esf_pair_params *par =
-          &mt->pair[p->material[a] * mt->n + s->walls.e[elem[j]].material];
-      esf_stab_springs(par, s->beta, p->mass[a], p->radius[a], un[j], c.kc);
-      tangential(par, &pw->h[kk[j]], pw->touch[kk[j]], un[j], c.n, &c);
-      roll_springs(s, par, a, -1, un[j], &c);
-      fn(&c, ctx);
-      cnt++;
-    }
+  esf_stab_contact c;
+  const uint32_t a = pw->a[k0];
+  size_t m = 0;
+  for (k1 = k0; k1 < pw->n && pw->a[k1] == a; k1++) {
+    esf_wall_hit h;
+    esf_wall_nearest(&s->walls.e[pw->b[k1]], p->x + 3 * (size_t)a, &h);
+    if (!(h.dist < p->radius[a]) || m == MAXH) continue; /* beyond MAXH: ignored */
+    hits[m] = h;
+    un[m] = p->radius[a] - h.dist;
+    elem[m] = pw->b[k1];
+    kk[m++] = k1;
   }
+  if (m == 0) return k1;
+  esf_forces_select_wall_hits(&s->walls, elem, hits, un, m, p->radius[a], keep);
+  for (size_t j = 0; j < m; j++) {
+    if (!keep[j]) continue;
+    c.a = a;
+    c.b = -1;
+    v3_copy(c.n, hits[j].n);
+    c.la = esf_wall_lever(s->cfg.wall_lever, p->radius[a], un[j], hits[j].dist);
+    c.lb = 0.0;
+    const esf_pair_params *par =
+        &mt->pair[p->material[a] * mt->n + s->walls.e[elem[j]].material];
+    esf_stab_springs(par, s->beta, p->mass[a], p->radius[a], un[j], c.kc);
+    tangential(par, &pw->h[kk[j]], pw->touch[kk[j]], un[j], c.n, &c);
+    roll_springs(s, par, a, -1, un[j], &c);
+    fn(&c, ctx);
+    ++*cnt;
+  }
+  return k1;
+}
+
+size_t esf_stab_contacts(const esf_sim *s, esf_stab_visit fn, void *ctx) {
+  const esf_candidates *pp = &s->nb.pp, *pw = &s->nb.pw;
+  esf_stab_contact c;
+  size_t cnt = 0;
+  for (size_t k = 0; k < pp->n; k++)
+    if (pair_contact(s, k, &c)) fn(&c, ctx), cnt++;
+  for (size_t k0 = 0; k0 < pw->n;) k0 = wall_contacts(s, k0, fn, ctx, &cnt);
   return cnt;
 }
 
 /* The operator: y += (sum over touching contacts G^T (ck S_K + cc S_C) G) x on 6
- * coordinates per particle, the contacts (esf_stab_contacts) recomputed from the state
- * at each application (no storage per contact). Lanczos runs on M^{-1} K' in the M
- * inner product (the spectrum of M^{-1/2} K' M^{-1/2}, without scaled copies); mass()
- * gives M's diagonal, 0 on frozen coordinates (2D: y and the rotations about x and z),
- * and minv() its inverse with the same zeros. */
+ * coordinates per particle, the contacts (pair_contact, wall_contacts) recomputed from
+ * the state at each application (no storage per contact). Lanczos runs on M^{-1} K' in
+ * the M inner product (the spectrum of M^{-1/2} K' M^{-1/2}, without scaled copies);
+ * weights() gives M's diagonal, 0 on frozen coordinates (2D: y and the rotations about
+ * x and z), and its inverse with the same zeros.
+ * Threads: the particles in blocks of BLOCK (fixed, whatever the thread count). With
+ * the lists sorted by A (a build leaves them so) and B > A, a block's pass adds to its
+ * own rows only: first B's side of the touching pairs entering from earlier blocks (in
+ * list order, gathered once per estimate), then its own pairs (both sides when B is in
+ * the block, A's alone otherwise), then its walls. Each row receives its terms in the
+ * serial pass's order, so the result is the serial pass's bits (the entering pairs are
+ * computed twice). The vector operations run by the same blocks, a dot product summed
+ * by coordinate within a block, then block by block: the same bits on any thread count. */
+#define BLOCK 1024
+
 typedef struct op {
   esf_sim *s;
   double ck, cc; /* weights of the springs and the dashpots */
   const double *x;
   double *y;
   size_t contacts;
+  int nth;             /* threads */
+  size_t nblk;         /* blocks of BLOCK particles */
+  double *part;        /* a block's partial sum (nblk) */
+  size_t *cnt;         /* a block's contacts (nblk) */
+  size_t *poff, *woff; /* a block's first pair and wall candidate (nblk + 1); poff NULL:
+                          the serial pass */
+  size_t *inoff, *in;  /* the touching pairs entering block B: in[inoff[B] ..] */
 } op;
 
 static const int free2[6] = {1, 0, 1, 0, 1, 0};
@@ -204,50 +257,193 @@ static inline double minv(const esf_sim *s, size_t i, int j) {
   return j < 3 ? s->p.inv_mass[i] : s->p.inv_inertia[i];
 }
 
-static inline double mass(const esf_sim *s, size_t i, int j) {
-  if (!(minv(s, i, j) > 0)) return 0.0;
-  return j < 3 ? s->p.mass[i] : s->p.inertia[i];
+/* M's diagonal on particle i's coordinates (0 on frozen ones), and its inverse */
+static inline void weights(const esf_sim *s, size_t i, double m[6], double mi[6]) {
+  for (int j = 0; j < 6; j++) {
+    mi[j] = minv(s, i, j);
+    m[j] = !(mi[j] > 0) ? 0.0 : j < 3 ? s->p.mass[i] : s->p.inertia[i];
+  }
 }
 
-static void apply_one(const esf_stab_contact *c, void *ctx) {
-  op *o = ctx;
+/* contact c's terms into its bodies' rows in `which` (1: A's, 2: B's, 3: both) */
+static inline void apply_c(const op *o, const esf_stab_contact *c, int which) {
+  double sink[6] = {0};
   const int wall = c->b < 0;
+  const double *xb = wall ? NULL : o->x + 6 * (size_t)c->b;
+  double *ya = which & 1 ? o->y + 6 * c->a : sink;
+  double *yb = wall ? NULL : which & 2 ? o->y + 6 * (size_t)c->b : sink;
   esf_stab_contact_apply(c->n, c->slip ? c->t : NULL, c->la, c->lb,
                          o->ck * c->kc[0] + o->cc * c->kc[2],
-                         o->ck * c->kc[1] + o->cc * c->kc[3], o->x + 6 * c->a,
-                         wall ? NULL : o->x + 6 * (size_t)c->b, o->y + 6 * c->a,
-                         wall ? NULL : o->y + 6 * (size_t)c->b);
+                         o->ck * c->kc[1] + o->cc * c->kc[3], o->x + 6 * c->a, xb, ya,
+                         yb);
   if (c->roll)
     esf_stab_roll_apply(c->n, o->ck * c->kr[0] + o->cc * c->kr[2],
-                        o->ck * c->kr[1] + o->cc * c->kr[3], o->x + 6 * c->a,
-                        wall ? NULL : o->x + 6 * (size_t)c->b, o->y + 6 * c->a,
-                        wall ? NULL : o->y + 6 * (size_t)c->b);
+                        o->ck * c->kr[1] + o->cc * c->kr[3], o->x + 6 * c->a, xb, ya, yb);
 }
 
+static void apply_wall(const esf_stab_contact *c, void *ctx) { apply_c(ctx, c, 1); }
+
+/* pairs k0..k1 (both sides when B < hi, A's alone otherwise), then walls w0..w1;
+ * returns the contacts */
+static size_t range_pass(op *o, size_t k0, size_t k1, size_t w0, size_t w1, size_t hi) {
+  enum { CHUNK = 32 }; /* the chunk's contacts first, then their terms: the contacts'
+                         square roots and divisions overlap */
+  esf_stab_contact c[CHUNK];
+  size_t cnt = 0;
+  for (size_t k = k0; k < k1; k += CHUNK) {
+    size_t m = 0, t = 0, e = k + CHUNK < k1 ? k + CHUNK : k1, idx[CHUNK];
+    double d[CHUNK][4];
+    for (size_t q = k; q < e; q++) idx[t] = q, t += (size_t)pair_near(o->s, q, d[t]);
+    for (size_t j = 0; j < t; j++) m += (size_t)pair_contact_at(o->s, idx[j], d[j], c + m);
+    for (size_t j = 0; j < m; j++) apply_c(o, c + j, (size_t)c[j].b < hi ? 3 : 1);
+    cnt += m;
+  }
+  for (size_t k = w0; k < w1;) k = wall_contacts(o->s, k, apply_wall, o, &cnt);
+  return cnt;
+}
+
+/* y += K' x (the contacts in list order, serial) */
 static void op_apply(op *o, const double *x, double *y) {
   o->x = x;
   o->y = y;
-  o->contacts = esf_stab_contacts(o->s, apply_one, o);
+  o->contacts = range_pass(o, 0, o->s->nb.pp.n, 0, o->s->nb.pw.n, SIZE_MAX);
 }
 
-/* the M inner product */
-static double dot(const op *o, const double *a, const double *b, size_t nd) {
+enum { V_START, V_DIV, V_ADD, V_SCALE, V_MINV_DOT, V_AXPY_DOT, V_STEP, V_DOT };
+
+/* a loop over particles i0..i1 with their weights m, mi and rows x (of u), z (of v) */
+#define EACH(body)                                                                       \
+  for (size_t i = i0; i < i1; i++) {                                                     \
+    double *x = u + 6 * i, *z = v ? v + 6 * i : NULL;                                    \
+    (void)z;                                                                             \
+    weights(s, i, m, mi);                                                                \
+    for (int j = 0; j < 6; j++) {                                                        \
+      body;                                                                              \
+    }                                                                                    \
+  }                                                                                      \
+  break
+
+/* One vector operation on particles i0..i1 (u, v: its operands, c its scalar); their
+ * share of the M inner product it ends with, summed by coordinate. */
+static double vec_rows(const esf_sim *s, int kind, double c, double *u, double *v,
+                       size_t i0, size_t i1) {
+  double r[6] = {0}, m[6], mi[6];
+  switch (kind) {
+  case V_START: /* a hash of the coordinate's index on the free coordinates */
+    EACH(uint64_t h = (uint64_t)(6 * i + j) * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull;
+         h ^= h >> 31; h *= 0xBF58476D1CE4E5B9ull; h ^= h >> 29;
+         x[j] = mi[j] > 0 ? (double)(h >> 11) * 0x1p-53 - 0.5 : 0.0;
+         r[j] += m[j] * x[j] * x[j]);
+  case V_DIV: EACH(x[j] = c > 0 ? x[j] / c : 0.0);
+  case V_ADD: EACH(x[j] += c * z[j]);
+  case V_SCALE: EACH(x[j] *= c * m[j]);
+  case V_MINV_DOT: EACH(x[j] *= mi[j]; r[j] += m[j] * x[j] * z[j]);
+  case V_AXPY_DOT: EACH(x[j] -= c * z[j]; r[j] += m[j] * x[j] * x[j]);
+  case V_STEP: EACH(x[j] = x[j] / c; z[j] *= -c * m[j]); /* v' = u / b, u' = -b M v */
+  default: EACH(r[j] += m[j] * x[j] * z[j]);
+  }
+  return ((((r[0] + r[1]) + r[2]) + r[3]) + r[4]) + r[5];
+}
+#undef EACH
+
+static inline size_t block_end(const op *o, size_t B) {
+  return (B + 1) * BLOCK < o->s->p.n ? (B + 1) * BLOCK : o->s->p.n;
+}
+
+/* the vector operation over all blocks; the M inner product it ends with */
+static double vec(op *o, int kind, double c, double *u, double *v) {
+#pragma omp parallel for num_threads(o->nth) schedule(static) if (o->nth > 1)
+  for (size_t B = 0; B < o->nblk; B++)
+    o->part[B] = vec_rows(o->s, kind, c, u, v, B * BLOCK, block_end(o, B));
   double r = 0;
-  for (size_t j = 0; j < nd; j++) r += mass(o->s, j / 6, (int)(j % 6)) * a[j] * b[j];
+  for (size_t B = 0; B < o->nblk; B++) r += o->part[B];
   return r;
 }
 
-/* the deterministic start: a hash of the coordinate's index on the free coordinates */
-static void start_vector(const op *o, double *v, size_t nd) {
-  for (size_t j = 0; j < nd; j++) {
-    uint64_t h = (uint64_t)j * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull;
-    h ^= h >> 31;
-    h *= 0xBF58476D1CE4E5B9ull;
-    h ^= h >> 29;
-    v[j] = minv(o->s, j / 6, (int)(j % 6)) > 0 ? (double)(h >> 11) * 0x1p-53 - 0.5 : 0.0;
+/* block B of the threaded pass: B's side of the pairs entering it, then its own */
+static void block_pass(op *o, size_t B) {
+  esf_stab_contact c;
+  for (size_t j = o->inoff[B]; j < o->inoff[B + 1]; j++)
+    if (pair_contact(o->s, o->in[j], &c)) apply_c(o, &c, 2);
+  o->cnt[B] = range_pass(o, o->poff[B], o->poff[B + 1], o->woff[B], o->woff[B + 1],
+                         block_end(o, B));
+}
+
+/* The Lanczos step's operator: y = M^{-1} (y + K' x), and y.x in M, block by block
+ * (rows final once their block is passed), threaded when planned. */
+static double op_step(op *o, const double *x, double *y) {
+  o->x = x;
+  o->y = y;
+  if (!o->poff) { /* lists not sorted: the whole pass, then the rows */
+    op_apply(o, x, y);
+    return vec(o, V_MINV_DOT, 0, y, (double *)x);
   }
-  double nv = sqrt(dot(o, v, v, nd));
-  for (size_t j = 0; j < nd; j++) v[j] = nv > 0 ? v[j] / nv : 0.0;
+  if (o->in) {
+#pragma omp parallel for num_threads(o->nth) schedule(dynamic, 2)
+    for (size_t B = 0; B < o->nblk; B++) {
+      block_pass(o, B);
+      o->part[B] = vec_rows(o->s, V_MINV_DOT, 0, y, (double *)x, B * BLOCK,
+                            block_end(o, B));
+    }
+  } else {
+    for (size_t B = 0; B < o->nblk; B++) {
+      o->cnt[B] = range_pass(o, o->poff[B], o->poff[B + 1], o->woff[B], o->woff[B + 1],
+                             SIZE_MAX);
+      o->part[B] = vec_rows(o->s, V_MINV_DOT, 0, y, (double *)x, B * BLOCK,
+                            block_end(o, B));
+    }
+  }
+  double r = 0;
+  o->contacts = 0;
+  for (size_t B = 0; B < o->nblk; B++) r += o->part[B], o->contacts += o->cnt[B];
+  return r;
+}
+
+/* The blocks' first candidates of a list sorted by A (0: not sorted) */
+static int offsets(const esf_candidates *c, size_t nblk, size_t *off) {
+  for (size_t k = 1; k < c->n; k++)
+    if (c->a[k] < c->a[k - 1]) return 0;
+  for (size_t B = 0, k = 0; B <= nblk; B++) {
+    while (k < c->n && c->a[k] < B * BLOCK) k++;
+    off[B] = k;
+  }
+  return 1;
+}
+
+/* The block plan: the blocks' candidates when the lists are sorted by A with B >= A
+ * (o->poff), and with threads the pairs entering each block (o->in); without it the
+ * whole passes (the same bits). */
+static void op_plan(op *o) {
+  const esf_candidates *pp = &o->s->nb.pp;
+  size_t nb = o->nblk, *off = malloc((3 * nb + 3) * sizeof *off), *in = NULL;
+  if (!off || !offsets(pp, nb, off) || !offsets(&o->s->nb.pw, nb, off + nb + 1))
+    goto whole;
+  for (size_t k = 0; k < pp->n; k++)
+    if (pp->b[k] < pp->a[k]) goto whole;
+  o->poff = off, o->woff = off + nb + 1;
+  if (o->nth < 2 || nb < 2) return;
+  size_t *inoff = off + 2 * nb + 2, tot = 0, *fill = o->cnt; /* the blocks' next */
+  double n[3], la, lb;
+  memset(inoff, 0, (nb + 1) * sizeof *inoff);
+  for (size_t k = 0; k < pp->n; k++)
+    if (pp->b[k] / BLOCK != pp->a[k] / BLOCK && pair_geometry(o->s, k, n, &la, &lb))
+      inoff[pp->b[k] / BLOCK + 1]++, tot++;
+  for (size_t B = 0; B < nb; B++) inoff[B + 1] += inoff[B];
+  if (!(in = malloc((tot ? tot : 1) * sizeof *in))) return; /* serial */
+  memcpy(fill, inoff, nb * sizeof *fill);
+  for (size_t k = 0; k < pp->n; k++)
+    if (pp->b[k] / BLOCK != pp->a[k] / BLOCK && pair_geometry(o->s, k, n, &la, &lb))
+      in[fill[pp->b[k] / BLOCK]++] = k;
+  o->inoff = inoff, o->in = in;
+  return;
+whole:
+  free(off);
+}
+
+/* the deterministic start, unit in M */
+static void start_vector(op *o, double *v) {
+  double nv = sqrt(vec(o, V_START, 0, v, NULL));
+  vec(o, V_DIV, nv, v, NULL);
 }
 
 /* Top eigenpair of the m x m tridiagonal (al, be): its value, and s (m) */
@@ -286,20 +482,18 @@ static int lanczos(op *o, double *u, double *v, size_t nd, double *al, double *b
                    double *theta, double *s, double *y) {
   int second = y != NULL, mm = second ? *m : LZ_MAX;
   memset(u, 0, nd * sizeof *u);
-  start_vector(o, v, nd);
+  start_vector(o, v);
   if (y) memset(y, 0, nd * sizeof *y);
   if (!second) be[0] = 0;
+  vec(o, V_SCALE, -be[0], u, NULL); /* u = -beta_0 M u (later: V_STEP's) */
   for (int j = 0; j < mm; j++) {
-    if (y)
-      for (size_t q = 0; q < nd; q++) y[q] += s[j] * v[q];
+    if (y) vec(o, V_ADD, s[j], y, v);
     if (second && j + 1 == mm) break;
     /* u = M^{-1} (K' v - beta_j M u): the contacts add into M times the old term */
-    for (size_t q = 0; q < nd; q++) u[q] *= -be[j] * mass(o->s, q / 6, (int)(q % 6));
-    op_apply(o, v, u);
-    for (size_t q = 0; q < nd; q++) u[q] *= minv(o->s, q / 6, (int)(q % 6));
-    if (!second) al[j] = dot(o, u, v, nd);
-    for (size_t q = 0; q < nd; q++) u[q] -= al[j] * v[q];
-    double b = second ? be[j + 1] : sqrt(dot(o, u, u, nd));
+    double d = op_step(o, v, u); /* and u.v */
+    if (!second) al[j] = d;
+    d = vec(o, V_AXPY_DOT, al[j], u, v); /* u -= alpha v; u.u */
+    double b = second ? be[j + 1] : sqrt(d);
     if (!second) {
       be[j + 1] = b;
       int last = j + 1 == mm || !(b > 1e-14 * fabs(al[j]));
@@ -311,11 +505,9 @@ static int lanczos(op *o, double *u, double *v, size_t nd, double *al, double *b
       }
     }
     if (!(b > 0)) break;
-    for (size_t q = 0; q < nd; q++) { /* (u, v) <- (v, u / b) */
-      double t = u[q] / b;
-      u[q] = v[q];
-      v[q] = t;
-    }
+    vec(o, V_STEP, b, u, v); /* (u, v) <- (-b M v, u / b): the next step's start */
+    double *t = u;
+    u = v, v = t;
   }
   return ESF_OK;
 }
@@ -374,16 +566,25 @@ int esf_stability_estimate(esf_sim *s, double dt, int with_mode, esf_stability *
   *out = (esf_stability){.id = -1, .other = -2, .dt_limit = INFINITY};
   if (nd == 0) return ESF_OK;
   /* two vectors, a third for the top mode's second pass (48 bytes a particle each) */
+  const size_t nblk = (s->p.n + BLOCK - 1) / BLOCK;
   double *buf = malloc((with_mode ? 3 : 2) * nd * sizeof *buf);
-  double *al = malloc((2 * (LZ_MAX + 2) + LZ_MAX) * sizeof *al);
-  if (!buf || !al) {
-    free(buf), free(al);
+  double *al = malloc((2 * (LZ_MAX + 2) + LZ_MAX + nblk) * sizeof *al);
+  size_t *cnt = malloc(nblk * sizeof *cnt);
+  if (!buf || !al || !cnt) {
+    free(buf), free(al), free(cnt);
     return esf_fail(err, ESF_ENOMEM, "stability check: out of memory for %zu particles",
                     s->p.n);
   }
   double *be = al + LZ_MAX + 2, *sv = be + LZ_MAX + 2, *u = buf, *v = buf + nd;
   const double fl = s->local ? 1.0 + s->cfg.local_coef : 1.0;
-  op o = {.s = s, .ck = fl * dt * dt, .cc = fl * 2.0 * dt};
+  op o = {.s = s,
+          .ck = fl * dt * dt,
+          .cc = fl * 2.0 * dt,
+          .nth = s->cfg.threads > 1 ? s->cfg.threads : 1,
+          .nblk = nblk,
+          .part = sv + LZ_MAX,
+          .cnt = cnt};
+  op_plan(&o);
   int m = 0;
   double theta = 0;
   int rc = lanczos(&o, u, v, nd, al, be, &m, &theta, sv, NULL);
@@ -393,10 +594,13 @@ int esf_stability_estimate(esf_sim *s, double dt, int with_mode, esf_stability *
   if (!rc && with_mode && o.contacts > 0 && m > 0) {
     double *y = buf + 2 * nd;
     rc = lanczos(&o, u, v, nd, al, be, &m, &theta, sv, y); /* regenerates the v_j */
-    double ny = sqrt(dot(&o, y, y, nd));
-    for (size_t q = 0; q < nd && ny > 0; q++) y[q] /= ny;
+    double ny = sqrt(vec(&o, V_DOT, 0, y, y));
+    if (ny > 0) vec(&o, V_DIV, ny, y, NULL);
     if (!rc) top_mode(&o, y, u, nd, fl, out);
   }
+  free(o.poff);
+  free(o.in);
+  free(cnt);
   free(buf);
   free(al);
   return rc;
