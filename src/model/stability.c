@@ -26,6 +26,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <stdio.h>
 
 #include "bodies/wall_geom.h"
 #include "contact/contact_rolling.h"
@@ -247,7 +248,8 @@ typedef struct op {
   size_t *cnt;         /* a block's contacts (nblk) */
   size_t *poff, *woff; /* a block's first pair and wall candidate (nblk + 1); poff NULL:
                           the serial pass */
-  size_t *inoff, *in;  /* the touching pairs entering block B: in[inoff[B] ..] */
+  size_t nr, *rb;      /* threads: nr ranges, range r's blocks rb[r] .. rb[r + 1] (nth + 1) */
+  size_t *inoff, *in;  /* the touching pairs entering range r: in[inoff[r] ..] */
 } op;
 
 static const int free2[6] = {1, 0, 1, 0, 1, 0};
@@ -360,13 +362,25 @@ static double vec(op *o, int kind, double c, double *u, double *v) {
   return r;
 }
 
-/* block B of the threaded pass: B's side of the pairs entering it, then its own */
-static void block_pass(op *o, size_t B) {
+/* Blocks B0..B1 with their rows in `which` (block_end: both sides of a pair inside
+ * the range's rows, below hi; 0: every pair's both sides), each block's rows finished
+ * (y = M^{-1} y, and its share of y.x) once passed. */
+static void blocks_pass(op *o, size_t B0, size_t B1, size_t hi) {
+  for (size_t B = B0; B < B1; B++) {
+    o->cnt[B] = range_pass(o, o->poff[B], o->poff[B + 1], o->woff[B], o->woff[B + 1], hi);
+    o->part[B] = vec_rows(o->s, V_MINV_DOT, 0, o->y, (double *)o->x, B * BLOCK,
+                          block_end(o, B));
+  }
+}
+
+/* range r of the threaded pass: B's side of the pairs entering its rows from earlier
+ * ranges, then its blocks */
+static void range_task(op *o, size_t r) {
   esf_stab_contact c;
-  for (size_t j = o->inoff[B]; j < o->inoff[B + 1]; j++)
+  for (size_t j = o->inoff[r]; j < o->inoff[r + 1]; j++)
     if (pair_contact(o->s, o->in[j], &c)) apply_c(o, &c, 2);
-  o->cnt[B] = range_pass(o, o->poff[B], o->poff[B + 1], o->woff[B], o->woff[B + 1],
-                         block_end(o, B));
+  size_t B1 = o->rb[r + 1];
+  blocks_pass(o, o->rb[r], B1, B1 > 0 ? block_end(o, B1 - 1) : 0);
 }
 
 /* The Lanczos step's operator: y = M^{-1} (y + K' x), and y.x in M, block by block
@@ -379,20 +393,10 @@ static double op_step(op *o, const double *x, double *y) {
     return vec(o, V_MINV_DOT, 0, y, (double *)x);
   }
   if (o->in) {
-#pragma omp parallel for num_threads(o->nth) schedule(dynamic, 2)
-    for (size_t B = 0; B < o->nblk; B++) {
-      block_pass(o, B);
-      o->part[B] = vec_rows(o->s, V_MINV_DOT, 0, y, (double *)x, B * BLOCK,
-                            block_end(o, B));
-    }
-  } else {
-    for (size_t B = 0; B < o->nblk; B++) {
-      o->cnt[B] = range_pass(o, o->poff[B], o->poff[B + 1], o->woff[B], o->woff[B + 1],
-                             SIZE_MAX);
-      o->part[B] = vec_rows(o->s, V_MINV_DOT, 0, y, (double *)x, B * BLOCK,
-                            block_end(o, B));
-    }
-  }
+#pragma omp parallel for num_threads(o->nth) schedule(static, 1)
+    for (size_t r = 0; r < o->nr; r++) range_task(o, r);
+  } else
+    blocks_pass(o, 0, o->nblk, SIZE_MAX);
   double r = 0;
   o->contacts = 0;
   for (size_t B = 0; B < o->nblk; B++) r += o->part[B], o->contacts += o->cnt[B];
@@ -410,34 +414,50 @@ static int offsets(const esf_candidates *c, size_t nblk, size_t *off) {
   return 1;
 }
 
-/* The block plan: the blocks' candidates when the lists are sorted by A with B >= A
- * (o->poff), and with threads the pairs entering each block (o->in); without it the
- * whole passes (the same bits). */
+/* The plan: the blocks' candidates when the lists are sorted by A with B >= A
+ * (o->poff); with threads, one range of whole blocks a thread (even in pair
+ * candidates) and the touching pairs entering each range from earlier ones (o->in).
+ * Without it, the whole passes (the same bits). */
 static void op_plan(op *o) {
   const esf_candidates *pp = &o->s->nb.pp;
-  size_t nb = o->nblk, *off = malloc((3 * nb + 3) * sizeof *off), *in = NULL;
-  if (!off || !offsets(pp, nb, off) || !offsets(&o->s->nb.pw, nb, off + nb + 1))
-    goto whole;
+  size_t nb = o->nblk, nr = (size_t)o->nth < nb ? (size_t)o->nth : nb, *in = NULL;
+  size_t *off = malloc((3 * nb + 2 * nr + 4) * sizeof *off);
+  if (!off || !offsets(pp, nb, off) || !offsets(&o->s->nb.pw, nb, off + nb + 1)) {
+    free(off);
+    return;
+  }
   for (size_t k = 0; k < pp->n; k++)
-    if (pp->b[k] < pp->a[k]) goto whole;
+    if (pp->b[k] < pp->a[k]) {
+      free(off);
+      return;
+    }
   o->poff = off, o->woff = off + nb + 1;
-  if (o->nth < 2 || nb < 2) return;
-  size_t *inoff = off + 2 * nb + 2, tot = 0, *fill = o->cnt; /* the blocks' next */
+  if (nr < 2 || nb < 2) return;
+  size_t *rb = off + 2 * nb + 2, *inoff = rb + nr + 1, *rof = inoff + nr + 1, tot = 0;
+  for (size_t r = 0, B = 0; r <= nr; r++) { /* range r: blocks rb[r] .. rb[r + 1] */
+    while (B < nb && o->poff[B] < pp->n * r / nr) B++;
+    rb[r] = r == nr ? nb : B;
+  }
+  for (size_t r = 0; r < nr; r++)
+    for (size_t B = rb[r]; B < rb[r + 1]; B++) rof[B] = r;
   double n[3], la, lb;
-  memset(inoff, 0, (nb + 1) * sizeof *inoff);
-  for (size_t k = 0; k < pp->n; k++)
-    if (pp->b[k] / BLOCK != pp->a[k] / BLOCK && pair_geometry(o->s, k, n, &la, &lb))
-      inoff[pp->b[k] / BLOCK + 1]++, tot++;
-  for (size_t B = 0; B < nb; B++) inoff[B + 1] += inoff[B];
+  memset(inoff, 0, (nr + 1) * sizeof *inoff);
+  for (size_t k = 0; k < pp->n; k++) {
+    size_t rt = rof[pp->b[k] / BLOCK];
+    if (rt != rof[pp->a[k] / BLOCK] && pair_geometry(o->s, k, n, &la, &lb))
+      inoff[rt + 1]++, tot++;
+  }
+  for (size_t r = 0; r < nr; r++) inoff[r + 1] += inoff[r];
   if (!(in = malloc((tot ? tot : 1) * sizeof *in))) return; /* serial */
-  memcpy(fill, inoff, nb * sizeof *fill);
-  for (size_t k = 0; k < pp->n; k++)
-    if (pp->b[k] / BLOCK != pp->a[k] / BLOCK && pair_geometry(o->s, k, n, &la, &lb))
-      in[fill[pp->b[k] / BLOCK]++] = k;
-  o->inoff = inoff, o->in = in;
-  return;
-whole:
-  free(off);
+  size_t *fill = o->cnt; /* the ranges' next entries */
+  memcpy(fill, inoff, nr * sizeof *fill);
+  for (size_t k = 0; k < pp->n; k++) {
+    size_t rt = rof[pp->b[k] / BLOCK];
+    if (rt != rof[pp->a[k] / BLOCK] && pair_geometry(o->s, k, n, &la, &lb))
+      in[fill[rt]++] = k;
+  }
+  o->nr = nr, o->rb = rb, o->inoff = inoff, o->in = in;
+  if (getenv("ESF_DBG")) fprintf(stderr, "plan: %zu blocks, %zu entering, nth %d\n", nb, tot, o->nth);
 }
 
 /* the deterministic start, unit in M */
