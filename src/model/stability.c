@@ -39,8 +39,8 @@
 #define LZ_EVERY 4    /* steps between tridiagonal solves */
 #define LZ_TOL   1e-3 /* residual bound / Ritz value to stop */
 
-void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar, double rstar,
-                      double un, double kc[4]) {
+static inline void springs(const esf_pair_params *pp, double beta, double mstar,
+                           double rstar, double un, double kc[4]) {
   if (pp->law == &esf_contact_hertz) { /* tangent stiffnesses at un (contact_hertz.h) */
     double ks, qa, sm = sqrt(mstar);
     esf_law_hertz_springs_s(pp->hn, pp->ht, rstar, fmax(un, 0.0), &ks, &kc[0], &kc[1],
@@ -55,6 +55,11 @@ void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar, doub
   kc[1] = pp->kt;
   kc[2] = beta > 0 ? beta * pp->kn : pp->cn_factor * sqrt(mstar); /* as the laws */
   kc[3] = beta > 0 ? beta * pp->kt : pp->ct_factor * sqrt(mstar);
+}
+
+void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar, double rstar,
+                      double un, double kc[4]) {
+  springs(pp, beta, mstar, rstar, un, kc);
 }
 
 /* Pair candidate k's centre-to-centre vector d (A to B or its image) and d[3] its
@@ -83,18 +88,14 @@ static inline int pair_finish(const esf_sim *s, size_t k, const double d[4], dou
   return 1;
 }
 
-static int pair_geometry(const esf_sim *s, size_t k, double n[3], double *la,
-                         double *lb) {
-  double d[4];
-  return pair_near(s, k, d) && pair_finish(s, k, d, n, la, lb);
-}
-
 /* The tangential terms of a linear-law contact (law_body.h): none when its cap
  * coh + mu fn is zero or less (frictionless); at the cap at its last commit (kt |xi|
  * there, with the elastic normal force kn u) sliding, the unit slip direction in *t
- * (xi brought into the current tangent plane). */
-static void tangential(const esf_pair_params *pp, const esf_contact_hist *h, int live,
-                       double un, const double n[3], esf_stab_contact *c) {
+ * (xi brought into the current tangent plane). slip: whether it slides when known (an
+ * earlier call's c->slip for the same state), -1 when not. */
+static inline void tangential(const esf_pair_params *pp, const esf_contact_hist *h,
+                              int live, double un, const double n[3], int slip,
+                              esf_stab_contact *c) {
   c->slip = 0;
   if (pp->law->flags & ESF_LAW_TENSION) return;
   const int hz = pp->law == &esf_contact_hertz; /* fel (2/3) S_n u; xi the force */
@@ -103,8 +104,9 @@ static void tangential(const esf_pair_params *pp, const esf_contact_hist *h, int
     c->kc[1] = c->kc[3] = 0.0;
     return;
   }
-  double xi = live ? v3_norm(h->xi) : 0.0;
-  if (!((hz ? 1.0 : pp->kt) * xi >= (1 - 1e-9) * tau)) return;
+  if (slip == 0) return;
+  double xi = slip > 0 ? 0.0 : live ? v3_norm(h->xi) : 0.0;
+  if (slip < 0 && !((hz ? 1.0 : pp->kt) * xi >= (1 - 1e-9) * tau)) return;
   double s = v3_dot(h->xi, n), t[3], m;
   for (int q = 0; q < 3; q++) t[q] = h->xi[q] - s * n[q];
   m = v3_norm(t);
@@ -117,7 +119,7 @@ static void tangential(const esf_pair_params *pp, const esf_contact_hist *h, int
  * R* and the inertias of esf_law_rolling_pair; a wall, b < 0: rA, IA + mA rA^2, IA as
  * forces.c; kn at overlap un: esf_contact_rolling_kn), epsd only: cdt's constant
  * torque has no stiffness. */
-static void roll_springs(const esf_sim *s, const esf_pair_params *par, size_t a, long b,
+static inline void roll_springs(const esf_sim *s, const esf_pair_params *par, size_t a, long b,
                          double un, esf_stab_contact *c) {
   const esf_particles *p = &s->p;
   c->roll = s->mats.any_rolling && s->mats.rolling_model == ESF_ROLL_EPSD;
@@ -140,7 +142,7 @@ static void roll_springs(const esf_sim *s, const esf_pair_params *par, size_t a,
 /* Touching pair candidate k (pair_near's d) as the check sees it in *c; 0 when its
  * centres coincide. */
 static inline int pair_contact_at(const esf_sim *s, size_t k, const double d[4],
-                                  esf_stab_contact *c) {
+                                  int slip, esf_stab_contact *c) {
   const esf_particles *p = &s->p;
   const esf_materials *mt = &s->mats;
   const esf_candidates *pp = &s->nb.pp;
@@ -150,10 +152,10 @@ static inline int pair_contact_at(const esf_sim *s, size_t k, const double d[4],
   const esf_pair_params *par = &mt->pair[p->material[c->a] * mt->n + p->material[c->b]];
   const double ra = p->radius[c->a], rb = p->radius[c->b];
   const double u = ra - c->la + rb - c->lb;
-  esf_stab_springs(par, s->beta,
+  springs(par, s->beta,
                    p->mass[c->a] * p->mass[c->b] / (p->mass[c->a] + p->mass[c->b]),
                    ra * rb / (ra + rb), u, c->kc);
-  tangential(par, &pp->h[k], pp->touch[k], u, c->n, c);
+  tangential(par, &pp->h[k], slip < 0 && pp->touch[k], u, c->n, slip, c);
   roll_springs(s, par, c->a, c->b, u, c);
   return 1;
 }
@@ -161,7 +163,7 @@ static inline int pair_contact_at(const esf_sim *s, size_t k, const double d[4],
 /* Pair candidate k as the check sees it in *c; 0 when it does not touch. */
 static inline int pair_contact(const esf_sim *s, size_t k, esf_stab_contact *c) {
   double d[4];
-  return pair_near(s, k, d) && pair_contact_at(s, k, d, c);
+  return pair_near(s, k, d) && pair_contact_at(s, k, d, -1, c);
 }
 
 /* The wall contacts of particle pw->a[k0] (its candidates k0 .. the returned end) that
@@ -201,8 +203,8 @@ static inline size_t wall_contacts(const esf_sim *s, size_t k0, esf_stab_visit f
     c.lb = 0.0;
     const esf_pair_params *par =
         &mt->pair[p->material[a] * mt->n + s->walls.e[elem[j]].material];
-    esf_stab_springs(par, s->beta, p->mass[a], p->radius[a], un[j], c.kc);
-    tangential(par, &pw->h[kk[j]], pw->touch[kk[j]], un[j], c.n, &c);
+    springs(par, s->beta, p->mass[a], p->radius[a], un[j], c.kc);
+    tangential(par, &pw->h[kk[j]], pw->touch[kk[j]], un[j], c.n, -1, &c);
     roll_springs(s, par, a, -1, un[j], &c);
     fn(&c, ctx);
     ++*cnt;
@@ -248,6 +250,7 @@ typedef struct op {
   size_t *cnt;         /* a block's contacts (nblk) */
   size_t *poff, *woff; /* a block's first pair and wall candidate (nblk + 1); poff NULL:
                           the serial pass */
+  uint8_t *flag;       /* per pair candidate: 1 touching, 2 sliding (or NULL) */
   size_t nr, *rb;      /* threads: nr ranges, range r's blocks rb[r] .. rb[r + 1] (nth + 1) */
   size_t *inoff, *in;  /* the touching pairs entering range r: in[inoff[r] ..] */
 } op;
@@ -295,8 +298,18 @@ static size_t range_pass(op *o, size_t k0, size_t k1, size_t w0, size_t w1, size
   for (size_t k = k0; k < k1; k += CHUNK) {
     size_t m = 0, t = 0, e = k + CHUNK < k1 ? k + CHUNK : k1, idx[CHUNK];
     double d[CHUNK][4];
-    for (size_t q = k; q < e; q++) idx[t] = q, t += (size_t)pair_near(o->s, q, d[t]);
-    for (size_t j = 0; j < t; j++) m += (size_t)pair_contact_at(o->s, idx[j], d[j], c + m);
+    const uint8_t *f = o->flag;
+    if (f) { /* the touching ones, their sliding known */
+      for (size_t q = k; q < e; q++) idx[t] = q, t += f[q] & 1u;
+      for (size_t j = 0; j < t; j++) {
+        pair_near(o->s, idx[j], d[j]);
+        m += (size_t)pair_contact_at(o->s, idx[j], d[j], f[idx[j]] >> 1, c + m);
+      }
+    } else {
+      for (size_t q = k; q < e; q++) idx[t] = q, t += (size_t)pair_near(o->s, q, d[t]);
+      for (size_t j = 0; j < t; j++)
+        m += (size_t)pair_contact_at(o->s, idx[j], d[j], -1, c + m);
+    }
     for (size_t j = 0; j < m; j++) apply_c(o, c + j, (size_t)c[j].b < hi ? 3 : 1);
     cnt += m;
   }
@@ -311,7 +324,7 @@ static void op_apply(op *o, const double *x, double *y) {
   o->contacts = range_pass(o, 0, o->s->nb.pp.n, 0, o->s->nb.pw.n, SIZE_MAX);
 }
 
-enum { V_START, V_DIV, V_ADD, V_SCALE, V_MINV_DOT, V_AXPY_DOT, V_STEP, V_DOT };
+enum { V_START, V_DIV, V_ADD, V_SCALE, V_MINV_DOT, V_RES_DOT, V_STEP, V_DOT };
 
 /* a loop over particles i0..i1 with their weights m, mi and rows x (of u), z (of v) */
 #define EACH(body)                                                                       \
@@ -327,7 +340,7 @@ enum { V_START, V_DIV, V_ADD, V_SCALE, V_MINV_DOT, V_AXPY_DOT, V_STEP, V_DOT };
 
 /* One vector operation on particles i0..i1 (u, v: its operands, c its scalar); their
  * share of the M inner product it ends with, summed by coordinate. */
-static double vec_rows(const esf_sim *s, int kind, double c, double *u, double *v,
+static double vec_rows(const esf_sim *s, int kind, double c, double c2, double *u, double *v,
                        size_t i0, size_t i1) {
   double r[6] = {0}, m[6], mi[6];
   switch (kind) {
@@ -340,8 +353,9 @@ static double vec_rows(const esf_sim *s, int kind, double c, double *u, double *
   case V_ADD: EACH(x[j] += c * z[j]);
   case V_SCALE: EACH(x[j] *= c * m[j]);
   case V_MINV_DOT: EACH(x[j] *= mi[j]; r[j] += m[j] * x[j] * z[j]);
-  case V_AXPY_DOT: EACH(x[j] -= c * z[j]; r[j] += m[j] * x[j] * x[j]);
-  case V_STEP: EACH(x[j] = x[j] / c; z[j] *= -c * m[j]); /* v' = u / b, u' = -b M v */
+  case V_RES_DOT: EACH(double t = x[j] - c * z[j]; r[j] += m[j] * t * t);
+  case V_STEP: /* v' = (u - alpha v) / b, u' = -b M v */
+    EACH(double t = x[j] - c2 * z[j]; x[j] = t / c; z[j] *= -c * m[j]);
   default: EACH(r[j] += m[j] * x[j] * z[j]);
   }
   return ((((r[0] + r[1]) + r[2]) + r[3]) + r[4]) + r[5];
@@ -353,10 +367,10 @@ static inline size_t block_end(const op *o, size_t B) {
 }
 
 /* the vector operation over all blocks; the M inner product it ends with */
-static double vec(op *o, int kind, double c, double *u, double *v) {
+static double vec(op *o, int kind, double c, double c2, double *u, double *v) {
 #pragma omp parallel for num_threads(o->nth) schedule(static) if (o->nth > 1)
   for (size_t B = 0; B < o->nblk; B++)
-    o->part[B] = vec_rows(o->s, kind, c, u, v, B * BLOCK, block_end(o, B));
+    o->part[B] = vec_rows(o->s, kind, c, c2, u, v, B * BLOCK, block_end(o, B));
   double r = 0;
   for (size_t B = 0; B < o->nblk; B++) r += o->part[B];
   return r;
@@ -368,7 +382,7 @@ static double vec(op *o, int kind, double c, double *u, double *v) {
 static void blocks_pass(op *o, size_t B0, size_t B1, size_t hi) {
   for (size_t B = B0; B < B1; B++) {
     o->cnt[B] = range_pass(o, o->poff[B], o->poff[B + 1], o->woff[B], o->woff[B + 1], hi);
-    o->part[B] = vec_rows(o->s, V_MINV_DOT, 0, o->y, (double *)o->x, B * BLOCK,
+    o->part[B] = vec_rows(o->s, V_MINV_DOT, 0, 0, o->y, (double *)o->x, B * BLOCK,
                           block_end(o, B));
   }
 }
@@ -377,8 +391,12 @@ static void blocks_pass(op *o, size_t B0, size_t B1, size_t hi) {
  * ranges, then its blocks */
 static void range_task(op *o, size_t r) {
   esf_stab_contact c;
-  for (size_t j = o->inoff[r]; j < o->inoff[r + 1]; j++)
-    if (pair_contact(o->s, o->in[j], &c)) apply_c(o, &c, 2);
+  double d[4];
+  for (size_t j = o->inoff[r]; j < o->inoff[r + 1]; j++) {
+    size_t k = o->in[j];
+    pair_near(o->s, k, d);
+    if (pair_contact_at(o->s, k, d, o->flag[k] >> 1, &c)) apply_c(o, &c, 2);
+  }
   size_t B1 = o->rb[r + 1];
   blocks_pass(o, o->rb[r], B1, B1 > 0 ? block_end(o, B1 - 1) : 0);
 }
@@ -390,7 +408,7 @@ static double op_step(op *o, const double *x, double *y) {
   o->y = y;
   if (!o->poff) { /* lists not sorted: the whole pass, then the rows */
     op_apply(o, x, y);
-    return vec(o, V_MINV_DOT, 0, y, (double *)x);
+    return vec(o, V_MINV_DOT, 0, 0, y, (double *)x);
   }
   if (o->in) {
 #pragma omp parallel for num_threads(o->nth) schedule(static, 1)
@@ -421,8 +439,13 @@ static int offsets(const esf_candidates *c, size_t nblk, size_t *off) {
 static void op_plan(op *o) {
   const esf_candidates *pp = &o->s->nb.pp;
   size_t nb = o->nblk, nr = (size_t)o->nth < nb ? (size_t)o->nth : nb, *in = NULL;
+  esf_stab_contact c;
+  if ((o->flag = malloc(pp->n ? pp->n : 1)))
+    for (size_t k = 0; k < pp->n; k++)
+      o->flag[k] = pair_contact(o->s, k, &c) ? (uint8_t)(1 | c.slip << 1) : 0;
   size_t *off = malloc((3 * nb + 2 * nr + 4) * sizeof *off);
-  if (!off || !offsets(pp, nb, off) || !offsets(&o->s->nb.pw, nb, off + nb + 1)) {
+  if (!o->flag || !off || !offsets(pp, nb, off) ||
+      !offsets(&o->s->nb.pw, nb, off + nb + 1)) {
     free(off);
     return;
   }
@@ -432,7 +455,7 @@ static void op_plan(op *o) {
       return;
     }
   o->poff = off, o->woff = off + nb + 1;
-  if (nr < 2 || nb < 2) return;
+  if (nr < 2) return;
   size_t *rb = off + 2 * nb + 2, *inoff = rb + nr + 1, *rof = inoff + nr + 1, tot = 0;
   for (size_t r = 0, B = 0; r <= nr; r++) { /* range r: blocks rb[r] .. rb[r + 1] */
     while (B < nb && o->poff[B] < pp->n * r / nr) B++;
@@ -440,12 +463,10 @@ static void op_plan(op *o) {
   }
   for (size_t r = 0; r < nr; r++)
     for (size_t B = rb[r]; B < rb[r + 1]; B++) rof[B] = r;
-  double n[3], la, lb;
   memset(inoff, 0, (nr + 1) * sizeof *inoff);
   for (size_t k = 0; k < pp->n; k++) {
     size_t rt = rof[pp->b[k] / BLOCK];
-    if (rt != rof[pp->a[k] / BLOCK] && pair_geometry(o->s, k, n, &la, &lb))
-      inoff[rt + 1]++, tot++;
+    if (rt != rof[pp->a[k] / BLOCK] && (o->flag[k] & 1u)) inoff[rt + 1]++, tot++;
   }
   for (size_t r = 0; r < nr; r++) inoff[r + 1] += inoff[r];
   if (!(in = malloc((tot ? tot : 1) * sizeof *in))) return; /* serial */
@@ -453,8 +474,7 @@ static void op_plan(op *o) {
   memcpy(fill, inoff, nr * sizeof *fill);
   for (size_t k = 0; k < pp->n; k++) {
     size_t rt = rof[pp->b[k] / BLOCK];
-    if (rt != rof[pp->a[k] / BLOCK] && pair_geometry(o->s, k, n, &la, &lb))
-      in[fill[rt]++] = k;
+    if (rt != rof[pp->a[k] / BLOCK] && (o->flag[k] & 1u)) in[fill[rt]++] = k;
   }
   o->nr = nr, o->rb = rb, o->inoff = inoff, o->in = in;
   if (getenv("ESF_DBG")) fprintf(stderr, "plan: %zu blocks, %zu entering, nth %d\n", nb, tot, o->nth);
@@ -462,8 +482,8 @@ static void op_plan(op *o) {
 
 /* the deterministic start, unit in M */
 static void start_vector(op *o, double *v) {
-  double nv = sqrt(vec(o, V_START, 0, v, NULL));
-  vec(o, V_DIV, nv, v, NULL);
+  double nv = sqrt(vec(o, V_START, 0, 0, v, NULL));
+  vec(o, V_DIV, nv, 0, v, NULL);
 }
 
 /* Top eigenpair of the m x m tridiagonal (al, be): its value, and s (m) */
@@ -505,15 +525,15 @@ static int lanczos(op *o, double *u, double *v, size_t nd, double *al, double *b
   start_vector(o, v);
   if (y) memset(y, 0, nd * sizeof *y);
   if (!second) be[0] = 0;
-  vec(o, V_SCALE, -be[0], u, NULL); /* u = -beta_0 M u (later: V_STEP's) */
+  vec(o, V_SCALE, -be[0], 0, u, NULL); /* u = -beta_0 M u (later: V_STEP's) */
   for (int j = 0; j < mm; j++) {
-    if (y) vec(o, V_ADD, s[j], y, v);
+    if (y) vec(o, V_ADD, s[j], 0, y, v);
     if (second && j + 1 == mm) break;
     /* u = M^{-1} (K' v - beta_j M u): the contacts add into M times the old term */
     double d = op_step(o, v, u); /* and u.v */
     if (!second) al[j] = d;
-    d = vec(o, V_AXPY_DOT, al[j], u, v); /* u -= alpha v; u.u */
-    double b = second ? be[j + 1] : sqrt(d);
+    /* b = |u - alpha v| (V_STEP stores u - alpha v) */
+    double b = second ? be[j + 1] : sqrt(vec(o, V_RES_DOT, al[j], 0, u, v));
     if (!second) {
       be[j + 1] = b;
       int last = j + 1 == mm || !(b > 1e-14 * fabs(al[j]));
@@ -525,7 +545,7 @@ static int lanczos(op *o, double *u, double *v, size_t nd, double *al, double *b
       }
     }
     if (!(b > 0)) break;
-    vec(o, V_STEP, b, u, v); /* (u, v) <- (-b M v, u / b): the next step's start */
+    vec(o, V_STEP, b, al[j], u, v); /* (u, v) <- (-b M v, (u - alpha v) / b) */
     double *t = u;
     u = v, v = t;
   }
@@ -614,12 +634,13 @@ int esf_stability_estimate(esf_sim *s, double dt, int with_mode, esf_stability *
   if (!rc && with_mode && o.contacts > 0 && m > 0) {
     double *y = buf + 2 * nd;
     rc = lanczos(&o, u, v, nd, al, be, &m, &theta, sv, y); /* regenerates the v_j */
-    double ny = sqrt(vec(&o, V_DOT, 0, y, y));
-    if (ny > 0) vec(&o, V_DIV, ny, y, NULL);
+    double ny = sqrt(vec(&o, V_DOT, 0, 0, y, y));
+    if (ny > 0) vec(&o, V_DIV, ny, 0, y, NULL);
     if (!rc) top_mode(&o, y, u, nd, fl, out);
   }
   free(o.poff);
   free(o.in);
+  free(o.flag);
   free(cnt);
   free(buf);
   free(al);
