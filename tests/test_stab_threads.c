@@ -84,7 +84,8 @@ static void variant(const char *what, const char *yaml, const char *const *sets,
     int rc = esf_stability_estimate(&T.s, T.s.dt, 1, &st[t - 1], &T.err);
     CHECK(rc == 0, "%s, %d threads: estimate: %s", what, t, T.err.msg);
   }
-  CHECK(st[0].contacts > 5 * SIDE * SIDE * SIDE / 2 && st[0].lambda > 0 && st[0].other >= -1,
+  CHECK(st[0].contacts > 5 * SIDE * SIDE * SIDE / 2 && st[0].lambda > 0 &&
+            st[0].other >= -1,
         "%s: the pack's network (%zu contacts, lambda %g)", what, st[0].contacts,
         st[0].lambda);
   for (int t = 2; t <= 3; t++) same(what, &st[0], &st[t - 1], t);

@@ -7,14 +7,13 @@
  * d^T (I - dt B/2 - dt^2 A/4) d + (dt^2/4) s^T A s (d = x_{n+1} - x_n, s = x_{n+1} +
  * x_n) never grows, and is positive definite exactly when lambda_max(dt^2 A + 2 dt B)
  * < 4: for a single mode this is dt < (2/omega)(sqrt(1 + xi^2) - xi) (001 3.66).
- * lambda_max comes from Lanczos on the operator applied contact by contact (no matrix):
- * a deterministic start vector, the tridiagonal's top Ritz value every 4 steps, stopped
- * when its residual bound is below 1e-3 of it. Springs are the linear law's kn and the
- * sticking kt (an adhesive pair's largest bonded tangent stiffness; the Hertz-Mindlin
- * law's tangent stiffnesses S_n = 2 E* a, S_t = 8 G* a at the current overlap,
- * a = sqrt(R* u)), dashpots as the law
- * has them, lever arms to the contact point, as in `esfera modes` (app/modes.c, which
- * assembles the same esf_stab_contact_apply densely); the turning normal's geometric
+ * lambda_max: Lanczos on the operator applied contact by contact (no matrix; threaded,
+ * the same bits on any thread count), a deterministic start vector, the tridiagonal's
+ * top Ritz value every 4 steps, stopped when its residual bound is below 1e-3 of it.
+ * Springs: the linear law's kn and sticking kt (an adhesive pair's largest bonded
+ * tangent stiffness; Hertz-Mindlin's S_n = 2 E* a, S_t = 8 G* a at the current overlap,
+ * a = sqrt(R* u)), dashpots as the law has them, lever arms to the contact point, as
+ * `esfera modes` assembles them densely (app/modes.c); the turning normal's geometric
  * stiffness is neglected. Touching: overlap > 0, or bonded; a contact at its Coulomb
  * cap (or frictionless) has no tangential spring or dashpot. Rolling resistance (epsd):
  * its rotational springs and dashpots (esf_stab_roll_apply), elastic also at the limit.
@@ -26,7 +25,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <stdio.h>
 
 #include "bodies/wall_geom.h"
 #include "contact/contact_rolling.h"
@@ -119,8 +117,8 @@ static inline void tangential(const esf_pair_params *pp, const esf_contact_hist 
  * R* and the inertias of esf_law_rolling_pair; a wall, b < 0: rA, IA + mA rA^2, IA as
  * forces.c; kn at overlap un: esf_contact_rolling_kn), epsd only: cdt's constant
  * torque has no stiffness. */
-static inline void roll_springs(const esf_sim *s, const esf_pair_params *par, size_t a, long b,
-                         double un, esf_stab_contact *c) {
+static inline void roll_springs(const esf_sim *s, const esf_pair_params *par, size_t a,
+                                long b, double un, esf_stab_contact *c) {
   const esf_particles *p = &s->p;
   c->roll = s->mats.any_rolling && s->mats.rolling_model == ESF_ROLL_EPSD;
   if (!c->roll) return;
@@ -141,8 +139,8 @@ static inline void roll_springs(const esf_sim *s, const esf_pair_params *par, si
 
 /* Touching pair candidate k (pair_near's d) as the check sees it in *c; 0 when its
  * centres coincide. */
-static inline int pair_contact_at(const esf_sim *s, size_t k, const double d[4],
-                                  int slip, esf_stab_contact *c) {
+static inline int pair_contact_at(const esf_sim *s, size_t k, const double d[4], int slip,
+                                  esf_stab_contact *c) {
   const esf_particles *p = &s->p;
   const esf_materials *mt = &s->mats;
   const esf_candidates *pp = &s->nb.pp;
@@ -152,9 +150,8 @@ static inline int pair_contact_at(const esf_sim *s, size_t k, const double d[4],
   const esf_pair_params *par = &mt->pair[p->material[c->a] * mt->n + p->material[c->b]];
   const double ra = p->radius[c->a], rb = p->radius[c->b];
   const double u = ra - c->la + rb - c->lb;
-  springs(par, s->beta,
-                   p->mass[c->a] * p->mass[c->b] / (p->mass[c->a] + p->mass[c->b]),
-                   ra * rb / (ra + rb), u, c->kc);
+  springs(par, s->beta, p->mass[c->a] * p->mass[c->b] / (p->mass[c->a] + p->mass[c->b]),
+          ra * rb / (ra + rb), u, c->kc);
   tangential(par, &pp->h[k], slip < 0 && pp->touch[k], u, c->n, slip, c);
   roll_springs(s, par, c->a, c->b, u, c);
   return 1;
@@ -223,19 +220,21 @@ size_t esf_stab_contacts(const esf_sim *s, esf_stab_visit fn, void *ctx) {
 }
 
 /* The operator: y += (sum over touching contacts G^T (ck S_K + cc S_C) G) x on 6
- * coordinates per particle, the contacts (pair_contact, wall_contacts) recomputed from
- * the state at each application (no storage per contact). Lanczos runs on M^{-1} K' in
- * the M inner product (the spectrum of M^{-1/2} K' M^{-1/2}, without scaled copies);
- * weights() gives M's diagonal, 0 on frozen coordinates (2D: y and the rotations about
- * x and z), and its inverse with the same zeros.
- * Threads: the particles in blocks of BLOCK (fixed, whatever the thread count). With
- * the lists sorted by A (a build leaves them so) and B > A, a block's pass adds to its
- * own rows only: first B's side of the touching pairs entering from earlier blocks (in
- * list order, gathered once per estimate), then its own pairs (both sides when B is in
- * the block, A's alone otherwise), then its walls. Each row receives its terms in the
- * serial pass's order, so the result is the serial pass's bits (the entering pairs are
- * computed twice). The vector operations run by the same blocks, a dot product summed
- * by coordinate within a block, then block by block: the same bits on any thread count. */
+ * coordinates per particle, each contact's geometry and springs recomputed from the
+ * state at each application; a byte per pair candidate, set once per estimate, says
+ * which touch and which slide (the idle ones and the sticking ones' histories are not
+ * read). Lanczos runs on M^{-1} K' in the M inner product (the spectrum of
+ * M^{-1/2} K' M^{-1/2}, without scaled copies); weights() gives M's diagonal, 0 on
+ * frozen coordinates (2D: y and the rotations about x and z), and its inverse.
+ * Order: the particles in blocks of BLOCK, fixed whatever the thread count. With the
+ * lists sorted by A with B >= A (a build leaves them so), each particle's row receives
+ * its terms in list order when the blocks are passed in order, and is final once its
+ * block is: M^{-1} and the block's share of the inner product are applied there. With
+ * threads, each takes a range of whole blocks, first adding B's side of the touching
+ * pairs that enter its rows from earlier ranges (gathered once, in list order; computed
+ * twice), then its blocks with both sides of the pairs inside it and A's side of those
+ * leaving it: every row gets the serial pass's sums. Inner products are summed by
+ * coordinate within a block, then block by block: the same bits on any thread count. */
 #define BLOCK 1024
 
 typedef struct op {
@@ -249,9 +248,9 @@ typedef struct op {
   double *part;        /* a block's partial sum (nblk) */
   size_t *cnt;         /* a block's contacts (nblk) */
   size_t *poff, *woff; /* a block's first pair and wall candidate (nblk + 1); poff NULL:
-                          the serial pass */
+                          lists not sorted, whole passes */
   uint8_t *flag;       /* per pair candidate: 1 touching, 2 sliding (or NULL) */
-  size_t nr, *rb;      /* threads: nr ranges, range r's blocks rb[r] .. rb[r + 1] (nth + 1) */
+  size_t nr, *rb;      /* threads: nr ranges, range r's blocks rb[r] .. rb[r + 1] */
   size_t *inoff, *in;  /* the touching pairs entering range r: in[inoff[r] ..] */
 } op;
 
@@ -277,10 +276,9 @@ static inline void apply_c(const op *o, const esf_stab_contact *c, int which) {
   const double *xb = wall ? NULL : o->x + 6 * (size_t)c->b;
   double *ya = which & 1 ? o->y + 6 * c->a : sink;
   double *yb = wall ? NULL : which & 2 ? o->y + 6 * (size_t)c->b : sink;
-  esf_stab_contact_apply(c->n, c->slip ? c->t : NULL, c->la, c->lb,
-                         o->ck * c->kc[0] + o->cc * c->kc[2],
-                         o->ck * c->kc[1] + o->cc * c->kc[3], o->x + 6 * c->a, xb, ya,
-                         yb);
+  esf_stab_contact_apply(
+      c->n, c->slip ? c->t : NULL, c->la, c->lb, o->ck * c->kc[0] + o->cc * c->kc[2],
+      o->ck * c->kc[1] + o->cc * c->kc[3], o->x + 6 * c->a, xb, ya, yb);
   if (c->roll)
     esf_stab_roll_apply(c->n, o->ck * c->kr[0] + o->cc * c->kr[2],
                         o->ck * c->kr[1] + o->cc * c->kr[3], o->x + 6 * c->a, xb, ya, yb);
@@ -291,8 +289,10 @@ static void apply_wall(const esf_stab_contact *c, void *ctx) { apply_c(ctx, c, 1
 /* pairs k0..k1 (both sides when B < hi, A's alone otherwise), then walls w0..w1;
  * returns the contacts */
 static size_t range_pass(op *o, size_t k0, size_t k1, size_t w0, size_t w1, size_t hi) {
-  enum { CHUNK = 32 }; /* the chunk's contacts first, then their terms: the contacts'
-                         square roots and divisions overlap */
+  enum {
+    CHUNK = 32
+  }; /* the chunk's contacts first, then their terms: the contacts'
+       square roots and divisions overlap */
   esf_stab_contact c[CHUNK];
   size_t cnt = 0;
   for (size_t k = k0; k < k1; k += CHUNK) {
@@ -340,23 +340,30 @@ enum { V_START, V_DIV, V_ADD, V_SCALE, V_MINV_DOT, V_RES_DOT, V_STEP, V_DOT };
 
 /* One vector operation on particles i0..i1 (u, v: its operands, c its scalar); their
  * share of the M inner product it ends with, summed by coordinate. */
-static double vec_rows(const esf_sim *s, int kind, double c, double c2, double *u, double *v,
-                       size_t i0, size_t i1) {
+static double vec_rows(const esf_sim *s, int kind, double c, double c2, double *u,
+                       double *v, size_t i0, size_t i1) {
   double r[6] = {0}, m[6], mi[6];
   switch (kind) {
   case V_START: /* a hash of the coordinate's index on the free coordinates */
-    EACH(uint64_t h = (uint64_t)(6 * i + j) * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull;
+    EACH(uint64_t h =
+             (uint64_t)(6 * i + j) * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull;
          h ^= h >> 31; h *= 0xBF58476D1CE4E5B9ull; h ^= h >> 29;
          x[j] = mi[j] > 0 ? (double)(h >> 11) * 0x1p-53 - 0.5 : 0.0;
          r[j] += m[j] * x[j] * x[j]);
-  case V_DIV: EACH(x[j] = c > 0 ? x[j] / c : 0.0);
-  case V_ADD: EACH(x[j] += c * z[j]);
-  case V_SCALE: EACH(x[j] *= c * m[j]);
-  case V_MINV_DOT: EACH(x[j] *= mi[j]; r[j] += m[j] * x[j] * z[j]);
-  case V_RES_DOT: EACH(double t = x[j] - c * z[j]; r[j] += m[j] * t * t);
+  case V_DIV:
+    EACH(x[j] = c > 0 ? x[j] / c : 0.0);
+  case V_ADD:
+    EACH(x[j] += c * z[j]);
+  case V_SCALE:
+    EACH(x[j] *= c * m[j]);
+  case V_MINV_DOT:
+    EACH(x[j] *= mi[j]; r[j] += m[j] * x[j] * z[j]);
+  case V_RES_DOT:
+    EACH(double t = x[j] - c * z[j]; r[j] += m[j] * t * t);
   case V_STEP: /* v' = (u - alpha v) / b, u' = -b M v */
     EACH(double t = x[j] - c2 * z[j]; x[j] = t / c; z[j] *= -c * m[j]);
-  default: EACH(r[j] += m[j] * x[j] * z[j]);
+  default:
+    EACH(r[j] += m[j] * x[j] * z[j]);
   }
   return ((((r[0] + r[1]) + r[2]) + r[3]) + r[4]) + r[5];
 }
@@ -470,14 +477,13 @@ static void op_plan(op *o) {
   }
   for (size_t r = 0; r < nr; r++) inoff[r + 1] += inoff[r];
   if (!(in = malloc((tot ? tot : 1) * sizeof *in))) return; /* serial */
-  size_t *fill = o->cnt; /* the ranges' next entries */
+  size_t *fill = o->cnt;                                    /* the ranges' next entries */
   memcpy(fill, inoff, nr * sizeof *fill);
   for (size_t k = 0; k < pp->n; k++) {
     size_t rt = rof[pp->b[k] / BLOCK];
     if (rt != rof[pp->a[k] / BLOCK] && (o->flag[k] & 1u)) in[fill[rt]++] = k;
   }
   o->nr = nr, o->rb = rb, o->inoff = inoff, o->in = in;
-  if (getenv("ESF_DBG")) fprintf(stderr, "plan: %zu blocks, %zu entering, nth %d\n", nb, tot, o->nth);
 }
 
 /* the deterministic start, unit in M */
