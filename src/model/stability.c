@@ -23,14 +23,20 @@
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_matrix.h>
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "bodies/wall_geom.h"
 #include "contact/contact_rolling.h"
 #include "contact/lane_scalar.h"
 #include "model/forces.h"
 #include "util/clock.h"
+#include "util/threads.h"
 #include "util/vec3.h"
 
 #define LZ_MAX   120  /* Lanczos steps at most */
@@ -373,16 +379,6 @@ static inline size_t block_end(const op *o, size_t B) {
   return (B + 1) * BLOCK < o->s->p.n ? (B + 1) * BLOCK : o->s->p.n;
 }
 
-/* the vector operation over all blocks; the M inner product it ends with */
-static double vec(op *o, int kind, double c, double c2, double *u, double *v) {
-#pragma omp parallel for num_threads(o->nth) schedule(static) if (o->nth > 1)
-  for (size_t B = 0; B < o->nblk; B++)
-    o->part[B] = vec_rows(o->s, kind, c, c2, u, v, B * BLOCK, block_end(o, B));
-  double r = 0;
-  for (size_t B = 0; B < o->nblk; B++) r += o->part[B];
-  return r;
-}
-
 /* Blocks B0..B1 with their rows in `which` (block_end: both sides of a pair inside
  * the range's rows, below hi; 0: every pair's both sides), each block's rows finished
  * (y = M^{-1} y, and its share of y.x) once passed. */
@@ -406,26 +402,6 @@ static void range_task(op *o, size_t r) {
   }
   size_t B1 = o->rb[r + 1];
   blocks_pass(o, o->rb[r], B1, B1 > 0 ? block_end(o, B1 - 1) : 0);
-}
-
-/* The Lanczos step's operator: y = M^{-1} (y + K' x), and y.x in M, block by block
- * (rows final once their block is passed), threaded when planned. */
-static double op_step(op *o, const double *x, double *y) {
-  o->x = x;
-  o->y = y;
-  if (!o->poff) { /* lists not sorted: the whole pass, then the rows */
-    op_apply(o, x, y);
-    return vec(o, V_MINV_DOT, 0, 0, y, (double *)x);
-  }
-  if (o->in) {
-#pragma omp parallel for num_threads(o->nth) schedule(static, 1)
-    for (size_t r = 0; r < o->nr; r++) range_task(o, r);
-  } else
-    blocks_pass(o, 0, o->nblk, SIZE_MAX);
-  double r = 0;
-  o->contacts = 0;
-  for (size_t B = 0; B < o->nblk; B++) r += o->part[B], o->contacts += o->cnt[B];
-  return r;
 }
 
 /* The blocks' first candidates of a list sorted by A (0: not sorted) */
@@ -486,12 +462,6 @@ static void op_plan(op *o) {
   o->nr = nr, o->rb = rb, o->inoff = inoff, o->in = in;
 }
 
-/* the deterministic start, unit in M */
-static void start_vector(op *o, double *v) {
-  double nv = sqrt(vec(o, V_START, 0, 0, v, NULL));
-  vec(o, V_DIV, nv, 0, v, NULL);
-}
-
 /* Top eigenpair of the m x m tridiagonal (al, be): its value, and s (m) */
 static int tridiag_top(const double *al, const double *be, int m, double *theta,
                        double *s) {
@@ -520,42 +490,135 @@ static int tridiag_top(const double *al, const double *be, int m, double *theta,
   return ok ? ESF_OK : ESF_ENOMEM;
 }
 
+/* Thread t of T: vector operation `kind` on the blocks of its ranges (all blocks
+ * without a threaded plan), their shares of its inner product in part (or not kept) */
+static void own_vec(const op *o, int t, int T, int kind, double c, double c2, double *u,
+                    double *v, double *part) {
+  const size_t nr = o->in ? o->nr : 1;
+  for (size_t r = (size_t)t; r < nr; r += (size_t)T) {
+    const size_t B1 = o->in ? o->rb[r + 1] : o->nblk;
+    for (size_t B = o->in ? o->rb[r] : 0; B < B1; B++) {
+      double q = vec_rows(o->s, kind, c, c2, u, v, B * BLOCK, block_end(o, B));
+      if (part) part[B] = q;
+    }
+  }
+}
+
+/* Thread t of T: y = M^{-1} (y + K' x) on the rows of its ranges, the blocks' shares
+ * of y.x in o->part and their contacts in o->cnt */
+static void own_op(op *o, int t, int T) {
+  if (!o->poff) { /* lists not sorted (one thread): the whole pass, then the rows */
+    memset(o->cnt, 0, o->nblk * sizeof *o->cnt);
+    o->cnt[0] = range_pass(o, 0, o->s->nb.pp.n, 0, o->s->nb.pw.n, SIZE_MAX);
+    own_vec(o, 0, 1, V_MINV_DOT, 0, 0, o->y, (double *)o->x, o->part);
+  } else if (!o->in)
+    blocks_pass(o, 0, o->nblk, SIZE_MAX);
+  else
+    for (size_t r = (size_t)t; r < o->nr; r += (size_t)T) range_task(o, r);
+}
+
+static double sum_parts(const op *o, const double *part) {
+  double r = 0;
+  for (size_t B = 0; B < o->nblk; B++) r += part[B];
+  return r;
+}
+
+/* One Lanczos pass's state, shared by its threads */
+typedef struct lz {
+  op *o;
+  double *u, *v, *y, *al, *be, *s, *theta, *part2;
+  int *m, mm, second, stop, rc;
+  _Atomic long bar; /* arrivals at the barriers (only grows) */
+} lz;
+
+/* the T threads' e-th barrier */
+static void sync_all(lz *L, long e, int T) {
+  if (T < 2) return;
+  atomic_fetch_add_explicit(&L->bar, 1, memory_order_acq_rel);
+  esf_threads_wait(&L->bar, e * T);
+}
+
 /* Lanczos with two vectors (Paige's form: u <- A v - beta u, alpha = u.v, u -= alpha
- * v, then the two swap roles): the recurrence from the start vector; when y is not
- * NULL, the second pass that sums the Ritz vector y = sum s_j v_j of the first pass's
- * m steps. */
-static int lanczos(op *o, double *u, double *v, size_t nd, double *al, double *be, int *m,
-                   double *theta, double *s, double *y) {
-  int second = y != NULL, mm = second ? *m : LZ_MAX;
-  memset(u, 0, nd * sizeof *u);
-  start_vector(o, v);
-  if (y) memset(y, 0, nd * sizeof *y);
-  if (!second) be[0] = 0;
-  vec(o, V_SCALE, -be[0], 0, u, NULL); /* u = -beta_0 M u (later: V_STEP's) */
-  for (int j = 0; j < mm; j++) {
-    if (y) vec(o, V_ADD, s[j], 0, y, v);
-    if (second && j + 1 == mm) break;
+ * v, then the two swap roles) by thread t of T, each on its ranges' rows, meeting at
+ * the inner products and before each operator (which reads other ranges' rows); the
+ * inner products are the blocks' shares summed in block order by every thread, so all
+ * see the same values, and thread 0 keeps the tridiagonal. Second pass (y): sums the
+ * Ritz vector y = sum s_j v_j of the first pass's m steps. */
+static void lz_thread(lz *L, int t, int T) {
+  op o = *L->o; /* this thread's x, y */
+  double *u = L->u, *v = L->v, *pa = o.part, *pb = L->part2;
+  long e = 0;
+  own_vec(&o, t, T, V_START, 0, 0, v, NULL, pa);
+  sync_all(L, ++e, T);
+  own_vec(&o, t, T, V_DIV, sqrt(sum_parts(&o, pa)), 0, v, NULL, NULL); /* unit in M */
+  own_vec(&o, t, T, V_SCALE, -L->be[0], 0, u, NULL, NULL); /* later V_STEP's */
+  sync_all(L, ++e, T);
+  for (int j = 0; j < L->mm; j++) {
+    if (L->y) own_vec(&o, t, T, V_ADD, L->s[j], 0, L->y, v, NULL);
+    if (L->second && j + 1 == L->mm) break;
     /* u = M^{-1} (K' v - beta_j M u): the contacts add into M times the old term */
-    double d = op_step(o, v, u); /* and u.v */
-    if (!second) al[j] = d;
-    /* b = |u - alpha v| (V_STEP stores u - alpha v) */
-    double b = second ? be[j + 1] : sqrt(vec(o, V_RES_DOT, al[j], 0, u, v));
-    if (!second) {
-      be[j + 1] = b;
-      int last = j + 1 == mm || !(b > 1e-14 * fabs(al[j]));
+    o.x = v, o.y = u;
+    own_op(&o, t, T);
+    sync_all(L, ++e, T);
+    const double a = L->second ? L->al[j] : sum_parts(&o, pa); /* u.v */
+    if (t == 0) {
+      L->o->contacts = 0;
+      for (size_t B = 0; B < o.nblk; B++) L->o->contacts += o.cnt[B];
+    }
+    double b = L->be[j + 1]; /* b = |u - alpha v| (V_STEP stores u - alpha v) */
+    if (!L->second) {
+      own_vec(&o, t, T, V_RES_DOT, a, 0, u, v, pb);
+      sync_all(L, ++e, T);
+      b = sqrt(sum_parts(&o, pb));
+      int last = j + 1 == L->mm || !(b > 1e-14 * fabs(a));
+      if (t == 0) L->al[j] = a, L->be[j + 1] = b;
       if (last || (j + 1) % LZ_EVERY == 0) {
-        int rc = tridiag_top(al, be, j + 1, theta, s);
-        if (rc) return rc;
-        *m = j + 1;
-        if (last || b * fabs(s[j]) <= LZ_TOL * fabs(*theta)) return ESF_OK;
+        if (t == 0) {
+          L->rc = tridiag_top(L->al, L->be, j + 1, L->theta, L->s);
+          if (!L->rc) *L->m = j + 1;
+          L->stop = L->rc || last || b * fabs(L->s[j]) <= LZ_TOL * fabs(*L->theta);
+        }
+        sync_all(L, ++e, T);
+        if (L->stop) return;
       }
     }
     if (!(b > 0)) break;
-    vec(o, V_STEP, b, al[j], u, v); /* (u, v) <- (-b M v, (u - alpha v) / b) */
-    double *t = u;
-    u = v, v = t;
+    own_vec(&o, t, T, V_STEP, b, a, u, v, NULL); /* (u, v) <- (-b M v, (u - a v) / b) */
+    double *w = u;
+    u = v, v = w;
+    sync_all(L, ++e, T);
   }
-  return ESF_OK;
+}
+
+/* One Lanczos pass (the second with y), threaded by the plan's ranges */
+static int lanczos(op *o, double *u, double *v, size_t nd, double *al, double *be, int *m,
+                   double *theta, double *s, double *y) {
+  lz L = {.o = o,
+          .u = u,
+          .v = v,
+          .y = y,
+          .al = al,
+          .be = be,
+          .s = s,
+          .theta = theta,
+          .part2 = o->part + o->nblk,
+          .m = m,
+          .mm = y ? *m : LZ_MAX,
+          .second = y != NULL};
+  atomic_init(&L.bar, 0);
+  memset(u, 0, nd * sizeof *u);
+  if (y) memset(y, 0, nd * sizeof *y);
+  if (!y) be[0] = 0;
+  const int T = o->in ? (int)o->nr : 1;
+#pragma omp parallel num_threads(T) if (T > 1)
+  {
+#ifdef _OPENMP
+    lz_thread(&L, omp_get_thread_num(), omp_get_num_threads());
+#else
+    lz_thread(&L, 0, 1);
+#endif
+  }
+  return L.rc;
 }
 
 /* The energy y.G^T S G.y of each contact in the mode y; the largest names the mode. */
@@ -614,7 +677,7 @@ int esf_stability_estimate(esf_sim *s, double dt, int with_mode, esf_stability *
   /* two vectors, a third for the top mode's second pass (48 bytes a particle each) */
   const size_t nblk = (s->p.n + BLOCK - 1) / BLOCK;
   double *buf = malloc((with_mode ? 3 : 2) * nd * sizeof *buf);
-  double *al = malloc((2 * (LZ_MAX + 2) + LZ_MAX + nblk) * sizeof *al);
+  double *al = malloc((2 * (LZ_MAX + 2) + LZ_MAX + 2 * nblk) * sizeof *al);
   size_t *cnt = malloc(nblk * sizeof *cnt);
   if (!buf || !al || !cnt) {
     free(buf), free(al), free(cnt);
@@ -640,8 +703,9 @@ int esf_stability_estimate(esf_sim *s, double dt, int with_mode, esf_stability *
   if (!rc && with_mode && o.contacts > 0 && m > 0) {
     double *y = buf + 2 * nd;
     rc = lanczos(&o, u, v, nd, al, be, &m, &theta, sv, y); /* regenerates the v_j */
-    double ny = sqrt(vec(&o, V_DOT, 0, 0, y, y));
-    if (ny > 0) vec(&o, V_DIV, ny, 0, y, NULL);
+    own_vec(&o, 0, 1, V_DOT, 0, 0, y, y, o.part);
+    double ny = sqrt(sum_parts(&o, o.part));
+    if (ny > 0) own_vec(&o, 0, 1, V_DIV, ny, 0, y, NULL, NULL);
     if (!rc) top_mode(&o, y, u, nd, fl, out);
   }
   free(o.poff);
