@@ -293,12 +293,10 @@ static inline void apply_c(const op *o, const esf_stab_contact *c, int which) {
 static void apply_wall(const esf_stab_contact *c, void *ctx) { apply_c(ctx, c, 1); }
 
 /* pairs k0..k1 (both sides when B < hi, A's alone otherwise), then walls w0..w1;
- * returns the contacts */
+ * returns the contacts. By chunks of candidates: the touching ones' contacts first,
+ * then their terms, so that their square roots and divisions overlap. */
 static size_t range_pass(op *o, size_t k0, size_t k1, size_t w0, size_t w1, size_t hi) {
-  enum {
-    CHUNK = 32
-  }; /* the chunk's contacts first, then their terms: the contacts'
-       square roots and divisions overlap */
+  enum { CHUNK = 32 };
   esf_stab_contact c[CHUNK];
   size_t cnt = 0;
   for (size_t k = k0; k < k1; k += CHUNK) {
@@ -379,9 +377,8 @@ static inline size_t block_end(const op *o, size_t B) {
   return (B + 1) * BLOCK < o->s->p.n ? (B + 1) * BLOCK : o->s->p.n;
 }
 
-/* Blocks B0..B1 with their rows in `which` (block_end: both sides of a pair inside
- * the range's rows, below hi; 0: every pair's both sides), each block's rows finished
- * (y = M^{-1} y, and its share of y.x) once passed. */
+/* Blocks B0..B1 (a pair's both sides when B < hi, A's alone otherwise), each block's
+ * rows finished (y = M^{-1} y, and its share of y.x) once passed. */
 static void blocks_pass(op *o, size_t B0, size_t B1, size_t hi) {
   for (size_t B = B0; B < B1; B++) {
     o->cnt[B] = range_pass(o, o->poff[B], o->poff[B + 1], o->woff[B], o->woff[B + 1], hi);
