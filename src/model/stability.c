@@ -590,18 +590,9 @@ static void lz_thread(lz *L, int t, int T) {
 /* One Lanczos pass (the second with y), threaded by the plan's ranges */
 static int lanczos(op *o, double *u, double *v, size_t nd, double *al, double *be, int *m,
                    double *theta, double *s, double *y) {
-  lz L = {.o = o,
-          .u = u,
-          .v = v,
-          .y = y,
-          .al = al,
-          .be = be,
-          .s = s,
-          .theta = theta,
-          .part2 = o->part + o->nblk,
-          .m = m,
-          .mm = y ? *m : LZ_MAX,
-          .second = y != NULL};
+  lz L = {.o = o, .u = u, .v = v, .y = y, .al = al, .be = be, .s = s};
+  L.theta = theta, L.part2 = o->part + o->nblk, L.m = m;
+  L.mm = y ? *m : LZ_MAX, L.second = y != NULL, L.stop = L.rc = 0;
   atomic_init(&L.bar, 0);
   memset(u, 0, nd * sizeof *u);
   if (y) memset(y, 0, nd * sizeof *y);
