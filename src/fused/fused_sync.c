@@ -17,44 +17,11 @@
  * Units: seconds for the waits. */
 #include "fused/fused_impl.h"
 
-#include <sched.h>
+#include "util/threads.h"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
-/* A spinning thread's hint to the core (x86 pause: fewer wasted issue slots, and no
- * memory-order flush when the flag changes). */
-static inline void cpu_relax(void) {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#endif
-}
-
-/* Spins before a waiting thread yields its core: a wait between two steps is a few
- * microseconds, and a yield is a system call of about one (yielding sooner spent time
- * in the kernel's scheduler:
- * docs/performance.md#bursts-threads-that-do-not-meet-between-steps). */
-#define SPIN 4096
-
-/* Spins until *flag reaches epoch e (flags only grow); returns the seconds waited, 0
- * when the flag was already up. */
-double esf_fused_wait(_Atomic long *flag, long e) {
-  if (atomic_load_explicit(flag, memory_order_acquire) >= e) return 0.0;
-#ifdef _OPENMP
-  const double t0 = omp_get_wtime();
-#endif
-  for (unsigned spin = 0; atomic_load_explicit(flag, memory_order_acquire) < e; spin++)
-    if (spin < SPIN)
-      cpu_relax();
-    else
-      sched_yield(); /* more threads than cores */
-#ifdef _OPENMP
-  return omp_get_wtime() - t0;
-#else
-  return 0.0;
-#endif
-}
+/* Spins until *flag reaches epoch e (flags only grow), then yields (util/threads.h);
+ * returns the seconds waited, 0 when the flag was already up. */
+double esf_fused_wait(_Atomic long *flag, long e) { return esf_threads_wait(flag, e); }
 
 /* 1 when the ranges above 0 have all finished step e. */
 int esf_fused_all_done(esf_fused *f, long e) {

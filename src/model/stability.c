@@ -7,14 +7,13 @@
  * d^T (I - dt B/2 - dt^2 A/4) d + (dt^2/4) s^T A s (d = x_{n+1} - x_n, s = x_{n+1} +
  * x_n) never grows, and is positive definite exactly when lambda_max(dt^2 A + 2 dt B)
  * < 4: for a single mode this is dt < (2/omega)(sqrt(1 + xi^2) - xi) (001 3.66).
- * lambda_max comes from Lanczos on the operator applied contact by contact (no matrix):
- * a deterministic start vector, the tridiagonal's top Ritz value every 4 steps, stopped
- * when its residual bound is below 1e-3 of it. Springs are the linear law's kn and the
- * sticking kt (an adhesive pair's largest bonded tangent stiffness; the Hertz-Mindlin
- * law's tangent stiffnesses S_n = 2 E* a, S_t = 8 G* a at the current overlap,
- * a = sqrt(R* u)), dashpots as the law
- * has them, lever arms to the contact point, as in `esfera modes` (app/modes.c, which
- * assembles the same esf_stab_contact_apply densely); the turning normal's geometric
+ * lambda_max: Lanczos on the operator applied contact by contact (no matrix; threaded,
+ * the same bits on any thread count), a deterministic start vector, the tridiagonal's
+ * top Ritz value every 4 steps, stopped when its residual bound is below 1e-3 of it.
+ * Springs: the linear law's kn and sticking kt (an adhesive pair's largest bonded
+ * tangent stiffness; Hertz-Mindlin's S_n = 2 E* a, S_t = 8 G* a at the current overlap,
+ * a = sqrt(R* u)), dashpots as the law has them, lever arms to the contact point, as
+ * `esfera modes` assembles them densely (app/modes.c); the turning normal's geometric
  * stiffness is neglected. Touching: overlap > 0, or bonded; a contact at its Coulomb
  * cap (or frictionless) has no tangential spring or dashpot. Rolling resistance (epsd):
  * its rotational springs and dashpots (esf_stab_roll_apply), elastic also at the limit.
@@ -24,22 +23,28 @@
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_matrix.h>
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "bodies/wall_geom.h"
 #include "contact/contact_rolling.h"
 #include "contact/lane_scalar.h"
 #include "model/forces.h"
 #include "util/clock.h"
+#include "util/threads.h"
 #include "util/vec3.h"
 
 #define LZ_MAX   120  /* Lanczos steps at most */
 #define LZ_EVERY 4    /* steps between tridiagonal solves */
 #define LZ_TOL   1e-3 /* residual bound / Ritz value to stop */
 
-void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar, double rstar,
-                      double un, double kc[4]) {
+static inline void springs(const esf_pair_params *pp, double beta, double mstar,
+                           double rstar, double un, double kc[4]) {
   if (pp->law == &esf_contact_hertz) { /* tangent stiffnesses at un (contact_hertz.h) */
     double ks, qa, sm = sqrt(mstar);
     esf_law_hertz_springs_s(pp->hn, pp->ht, rstar, fmax(un, 0.0), &ks, &kc[0], &kc[1],
@@ -56,16 +61,30 @@ void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar, doub
   kc[3] = beta > 0 ? beta * pp->kt : pp->ct_factor * sqrt(mstar);
 }
 
-static int pair_geometry(const esf_sim *s, size_t k, double n[3], double *la,
-                         double *lb) {
+void esf_stab_springs(const esf_pair_params *pp, double beta, double mstar, double rstar,
+                      double un, double kc[4]) {
+  springs(pp, beta, mstar, rstar, un, kc);
+}
+
+/* Pair candidate k's centre-to-centre vector d (A to B or its image) and d[3] its
+ * square; 1 when it touches (overlap, or a bond). Without branches on the outcome. */
+static inline int pair_near(const esf_sim *s, size_t k, double d[4]) {
   const esf_particles *p = &s->p;
   const esf_candidates *c = &s->nb.pp;
   uint32_t a = c->a[k], b = c->b[k];
-  double d[3], rs = p->radius[a] + p->radius[b], xb[3];
+  double rs = p->radius[a] + p->radius[b], xb[3];
   v3_sub(d, esf_candidates_xb(c, k, p->x, xb), p->x + 3 * a);
-  double d2 = v3_norm2(d);
-  if (!(d2 < rs * rs) && !(c->touch[k] && esf_candidates_bonded(c, k))) return 0;
-  double dist = sqrt(d2), un = rs - dist;
+  d[3] = v3_norm2(d);
+  return (d[3] < rs * rs) | (c->bond && esf_candidates_bonded(c, k) && c->touch[k]);
+}
+
+/* A touching pair's unit normal n and lever arms from pair_near's d; 0 when the
+ * centres coincide. */
+static inline int pair_finish(const esf_sim *s, size_t k, const double d[4], double n[3],
+                              double *la, double *lb) {
+  const esf_particles *p = &s->p;
+  uint32_t a = s->nb.pp.a[k], b = s->nb.pp.b[k];
+  double rs = p->radius[a] + p->radius[b], dist = sqrt(d[3]), un = rs - dist;
   if (!(dist > 0)) return 0;
   v3_scale(n, 1.0 / dist, d);
   *la = p->radius[a] - 0.5 * un;
@@ -76,9 +95,11 @@ static int pair_geometry(const esf_sim *s, size_t k, double n[3], double *la,
 /* The tangential terms of a linear-law contact (law_body.h): none when its cap
  * coh + mu fn is zero or less (frictionless); at the cap at its last commit (kt |xi|
  * there, with the elastic normal force kn u) sliding, the unit slip direction in *t
- * (xi brought into the current tangent plane). */
-static void tangential(const esf_pair_params *pp, const esf_contact_hist *h, int live,
-                       double un, const double n[3], esf_stab_contact *c) {
+ * (xi brought into the current tangent plane). slip: whether it slides when known (an
+ * earlier call's c->slip for the same state), -1 when not. */
+static inline void tangential(const esf_pair_params *pp, const esf_contact_hist *h,
+                              int live, double un, const double n[3], int slip,
+                              esf_stab_contact *c) {
   c->slip = 0;
   if (pp->law->flags & ESF_LAW_TENSION) return;
   const int hz = pp->law == &esf_contact_hertz; /* fel (2/3) S_n u; xi the force */
@@ -87,8 +108,9 @@ static void tangential(const esf_pair_params *pp, const esf_contact_hist *h, int
     c->kc[1] = c->kc[3] = 0.0;
     return;
   }
-  double xi = live ? v3_norm(h->xi) : 0.0;
-  if (!((hz ? 1.0 : pp->kt) * xi >= (1 - 1e-9) * tau)) return;
+  if (slip == 0) return;
+  double xi = slip > 0 ? 0.0 : live ? v3_norm(h->xi) : 0.0;
+  if (slip < 0 && !((hz ? 1.0 : pp->kt) * xi >= (1 - 1e-9) * tau)) return;
   double s = v3_dot(h->xi, n), t[3], m;
   for (int q = 0; q < 3; q++) t[q] = h->xi[q] - s * n[q];
   m = v3_norm(t);
@@ -101,8 +123,8 @@ static void tangential(const esf_pair_params *pp, const esf_contact_hist *h, int
  * R* and the inertias of esf_law_rolling_pair; a wall, b < 0: rA, IA + mA rA^2, IA as
  * forces.c; kn at overlap un: esf_contact_rolling_kn), epsd only: cdt's constant
  * torque has no stiffness. */
-static void roll_springs(const esf_sim *s, const esf_pair_params *par, size_t a, long b,
-                         double un, esf_stab_contact *c) {
+static inline void roll_springs(const esf_sim *s, const esf_pair_params *par, size_t a,
+                                long b, double un, esf_stab_contact *c) {
   const esf_particles *p = &s->p;
   c->roll = s->mats.any_rolling && s->mats.rolling_model == ESF_ROLL_EPSD;
   if (!c->roll) return;
@@ -121,80 +143,121 @@ static void roll_springs(const esf_sim *s, const esf_pair_params *par, size_t a,
   c->kr[3] = P.ctw;
 }
 
-size_t esf_stab_contacts(const esf_sim *s, esf_stab_visit fn, void *ctx) {
+/* Touching pair candidate k (pair_near's d) as the check sees it in *c; 0 when its
+ * centres coincide. */
+static inline int pair_contact_at(const esf_sim *s, size_t k, const double d[4], int slip,
+                                  esf_stab_contact *c) {
   const esf_particles *p = &s->p;
   const esf_materials *mt = &s->mats;
-  const esf_candidates *pp = &s->nb.pp, *pw = &s->nb.pw;
-  esf_stab_contact c;
-  size_t cnt = 0;
-  for (size_t k = 0; k < pp->n; k++) {
-    if (!pair_geometry(s, k, c.n, &c.la, &c.lb)) continue;
-    c.a = pp->a[k];
-    c.b = pp->b[k];
-    const esf_pair_params *par = &mt->pair[p->material[c.a] * mt->n + p->material[c.b]];
-    const double ra = p->radius[c.a], rb = p->radius[c.b];
-    const double u = ra - c.la + rb - c.lb;
-    esf_stab_springs(par, s->beta,
-                     p->mass[c.a] * p->mass[c.b] / (p->mass[c.a] + p->mass[c.b]),
-                     ra * rb / (ra + rb), u, c.kc);
-    tangential(par, &pp->h[k], pp->touch[k], u, c.n, &c);
-    roll_springs(s, par, c.a, c.b, u, &c);
-    fn(&c, ctx);
-    cnt++;
-  }
-  /* the wall contacts of one particle at a time, those that carry force (forces.c's
-     choice among hits on shared mesh edges and vertices) */
+  const esf_candidates *pp = &s->nb.pp;
+  if (!pair_finish(s, k, d, c->n, &c->la, &c->lb)) return 0;
+  c->a = pp->a[k];
+  c->b = pp->b[k];
+  const esf_pair_params *par = &mt->pair[p->material[c->a] * mt->n + p->material[c->b]];
+  const double ra = p->radius[c->a], rb = p->radius[c->b];
+  const double u = ra - c->la + rb - c->lb;
+  springs(par, s->beta, p->mass[c->a] * p->mass[c->b] / (p->mass[c->a] + p->mass[c->b]),
+          ra * rb / (ra + rb), u, c->kc);
+  tangential(par, &pp->h[k], slip < 0 && pp->touch[k], u, c->n, slip, c);
+  roll_springs(s, par, c->a, c->b, u, c);
+  return 1;
+}
+
+/* Pair candidate k as the check sees it in *c; 0 when it does not touch. */
+static inline int pair_contact(const esf_sim *s, size_t k, esf_stab_contact *c) {
+  double d[4];
+  return pair_near(s, k, d) && pair_contact_at(s, k, d, -1, c);
+}
+
+/* The wall contacts of particle pw->a[k0] (its candidates k0 .. the returned end) that
+ * carry force (forces.c's choice among hits on shared mesh edges and vertices): fn on
+ * each, their count added to *cnt. */
+static inline size_t wall_contacts(const esf_sim *s, size_t k0, esf_stab_visit fn,
+                                   void *ctx, size_t *cnt) {
+  const esf_particles *p = &s->p;
+  const esf_materials *mt = &s->mats;
+  const esf_candidates *pw = &s->nb.pw;
   enum { MAXH = 32 };
   esf_wall_hit hits[MAXH];
   double un[MAXH];
   uint32_t elem[MAXH];
-  size_t kk[MAXH];
+  size_t kk[MAXH], k1;
   unsigned char keep[MAXH];
-  for (size_t k0 = 0, k1; k0 < pw->n; k0 = k1) {
-    const uint32_t a = pw->a[k0];
-    size_t m = 0;
-    for (k1 = k0; k1 < pw->n && pw->a[k1] == a; k1++) {
-      esf_wall_hit h;
-      esf_wall_nearest(&s->walls.e[pw->b[k1]], p->x + 3 * (size_t)a, &h);
-      if (!(h.dist < p->radius[a]) || m == MAXH) continue; /* beyond MAXH: ignored */
-      hits[m] = h;
-      un[m] = p->radius[a] - h.dist;
-      elem[m] = pw->b[k1];
-      kk[m++] = k1;
-    }
-    if (m == 0) continue;
-    esf_forces_select_wall_hits(&s->walls, elem, hits, un, m, p->radius[a], keep);
-    for (size_t j = 0; j < m; j++) {
-      if (!keep[j]) continue;
-      c.a = a;
-      c.b = -1;
-      v3_copy(c.n, hits[j].n);
-      c.la = esf_wall_lever(s->cfg.wall_lever, p->radius[a], un[j], hits[j].dist);
-      c.lb = 0.0;
-      const esf_pair_params *par =
-          &mt->pair[p->material[a] * mt->n + s->walls.e[elem[j]].material];
-      esf_stab_springs(par, s->beta, p->mass[a], p->radius[a], un[j], c.kc);
-      tangential(par, &pw->h[kk[j]], pw->touch[kk[j]], un[j], c.n, &c);
-      roll_springs(s, par, a, -1, un[j], &c);
-      fn(&c, ctx);
-      cnt++;
-    }
+  esf_stab_contact c;
+  const uint32_t a = pw->a[k0];
+  size_t m = 0;
+  for (k1 = k0; k1 < pw->n && pw->a[k1] == a; k1++) {
+    esf_wall_hit h;
+    esf_wall_nearest(&s->walls.e[pw->b[k1]], p->x + 3 * (size_t)a, &h);
+    if (!(h.dist < p->radius[a]) || m == MAXH) continue; /* beyond MAXH: ignored */
+    hits[m] = h;
+    un[m] = p->radius[a] - h.dist;
+    elem[m] = pw->b[k1];
+    kk[m++] = k1;
   }
+  if (m == 0) return k1;
+  esf_forces_select_wall_hits(&s->walls, elem, hits, un, m, p->radius[a], keep);
+  for (size_t j = 0; j < m; j++) {
+    if (!keep[j]) continue;
+    c.a = a;
+    c.b = -1;
+    v3_copy(c.n, hits[j].n);
+    c.la = esf_wall_lever(s->cfg.wall_lever, p->radius[a], un[j], hits[j].dist);
+    c.lb = 0.0;
+    const esf_pair_params *par =
+        &mt->pair[p->material[a] * mt->n + s->walls.e[elem[j]].material];
+    springs(par, s->beta, p->mass[a], p->radius[a], un[j], c.kc);
+    tangential(par, &pw->h[kk[j]], pw->touch[kk[j]], un[j], c.n, -1, &c);
+    roll_springs(s, par, a, -1, un[j], &c);
+    fn(&c, ctx);
+    ++*cnt;
+  }
+  return k1;
+}
+
+size_t esf_stab_contacts(const esf_sim *s, esf_stab_visit fn, void *ctx) {
+  const esf_candidates *pp = &s->nb.pp, *pw = &s->nb.pw;
+  esf_stab_contact c;
+  size_t cnt = 0;
+  for (size_t k = 0; k < pp->n; k++)
+    if (pair_contact(s, k, &c)) fn(&c, ctx), cnt++;
+  for (size_t k0 = 0; k0 < pw->n;) k0 = wall_contacts(s, k0, fn, ctx, &cnt);
   return cnt;
 }
 
 /* The operator: y += (sum over touching contacts G^T (ck S_K + cc S_C) G) x on 6
- * coordinates per particle, the contacts (esf_stab_contacts) recomputed from the state
- * at each application (no storage per contact). Lanczos runs on M^{-1} K' in the M
- * inner product (the spectrum of M^{-1/2} K' M^{-1/2}, without scaled copies); mass()
- * gives M's diagonal, 0 on frozen coordinates (2D: y and the rotations about x and z),
- * and minv() its inverse with the same zeros. */
+ * coordinates per particle, each contact's geometry and springs recomputed from the
+ * state at each application; a byte per pair candidate, set once per estimate, says
+ * which touch and which slide (the idle ones and the sticking ones' histories are not
+ * read). Lanczos runs on M^{-1} K' in the M inner product (the spectrum of
+ * M^{-1/2} K' M^{-1/2}, without scaled copies); weights() gives M's diagonal, 0 on
+ * frozen coordinates (2D: y and the rotations about x and z), and its inverse.
+ * Order: the particles in blocks of BLOCK, fixed whatever the thread count. With the
+ * lists sorted by A with B >= A (a build leaves them so), each particle's row receives
+ * its terms in list order when the blocks are passed in order, and is final once its
+ * block is: M^{-1} and the block's share of the inner product are applied there. With
+ * threads, each takes a range of whole blocks, first adding B's side of the touching
+ * pairs that enter its rows from earlier ranges (gathered once, in list order; computed
+ * twice), then its blocks with both sides of the pairs inside it and A's side of those
+ * leaving it: every row gets the serial pass's sums. Inner products are summed by
+ * coordinate within a block, then block by block: the same bits on any thread count. */
+#define BLOCK 1024
+
 typedef struct op {
   esf_sim *s;
   double ck, cc; /* weights of the springs and the dashpots */
   const double *x;
   double *y;
   size_t contacts;
+  int nth;             /* threads */
+  size_t nblk;         /* blocks of BLOCK particles */
+  double *part;        /* a block's partial sum (nblk) */
+  size_t *cnt;         /* a block's contacts (nblk) */
+  size_t *poff, *woff; /* a block's first pair and wall candidate (nblk + 1); poff NULL:
+                          lists not sorted, whole passes */
+  uint8_t *flag;       /* per pair candidate: 1 touching, 2 sliding (or NULL) */
+  size_t nr, *rb;      /* threads: nr ranges, range r's blocks rb[r] .. rb[r + 1] */
+  size_t *inoff, *in;  /* the touching pairs entering range r: in[inoff[r] ..] */
 } op;
 
 static const int free2[6] = {1, 0, 1, 0, 1, 0};
@@ -204,50 +267,196 @@ static inline double minv(const esf_sim *s, size_t i, int j) {
   return j < 3 ? s->p.inv_mass[i] : s->p.inv_inertia[i];
 }
 
-static inline double mass(const esf_sim *s, size_t i, int j) {
-  if (!(minv(s, i, j) > 0)) return 0.0;
-  return j < 3 ? s->p.mass[i] : s->p.inertia[i];
+/* M's diagonal on particle i's coordinates (0 on frozen ones), and its inverse */
+static inline void weights(const esf_sim *s, size_t i, double m[6], double mi[6]) {
+  for (int j = 0; j < 6; j++) {
+    mi[j] = minv(s, i, j);
+    m[j] = !(mi[j] > 0) ? 0.0 : j < 3 ? s->p.mass[i] : s->p.inertia[i];
+  }
 }
 
-static void apply_one(const esf_stab_contact *c, void *ctx) {
-  op *o = ctx;
+/* contact c's terms into its bodies' rows in `which` (1: A's, 2: B's, 3: both) */
+static inline void apply_c(const op *o, const esf_stab_contact *c, int which) {
+  double sink[6] = {0};
   const int wall = c->b < 0;
-  esf_stab_contact_apply(c->n, c->slip ? c->t : NULL, c->la, c->lb,
-                         o->ck * c->kc[0] + o->cc * c->kc[2],
-                         o->ck * c->kc[1] + o->cc * c->kc[3], o->x + 6 * c->a,
-                         wall ? NULL : o->x + 6 * (size_t)c->b, o->y + 6 * c->a,
-                         wall ? NULL : o->y + 6 * (size_t)c->b);
+  const double *xb = wall ? NULL : o->x + 6 * (size_t)c->b;
+  double *ya = which & 1 ? o->y + 6 * c->a : sink;
+  double *yb = wall ? NULL : which & 2 ? o->y + 6 * (size_t)c->b : sink;
+  esf_stab_contact_apply(
+      c->n, c->slip ? c->t : NULL, c->la, c->lb, o->ck * c->kc[0] + o->cc * c->kc[2],
+      o->ck * c->kc[1] + o->cc * c->kc[3], o->x + 6 * c->a, xb, ya, yb);
   if (c->roll)
     esf_stab_roll_apply(c->n, o->ck * c->kr[0] + o->cc * c->kr[2],
-                        o->ck * c->kr[1] + o->cc * c->kr[3], o->x + 6 * c->a,
-                        wall ? NULL : o->x + 6 * (size_t)c->b, o->y + 6 * c->a,
-                        wall ? NULL : o->y + 6 * (size_t)c->b);
+                        o->ck * c->kr[1] + o->cc * c->kr[3], o->x + 6 * c->a, xb, ya, yb);
 }
 
+static void apply_wall(const esf_stab_contact *c, void *ctx) { apply_c(ctx, c, 1); }
+
+/* pairs k0..k1 (both sides when B < hi, A's alone otherwise), then walls w0..w1;
+ * returns the contacts. By chunks of candidates: the touching ones' contacts first,
+ * then their terms, so that their square roots and divisions overlap. */
+static size_t range_pass(op *o, size_t k0, size_t k1, size_t w0, size_t w1, size_t hi) {
+  enum { CHUNK = 32 };
+  esf_stab_contact c[CHUNK];
+  size_t cnt = 0;
+  for (size_t k = k0; k < k1; k += CHUNK) {
+    size_t m = 0, t = 0, e = k + CHUNK < k1 ? k + CHUNK : k1, idx[CHUNK];
+    double d[CHUNK][4];
+    const uint8_t *f = o->flag;
+    if (f) { /* the touching ones, their sliding known */
+      for (size_t q = k; q < e; q++) idx[t] = q, t += f[q] & 1u;
+      for (size_t j = 0; j < t; j++) {
+        pair_near(o->s, idx[j], d[j]);
+        m += (size_t)pair_contact_at(o->s, idx[j], d[j], f[idx[j]] >> 1, c + m);
+      }
+    } else {
+      for (size_t q = k; q < e; q++) idx[t] = q, t += (size_t)pair_near(o->s, q, d[t]);
+      for (size_t j = 0; j < t; j++)
+        m += (size_t)pair_contact_at(o->s, idx[j], d[j], -1, c + m);
+    }
+    for (size_t j = 0; j < m; j++) apply_c(o, c + j, (size_t)c[j].b < hi ? 3 : 1);
+    cnt += m;
+  }
+  for (size_t k = w0; k < w1;) k = wall_contacts(o->s, k, apply_wall, o, &cnt);
+  return cnt;
+}
+
+/* y += K' x (the contacts in list order, serial) */
 static void op_apply(op *o, const double *x, double *y) {
   o->x = x;
   o->y = y;
-  o->contacts = esf_stab_contacts(o->s, apply_one, o);
+  o->contacts = range_pass(o, 0, o->s->nb.pp.n, 0, o->s->nb.pw.n, SIZE_MAX);
 }
 
-/* the M inner product */
-static double dot(const op *o, const double *a, const double *b, size_t nd) {
-  double r = 0;
-  for (size_t j = 0; j < nd; j++) r += mass(o->s, j / 6, (int)(j % 6)) * a[j] * b[j];
-  return r;
-}
+enum { V_START, V_DIV, V_ADD, V_SCALE, V_MINV_DOT, V_RES_DOT, V_STEP, V_DOT };
 
-/* the deterministic start: a hash of the coordinate's index on the free coordinates */
-static void start_vector(const op *o, double *v, size_t nd) {
-  for (size_t j = 0; j < nd; j++) {
-    uint64_t h = (uint64_t)j * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull;
-    h ^= h >> 31;
-    h *= 0xBF58476D1CE4E5B9ull;
-    h ^= h >> 29;
-    v[j] = minv(o->s, j / 6, (int)(j % 6)) > 0 ? (double)(h >> 11) * 0x1p-53 - 0.5 : 0.0;
+/* a loop over particles i0..i1 with their weights m, mi and rows x (of u), z (of v) */
+#define EACH(body)                                                                       \
+  for (size_t i = i0; i < i1; i++) {                                                     \
+    double *x = u + 6 * i, *z = v ? v + 6 * i : NULL;                                    \
+    (void)z;                                                                             \
+    weights(s, i, m, mi);                                                                \
+    for (int j = 0; j < 6; j++) {                                                        \
+      body;                                                                              \
+    }                                                                                    \
+  }                                                                                      \
+  break
+
+/* One vector operation on particles i0..i1 (u, v: its operands, c its scalar); their
+ * share of the M inner product it ends with, summed by coordinate. */
+static double vec_rows(const esf_sim *s, int kind, double c, double c2, double *u,
+                       double *v, size_t i0, size_t i1) {
+  double r[6] = {0}, m[6], mi[6];
+  switch (kind) {
+  case V_START: /* a hash of the coordinate's index on the free coordinates */
+    EACH(uint64_t h =
+             (uint64_t)(6 * i + j) * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull;
+         h ^= h >> 31; h *= 0xBF58476D1CE4E5B9ull; h ^= h >> 29;
+         x[j] = mi[j] > 0 ? (double)(h >> 11) * 0x1p-53 - 0.5 : 0.0;
+         r[j] += m[j] * x[j] * x[j]);
+  case V_DIV:
+    EACH(x[j] = c > 0 ? x[j] / c : 0.0);
+  case V_ADD:
+    EACH(x[j] += c * z[j]);
+  case V_SCALE:
+    EACH(x[j] *= c * m[j]);
+  case V_MINV_DOT:
+    EACH(x[j] *= mi[j]; r[j] += m[j] * x[j] * z[j]);
+  case V_RES_DOT:
+    EACH(double t = x[j] - c * z[j]; r[j] += m[j] * t * t);
+  case V_STEP: /* v' = (u - alpha v) / b, u' = -b M v */
+    EACH(double t = x[j] - c2 * z[j]; x[j] = t / c; z[j] *= -c * m[j]);
+  default:
+    EACH(r[j] += m[j] * x[j] * z[j]);
   }
-  double nv = sqrt(dot(o, v, v, nd));
-  for (size_t j = 0; j < nd; j++) v[j] = nv > 0 ? v[j] / nv : 0.0;
+  return ((((r[0] + r[1]) + r[2]) + r[3]) + r[4]) + r[5];
+}
+#undef EACH
+
+static inline size_t block_end(const op *o, size_t B) {
+  return (B + 1) * BLOCK < o->s->p.n ? (B + 1) * BLOCK : o->s->p.n;
+}
+
+/* Blocks B0..B1 (a pair's both sides when B < hi, A's alone otherwise), each block's
+ * rows finished (y = M^{-1} y, and its share of y.x) once passed. */
+static void blocks_pass(op *o, size_t B0, size_t B1, size_t hi) {
+  for (size_t B = B0; B < B1; B++) {
+    o->cnt[B] = range_pass(o, o->poff[B], o->poff[B + 1], o->woff[B], o->woff[B + 1], hi);
+    o->part[B] = vec_rows(o->s, V_MINV_DOT, 0, 0, o->y, (double *)o->x, B * BLOCK,
+                          block_end(o, B));
+  }
+}
+
+/* range r of the threaded pass: B's side of the pairs entering its rows from earlier
+ * ranges, then its blocks */
+static void range_task(op *o, size_t r) {
+  esf_stab_contact c;
+  double d[4];
+  for (size_t j = o->inoff[r]; j < o->inoff[r + 1]; j++) {
+    size_t k = o->in[j];
+    pair_near(o->s, k, d);
+    if (pair_contact_at(o->s, k, d, o->flag[k] >> 1, &c)) apply_c(o, &c, 2);
+  }
+  size_t B1 = o->rb[r + 1];
+  blocks_pass(o, o->rb[r], B1, B1 > 0 ? block_end(o, B1 - 1) : 0);
+}
+
+/* The blocks' first candidates of a list sorted by A (0: not sorted) */
+static int offsets(const esf_candidates *c, size_t nblk, size_t *off) {
+  for (size_t k = 1; k < c->n; k++)
+    if (c->a[k] < c->a[k - 1]) return 0;
+  for (size_t B = 0, k = 0; B <= nblk; B++) {
+    while (k < c->n && c->a[k] < B * BLOCK) k++;
+    off[B] = k;
+  }
+  return 1;
+}
+
+/* The plan: the blocks' candidates when the lists are sorted by A with B >= A
+ * (o->poff); with threads, one range of whole blocks a thread (even in pair
+ * candidates) and the touching pairs entering each range from earlier ones (o->in).
+ * Without it, the whole passes (the same bits). */
+static void op_plan(op *o) {
+  const esf_candidates *pp = &o->s->nb.pp;
+  size_t nb = o->nblk, nr = (size_t)o->nth < nb ? (size_t)o->nth : nb, *in = NULL;
+  esf_stab_contact c;
+  if ((o->flag = malloc(pp->n ? pp->n : 1)))
+    for (size_t k = 0; k < pp->n; k++)
+      o->flag[k] = pair_contact(o->s, k, &c) ? (uint8_t)(1 | c.slip << 1) : 0;
+  size_t *off = malloc((3 * nb + 2 * nr + 4) * sizeof *off);
+  if (!o->flag || !off || !offsets(pp, nb, off) ||
+      !offsets(&o->s->nb.pw, nb, off + nb + 1)) {
+    free(off);
+    return;
+  }
+  for (size_t k = 0; k < pp->n; k++)
+    if (pp->b[k] < pp->a[k]) {
+      free(off);
+      return;
+    }
+  o->poff = off, o->woff = off + nb + 1;
+  if (nr < 2) return;
+  size_t *rb = off + 2 * nb + 2, *inoff = rb + nr + 1, *rof = inoff + nr + 1, tot = 0;
+  for (size_t r = 0, B = 0; r <= nr; r++) { /* range r: blocks rb[r] .. rb[r + 1] */
+    while (B < nb && o->poff[B] < pp->n * r / nr) B++;
+    rb[r] = r == nr ? nb : B;
+  }
+  for (size_t r = 0; r < nr; r++)
+    for (size_t B = rb[r]; B < rb[r + 1]; B++) rof[B] = r;
+  memset(inoff, 0, (nr + 1) * sizeof *inoff);
+  for (size_t k = 0; k < pp->n; k++) {
+    size_t rt = rof[pp->b[k] / BLOCK];
+    if (rt != rof[pp->a[k] / BLOCK] && (o->flag[k] & 1u)) inoff[rt + 1]++, tot++;
+  }
+  for (size_t r = 0; r < nr; r++) inoff[r + 1] += inoff[r];
+  if (!(in = malloc((tot ? tot : 1) * sizeof *in))) return; /* serial */
+  size_t *fill = o->cnt;                                    /* the ranges' next entries */
+  memcpy(fill, inoff, nr * sizeof *fill);
+  for (size_t k = 0; k < pp->n; k++) {
+    size_t rt = rof[pp->b[k] / BLOCK];
+    if (rt != rof[pp->a[k] / BLOCK] && (o->flag[k] & 1u)) in[fill[rt]++] = k;
+  }
+  o->nr = nr, o->rb = rb, o->inoff = inoff, o->in = in;
 }
 
 /* Top eigenpair of the m x m tridiagonal (al, be): its value, and s (m) */
@@ -278,46 +487,126 @@ static int tridiag_top(const double *al, const double *be, int m, double *theta,
   return ok ? ESF_OK : ESF_ENOMEM;
 }
 
+/* Thread t of T: vector operation `kind` on the blocks of its ranges (all blocks
+ * without a threaded plan), their shares of its inner product in part (or not kept) */
+static void own_vec(const op *o, int t, int T, int kind, double c, double c2, double *u,
+                    double *v, double *part) {
+  const size_t nr = o->in ? o->nr : 1;
+  for (size_t r = (size_t)t; r < nr; r += (size_t)T) {
+    const size_t B1 = o->in ? o->rb[r + 1] : o->nblk;
+    for (size_t B = o->in ? o->rb[r] : 0; B < B1; B++) {
+      double q = vec_rows(o->s, kind, c, c2, u, v, B * BLOCK, block_end(o, B));
+      if (part) part[B] = q;
+    }
+  }
+}
+
+/* Thread t of T: y = M^{-1} (y + K' x) on the rows of its ranges, the blocks' shares
+ * of y.x in o->part and their contacts in o->cnt */
+static void own_op(op *o, int t, int T) {
+  if (!o->poff) { /* lists not sorted (one thread): the whole pass, then the rows */
+    memset(o->cnt, 0, o->nblk * sizeof *o->cnt);
+    o->cnt[0] = range_pass(o, 0, o->s->nb.pp.n, 0, o->s->nb.pw.n, SIZE_MAX);
+    own_vec(o, 0, 1, V_MINV_DOT, 0, 0, o->y, (double *)o->x, o->part);
+  } else if (!o->in)
+    blocks_pass(o, 0, o->nblk, SIZE_MAX);
+  else
+    for (size_t r = (size_t)t; r < o->nr; r += (size_t)T) range_task(o, r);
+}
+
+static double sum_parts(const op *o, const double *part) {
+  double r = 0;
+  for (size_t B = 0; B < o->nblk; B++) r += part[B];
+  return r;
+}
+
+/* One Lanczos pass's state, shared by its threads */
+typedef struct lz {
+  op *o;
+  double *u, *v, *y, *al, *be, *s, *theta, *part2;
+  int *m, mm, second, stop, rc;
+  _Atomic long bar; /* arrivals at the barriers (only grows) */
+} lz;
+
+/* the T threads' e-th barrier */
+static void sync_all(lz *L, long e, int T) {
+  if (T < 2) return;
+  atomic_fetch_add_explicit(&L->bar, 1, memory_order_acq_rel);
+  esf_threads_wait(&L->bar, e * T);
+}
+
 /* Lanczos with two vectors (Paige's form: u <- A v - beta u, alpha = u.v, u -= alpha
- * v, then the two swap roles): the recurrence from the start vector; when y is not
- * NULL, the second pass that sums the Ritz vector y = sum s_j v_j of the first pass's
- * m steps. */
-static int lanczos(op *o, double *u, double *v, size_t nd, double *al, double *be, int *m,
-                   double *theta, double *s, double *y) {
-  int second = y != NULL, mm = second ? *m : LZ_MAX;
-  memset(u, 0, nd * sizeof *u);
-  start_vector(o, v, nd);
-  if (y) memset(y, 0, nd * sizeof *y);
-  if (!second) be[0] = 0;
-  for (int j = 0; j < mm; j++) {
-    if (y)
-      for (size_t q = 0; q < nd; q++) y[q] += s[j] * v[q];
-    if (second && j + 1 == mm) break;
+ * v, then the two swap roles) by thread t of T, each on its ranges' rows, meeting at
+ * the inner products and before each operator (which reads other ranges' rows); the
+ * inner products are the blocks' shares summed in block order by every thread, so all
+ * see the same values, and thread 0 keeps the tridiagonal. Second pass (y): sums the
+ * Ritz vector y = sum s_j v_j of the first pass's m steps. */
+static void lz_thread(lz *L, int t, int T) {
+  op o = *L->o; /* this thread's x, y */
+  double *u = L->u, *v = L->v, *pa = o.part, *pb = L->part2;
+  long e = 0;
+  own_vec(&o, t, T, V_START, 0, 0, v, NULL, pa);
+  sync_all(L, ++e, T);
+  own_vec(&o, t, T, V_DIV, sqrt(sum_parts(&o, pa)), 0, v, NULL, NULL); /* unit in M */
+  own_vec(&o, t, T, V_SCALE, -L->be[0], 0, u, NULL, NULL); /* later V_STEP's */
+  sync_all(L, ++e, T);
+  for (int j = 0; j < L->mm; j++) {
+    if (L->y) own_vec(&o, t, T, V_ADD, L->s[j], 0, L->y, v, NULL);
+    if (L->second && j + 1 == L->mm) break;
     /* u = M^{-1} (K' v - beta_j M u): the contacts add into M times the old term */
-    for (size_t q = 0; q < nd; q++) u[q] *= -be[j] * mass(o->s, q / 6, (int)(q % 6));
-    op_apply(o, v, u);
-    for (size_t q = 0; q < nd; q++) u[q] *= minv(o->s, q / 6, (int)(q % 6));
-    if (!second) al[j] = dot(o, u, v, nd);
-    for (size_t q = 0; q < nd; q++) u[q] -= al[j] * v[q];
-    double b = second ? be[j + 1] : sqrt(dot(o, u, u, nd));
-    if (!second) {
-      be[j + 1] = b;
-      int last = j + 1 == mm || !(b > 1e-14 * fabs(al[j]));
+    o.x = v, o.y = u;
+    own_op(&o, t, T);
+    sync_all(L, ++e, T);
+    const double a = L->second ? L->al[j] : sum_parts(&o, pa); /* u.v */
+    if (t == 0) {
+      L->o->contacts = 0;
+      for (size_t B = 0; B < o.nblk; B++) L->o->contacts += o.cnt[B];
+    }
+    double b = L->be[j + 1]; /* b = |u - alpha v| (V_STEP stores u - alpha v) */
+    if (!L->second) {
+      own_vec(&o, t, T, V_RES_DOT, a, 0, u, v, pb);
+      sync_all(L, ++e, T);
+      b = sqrt(sum_parts(&o, pb));
+      int last = j + 1 == L->mm || !(b > 1e-14 * fabs(a));
+      if (t == 0) L->al[j] = a, L->be[j + 1] = b;
       if (last || (j + 1) % LZ_EVERY == 0) {
-        int rc = tridiag_top(al, be, j + 1, theta, s);
-        if (rc) return rc;
-        *m = j + 1;
-        if (last || b * fabs(s[j]) <= LZ_TOL * fabs(*theta)) return ESF_OK;
+        if (t == 0) {
+          L->rc = tridiag_top(L->al, L->be, j + 1, L->theta, L->s);
+          if (!L->rc) *L->m = j + 1;
+          L->stop = L->rc || last || b * fabs(L->s[j]) <= LZ_TOL * fabs(*L->theta);
+        }
+        sync_all(L, ++e, T);
+        if (L->stop) return;
       }
     }
     if (!(b > 0)) break;
-    for (size_t q = 0; q < nd; q++) { /* (u, v) <- (v, u / b) */
-      double t = u[q] / b;
-      u[q] = v[q];
-      v[q] = t;
-    }
+    own_vec(&o, t, T, V_STEP, b, a, u, v, NULL); /* (u, v) <- (-b M v, (u - a v) / b) */
+    double *w = u;
+    u = v, v = w;
+    sync_all(L, ++e, T);
   }
-  return ESF_OK;
+}
+
+/* One Lanczos pass (the second with y), threaded by the plan's ranges */
+static int lanczos(op *o, double *u, double *v, size_t nd, double *al, double *be, int *m,
+                   double *theta, double *s, double *y) {
+  lz L = {.o = o, .u = u, .v = v, .y = y, .al = al, .be = be, .s = s};
+  L.theta = theta, L.part2 = o->part + o->nblk, L.m = m;
+  L.mm = y ? *m : LZ_MAX, L.second = y != NULL, L.stop = L.rc = 0;
+  atomic_init(&L.bar, 0);
+  memset(u, 0, nd * sizeof *u);
+  if (y) memset(y, 0, nd * sizeof *y);
+  if (!y) be[0] = 0;
+  const int T = o->in ? (int)o->nr : 1;
+#pragma omp parallel num_threads(T) if (T > 1)
+  {
+#ifdef _OPENMP
+    lz_thread(&L, omp_get_thread_num(), omp_get_num_threads());
+#else
+    lz_thread(&L, 0, 1);
+#endif
+  }
+  return L.rc;
 }
 
 /* The energy y.G^T S G.y of each contact in the mode y; the largest names the mode. */
@@ -374,16 +663,25 @@ int esf_stability_estimate(esf_sim *s, double dt, int with_mode, esf_stability *
   *out = (esf_stability){.id = -1, .other = -2, .dt_limit = INFINITY};
   if (nd == 0) return ESF_OK;
   /* two vectors, a third for the top mode's second pass (48 bytes a particle each) */
+  const size_t nblk = (s->p.n + BLOCK - 1) / BLOCK;
   double *buf = malloc((with_mode ? 3 : 2) * nd * sizeof *buf);
-  double *al = malloc((2 * (LZ_MAX + 2) + LZ_MAX) * sizeof *al);
-  if (!buf || !al) {
-    free(buf), free(al);
+  double *al = malloc((2 * (LZ_MAX + 2) + LZ_MAX + 2 * nblk) * sizeof *al);
+  size_t *cnt = malloc(nblk * sizeof *cnt);
+  if (!buf || !al || !cnt) {
+    free(buf), free(al), free(cnt);
     return esf_fail(err, ESF_ENOMEM, "stability check: out of memory for %zu particles",
                     s->p.n);
   }
   double *be = al + LZ_MAX + 2, *sv = be + LZ_MAX + 2, *u = buf, *v = buf + nd;
   const double fl = s->local ? 1.0 + s->cfg.local_coef : 1.0;
-  op o = {.s = s, .ck = fl * dt * dt, .cc = fl * 2.0 * dt};
+  op o = {.s = s,
+          .ck = fl * dt * dt,
+          .cc = fl * 2.0 * dt,
+          .nth = s->cfg.threads > 1 ? s->cfg.threads : 1,
+          .nblk = nblk,
+          .part = sv + LZ_MAX,
+          .cnt = cnt};
+  op_plan(&o);
   int m = 0;
   double theta = 0;
   int rc = lanczos(&o, u, v, nd, al, be, &m, &theta, sv, NULL);
@@ -393,10 +691,15 @@ int esf_stability_estimate(esf_sim *s, double dt, int with_mode, esf_stability *
   if (!rc && with_mode && o.contacts > 0 && m > 0) {
     double *y = buf + 2 * nd;
     rc = lanczos(&o, u, v, nd, al, be, &m, &theta, sv, y); /* regenerates the v_j */
-    double ny = sqrt(dot(&o, y, y, nd));
-    for (size_t q = 0; q < nd && ny > 0; q++) y[q] /= ny;
+    own_vec(&o, 0, 1, V_DOT, 0, 0, y, y, o.part);
+    double ny = sqrt(sum_parts(&o, o.part));
+    if (ny > 0) own_vec(&o, 0, 1, V_DIV, ny, 0, y, NULL, NULL);
     if (!rc) top_mode(&o, y, u, nd, fl, out);
   }
+  free(o.poff);
+  free(o.in);
+  free(o.flag);
+  free(cnt);
   free(buf);
   free(al);
   return rc;

@@ -108,11 +108,11 @@ typedef struct esf_stability {
                       energy, -1 for a wall, -2 none (with_mode) */
 } esf_stability;
 
-/* Estimates lambda at step dt (Lanczos, matrix-free, serial and deterministic; the
- * state is not changed), with local damping of coefficient alpha_c scaling the operator
- * by (1 + alpha_c) (its force can add to the unbalanced one in the unstable
- * period-two mode); with_mode: also the top mode (a second Lanczos pass). Errors:
- * ESF_ENOMEM. */
+/* Estimates lambda at step dt (Lanczos, matrix-free, on cfg.threads threads with the
+ * same bits on any count; the state is not changed), with local damping of coefficient
+ * alpha_c scaling the operator by (1 + alpha_c) (its force can add to the unbalanced one
+ * in the unstable period-two mode); with_mode: also the top mode (a second Lanczos pass).
+ * Errors: ESF_ENOMEM. */
 int esf_stability_estimate(esf_sim *s, double dt, int with_mode, esf_stability *out,
                            esf_error *err);
 
