@@ -157,42 +157,68 @@ static inline void lincomb_m(int nvec, const double *c, N_Vector *X, N_Vector z,
   }
 }
 
+/* One operation's arguments, for its block function. */
+typedef struct op_args {
+  int nvec;
+  const double *c;
+  N_Vector *X;
+  double a, b;
+  N_Vector x, y, z;
+} op_args;
+
+/* fn(args, lo, m) over z's blocks, shared among the threads; on one thread, no
+ * parallel region (its start costs more than a tiny scene's whole operation). */
+static void each_block(void (*fn)(const op_args *, sunindextype, sunindextype),
+                       const op_args *o) {
+  const sunindextype nb = nblocks(o->z);
+  const int nth = threads_of(o->z);
+  if (nth > 1) {
+#pragma omp parallel for num_threads(nth) schedule(static)
+    for (sunindextype b = 0; b < nb; b++) fn(o, b * BLOCK, block_len(o->z, b));
+    return;
+  }
+  for (sunindextype b = 0; b < nb; b++) fn(o, b * BLOCK, block_len(o->z, b));
+}
+
+static void lincomb_b(const op_args *o, sunindextype lo, sunindextype m) {
+  lincomb_m(o->nvec, o->c, o->X, o->z, lo, m);
+}
+
 static int lincomb(int nvec, realtype *c, N_Vector *X, N_Vector z) {
   if (nvec < 1) return -1;
-  const sunindextype nb = nblocks(z);
-#pragma omp parallel for num_threads(threads_of(z)) schedule(static)
-  for (sunindextype b = 0; b < nb; b++)
-    lincomb_m(nvec, c, X, z, b * BLOCK, block_len(z, b));
+  const op_args o = {.nvec = nvec, .c = c, .X = X, .z = z};
+  each_block(lincomb_b, &o);
   return 0;
 }
 
+static void linsum_b(const op_args *o, sunindextype lo, sunindextype m) {
+  linsum_m(o->a, NV_DATA_OMP(o->x) + lo, o->b, NV_DATA_OMP(o->y) + lo,
+           NV_DATA_OMP(o->z) + lo, m);
+}
+
 static void linsum(realtype a, N_Vector x, realtype b, N_Vector y, N_Vector z) {
-  const sunindextype nb = nblocks(z);
-#pragma omp parallel for num_threads(threads_of(z)) schedule(static)
-  for (sunindextype k = 0; k < nb; k++) {
-    const sunindextype lo = k * BLOCK;
-    linsum_m(a, NV_DATA_OMP(x) + lo, b, NV_DATA_OMP(y) + lo, NV_DATA_OMP(z) + lo,
-             block_len(z, k));
-  }
+  const op_args o = {.a = a, .b = b, .x = x, .y = y, .z = z};
+  each_block(linsum_b, &o);
+}
+
+static void scale_b(const op_args *o, sunindextype lo, sunindextype m) {
+  scale_m(o->a, NV_DATA_OMP(o->x) + lo, NV_DATA_OMP(o->z) + lo, m);
 }
 
 static void scale(realtype c, N_Vector x, N_Vector z) {
-  const sunindextype nb = nblocks(z);
-#pragma omp parallel for num_threads(threads_of(z)) schedule(static)
-  for (sunindextype k = 0; k < nb; k++) {
-    const sunindextype lo = k * BLOCK;
-    scale_m(c, NV_DATA_OMP(x) + lo, NV_DATA_OMP(z) + lo, block_len(z, k));
-  }
+  const op_args o = {.a = c, .x = x, .z = z};
+  each_block(scale_b, &o);
+}
+
+static void constant_b(const op_args *o, sunindextype lo, sunindextype m) {
+  double *zd = NV_DATA_OMP(o->z) + lo;
+  const double c = o->a;
+  for (sunindextype j = 0; j < m; j++) zd[j] = c;
 }
 
 static void constant(realtype c, N_Vector z) {
-  const sunindextype nb = nblocks(z);
-#pragma omp parallel for num_threads(threads_of(z)) schedule(static)
-  for (sunindextype k = 0; k < nb; k++) {
-    double *zd = NV_DATA_OMP(z) + k * BLOCK;
-    const sunindextype m = block_len(z, k);
-    for (sunindextype j = 0; j < m; j++) zd[j] = c;
-  }
+  const op_args o = {.a = c, .z = z};
+  each_block(constant_b, &o);
 }
 
 /* sqrt(sum (x w)^2 / n) as W sqrt(sum (x w/W)^2 / n), W the largest weight: ARKODE

@@ -165,11 +165,14 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
   esf_fused_lists L = {
       .tl = f->list[0] + k0, .sq = f->list[1] + k0, .il = f->idle + k0, .blk = k1 - k0};
   esf_fused_lists_from_flags(s, k0, k1, hi, &L);
+#ifdef _OPENMP
+  const int timed = T > 1; /* the threads' balance and back-off (one range: neither) */
+#endif
   long i = 0;
   for (; i < B->steps; i++) {
     const long e = B->e0 + i;
 #ifdef _OPENMP
-    const double t0 = omp_get_wtime();
+    const double t0 = timed ? omp_get_wtime() : 0.0;
 #endif
     double waited = 0.0;
     size_t nn = 0, nt_pp = 0, nt_pw = 0;
@@ -229,10 +232,12 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
     o.nt = nt_pp + nt_pw;
     me->out = o;
 #ifdef _OPENMP
-    const double spent = omp_get_wtime() - t0;
-    f->busy[t] += spent - waited; /* range t is this thread's alone */
-    f->waits[t] += waited;
-    if (t == 0) f->inside += spent;
+    if (timed) {
+      const double spent = omp_get_wtime() - t0;
+      f->busy[t] += spent - waited; /* range t is this thread's alone */
+      f->waits[t] += waited;
+      if (t == 0) f->inside += spent;
+    }
 #endif
     atomic_store_explicit(&me->done, e, memory_order_release);
   }
@@ -424,23 +429,27 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   f->decided = 0;
 
 #ifdef _OPENMP
-  const double t_start = omp_get_wtime(), gap = t_start - f->t_left;
+  const double t_start = nth > 1 ? omp_get_wtime() : 0.0, gap = t_start - f->t_left;
   if (f->t_left > 0 && nth > 1 && gap < 0.5 * f->t_step) /* not a frame write */
     f->busy[0] += gap;
 #endif
+  if (T == 1) { /* no parallel region: its start costs a tiny scene more than a step */
+    run_range(s, f, &B, 0);
+  } else {
 #pragma omp parallel num_threads(nth)
-  {
+    {
 #ifdef _OPENMP
-    const size_t me = (size_t)omp_get_thread_num(), got = (size_t)omp_get_num_threads();
+      const size_t me = (size_t)omp_get_thread_num(), got = (size_t)omp_get_num_threads();
 #else
-    const size_t me = 0, got = 1;
+      const size_t me = 0, got = 1;
 #endif
-    if (got == T) {
-      run_range(s, f, &B, me);
-    } else { /* fewer threads than ranges: one step, the ranges in ascending order */
-      esf_fused_burst B1 = B;
-      B1.steps = 1;
-      for (size_t t = me; t < T; t += got) run_range(s, f, &B1, t);
+      if (got == T) {
+        run_range(s, f, &B, me);
+      } else { /* fewer threads than ranges: one step, the ranges in ascending order */
+        esf_fused_burst B1 = B;
+        B1.steps = 1;
+        for (size_t t = me; t < T; t += got) run_range(s, f, &B1, t);
+      }
     }
   }
   const long n = f->taken;
@@ -509,10 +518,13 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       esf_fused_trim(s, f); /* a rebuild or a stability check is next */
   }
 #ifdef _OPENMP
-  f->t_left = omp_get_wtime();
-  f->t_step = (f->t_left - t_start) / (double)(n > 0 ? n : 1);
-  if (nth > 1 && f->t_left - t_start > f->inside) /* the region's start and end: waits */
-    f->waits[0] += f->t_left - t_start - f->inside;
+  f->t_left = 0.0; /* one range: no clock read (a tiny scene's step is a few of them) */
+  if (nth > 1) {
+    f->t_left = omp_get_wtime();
+    f->t_step = (f->t_left - t_start) / (double)(n > 0 ? n : 1);
+    if (f->t_left - t_start > f->inside) /* the region's start and end: waits */
+      f->waits[0] += f->t_left - t_start - f->inside;
+  }
 #endif
   return ESF_OK;
 }
