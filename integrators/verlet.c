@@ -75,15 +75,17 @@ static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[7], esf_error *
   esf_force_tally ty = {0};
   s->tally = s->led.on ? &ty : NULL;
   size_t touching = 0;
-  int rc = esf_eval_forces(&vv->path, s, p->x, p->v, p->w, dt, ESF_FORCES_COMMIT,
-                           &touching, err);
+  int rc = reserve(vv, p->n, err);
+  if (rc) return rc;
+  /* the accelerations with the forces (without the ledger: its powers are below) */
+  const esf_eval_accel ea = {vv->a, vv->dw, 0};
+  rc = esf_eval_forces(&vv->path, s, p->x, p->v, p->w, dt, ESF_FORCES_COMMIT, &touching,
+                       s->led.on ? NULL : &ea, err);
   s->tally = NULL;
   if (rc) return rc;
   s->contacts_sum += (double)touching;
-  rc = reserve(vv, p->n, err);
-  if (rc) return rc;
   double pd[2] = {0, 0};
-  esf_sim_accel(s, p->v, p->w, vv->a, vv->dw, s->led.on ? pd : NULL, 0, vv->path.threads);
+  if (s->led.on) esf_sim_accel(s, p->v, p->w, vv->a, vv->dw, pd, 0, vv->path.threads);
   if (s->led.on) {
     pw[0] = ty.p_normal;
     pw[1] = ty.p_tangential;

@@ -31,6 +31,7 @@
 #include "loads/events.h"
 #include "loads/servo.h"
 #include "model/forces.h"
+#include "model/model.h"
 #include "par/par.h"
 
 /* idle candidates range 0 screens between looks at the others */
@@ -384,6 +385,10 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
                    !s->mats.any_rolling,
       .wall_pass = ev ? esf_wall_pass_eval(s, ev->trial) : esf_wall_pass_select(s),
       .forces_only = ev != NULL,
+      .acc = ev && !s->par ? ev->acc : NULL, /* MPI: after the call (own range only) */
+      .dw = ev ? ev->dw : NULL,
+      .ar = ev && ev->with_global ? s->alpha_r : 0.0,
+      .at = ev && ev->with_global ? s->alpha_t : 0.0,
       .loc = s->local,
       .xref = s->nb.xref,
       .dom_lo = s->nb.dom_lo,
@@ -555,6 +560,8 @@ int esf_fused_forces(esf_sim *s, esf_fused *f, const esf_fused_eval *ev, size_t 
   long taken;
   size_t nt = 0;
   const int rc = run_calls(s, f, 1, &taken, ev, &nt, err);
+  if (!rc && ev->acc && s->par) /* the pass left them out (fused.c's K.acc) */
+    esf_sim_accel(s, ev->v, ev->w, ev->acc, ev->dw, NULL, ev->with_global, 1);
   p->x = x;
   p->v = v;
   p->w = w;

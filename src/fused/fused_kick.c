@@ -9,7 +9,8 @@
  * x_{n+1} = x_n + v_{n+1/2} dt. The wall pass (wall_fast.h) reads and adds to its own
  * particle only, so doing all of a range's walls before its kicks changes no operation.
  * The accumulators keep F_n, M_n (s->ft_lazy, for esf_sim_forces_sync). An evaluation
- * (esf_fused_forces, K->forces_only) stops after the walls: the totals to p.f, p.t.
+ * (esf_fused_forces, K->forces_only) stops after the walls: the totals to p.f, p.t,
+ * and with K->acc the accelerations (model/accel.h).
  * Entry: the range's pair forces summed (fused_pairs.c). Units: SI. */
 #include "fused/fused_impl.h"
 
@@ -17,6 +18,7 @@
 #include <string.h>
 
 #include "loads/drag.h"
+#include "model/accel.h"
 
 /* The wall contacts of range [lo, hi), particle by particle in ascending order
  * (each adds to its own particle's accumulator only, at the state before any kick).
@@ -258,6 +260,9 @@ void esf_fused_kick_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *
         p->t[3 * i] = 0.0;
         p->t[3 * i + 2] = 0.0;
       }
+      if (K->acc) /* as esf_sim_accel's, from the totals (one pass fewer) */
+        esf_accel_one(s, i, p->f + 3 * i, p->t + 3 * i, p->v, p->w, K->acc, K->dw, K->ar,
+                      K->at, NULL);
     }
     return;
   }
