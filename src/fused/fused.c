@@ -304,7 +304,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
     if (!rc) rc = esf_fused_index(s, f, want, err);
     if (rc) return rc;
   }
-  if (ev) { /* an evaluation writes p.f, p.t itself */
+  if (ev) { /* an evaluation writes p.f, p.t itself (a trial with accelerations: no) */
     if ((rc = esf_sim_forces_sync(s, err))) return rc;
   } else if (!s->ft_lazy)      /* the steps write F_n, M_n into acc: not held beside it */
     esf_sim_forces_release(s); /* (docs/performance.md#memory) */
@@ -389,6 +389,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       .dw = ev ? ev->dw : NULL,
       .ar = ev && ev->with_global ? s->alpha_r : 0.0,
       .at = ev && ev->with_global ? s->alpha_t : 0.0,
+      .ft_skip = ev && ev->trial,
       .loc = s->local,
       .xref = s->nb.xref,
       .dom_lo = s->nb.dom_lo,

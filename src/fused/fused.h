@@ -54,7 +54,7 @@ typedef struct esf_fused_eval {
   int trial;
   double *acc, *dw; /* or NULL; else the accelerations at x, v, w (3n each, model.h's
                        esf_sim_accel, global damping with with_global), written by the
-                       particle pass after the totals */
+                       particle pass after the totals; a trial then leaves p.f, p.t */
   int with_global;
 } esf_fused_eval;
 
