@@ -3,6 +3,7 @@
 #include "integrators/dem_ode.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "model/forces.h"
@@ -213,8 +214,16 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   double pd[2] = {0, 0};
   if (s->led.on)
     esf_sim_accel(s, v, w, ydot + 3 * n, ydot + 6 * n, pd, 1, o->path.threads);
-  /* orientations are not tracked: spheres need only w */
-  for (size_t j = 3 * n; j < 9 * n; j++)
+  /* orientations are not tracked: spheres need only w. Non-finite: all exponent bits
+     set; one vectorised pass tests them, the search runs only when one is */
+  const uint64_t expo = 0x7ff0000000000000u;
+  int bad = 0;
+  for (size_t j = 3 * n; j < 9 * n; j++) {
+    uint64_t u;
+    memcpy(&u, ydot + j, sizeof u);
+    bad |= (u & expo) == expo;
+  }
+  for (size_t j = 3 * n; j < 9 * n && bad; j++)
     if (!isfinite(ydot[j])) {
       size_t i = (j % (3 * n)) / 3;
       o->nfail++;
