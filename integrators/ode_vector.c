@@ -132,9 +132,27 @@ static inline void linsum_m(double a, const double *x, double b, const double *y
   for (sunindextype j = 0; j < m; j++) z[j] = a * x[j] + b * y[j];
 }
 
+/* lincomb_m's sum for N terms, entry by entry: the first term (c_0 x_0, or z, or c_0 z
+ * when x_0 is z), then + c_i x_i in order, the partial sum in a register (the same
+ * operations, so the same bits, as term by term; none of x_1 .. x_{N-1} may be z). */
+static inline __attribute__((always_inline)) void lincomb_entries(int N, const double *c,
+                                                                  const double *const *x,
+                                                                  int first_z, double *zd,
+                                                                  sunindextype m) {
+  const double c0 = c[0];
+  for (sunindextype j = 0; j < m; j++) {
+    double s = !first_z ? c0 * x[0][j] : c0 != 1.0 ? zd[j] * c0 : zd[j];
+    for (int i = 1; i < N; i++) s += c[i] * x[i][j];
+    zd[j] = s;
+  }
+}
+
+#define LINCOMB_FUSED 8 /* terms up to which lincomb_m sums entry by entry */
+
 /* z = sum c_i X_i over m entries from offset lo, as SUNDIALS' N_VLinearCombination:
  * one or two vectors as a scaling or a linear sum; else z (or c_0 z, or c_0 X_0) then
- * z += c_i X_i term by term, each pass over the block (in the cache). */
+ * z += c_i X_i term by term: entry by entry (lincomb_entries) up to LINCOMB_FUSED terms
+ * when no later term is z, else each term a pass over the block (in the cache). */
 static inline void lincomb_m(int nvec, const double *c, N_Vector *X, N_Vector z,
                              sunindextype lo, sunindextype m) {
   double *zd = NV_DATA_OMP(z) + lo;
@@ -147,6 +165,35 @@ static inline void lincomb_m(int nvec, const double *c, N_Vector *X, N_Vector z,
     linsum_m(c[0], x0, c[1], NV_DATA_OMP(X[1]) + lo, zd, m);
     return;
   }
+  int later_z = 0;
+  const double *x[LINCOMB_FUSED];
+  for (int i = 0; i < nvec && i < LINCOMB_FUSED; i++) {
+    x[i] = NV_DATA_OMP(X[i]) + lo;
+    later_z |= i > 0 && X[i] == z;
+  }
+  const int first_z = X[0] == z;
+  if (!later_z) switch (nvec) { /* a constant N: the terms unrolled */
+    case 3:
+      lincomb_entries(3, c, x, first_z, zd, m);
+      return;
+    case 4:
+      lincomb_entries(4, c, x, first_z, zd, m);
+      return;
+    case 5:
+      lincomb_entries(5, c, x, first_z, zd, m);
+      return;
+    case 6:
+      lincomb_entries(6, c, x, first_z, zd, m);
+      return;
+    case 7:
+      lincomb_entries(7, c, x, first_z, zd, m);
+      return;
+    case 8:
+      lincomb_entries(8, c, x, first_z, zd, m);
+      return;
+    default:
+      break;
+    }
   if (X[0] != z)
     for (sunindextype j = 0; j < m; j++) zd[j] = c[0] * x0[j];
   else if (c[0] != 1.0)
