@@ -15,7 +15,6 @@
  * Start: forces at x_0, v_0 with the history committed over a zero interval.
  * Ledger: stored energies on the step; dissipation by the trapezoidal rule over the
  * powers at successive evaluations (second order, so the residual falls as dt^2). */
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -23,8 +22,6 @@
 #include "integrators/integrator.h"
 #include "model/forces.h"
 #include "model/model.h"
-#include "search/neighbor.h"
-#include "util/vec3.h"
 
 typedef struct verlet {
   size_t cap;
@@ -128,28 +125,6 @@ static inline void kick_drift(esf_particles *p, const verlet *vv, double h, doub
   p->x[j] += dt * p->v[j];
 }
 
-/* Particle i's entries of step 1 and 2's drift; with meas, its displacement since the
- * lists' build into *max2 (esf_neighbor_disp2), *esc when it left the domain, *bad when
- * a coordinate is not finite (esf_neighbor_check's tests, in its order). */
-static inline void drift_particle(esf_particles *p, const verlet *vv,
-                                  const esf_neighbor *nb, int meas, double h, double dt,
-                                  double ar, double at, size_t i, double *max2, int *bad,
-                                  int *esc) {
-  for (size_t j = 3 * i; j < 3 * i + 3; j++) kick_drift(p, vv, h, dt, ar, at, j);
-  if (!meas) return;
-  const double *x = p->x + 3 * i;
-  if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2])) {
-    *bad = 1;
-    return;
-  }
-  if (nb->dom_lo && v3_outside(x, nb->dom_lo, nb->dom_hi)) {
-    *esc = 1;
-    return;
-  }
-  const double d2 = esf_neighbor_disp2(nb, x, i);
-  if (d2 > *max2) *max2 = d2;
-}
-
 /* Entry j of step 5 (the second half kick, global damping trapezoidal: cr, ct). */
 static inline void kick_end(esf_particles *p, const verlet *vv, double h, double cr,
                             double ct, size_t j) {
@@ -178,30 +153,15 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   }
   const double dt = s->dt, h = 0.5 * dt;
   const double ar = s->alpha_r, at = s->alpha_t;
-  /* the evaluation's threads; particle by particle: no bits; no parallel region on one
-     (its start costs a tiny scene more than the step). The displacements since the
-     lists' build on the way, for esf_sim_refresh's check (as the fused step's) */
+  /* the evaluation's threads; entry by entry: no bits; no parallel region on one
+     (its start costs a tiny scene more than the step) */
   const int nth = vv->path.threads > 1 && p->n >= 4096 ? vv->path.threads : 1;
-  const size_t n = p->n, n3 = 3 * n;
-  esf_neighbor *nb = &s->nb;
-  const int meas = nb->xref && nb->nref == n;
-  double max2 = 0.0;
-  int bad = 0, esc = 0;
+  const size_t n3 = 3 * p->n;
   if (nth > 1) {
-#pragma omp parallel for num_threads(nth) schedule(static) reduction(max                 \
-                                                                     : max2)             \
-    reduction(|                                                                          \
-              : bad, esc)
-    for (size_t i = 0; i < n; i++)
-      drift_particle(p, vv, nb, meas, h, dt, ar, at, i, &max2, &bad, &esc);
+#pragma omp parallel for num_threads(nth) schedule(static)
+    for (size_t j = 0; j < n3; j++) kick_drift(p, vv, h, dt, ar, at, j);
   } else {
-    for (size_t i = 0; i < n; i++)
-      drift_particle(p, vv, nb, meas, h, dt, ar, at, i, &max2, &bad, &esc);
-  }
-  if (meas && !bad) { /* else esf_neighbor_check measures (and words a non-finite x) */
-    nb->max_disp2 = max2;
-    nb->escaped = esc;
-    nb->disp_valid = 1;
+    for (size_t j = 0; j < n3; j++) kick_drift(p, vv, h, dt, ar, at, j);
   }
   size_t n_before = p->n;
   esf_walls_set_time(&s->walls, (double)(s->step + 1) * dt); /* x_{n+1}'s time */

@@ -136,7 +136,9 @@ int esf_neighbor_check(const esf_neighbor *nb, const esf_particles *p, double wa
       *rebuild = 1; /* esf_sim_remove_escaped's test */
       continue;
     }
-    const double d2 = esf_neighbor_disp2(nb, x, i);
+    const double *r = nb->xref + 3 * i;
+    double dx = x[0] - r[0], dy = x[1] - r[1], dz = x[2] - r[2];
+    double d2 = dx * dx + dy * dy + dz * dz;
     if (d2 > max2) max2 = d2;
   }
   if (max2 > lim2) *rebuild = 1;

@@ -87,7 +87,7 @@ typedef struct esf_neighbor {
    * way (fused/fused.c); the next esf_neighbor_check uses it instead of its own pass.
    * Cleared after every check (esf_sim_refresh). */
   int disp_valid;
-  double max_disp2; /* largest squared displacement since the build, m^2 (disp2) */
+  double max_disp2; /* largest squared displacement since the build, m^2 */
   int escaped;      /* with disp_valid: some particle left the domain */
   /* the scene's domain (particles leaving it are removed at the next build, which
    * esf_neighbor_check then asks for), or NULL, m */
@@ -219,14 +219,5 @@ static inline void esf_neighbor_le_time(esf_neighbor *nb, double t) {
 
 /* Number of contacts touching at the last committed evaluation. */
 size_t esf_neighbor_touching(const esf_neighbor *nb);
-
-/* Particle i's squared displacement from its position at the last build (xref, valid
- * for nref particles) to x (3 values), m^2: esf_neighbor_check's measure. */
-static inline double esf_neighbor_disp2(const esf_neighbor *nb, const double *x,
-                                        size_t i) {
-  const double *r = nb->xref + 3 * i;
-  const double dx = x[0] - r[0], dy = x[1] - r[1], dz = x[2] - r[2];
-  return dx * dx + dy * dy + dz * dz;
-}
 
 #endif
