@@ -172,28 +172,21 @@ static inline void lincomb_m(int nvec, const double *c, N_Vector *X, N_Vector z,
     later_z |= i > 0 && X[i] == z;
   }
   const int first_z = X[0] == z;
-  if (!later_z) switch (nvec) { /* a constant N: the terms unrolled */
-    case 3:
-      lincomb_entries(3, c, x, first_z, zd, m);
-      return;
-    case 4:
-      lincomb_entries(4, c, x, first_z, zd, m);
-      return;
-    case 5:
-      lincomb_entries(5, c, x, first_z, zd, m);
-      return;
-    case 6:
-      lincomb_entries(6, c, x, first_z, zd, m);
-      return;
-    case 7:
-      lincomb_entries(7, c, x, first_z, zd, m);
-      return;
-    case 8:
-      lincomb_entries(8, c, x, first_z, zd, m);
-      return;
-    default:
-      break;
-    }
+  /* a constant N: the terms unrolled */
+#define LINCOMB_N(N)                                                                     \
+  if (nvec == N) {                                                                       \
+    lincomb_entries(N, c, x, first_z, zd, m);                                            \
+    return;                                                                              \
+  }
+  if (!later_z) {
+    LINCOMB_N(3)
+    LINCOMB_N(4)
+    LINCOMB_N(5)
+    LINCOMB_N(6)
+    LINCOMB_N(7)
+    LINCOMB_N(8)
+  }
+#undef LINCOMB_N
   if (X[0] != z)
     for (sunindextype j = 0; j < m; j++) zd[j] = c[0] * x0[j];
   else if (c[0] != 1.0)
