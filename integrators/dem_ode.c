@@ -3,6 +3,7 @@
 #include "integrators/dem_ode.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "model/forces.h"
@@ -11,7 +12,7 @@
 
 int esf_eval_forces(esf_eval_path *ep, esf_sim *s, const double *x, const double *v,
                     const double *w, double dt, int mode, size_t *touching,
-                    esf_error *err) {
+                    const esf_eval_accel *ea, esf_error *err) {
   const char *why = esf_fused_eval_refusal(s, ep->ode);
   if (!why && !ep->fast) {
     int rc = esf_fused_create(&ep->fast, s->cfg.isa, err);
@@ -31,9 +32,19 @@ int esf_eval_forces(esf_eval_path *ep, esf_sim *s, const double *x, const double
     ep->logged = why ? 2 : 1;
   }
   ep->threads = 1;
-  if (why) return esf_forces_eval(s, x, v, w, dt, mode, touching, err);
-  const esf_fused_eval ev = {
-      .x = x, .v = v, .w = w, .dt = dt, .trial = mode == ESF_FORCES_TRIAL};
+  if (why) {
+    const int rc = esf_forces_eval(s, x, v, w, dt, mode, touching, err);
+    if (!rc && ea) esf_sim_accel(s, v, w, ea->acc, ea->dw, NULL, ea->with_global, 1);
+    return rc;
+  }
+  const esf_fused_eval ev = {.x = x,
+                             .v = v,
+                             .w = w,
+                             .dt = dt,
+                             .trial = mode == ESF_FORCES_TRIAL,
+                             .acc = ea ? ea->acc : NULL,
+                             .dw = ea ? ea->dw : NULL,
+                             .with_global = ea && ea->with_global};
   const int rc = esf_fused_forces(s, ep->fast, &ev, touching, err);
   ep->threads = esf_fused_threads(ep->fast);
   return rc;
@@ -188,8 +199,10 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   s->tally = s->led.on ? &ty : NULL; /* the quadratures only feed the ledger */
   attach_xi(o, y, ydot);
   esf_walls_set_time(&s->walls, t);
+  /* the accelerations with the forces (without the ledger: its powers are below) */
+  const esf_eval_accel ea = {ydot + 3 * n, ydot + 6 * n, 1};
   int rc = esf_eval_forces(&o->path, s, x, v, w, t - o->t_commit, ESF_FORCES_TRIAL, NULL,
-                           &o->err);
+                           s->led.on ? NULL : &ea, &o->err);
   detach_xi(o);
   s->tally = NULL;
   o->nrhs++;
@@ -199,10 +212,18 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   }
   memcpy(ydot, v, 3 * n * sizeof(double));
   double pd[2] = {0, 0};
-  esf_sim_accel(s, v, w, ydot + 3 * n, ydot + 6 * n, s->led.on ? pd : NULL, 1,
-                o->path.threads);
-  /* orientations are not tracked: spheres need only w */
-  for (size_t j = 3 * n; j < 9 * n; j++)
+  if (s->led.on)
+    esf_sim_accel(s, v, w, ydot + 3 * n, ydot + 6 * n, pd, 1, o->path.threads);
+  /* orientations are not tracked: spheres need only w. Non-finite: all exponent bits
+     set; one vectorised pass tests them, the search runs only when one is */
+  const uint64_t expo = 0x7ff0000000000000u;
+  int bad = 0;
+  for (size_t j = 3 * n; j < 9 * n; j++) {
+    uint64_t u;
+    memcpy(&u, ydot + j, sizeof u);
+    bad |= (u & expo) == expo;
+  }
+  for (size_t j = 3 * n; j < 9 * n && bad; j++)
     if (!isfinite(ydot[j])) {
       size_t i = (j % (3 * n)) / 3;
       o->nfail++;
@@ -229,12 +250,12 @@ int esf_dem_ode_commit(esf_dem_ode *o, double t, const double *y, esf_error *err
   size_t n = o->n;
   memcpy(s->p.y, y, 9 * n * sizeof(double));
   esf_force_tally ty = {0};
-  s->tally = &ty;
+  s->tally = s->led.on ? &ty : NULL; /* read by the ledger only (none: the fast walls) */
   size_t touching = 0;
   attach_xi(o, y, NULL);
   esf_walls_set_time(&s->walls, t);
   int rc = esf_eval_forces(&o->path, s, s->p.x, s->p.v, s->p.w, t - o->t_commit,
-                           ESF_FORCES_COMMIT, &touching, err);
+                           ESF_FORCES_COMMIT, &touching, NULL, err);
   detach_xi(o);
   s->tally = NULL;
   o->ncommit++;

@@ -66,10 +66,18 @@ typedef struct esf_eval_path {
                        that they follow the fused step's back-off on a busy machine */
 } esf_eval_path;
 
-/* As esf_forces_eval(s, x, v, w, dt, mode, touching, err), by the path ep takes. */
+/* Where an evaluation also writes the accelerations (esf_sim_accel's, without the
+ * damping powers): acc, dw (3n each), global damping with with_global. */
+typedef struct esf_eval_accel {
+  double *acc, *dw;
+  int with_global;
+} esf_eval_accel;
+
+/* As esf_forces_eval(s, x, v, w, dt, mode, touching, err), by the path ep takes; with
+ * ea (may be NULL) the accelerations too, on the fused path in its particle pass. */
 int esf_eval_forces(esf_eval_path *ep, esf_sim *s, const double *x, const double *v,
                     const double *w, double dt, int mode, size_t *touching,
-                    esf_error *err);
+                    const esf_eval_accel *ea, esf_error *err);
 
 void esf_eval_path_free(esf_eval_path *ep);
 

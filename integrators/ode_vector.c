@@ -132,9 +132,27 @@ static inline void linsum_m(double a, const double *x, double b, const double *y
   for (sunindextype j = 0; j < m; j++) z[j] = a * x[j] + b * y[j];
 }
 
+/* lincomb_m's sum for N terms, entry by entry: the first term (c_0 x_0, or z, or c_0 z
+ * when x_0 is z), then + c_i x_i in order, the partial sum in a register (the same
+ * operations, so the same bits, as term by term; none of x_1 .. x_{N-1} may be z). */
+static inline __attribute__((always_inline)) void lincomb_entries(int N, const double *c,
+                                                                  const double *const *x,
+                                                                  int first_z, double *zd,
+                                                                  sunindextype m) {
+  const double c0 = c[0];
+  for (sunindextype j = 0; j < m; j++) {
+    double s = !first_z ? c0 * x[0][j] : c0 != 1.0 ? zd[j] * c0 : zd[j];
+    for (int i = 1; i < N; i++) s += c[i] * x[i][j];
+    zd[j] = s;
+  }
+}
+
+#define LINCOMB_FUSED 8 /* terms up to which lincomb_m sums entry by entry */
+
 /* z = sum c_i X_i over m entries from offset lo, as SUNDIALS' N_VLinearCombination:
  * one or two vectors as a scaling or a linear sum; else z (or c_0 z, or c_0 X_0) then
- * z += c_i X_i term by term, each pass over the block (in the cache). */
+ * z += c_i X_i term by term: entry by entry (lincomb_entries) up to LINCOMB_FUSED terms
+ * when no later term is z, else each term a pass over the block (in the cache). */
 static inline void lincomb_m(int nvec, const double *c, N_Vector *X, N_Vector z,
                              sunindextype lo, sunindextype m) {
   double *zd = NV_DATA_OMP(z) + lo;
@@ -147,6 +165,28 @@ static inline void lincomb_m(int nvec, const double *c, N_Vector *X, N_Vector z,
     linsum_m(c[0], x0, c[1], NV_DATA_OMP(X[1]) + lo, zd, m);
     return;
   }
+  int later_z = 0;
+  const double *x[LINCOMB_FUSED];
+  for (int i = 0; i < nvec && i < LINCOMB_FUSED; i++) {
+    x[i] = NV_DATA_OMP(X[i]) + lo;
+    later_z |= i > 0 && X[i] == z;
+  }
+  const int first_z = X[0] == z;
+  /* a constant N: the terms unrolled */
+#define LINCOMB_N(N)                                                                     \
+  if (nvec == N) {                                                                       \
+    lincomb_entries(N, c, x, first_z, zd, m);                                            \
+    return;                                                                              \
+  }
+  if (!later_z) {
+    LINCOMB_N(3)
+    LINCOMB_N(4)
+    LINCOMB_N(5)
+    LINCOMB_N(6)
+    LINCOMB_N(7)
+    LINCOMB_N(8)
+  }
+#undef LINCOMB_N
   if (X[0] != z)
     for (sunindextype j = 0; j < m; j++) zd[j] = c[0] * x0[j];
   else if (c[0] != 1.0)
@@ -157,42 +197,68 @@ static inline void lincomb_m(int nvec, const double *c, N_Vector *X, N_Vector z,
   }
 }
 
+/* One operation's arguments, for its block function. */
+typedef struct op_args {
+  int nvec;
+  const double *c;
+  N_Vector *X;
+  double a, b;
+  N_Vector x, y, z;
+} op_args;
+
+/* fn(args, lo, m) over z's blocks, shared among the threads; on one thread, no
+ * parallel region (its start costs more than a tiny scene's whole operation). */
+static void each_block(void (*fn)(const op_args *, sunindextype, sunindextype),
+                       const op_args *o) {
+  const sunindextype nb = nblocks(o->z);
+  const int nth = threads_of(o->z);
+  if (nth > 1) {
+#pragma omp parallel for num_threads(nth) schedule(static)
+    for (sunindextype b = 0; b < nb; b++) fn(o, b * BLOCK, block_len(o->z, b));
+    return;
+  }
+  for (sunindextype b = 0; b < nb; b++) fn(o, b * BLOCK, block_len(o->z, b));
+}
+
+static void lincomb_b(const op_args *o, sunindextype lo, sunindextype m) {
+  lincomb_m(o->nvec, o->c, o->X, o->z, lo, m);
+}
+
 static int lincomb(int nvec, realtype *c, N_Vector *X, N_Vector z) {
   if (nvec < 1) return -1;
-  const sunindextype nb = nblocks(z);
-#pragma omp parallel for num_threads(threads_of(z)) schedule(static)
-  for (sunindextype b = 0; b < nb; b++)
-    lincomb_m(nvec, c, X, z, b * BLOCK, block_len(z, b));
+  const op_args o = {.nvec = nvec, .c = c, .X = X, .z = z};
+  each_block(lincomb_b, &o);
   return 0;
 }
 
+static void linsum_b(const op_args *o, sunindextype lo, sunindextype m) {
+  linsum_m(o->a, NV_DATA_OMP(o->x) + lo, o->b, NV_DATA_OMP(o->y) + lo,
+           NV_DATA_OMP(o->z) + lo, m);
+}
+
 static void linsum(realtype a, N_Vector x, realtype b, N_Vector y, N_Vector z) {
-  const sunindextype nb = nblocks(z);
-#pragma omp parallel for num_threads(threads_of(z)) schedule(static)
-  for (sunindextype k = 0; k < nb; k++) {
-    const sunindextype lo = k * BLOCK;
-    linsum_m(a, NV_DATA_OMP(x) + lo, b, NV_DATA_OMP(y) + lo, NV_DATA_OMP(z) + lo,
-             block_len(z, k));
-  }
+  const op_args o = {.a = a, .b = b, .x = x, .y = y, .z = z};
+  each_block(linsum_b, &o);
+}
+
+static void scale_b(const op_args *o, sunindextype lo, sunindextype m) {
+  scale_m(o->a, NV_DATA_OMP(o->x) + lo, NV_DATA_OMP(o->z) + lo, m);
 }
 
 static void scale(realtype c, N_Vector x, N_Vector z) {
-  const sunindextype nb = nblocks(z);
-#pragma omp parallel for num_threads(threads_of(z)) schedule(static)
-  for (sunindextype k = 0; k < nb; k++) {
-    const sunindextype lo = k * BLOCK;
-    scale_m(c, NV_DATA_OMP(x) + lo, NV_DATA_OMP(z) + lo, block_len(z, k));
-  }
+  const op_args o = {.a = c, .x = x, .z = z};
+  each_block(scale_b, &o);
+}
+
+static void constant_b(const op_args *o, sunindextype lo, sunindextype m) {
+  double *zd = NV_DATA_OMP(o->z) + lo;
+  const double c = o->a;
+  for (sunindextype j = 0; j < m; j++) zd[j] = c;
 }
 
 static void constant(realtype c, N_Vector z) {
-  const sunindextype nb = nblocks(z);
-#pragma omp parallel for num_threads(threads_of(z)) schedule(static)
-  for (sunindextype k = 0; k < nb; k++) {
-    double *zd = NV_DATA_OMP(z) + k * BLOCK;
-    const sunindextype m = block_len(z, k);
-    for (sunindextype j = 0; j < m; j++) zd[j] = c;
-  }
+  const op_args o = {.a = c, .z = z};
+  each_block(constant_b, &o);
 }
 
 /* sqrt(sum (x w)^2 / n) as W sqrt(sum (x w/W)^2 / n), W the largest weight: ARKODE

@@ -75,15 +75,17 @@ static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[7], esf_error *
   esf_force_tally ty = {0};
   s->tally = s->led.on ? &ty : NULL;
   size_t touching = 0;
-  int rc = esf_eval_forces(&vv->path, s, p->x, p->v, p->w, dt, ESF_FORCES_COMMIT,
-                           &touching, err);
+  int rc = reserve(vv, p->n, err);
+  if (rc) return rc;
+  /* the accelerations with the forces (without the ledger: its powers are below) */
+  const esf_eval_accel ea = {vv->a, vv->dw, 0};
+  rc = esf_eval_forces(&vv->path, s, p->x, p->v, p->w, dt, ESF_FORCES_COMMIT, &touching,
+                       s->led.on ? NULL : &ea, err);
   s->tally = NULL;
   if (rc) return rc;
   s->contacts_sum += (double)touching;
-  rc = reserve(vv, p->n, err);
-  if (rc) return rc;
   double pd[2] = {0, 0};
-  esf_sim_accel(s, p->v, p->w, vv->a, vv->dw, s->led.on ? pd : NULL, 0, vv->path.threads);
+  if (s->led.on) esf_sim_accel(s, p->v, p->w, vv->a, vv->dw, pd, 0, vv->path.threads);
   if (s->led.on) {
     pw[0] = ty.p_normal;
     pw[1] = ty.p_tangential;
@@ -115,6 +117,21 @@ static void ledger_update(esf_sim *s, verlet *vv, const double pw[7]) {
   s->led_time = s->t;
 }
 
+/* Entry j of step 1 (the first half kick, global damping explicit) and the drift. */
+static inline void kick_drift(esf_particles *p, const verlet *vv, double h, double dt,
+                              double ar, double at, size_t j) {
+  p->v[j] += h * (vv->a[j] - ar * p->v[j]);
+  p->w[j] += h * (vv->dw[j] - at * p->w[j]);
+  p->x[j] += dt * p->v[j];
+}
+
+/* Entry j of step 5 (the second half kick, global damping trapezoidal: cr, ct). */
+static inline void kick_end(esf_particles *p, const verlet *vv, double h, double cr,
+                            double ct, size_t j) {
+  p->v[j] = (p->v[j] + h * vv->a[j]) * cr;
+  p->w[j] = (p->w[j] + h * vv->dw[j]) * ct;
+}
+
 static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   (void)t_stop;
   verlet *vv = state;
@@ -136,12 +153,15 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   }
   const double dt = s->dt, h = 0.5 * dt;
   const double ar = s->alpha_r, at = s->alpha_t;
-  const int nth = vv->path.threads; /* the evaluation's; entry by entry: no bits */
-#pragma omp parallel for num_threads(nth) if (nth > 1 && p->n >= 4096) schedule(static)
-  for (size_t j = 0; j < 3 * p->n; j++) {
-    p->v[j] += h * (vv->a[j] - ar * p->v[j]);
-    p->w[j] += h * (vv->dw[j] - at * p->w[j]);
-    p->x[j] += dt * p->v[j];
+  /* the evaluation's threads; entry by entry: no bits; no parallel region on one
+     (its start costs a tiny scene more than the step) */
+  const int nth = vv->path.threads > 1 && p->n >= 4096 ? vv->path.threads : 1;
+  const size_t n3 = 3 * p->n;
+  if (nth > 1) {
+#pragma omp parallel for num_threads(nth) schedule(static)
+    for (size_t j = 0; j < n3; j++) kick_drift(p, vv, h, dt, ar, at, j);
+  } else {
+    for (size_t j = 0; j < n3; j++) kick_drift(p, vv, h, dt, ar, at, j);
   }
   size_t n_before = p->n;
   esf_walls_set_time(&s->walls, (double)(s->step + 1) * dt); /* x_{n+1}'s time */
@@ -156,10 +176,11 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   /* the second half kick treats global damping implicitly (trapezoidal over the step:
      second order, unconditionally stable for the damping term) */
   const double cr = 1.0 / (1.0 + h * ar), ct = 1.0 / (1.0 + h * at);
-#pragma omp parallel for num_threads(nth) if (nth > 1 && p->n >= 4096) schedule(static)
-  for (size_t j = 0; j < 3 * p->n; j++) {
-    p->v[j] = (p->v[j] + h * vv->a[j]) * cr;
-    p->w[j] = (p->w[j] + h * vv->dw[j]) * ct;
+  if (nth > 1) {
+#pragma omp parallel for num_threads(nth) schedule(static)
+    for (size_t j = 0; j < n3; j++) kick_end(p, vv, h, cr, ct, j);
+  } else {
+    for (size_t j = 0; j < n3; j++) kick_end(p, vv, h, cr, ct, j);
   }
   s->step++;
   s->t = (double)s->step * dt;

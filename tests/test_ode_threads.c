@@ -2,7 +2,8 @@
  * Dormand-Prince adaptive, CVODE Adams) evaluate their forces on the fused step's
  * kernels (fused.h: esf_fused_forces, trial and committing, with the ODE methods'
  * trapezoidal carry) and give, bit for bit, the state and contact histories of the
- * general path (model/forces.c, integrator.fused: false) on 1, 2 and 3 threads.
+ * general path (model/forces.c, integrator.fused: false) on 1, 2 and 3 threads (state,
+ * the particle pairs' and the walls' histories, touch flags and carry).
  *
  * The scene: 400 polydisperse spheres of two materials falling into a box with a
  * tilted polygon floor under global and local damping (the damping forms act outside
@@ -10,6 +11,7 @@
  * the Hertz-Mindlin law. Each run takes a fixed number of the scheme's steps; every
  * run on the fused kernels is checked to have taken them (esf_fused_eval_refusal). */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -49,9 +51,10 @@ static const char *const hertz_sets[] = {
     "restitution: 0.7, friction: 0.2}"};
 
 typedef struct snapshot {
-  size_t n, m;
+  size_t n, m; /* m: the particle pairs' candidates, then the walls' */
   double *y;
   esf_contact_hist *h;
+  uint8_t *touch;
   double *vc0; /* the ODE methods' carry, or NULL */
   double t, contacts;
   int fused; /* the evaluations took the fused kernels */
@@ -77,16 +80,22 @@ static int run(const char *const *msets, int nm, int hertz, int threads, int fus
   const int ode = strcmp(T.s.cfg.method, "verlet") != 0;
   for (long i = 0; i < steps && !rc; i++) rc = simtest_step(&T);
   if (!rc) {
+    const esf_candidates *pp = &T.s.nb.pp, *pw = &T.s.nb.pw;
     out->n = T.s.p.n;
-    out->m = T.s.nb.pp.n;
+    out->m = pp->n + pw->n;
     out->y = malloc(9 * out->n * sizeof(double));
     out->h = malloc((out->m ? out->m : 1) * sizeof *out->h);
+    out->touch = malloc(out->m ? out->m : 1);
     memcpy(out->y, T.s.p.y, 9 * out->n * sizeof(double));
-    memcpy(out->h, T.s.nb.pp.h, out->m * sizeof *out->h);
+    memcpy(out->h, pp->h, pp->n * sizeof *out->h);
+    memcpy(out->h + pp->n, pw->h, pw->n * sizeof *out->h);
+    memcpy(out->touch, pp->touch, pp->n);
+    memcpy(out->touch + pp->n, pw->touch, pw->n);
     out->vc0 = NULL;
-    if (T.s.nb.pp.vc0) {
+    if (pp->vc0 && (pw->vc0 || !pw->n)) {
       out->vc0 = malloc((out->m ? out->m : 1) * 3 * sizeof(double));
-      memcpy(out->vc0, T.s.nb.pp.vc0, out->m * 3 * sizeof(double));
+      memcpy(out->vc0, pp->vc0, pp->n * 3 * sizeof(double));
+      if (pw->n) memcpy(out->vc0 + 3 * pp->n, pw->vc0, pw->n * 3 * sizeof(double));
     }
     out->t = T.s.t;
     out->contacts = T.s.contacts_sum;
@@ -99,6 +108,7 @@ static int run(const char *const *msets, int nm, int hertz, int threads, int fus
 static void release(snapshot *a) {
   free(a->y);
   free(a->h);
+  free(a->touch);
   free(a->vc0);
 }
 
@@ -109,6 +119,7 @@ static void check_same(const snapshot *a, const snapshot *ref, const char *what)
         what);
   CHECK(memcmp(a->h, ref->h, ref->m * sizeof *ref->h) == 0, "%s: contact history differs",
         what);
+  CHECK(memcmp(a->touch, ref->touch, ref->m) == 0, "%s: touching flags differ", what);
   CHECK(!a->vc0 == !ref->vc0 &&
             (!a->vc0 || memcmp(a->vc0, ref->vc0, 3 * ref->m * sizeof(double)) == 0),
         "%s: the carried contact velocities differ", what);

@@ -31,6 +31,7 @@
 #include "loads/events.h"
 #include "loads/servo.h"
 #include "model/forces.h"
+#include "model/model.h"
 #include "par/par.h"
 
 /* idle candidates range 0 screens between looks at the others */
@@ -165,11 +166,14 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
   esf_fused_lists L = {
       .tl = f->list[0] + k0, .sq = f->list[1] + k0, .il = f->idle + k0, .blk = k1 - k0};
   esf_fused_lists_from_flags(s, k0, k1, hi, &L);
+#ifdef _OPENMP
+  const int timed = T > 1; /* the threads' balance and back-off (one range: neither) */
+#endif
   long i = 0;
   for (; i < B->steps; i++) {
     const long e = B->e0 + i;
 #ifdef _OPENMP
-    const double t0 = omp_get_wtime();
+    const double t0 = timed ? omp_get_wtime() : 0.0;
 #endif
     double waited = 0.0;
     size_t nn = 0, nt_pp = 0, nt_pw = 0;
@@ -230,10 +234,12 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
     o.nt = nt_pp + nt_pw;
     me->out = o;
 #ifdef _OPENMP
-    const double spent = omp_get_wtime() - t0;
-    f->busy[t] += spent - waited; /* range t is this thread's alone */
-    f->waits[t] += waited;
-    if (t == 0) f->inside += spent;
+    if (timed) {
+      const double spent = omp_get_wtime() - t0;
+      f->busy[t] += spent - waited; /* range t is this thread's alone */
+      f->waits[t] += waited;
+      if (t == 0) f->inside += spent;
+    }
 #endif
     atomic_store_explicit(&me->done, e, memory_order_release);
   }
@@ -312,7 +318,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
     if (!rc) rc = esf_fused_index(s, f, want, err);
     if (rc) return rc;
   }
-  if (ev) { /* an evaluation writes p.f, p.t itself */
+  if (ev) { /* an evaluation writes p.f, p.t itself (a trial with accelerations: no) */
     if ((rc = esf_sim_forces_sync(s, err))) return rc;
   } else if (!s->ft_lazy)      /* the steps write F_n, M_n into acc: not held beside it */
     esf_sim_forces_release(s); /* (docs/performance.md#memory) */
@@ -393,6 +399,11 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
                    !s->mats.any_rolling,
       .wall_pass = ev ? esf_wall_pass_eval(s, ev->trial) : esf_wall_pass_select(s),
       .forces_only = ev != NULL,
+      .acc = ev && !s->par ? ev->acc : NULL, /* MPI: after the call (own range only) */
+      .dw = ev ? ev->dw : NULL,
+      .ar = ev && ev->with_global ? s->alpha_r : 0.0,
+      .at = ev && ev->with_global ? s->alpha_t : 0.0,
+      .ft_skip = ev && ev->trial,
       .loc = s->local,
       .xref = s->nb.xref,
       .dom_lo = s->nb.dom_lo,
@@ -446,11 +457,11 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   f->decided = 0;
 
 #ifdef _OPENMP
-  const double t_start = omp_get_wtime(), gap = t_start - f->t_left;
+  const double t_start = nth > 1 ? omp_get_wtime() : 0.0, gap = t_start - f->t_left;
   if (f->t_left > 0 && nth > 1 && gap < 0.5 * f->t_step) /* not a frame write */
     f->busy[0] += gap;
 #endif
-  if (nth == 1) { /* no parallel region: libgomp's for one thread costs a syscall */
+  if (nth == 1) { /* no parallel region: its start costs a tiny scene more than a step */
     run_ranges(s, f, &B, 0, 1, T);
   } else {
 #pragma omp parallel num_threads(nth)
@@ -536,10 +547,13 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       esf_fused_trim(s, f); /* a rebuild or a stability check is next */
   }
 #ifdef _OPENMP
-  f->t_left = omp_get_wtime();
-  f->t_step = (f->t_left - t_start) / (double)(n > 0 ? n : 1);
-  if (nth > 1 && f->t_left - t_start > f->inside) /* the region's start and end: waits */
-    f->waits[0] += f->t_left - t_start - f->inside;
+  f->t_left = 0.0; /* one range: no clock read (a tiny scene's step is a few of them) */
+  if (nth > 1) {
+    f->t_left = omp_get_wtime();
+    f->t_step = (f->t_left - t_start) / (double)(n > 0 ? n : 1);
+    if (f->t_left - t_start > f->inside) /* the region's start and end: waits */
+      f->waits[0] += f->t_left - t_start - f->inside;
+  }
 #endif
   return ESF_OK;
 }
@@ -570,6 +584,8 @@ int esf_fused_forces(esf_sim *s, esf_fused *f, const esf_fused_eval *ev, size_t 
   long taken;
   size_t nt = 0;
   const int rc = run_calls(s, f, 1, &taken, ev, &nt, err);
+  if (!rc && ev->acc && s->par) /* the pass left them out (fused.c's K.acc) */
+    esf_sim_accel(s, ev->v, ev->w, ev->acc, ev->dw, NULL, ev->with_global, 1);
   p->x = x;
   p->v = v;
   p->w = w;

@@ -52,6 +52,10 @@ typedef struct esf_fused_eval {
                               ODE state with its quadratures) */
   double dt;               /* s */
   int trial;
+  double *acc, *dw; /* or NULL; else the accelerations at x, v, w (3n each, model.h's
+                       esf_sim_accel, global damping with with_global), written by the
+                       particle pass after the totals; a trial then leaves p.f, p.t */
+  int with_global;
 } esf_fused_eval;
 
 /* Why esf_fused_forces cannot take the sim's settings (for the log), or NULL; ode: for

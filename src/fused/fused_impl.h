@@ -179,6 +179,9 @@ typedef struct esf_fused_kick {
                                  resistance (its light steps: a loop of their own) */
   esf_wall_pass_fn wall_pass; /* wall_fast.h, chosen once per call */
   int forces_only;            /* 1: walls, then F, M to p.f, p.t (esf_fused_forces) */
+  double *acc, *dw, ar, at;   /* forces_only: the accelerations too (esf_fused_eval), or
+                                 NULL; the global damping they take, 1/s */
+  int ft_skip;                /* with acc: F, M not written to p.f, p.t (a trial) */
   const esf_local_damping *loc;
   const double *xref;            /* positions at the lists' build, or NULL */
   const double *dom_lo, *dom_hi; /* the domain, or NULL */

@@ -9,7 +9,8 @@
  * x_{n+1} = x_n + v_{n+1/2} dt. The wall pass (wall_fast.h) reads and adds to its own
  * particle only, so doing all of a range's walls before its kicks changes no operation.
  * The accumulators keep F_n, M_n (s->ft_lazy, for esf_sim_forces_sync). An evaluation
- * (esf_fused_forces, K->forces_only) stops after the walls: the totals to p.f, p.t.
+ * (esf_fused_forces, K->forces_only) stops after the walls: the totals to p.f, p.t,
+ * and with K->acc the accelerations (model/accel.h).
  * Entry: the range's pair forces summed (fused_pairs.c). Units: SI. */
 #include "fused/fused_impl.h"
 
@@ -17,6 +18,7 @@
 #include <string.h>
 
 #include "loads/drag.h"
+#include "model/accel.h"
 
 /* The wall contacts of range [lo, hi), particle by particle in ascending order
  * (each adds to its own particle's accumulator only, at the state before any kick).
@@ -275,15 +277,20 @@ void esf_fused_kick_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *
   if (walls_range(s, f, K, lo, hi, nt_pw, &o->bad_part)) return;
   if (K->forces_only) { /* an evaluation (esf_fused_forces): the totals to p.f, p.t */
     esf_particles *p = &s->p;
+    const int keep = !K->acc || !K->ft_skip; /* else F, M read here only */
     for (size_t i = lo; i < hi; i++) {
       const double *fi = f->acc + ESF_FUSED_ACC * i;
-      v3_copy(p->f + 3 * i, fi);
-      v3_copy(p->t + 3 * i, fi + 4);
+      double fl[3], ml[3];
+      double *const fo = keep ? p->f + 3 * i : fl, *const mo = keep ? p->t + 3 * i : ml;
+      v3_copy(fo, fi);
+      v3_copy(mo, fi + 4);
       if (ESF_FUSED_FEATURES && K->dim2) { /* as forces.c's, at the end */
-        p->f[3 * i + 1] = 0.0;
-        p->t[3 * i] = 0.0;
-        p->t[3 * i + 2] = 0.0;
+        fo[1] = 0.0;
+        mo[0] = 0.0;
+        mo[2] = 0.0;
       }
+      if (K->acc) /* as esf_sim_accel's, from the totals (one pass fewer) */
+        esf_accel_one(s, i, fo, mo, p->v, p->w, K->acc, K->dw, K->ar, K->at, NULL);
     }
     return;
   }

@@ -15,9 +15,9 @@
  * product (wall_overlap). Up to FAST_MAX candidates per particle the hits live on the
  * stack; more use the neighbour lists' wall scratch at k0 (as forces.c), so particles
  * run in parallel.
- * Entry: candidate lists valid for s->p.x; walls static, every material pair linear or
- * every one Hertz-Mindlin (contact_hertz.h), no tally, servo walls or ODE-state history
- * (esf_wall_pass_select checks). Exit: as esf_forces_wall_particle committing. SI. */
+ * Entry: lists valid for s->p.x; static walls, all pairs linear or all Hertz-Mindlin, no
+ * tally, servo walls or ODE-state history (esf_wall_pass_select, _eval check). SI. Exit:
+ * as esf_forces_wall_particle committing; with the ODE methods' carry, also a trial. */
 #include "fused/wall_fast.h"
 
 #include <math.h>
@@ -81,7 +81,7 @@ static inline double wall_overlap(const esf_wall_elem *e, const double *x, doubl
 static inline __attribute__((always_inline)) void
 wall_contact(esf_sim *s, const esf_wall_elem *el, const esf_wall_hit *hit, double un,
              size_t a, size_t k, double dt, size_t *nt, double *f, double *t,
-             double *rows, unsigned set) {
+             double *rows, unsigned set, int ode, int trial) {
   const esf_particles *p = &s->p;
   esf_candidates *c = &s->nb.pw;
   const double *v = p->v + 3 * a, *w = p->w + 3 * a;
@@ -99,17 +99,24 @@ wall_contact(esf_sim *s, const esf_wall_elem *el, const esf_wall_hit *hit, doubl
   in.rstar = p->radius[a];
   in.dt = dt;
   in.vinc = NULL;
+  double vm[3];
+  if (ode && c->vc0 && c->touch[k]) { /* as forces.c: the trapezoidal history increment */
+    for (int q = 0; q < 3; q++) vm[q] = 0.5 * (c->vc0[3 * k + q] + in.vc[q]);
+    in.vinc = vm;
+  }
+  esf_contact_hist *const ho = trial ? NULL : &c->h[k]; /* a trial commits nothing */
   const esf_materials *mt = &s->mats;
   const esf_pair_params *pp = /* one material: no load of the particle's */
       mt->n == 1 ? mt->pair : &mt->pair[p->material[a] * mt->n + el->material];
   esf_contact_out out;
   if (s->mats.all_hertz) /* the laws never mix (material.c) */
-    esf_contact_hertz_eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], !c->touch[k],
-                           &c->h[k], &out);
+    esf_contact_hertz_eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], !c->touch[k], ho,
+                           &out);
   else
-    esf_contact_linear_eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], !c->touch[k],
-                            &c->h[k], &out);
-  c->touch[k] = (uint8_t)out.touching;
+    esf_contact_linear_eval(pp, s->beta, s->cfg.tframe, &in, &c->h[k], !c->touch[k], ho,
+                            &out);
+  if (ode && !trial && c->vc0 && out.touching) v3_copy(c->vc0 + 3 * k, in.vc);
+  if (!trial) c->touch[k] = (uint8_t)out.touching;
   if (!out.touching) return;
   (*nt)++;
   v3_add(f, f, out.f);
@@ -128,7 +135,7 @@ wall_contact(esf_sim *s, const esf_wall_elem *el, const esf_wall_hit *hit, doubl
 
 static inline __attribute__((always_inline)) int
 fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt, double *f,
-              double *t, double *rows, unsigned set) {
+              double *t, double *rows, unsigned set, int ode, int trial) {
   const esf_particles *p = &s->p;
   esf_candidates *c = &s->nb.pw;
   const esf_wall_elem *E = s->walls.e;
@@ -151,7 +158,8 @@ fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt, double *f
     if (un[j] > 0) touching++, last = j;
   }
   if (touching == 0) {
-    for (size_t k = k0; k < k1; k++) c->touch[k] = 0;
+    if (!trial)
+      for (size_t k = k0; k < k1; k++) c->touch[k] = 0;
     return 0;
   }
   if (touching == 1)
@@ -162,29 +170,31 @@ fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt, double *f
   for (size_t j = 0; j < m; j++) {
     const size_t k = k0 + j;
     if (!keep[j]) {
-      c->touch[k] = 0;
+      if (!trial) c->touch[k] = 0;
       continue;
     }
     if (un[j] > lim) return 1; /* esf_forces_wall_particle words the failure */
-    wall_contact(s, &E[c->b[k]], &hits[j], un[j], a, k, dt, nt, f, t, rows, set);
+    wall_contact(s, &E[c->b[k]], &hits[j], un[j], a, k, dt, nt, f, t, rows, set, ode,
+                 trial);
   }
   return 0;
 }
 
 int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
                            double *f, double *t, double *rows) {
-  return fast_particle(s, k0, k1, dt, nt, f, t, rows, 0);
+  return fast_particle(s, k0, k1, dt, nt, f, t, rows, 0, 0, 0);
 }
 
 int esf_wall_fast_particle_light(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
                                  double *f, double *t, double *rows) {
-  return fast_particle(s, k0, k1, dt, nt, f, t, rows, ESF_LEDGER_LIGHT | ESF_LEDGER_NO_W);
+  return fast_particle(s, k0, k1, dt, nt, f, t, rows, ESF_LEDGER_LIGHT | ESF_LEDGER_NO_W,
+                       0, 0);
 }
 
 int esf_wall_fast_particle_light_n(esf_sim *s, size_t k0, size_t k1, double dt,
                                    size_t *nt, double *f, double *t, double *rows) {
   return fast_particle(s, k0, k1, dt, nt, f, t, rows,
-                       ESF_LEDGER_LIGHT | ESF_LEDGER_NO_T | ESF_LEDGER_NO_W);
+                       ESF_LEDGER_LIGHT | ESF_LEDGER_NO_T | ESF_LEDGER_NO_W, 0, 0);
 }
 
 int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
@@ -202,14 +212,33 @@ static int wall_trial_particle(esf_sim *s, size_t k0, size_t k1, double dt, size
                                   NULL, nt, f, t, NULL);
 }
 
+/* The fast pass for the ODE methods (forces.c's carry: with the lists' vc0, a live
+ * contact's history increments with the mean of the committed and the current contact
+ * velocity, and a commit stores the current one): committing, and as a trial (no
+ * history, touch flag or carry written). */
+static int wall_fast_ode_commit(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
+                                double *f, double *t, double *rows) {
+  return fast_particle(s, k0, k1, dt, nt, f, t, rows, 0, 1, 0);
+}
+
+static int wall_fast_ode_trial(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
+                               double *f, double *t, double *rows) {
+  return fast_particle(s, k0, k1, dt, nt, f, t, rows, 0, 1, 1);
+}
+
+/* The fast pass's conditions but the carry (all pairs: wall materials may pair by a
+ * law the particles' pairs do not use). */
+static int fast_ok(const esf_sim *s) {
+  return (s->mats.all_linear || s->mats.all_hertz) && !s->mats.any_rolling &&
+         !s->walls.moving && !s->tally && !s->walls.gforce && !s->nb.pw.xs;
+}
+
 esf_wall_pass_fn esf_wall_pass_eval(const esf_sim *s, int trial) {
-  return trial ? wall_trial_particle : esf_wall_pass_select(s);
+  if (!fast_ok(s)) return trial ? wall_trial_particle : esf_wall_general_particle;
+  if (trial) return wall_fast_ode_trial;
+  return s->nb.pw.vc0 ? wall_fast_ode_commit : esf_wall_fast_particle;
 }
 
 esf_wall_pass_fn esf_wall_pass_select(const esf_sim *s) {
-  /* all pairs: wall materials may pair by a law the particles' pairs do not use */
-  const int fast = (s->mats.all_linear || s->mats.all_hertz) && !s->mats.any_rolling &&
-                   !s->walls.moving && !s->tally && !s->walls.gforce && !s->nb.pw.xs &&
-                   !s->nb.pw.vc0;
-  return fast ? esf_wall_fast_particle : esf_wall_general_particle;
+  return fast_ok(s) && !s->nb.pw.vc0 ? esf_wall_fast_particle : esf_wall_general_particle;
 }

@@ -38,9 +38,9 @@ int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_
 /* The fast pass when s qualifies (above), else the general one. */
 esf_wall_pass_fn esf_wall_pass_select(const esf_sim *s);
 
-/* For esf_fused_forces: trial, the general pass without committing; else
- * esf_wall_pass_select's (the general one when the lists keep the ODE methods' carry,
- * which it commits). */
+/* For esf_fused_forces: where the fast pass qualifies but for the ODE methods' carry
+ * (the lists' vc0), the fast pass with the carry, committing or as a trial (writing no
+ * history, touch flag or carry); else the general pass, committing or as a trial. */
 esf_wall_pass_fn esf_wall_pass_eval(const esf_sim *s, int trial);
 
 #endif

@@ -2,45 +2,33 @@
  * the stored energies of a state (model.h): what the ODE methods and velocity Verlet
  * integrate (the leapfrog applies global damping in its own (1 -+ alpha dt/2) form).
  * The accelerations run on the caller's threads when no power is asked for (each
- * particle's by one thread: the same bits on any count). */
+ * particle's by one thread: the same bits on any count); the formula: accel.h. */
 #include "model/model.h"
 
+#include "model/accel.h"
 #include "util/vec3.h"
 
 #define ESF_ACCEL_PAR 4096 /* particles from which the accelerations are threaded */
 
 void esf_sim_accel(const esf_sim *s, const double *v, const double *w, double *acc,
                    double *dw, double p_damp[2], int with_global, int threads) {
-  const esf_particles *p = &s->p;
-  const esf_local_damping *loc = s->local;
-  const double lc = s->cfg.local_coef;
+  const size_t n = s->p.n;
   const double ar = with_global ? s->alpha_r : 0.0, at = with_global ? s->alpha_t : 0.0;
-  double pg = 0, pl = 0;
   /* particle by particle, so threads change no bits; the powers' sums serially */
-  const int nth = !p_damp && threads > 1 && p->n >= ESF_ACCEL_PAR ? threads : 1;
-#pragma omp parallel for num_threads(nth) if (nth > 1) schedule(static)
-  for (size_t i = 0; i < p->n; i++) {
-    const double *vi = v + 3 * i, *wi = w + 3 * i;
-    double f[3], m[3], fd[3] = {0, 0, 0}, md[3] = {0, 0, 0};
-    v3_copy(f, p->f + 3 * i);
-    v3_copy(m, p->t + 3 * i);
-    if (loc) {
-      loc->force(lc, f, vi, fd);
-      loc->force(lc, m, wi, md);
-    }
-    double mass = p->mass[i], I = p->inertia[i];
-    for (int q = 0; q < 3; q++) {
-      acc[3 * i + q] = (f[q] + fd[q]) * p->inv_mass[i] - ar * vi[q];
-      dw[3 * i + q] = (m[q] + md[q]) * p->inv_inertia[i] - at * wi[q];
-    }
-    if (p_damp) {
-      pg += s->alpha_r * mass * v3_norm2(vi) + s->alpha_t * I * v3_norm2(wi);
-      pl -= v3_dot(fd, vi) + v3_dot(md, wi);
-    }
+  const int nth = !p_damp && threads > 1 && n >= ESF_ACCEL_PAR ? threads : 1;
+  if (nth > 1) {
+#pragma omp parallel for num_threads(nth) schedule(static)
+    for (size_t i = 0; i < n; i++)
+      esf_accel_one(s, i, s->p.f + 3 * i, s->p.t + 3 * i, v, w, acc, dw, ar, at, NULL);
+    return;
   }
+  double pw[2] = {0, 0}; /* no parallel region (its start costs a tiny scene most) */
+  for (size_t i = 0; i < n; i++)
+    esf_accel_one(s, i, s->p.f + 3 * i, s->p.t + 3 * i, v, w, acc, dw, ar, at,
+                  p_damp ? pw : NULL);
   if (p_damp) {
-    p_damp[0] = pg;
-    p_damp[1] = pl;
+    p_damp[0] = pw[0];
+    p_damp[1] = pw[1];
   }
 }
 
