@@ -58,12 +58,13 @@ typedef struct snapshot {
   double *vc0; /* the ODE methods' carry, or NULL */
   double t, contacts;
   int fused; /* the evaluations took the fused kernels */
+  esf_integ_stats st;
 } snapshot;
 
 /* `steps` calls of the scheme's step with method (and its overrides), threads, fused
  * or the general path. */
-static int run(const char *const *msets, int nm, int hertz, int threads, int fused,
-               long steps, snapshot *out) {
+static int run_drv(const char *const *msets, int nm, int hertz, int threads, int fused,
+                   int arkode, long steps, snapshot *out) {
   const char *sets[12];
   int n = 0;
   for (int k = 0; k < nm; k++) sets[n++] = msets[k];
@@ -73,7 +74,7 @@ static int run(const char *const *msets, int nm, int hertz, int threads, int fus
     sets[n++] = hertz_sets[1];
   }
   simtest T;
-  int rc = simtest_open(&T, scene, sets, n);
+  int rc = simtest_open_drv(&T, scene, sets, n, arkode);
   if (rc) return rc;
   T.s.cfg.threads = threads;
   T.s.cfg.range_work = 1; /* one range per thread, however small the scene */
@@ -100,9 +101,15 @@ static int run(const char *const *msets, int nm, int hertz, int threads, int fus
     out->t = T.s.t;
     out->contacts = T.s.contacts_sum;
     out->fused = esf_fused_eval_refusal(&T.s, ode) == NULL;
+    if (T.it->stats) T.it->stats(&T.s, T.ist, &out->st);
   }
   simtest_close(&T);
   return rc;
+}
+
+static int run(const char *const *msets, int nm, int hertz, int threads, int fused,
+               long steps, snapshot *out) {
+  return run_drv(msets, nm, hertz, threads, fused, 0, steps, out);
 }
 
 static void release(snapshot *a) {
@@ -152,6 +159,36 @@ static void check_method(const char *name, const char *const *msets, int nm, int
   release(&gen);
 }
 
+/* The fixed-step erk methods on esfera's driver (erk.c) and on ARKODE's ERKStep
+ * (ESF_ERK_DRIVER=arkode): the same bits (state, histories, carry) and counters, on
+ * the fused kernels on 1 and 2 threads. */
+static void check_driver(const char *name, const char *const *msets, int nm, long steps) {
+  for (int th = 1; th <= 2; th++) {
+    snapshot a = {0}, b = {0};
+    char what[160];
+    snprintf(what, sizeof what, "%s, esfera's driver against ERKStep, %d threads", name,
+             th);
+    int rc = run_drv(msets, nm, 0, th, 1, 1, steps, &a);
+    if (!rc) rc = run_drv(msets, nm, 0, th, 1, 0, steps, &b);
+    CHECK(rc == 0, "%s: ran", what);
+    if (!rc) {
+      check_same(&b, &a, what);
+      CHECK(b.st.steps == a.st.steps && b.st.attempts == a.st.attempts &&
+                b.st.rhs_evals == a.st.rhs_evals && b.st.rejected == a.st.rejected &&
+                b.st.restarts == a.st.restarts && b.st.h_last == a.st.h_last,
+            "%s: counters: %ld steps, %ld rhs, %ld restarts, h %.17g (ERKStep: %ld, "
+            "%ld, %ld, %.17g)",
+            what, b.st.steps, b.st.rhs_evals, b.st.restarts, b.st.h_last, a.st.steps,
+            a.st.rhs_evals, a.st.restarts, a.st.h_last);
+      if (th == 1)
+        printf("%s: %ld steps, %ld rhs evaluations, %ld restarts\n", name, b.st.steps,
+               b.st.rhs_evals, b.st.restarts);
+    }
+    release(&a);
+    release(&b);
+  }
+}
+
 int main(void) {
   const char *verlet[] = {"integrator.method=verlet"};
   const char *rk4[] = {"integrator.method=rk4"};
@@ -160,6 +197,15 @@ int main(void) {
                        "integrator.rtol=1.0e-5", "integrator.atol=1.0e-9"};
   const char *adams[] = {"integrator.method=cvode-adams", "integrator.rtol=1.0e-5",
                          "integrator.atol=1.0e-9"};
+  const char *heun[] = {"integrator.method=erk:ARKODE_HEUN_EULER_2_1_2"};
+  const char *bs3[] = {"integrator.method=erk:ARKODE_BOGACKI_SHAMPINE_4_2_3"};
+  const char *f45[] = {"integrator.method=erk:ARKODE_FEHLBERG_6_4_5"}; /* c_s != 1 */
+  const char *rk4s[] = {"integrator.method=rk4", "integrator.history=state"};
+  check_driver("rk4", rk4, 1, 600);
+  check_driver("Heun-Euler", heun, 1, 600);
+  check_driver("Bogacki-Shampine", bs3, 1, 600);
+  check_driver("Fehlberg 4(5)", f45, 1, 600);
+  check_driver("rk4, history as state", rk4s, 2, 600);
   check_method("verlet", verlet, 1, 0, 1500);
   check_method("rk4", rk4, 1, 0, 1500);
   check_method("rk4, projected frame", rk4p, 2, 0, 1500);
