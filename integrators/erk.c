@@ -269,8 +269,10 @@ static int own_start(erk *e, int counters) {
   return 0;
 }
 
-/* z = sum_{j<m} (h w_j) F_j + 1 y_n, ERKStep's combination (w a row of A, or b). */
-static void own_combine(erk *e, int m, const double *w, double h, N_Vector z) {
+/* z = sum_{j<m} (h w_j) F_j + 1 y_n, ERKStep's combination (w a row of A, or b), its
+ * bits by esf_dem_ode_lincomb_nz (the zero terms left out); returns the zeros in z. */
+static long own_combine(erk *e, int m, const double *w, double h, N_Vector z,
+                        int resum_only) {
   int nv = 0;
   for (int j = 0; j < m; j++) {
     e->cv[nv] = h * w[j];
@@ -278,7 +280,17 @@ static void own_combine(erk *e, int m, const double *w, double h, N_Vector z) {
   }
   e->cv[nv] = 1.0;
   e->X[nv++] = e->y;
-  N_VLinearCombination(nv, e->cv, e->X, z);
+  return esf_dem_ode_lincomb_nz(nv, e->cv, e->X, z, resum_only);
+}
+
+/* The last stage's state is y_{n+1} but for the sign of zeros: its row is b and its
+ * weight 0 (the tables with first same as last, those fix_fsal extends). */
+static int own_last_is_solution(ARKodeButcherTable B) {
+  const int st = B->stages;
+  if (st < 2 || B->b[st - 1] != 0.0) return 0;
+  for (int j = 0; j < st - 1; j++)
+    if (B->A[st - 1][j] != B->b[j]) return 0;
+  return 1;
 }
 
 /* One step; 0, or f's nonzero return (e->tn then the failed evaluation's time). */
@@ -287,6 +299,7 @@ static int own_step(erk *e, double *tret) {
   const int st = B->stages;
   const double h = e->ode.s->dt, t0 = e->tn;
   int rc = 0;
+  long zeros = 0; /* in the last stage's state */
   if (!e->fn_current) {
     rc = erk_rhs(t0, e->y, e->F[0], e);
     e->nfe++;
@@ -295,7 +308,7 @@ static int own_step(erk *e, double *tret) {
   }
   for (int i = 1; i < st; i++) {
     const double tc = t0 + B->c[i] * h;
-    own_combine(e, i, B->A[i], h, e->ycur);
+    zeros = own_combine(e, i, B->A[i], h, e->ycur, 0);
     rc = erk_rhs(tc, e->ycur, e->F[i], e);
     e->nfe++;
     if (rc) {
@@ -303,7 +316,10 @@ static int own_step(erk *e, double *tret) {
       return rc;
     }
   }
-  own_combine(e, st, B->b, h, e->ycur);
+  if (!own_last_is_solution(B))
+    own_combine(e, st, B->b, h, e->ycur, 0);
+  else if (zeros) /* the last stage's state, its zeros summed as y_{n+1}'s */
+    own_combine(e, st, B->b, h, e->ycur, 1);
   N_Vector y = e->ycur; /* the new state: the vectors trade places */
   e->ycur = e->y;
   e->y = y;

@@ -18,6 +18,7 @@
 
 #include "check.h"
 #include "fused/fused.h"
+#include "integrators/dem_ode.h"
 #include "simtest.h"
 
 static const char *const scene =
@@ -189,7 +190,69 @@ static void check_driver(const char *name, const char *const *msets, int nm, lon
   }
 }
 
+/* esf_dem_ode_lincomb_nz against SUNDIALS' N_VLinearCombination on vectors of small
+ * integers and signed zeros (exact cancellations, so many zero results of either sign)
+ * over several blocks, zero coefficients among the terms: the same bits, the re-sum
+ * only included; and the plain sum of the nonzero terms does differ in some zero's sign
+ * (the case the re-sum is there for). */
+static void check_lincomb_nz(void) {
+  SUNContext ctx;
+  CHECK(SUNContext_Create(NULL, &ctx) == 0, "SUNDIALS context");
+  const int threads = 2, nv = 6;
+  const size_t len = 9001;
+  N_Vector X[6], za, zb, zs;
+  for (int i = 0; i < nv; i++) X[i] = esf_dem_ode_vector(len, &threads, ctx);
+  za = esf_dem_ode_vector(len, &threads, ctx);
+  zb = N_VClone(za);
+  zs = N_VClone(za);
+  uint64_t r = 12345;
+  for (int i = 0; i < nv; i++) {
+    double *x = N_VGetArrayPointer(X[i]);
+    for (size_t j = 0; j < len; j++) {
+      r = r * 6364136223846793005ULL + 1442695040888963407ULL;
+      const int k = (int)(r >> 60); /* 0 .. 15 */
+      x[j] = k < 4 ? (k & 1 ? -0.0 : 0.0) : (double)(k - 10);
+    }
+  }
+  const double cs[][6] = {{0.0, 0.25, 0.0, 0.5, -0.25, 1.0},
+                          {0.0, 0.0, 0.0, 0.0, 0.0, 1.0},
+                          {0.5, 0.0, 0.25, 0.0, 0.0, 1.0},
+                          {0.0, 0.5, 1.0}};
+  const int ns[] = {6, 6, 6, 3};
+  int sign_cases = 0;
+  for (int c = 0; c < 4; c++) {
+    double cv[6], cp[6];
+    N_Vector Xp[6];
+    int np = 0;
+    for (int i = 0; i < ns[c]; i++) {
+      cv[i] = cs[c][i];
+      if (cv[i] != 0.0) {
+        cp[np] = cv[i];
+        Xp[np++] = X[i];
+      }
+    }
+    N_VLinearCombination(ns[c], cv, X, za);
+    N_VLinearCombination(np, cp, Xp, zs); /* the nonzero terms only */
+    const double *a = N_VGetArrayPointer(za), *s = N_VGetArrayPointer(zs);
+    for (size_t j = 0; j < len; j++) sign_cases += signbit(a[j]) != signbit(s[j]);
+    long zeros = esf_dem_ode_lincomb_nz(ns[c], cv, X, zb, 0);
+    CHECK(memcmp(a, N_VGetArrayPointer(zb), len * sizeof(double)) == 0 && zeros > 0,
+          "lincomb_nz, coefficients %d: the bits of N_VLinearCombination (%ld zeros)", c,
+          zeros);
+    esf_dem_ode_lincomb_nz(ns[c], cv, X, zs, 1);
+    CHECK(memcmp(a, N_VGetArrayPointer(zs), len * sizeof(double)) == 0,
+          "lincomb_nz, coefficients %d: the re-sum of the zeros", c);
+  }
+  CHECK(sign_cases > 0, "the nonzero terms alone give %d zeros another sign", sign_cases);
+  for (int i = 0; i < nv; i++) N_VDestroy(X[i]);
+  N_VDestroy(za);
+  N_VDestroy(zb);
+  N_VDestroy(zs);
+  SUNContext_Free(&ctx);
+}
+
 int main(void) {
+  check_lincomb_nz();
   const char *verlet[] = {"integrator.method=verlet"};
   const char *rk4[] = {"integrator.method=rk4"};
   const char *rk4p[] = {"integrator.method=rk4", "contact.tangential_frame=project"};
