@@ -14,6 +14,7 @@
  * is esfera's own, serial (a sum whose order must not depend on the threads), scaled by
  * the largest weight. Entry: len entries, threads >= 1. Units: those of y (dem_ode.h). */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <nvector/nvector_openmp.h>
@@ -276,13 +277,19 @@ static void lincomb_nz_b(const op_args *o, sunindextype lo, sunindextype m) {
   nz_args *a = (nz_args *)o;
   if (a->full >= 0) lincomb_m(o->nvec, o->c, o->X, o->z, lo, m);
   const double *zd = NV_DATA_OMP(o->z);
-  long nz = 0;
-  for (sunindextype j = lo; j < lo + m; j++)
-    if (zd[j] == 0.0) {
-      lincomb_m(a->full < 0 ? -a->full : a->full, a->cd, a->Xd, o->z, j, 1);
-      nz++;
-    }
-  if (nz) {
+  uint64_t any = 0; /* 1 when some |z_j| has all bits 0: integer operations, vectorised */
+  for (sunindextype j = lo; j < lo + m; j++) {
+    uint64_t u;
+    memcpy(&u, zd + j, sizeof u);
+    any |= ((u & 0x7fffffffffffffffULL) - 1) >> 63;
+  }
+  if (any) {
+    long nz = 0;
+    for (sunindextype j = lo; j < lo + m; j++)
+      if (zd[j] == 0.0) {
+        lincomb_m(a->full < 0 ? -a->full : a->full, a->cd, a->Xd, o->z, j, 1);
+        nz++;
+      }
 #pragma omp atomic
     a->zeros += nz;
   }
