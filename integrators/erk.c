@@ -14,8 +14,10 @@
  * frequency including the rotation a tangential spring drives:
  * omega_max^2 = k_max / m_min x (7 for spheres, 6 for disks; 1/m + r^2/I per body).
  *
- * Each call of step() takes one internal step (ARK_ONE_STEP) not past t_stop, then
- * commits the contact history (esf_dem_ode_commit) and refreshes the candidate lists. */
+ * Each call of step() takes one step: a fixed one on esfera's own driver (own_step:
+ * ERKStep's operations, the same bits; ESF_ERK_DRIVER=arkode: on ERKStep), an adaptive
+ * one on ERKStep (ARK_ONE_STEP, not past t_stop); then commits the history and refreshes
+ * the lists. */
 #include <arkode/arkode_erkstep.h>
 #include <math.h>
 #include <nvector/nvector_serial.h>

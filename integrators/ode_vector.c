@@ -12,7 +12,9 @@
  * the same bits on any thread count; the threads are those the force evaluation ran
  * on last (fewer while other programs keep them waiting: fused.c). The weighted RMS norm
  * is esfera's own, serial (a sum whose order must not depend on the threads), scaled by
- * the largest weight. Entry: len entries, threads >= 1. Units: those of y (dem_ode.h). */
+ * the largest weight. esf_dem_ode_lincomb_nz (esfera's fixed-step Runge-Kutta driver,
+ * erk.c): a combination without its zero terms, the entries that come out zero summed
+ * again with all (the same bits). Entry: len entries, threads >= 1. Units: those of y. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
