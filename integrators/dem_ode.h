@@ -137,6 +137,16 @@ void esf_dem_ode_atol(const esf_dem_ode *o, double *a, double rtol, double atol)
  * of it. */
 N_Vector esf_dem_ode_vector(size_t len, const int *threads, SUNContext ctx);
 
+/* z = sum c_i X_i over vectors of esf_dem_ode_vector (z none of X, nvec <= 64), the
+ * same bits as N_VLinearCombination(nvec, c, X, z) with fewer passes: the terms with
+ * c_i = 0 are left out, which changes no entry but a zero's sign (such a term is +-0 for
+ * a finite X_i, and adding +-0 to a partial sum changes it only when it is +-0), and the
+ * entries that come out zero are summed again with every term. resum_only: z holds the
+ * sum of the nonzero terms already (the same nonzero terms, in the same order), only
+ * its zeros are summed again. Returns the number of zero entries. */
+long esf_dem_ode_lincomb_nz(int nvec, const double *c, N_Vector *X, N_Vector z,
+                            int resum_only);
+
 /* A SUNDIALS error handler that prints nothing: failures reach the user through
  * esfera's own messages (ARKErrHandlerFn and CVErrHandlerFn have this signature). */
 void esf_sundials_silent(int code, const char *module, const char *function, char *msg,

@@ -14,8 +14,10 @@
  * frequency including the rotation a tangential spring drives:
  * omega_max^2 = k_max / m_min x (7 for spheres, 6 for disks; 1/m + r^2/I per body).
  *
- * Each call of step() takes one internal step (ARK_ONE_STEP) not past t_stop, then
- * commits the contact history (esf_dem_ode_commit) and refreshes the candidate lists. */
+ * Each call of step() takes one step: a fixed one on esfera's own driver (own_step:
+ * ERKStep's operations, the same bits; ESF_ERK_DRIVER=arkode: on ERKStep), an adaptive
+ * one on ERKStep (ARK_ONE_STEP, not past t_stop); then commits the history and refreshes
+ * the lists. */
 #include <arkode/arkode_erkstep.h>
 #include <math.h>
 #include <nvector/nvector_serial.h>
@@ -46,6 +48,15 @@ typedef struct erk {
   long base[6]; /* ARKODE's counters of the ERKStep memories freed at checkpoints:
                    steps, attempts, error-test failures, rhs, accuracy-, stability-
                    limited steps */
+  /* esfera's fixed-step driver (own = 1; mem is then NULL): ARKODE's state, kept as
+     ERKStep keeps it */
+  int own;
+  N_Vector *F, ycur; /* the stages' derivatives (table->stages), a stage's state */
+  double *cv;        /* the combinations' coefficients (stages + 1) */
+  N_Vector *X;       /* and their vectors */
+  double tn;         /* ERKStep's t_n: the steps' sum since the last (re)start, s */
+  int fn_current;    /* F[0] holds f(t_n, y_n) (else the next step evaluates it) */
+  long nst, nfe;     /* steps and rhs evaluations since the last (re)start */
   char name[128];
 } erk;
 
@@ -203,9 +214,11 @@ static double stability_radius(ARKodeButcherTable B, double xi) {
 
 static int fail_flag(erk *e, esf_error *err, int flag, const char *what) {
   esf_sim *s = e->ode.s;
-  realtype h = 0, t = 0;
-  ERKStepGetCurrentStep(e->mem, &h);
-  ERKStepGetCurrentTime(e->mem, &t);
+  realtype h = s->dt, t = e->tn; /* esfera's driver: t_n or the failed stage's time */
+  if (e->mem) {
+    ERKStepGetCurrentStep(e->mem, &h);
+    ERKStepGetCurrentTime(e->mem, &t);
+  }
   if (e->ode.err.code)
     return esf_fail(err, ESF_ENUMERIC,
                     "%s (%s) failed at t = %.6g s with step %.4g s (critical dt %.4g s): "
@@ -216,12 +229,126 @@ static int fail_flag(erk *e, esf_error *err, int flag, const char *what) {
                   what, t, h, ERKStepGetReturnFlagName(flag), flag);
 }
 
+/* esfera's fixed-step driver (e->own: a fixed step, so no rootfinding, and not
+ * ESF_ERK_DRIVER=arkode): one step of the table as SUNDIALS 6.4.1's ERKStep takes it,
+ * the same vector operations on the same vectors in the same order, so the same bits
+ * and counters, without its Hermite interpolant's copies, its weights and norm.
+ * F_0 = f(t_n, y_n): evaluated after a (re)start, else the step before's last stage
+ * (first same as last; fix_fsal leaves no table with c_s = 1 whose last row is not b);
+ * stage i: z_i = sum_{j<i} (h a_ij) F_j + 1 y_n (one N_VLinearCombination, this order),
+ * F_i = f(t_n + c_i h, z_i); y_{n+1} = sum_j (h b_j) F_j + 1 y_n (zero weights
+ * included); t_{n+1} = t_n + h (a sum, as ERKStep's); a table with c_s != 1 evaluates
+ * F_0 = f(t_{n+1}, y_{n+1}) at the step's end, as ERKStep does for its interpolant. */
+static void own_free(erk *e) {
+  for (int i = 0; e->F && i < e->table->stages; i++)
+    if (e->F[i]) N_VDestroy(e->F[i]);
+  if (e->ycur) N_VDestroy(e->ycur);
+  free(e->F);
+  free(e->X);
+  free(e->cv);
+  e->F = e->X = NULL;
+  e->ycur = NULL;
+  e->cv = NULL;
+}
+
+/* The driver's vectors for the length of e->y, and a restart at (s->t, e->y) with its
+ * counters from zero (a new ERKStep memory; ERKStepResize keeps them: `counters` 0). */
+static int own_start(erk *e, int counters) {
+  const int st = e->table->stages;
+  if (!e->F || N_VGetLength(e->ycur) != N_VGetLength(e->y)) {
+    own_free(e);
+    e->F = calloc((size_t)st, sizeof *e->F);
+    e->X = calloc((size_t)st + 1, sizeof *e->X);
+    e->cv = calloc((size_t)st + 1, sizeof *e->cv);
+    e->ycur = N_VClone(e->y);
+    if (!e->F || !e->X || !e->cv || !e->ycur) return -1;
+    for (int i = 0; i < st; i++)
+      if (!(e->F[i] = N_VClone(e->y))) return -1;
+  }
+  e->tn = e->ode.s->t;
+  e->fn_current = 0;
+  if (counters) e->nst = e->nfe = 0;
+  return 0;
+}
+
+/* z = sum_{j<m} (h w_j) F_j + 1 y_n, ERKStep's combination (w a row of A, or b), its
+ * bits by esf_dem_ode_lincomb_nz (the zero terms left out); returns the zeros in z. */
+static long own_combine(erk *e, int m, const double *w, double h, N_Vector z,
+                        int resum_only) {
+  int nv = 0;
+  for (int j = 0; j < m; j++) {
+    e->cv[nv] = h * w[j];
+    e->X[nv++] = e->F[j];
+  }
+  e->cv[nv] = 1.0;
+  e->X[nv++] = e->y;
+  return esf_dem_ode_lincomb_nz(nv, e->cv, e->X, z, resum_only);
+}
+
+/* The last stage's state is y_{n+1} but for the sign of zeros: its row is b and its
+ * weight 0 (the tables with first same as last, those fix_fsal extends). */
+static int own_last_is_solution(ARKodeButcherTable B) {
+  const int st = B->stages;
+  if (st < 2 || B->b[st - 1] != 0.0) return 0;
+  for (int j = 0; j < st - 1; j++)
+    if (B->A[st - 1][j] != B->b[j]) return 0;
+  return 1;
+}
+
+/* One step; 0, or f's nonzero return (e->tn then the failed evaluation's time). */
+static int own_step(erk *e, double *tret) {
+  ARKodeButcherTable B = e->table;
+  const int st = B->stages;
+  const double h = e->ode.s->dt, t0 = e->tn;
+  int rc = 0;
+  long zeros = 0; /* in the last stage's state */
+  if (!e->fn_current) {
+    rc = erk_rhs(t0, e->y, e->F[0], e);
+    e->nfe++;
+    if (rc) return rc;
+    e->fn_current = 1;
+  }
+  for (int i = 1; i < st; i++) {
+    const double tc = t0 + B->c[i] * h;
+    zeros = own_combine(e, i, B->A[i], h, e->ycur, 0);
+    rc = erk_rhs(tc, e->ycur, e->F[i], e);
+    e->nfe++;
+    if (rc) {
+      e->tn = tc;
+      return rc;
+    }
+  }
+  if (!own_last_is_solution(B))
+    own_combine(e, st, B->b, h, e->ycur, 0);
+  else if (zeros) /* the last stage's state, its zeros summed as y_{n+1}'s */
+    own_combine(e, st, B->b, h, e->ycur, 1);
+  N_Vector y = e->ycur; /* the new state: the vectors trade places */
+  e->ycur = e->y;
+  e->y = y;
+  e->tn = t0 + h;
+  e->nst++;
+  *tret = e->tn;
+  if (fabs(B->c[st - 1] - 1.0) <= 1e-14) { /* the last stage is f(t_{n+1}, y_{n+1}) */
+    N_Vector f = e->F[0];
+    e->F[0] = e->F[st - 1];
+    e->F[st - 1] = f;
+    return 0;
+  }
+  e->fn_current = 0;
+  rc = erk_rhs(e->tn, e->y, e->F[0], e);
+  e->nfe++;
+  if (!rc) e->fn_current = 1;
+  return rc;
+}
+
 /* A new ERKStep memory at (s->t, e->y) with every setting, the first step h0 (adaptive)
  * or the fixed step s->dt; e->atol filled (adaptive). Used by create and at every
  * checkpoint (erk_save, erk_restore). */
 static int erk_mem_create(erk *e, double h0, esf_error *err) {
   esf_sim *s = e->ode.s;
   const esf_config *c = &s->cfg;
+  if (e->own) /* esfera's driver: a restart instead */
+    return own_start(e, 1) ? esf_fail(err, ESF_ENOMEM, "out of memory") : ESF_OK;
   e->mem = ERKStepCreate(erk_rhs, s->t, e->y, e->ctx);
   if (!e->mem) return esf_fail(err, ESF_EINTERNAL, "ERKStepCreate failed");
   ERKStepSetUserData(e->mem, e);
@@ -278,6 +405,7 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
                     esf_config_where(c, "integrator.method"), c->method, list);
   }
   int adaptive = c->rtol > 0;
+  e->own = !adaptive && !c->erk_arkode; /* the driver, chosen here only */
   if (adaptive && !e->table->d)
     return esf_fail(err, ESF_EINPUT,
                     "%s: integrator.method: %s has no embedded error estimate: it runs "
@@ -306,10 +434,11 @@ static int erk_create(esf_sim *s, void **state, esf_error *err) {
   if (rc) return rc;
   esf_sim_log(s,
               "%s%s: %d stages, order %d%s; stability radius %.3f along the xi = %.3f "
-              "ray, omega_max %.4g rad/s: h_stab %.4g s; %s; history %s%s",
+              "ray, omega_max %.4g rad/s: h_stab %.4g s; %s (%s); history %s%s",
               c->method, own ? " (the scene's table)" : "", e->table->stages, e->table->q,
               e->table->d ? " with an embedding" : "", e->r_stab, s->dte.xi, sqrt(w2),
               e->h_stab, adaptive ? "adaptive" : "fixed step",
+              e->own ? "esfera's fixed-step driver" : "ARKODE's ERKStep",
               esf_history_names[c->history],
               c->roots ? "; steps end at contact onset and separation (roots)" : "");
   return ESF_OK;
@@ -337,8 +466,9 @@ static int erk_sync(erk *e, int *restarted, esf_error *err) {
   }
   N_VDestroy(e->y);
   e->y = yn;
-  if (ERKStepResize(e->mem, e->y, 1.0, s->t, NULL, NULL) != ARK_SUCCESS)
-    return esf_fail(err, ESF_EINTERNAL, "%s: ERKStepResize failed", e->name);
+  if (e->own ? own_start(e, 0) != 0
+             : ERKStepResize(e->mem, e->y, 1.0, s->t, NULL, NULL) != ARK_SUCCESS)
+    return esf_fail(err, ESF_EINTERNAL, "%s: the restart on a new state failed", e->name);
   e->resizes++;
   *restarted = 1;
   if (e->atol && len != old) {
@@ -391,7 +521,13 @@ static int erk_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   }
   realtype tret = 0;
   int flag = 0;
-  for (int attempt = 0;; attempt++) {
+  if (e->own) {
+    esf_error_clear(&e->ode.err);
+    int r = own_step(e, &tret);
+    if (r)
+      return fail_flag(e, err, r < 0 ? ARK_RHSFUNC_FAIL : ARK_UNREC_RHSFUNC_ERR, "step");
+  }
+  for (int attempt = 0; !e->own; attempt++) {
     esf_error_clear(&e->ode.err);
     flag = ERKStepEvolve(e->mem, t_to, e->y, &tret, ARK_ONE_STEP);
     if (flag >= 0 || !adaptive || !e->ode.err.code || attempt == 20) break;
@@ -427,13 +563,15 @@ static int erk_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
 
 /* ARKODE's counters, those of memories freed at checkpoints included. */
 static void mem_counters(const erk *e, long v[6]) {
-  long x[6] = {0};
-  ERKStepGetNumSteps(e->mem, &x[0]);
-  ERKStepGetNumStepAttempts(e->mem, &x[1]);
-  ERKStepGetNumErrTestFails(e->mem, &x[2]);
-  ERKStepGetNumRhsEvals(e->mem, &x[3]);
-  ERKStepGetNumAccSteps(e->mem, &x[4]);
-  ERKStepGetNumExpSteps(e->mem, &x[5]);
+  long x[6] = {e->nst, e->nst, 0, e->nfe, 0, 0}; /* esfera's driver's */
+  if (e->mem) {
+    ERKStepGetNumSteps(e->mem, &x[0]);
+    ERKStepGetNumStepAttempts(e->mem, &x[1]);
+    ERKStepGetNumErrTestFails(e->mem, &x[2]);
+    ERKStepGetNumRhsEvals(e->mem, &x[3]);
+    ERKStepGetNumAccSteps(e->mem, &x[4]);
+    ERKStepGetNumExpSteps(e->mem, &x[5]);
+  }
   for (int k = 0; k < 6; k++) v[k] = e->base[k] + x[k];
 }
 
@@ -480,7 +618,7 @@ static int erk_save(esf_sim *s, void *state, esf_blob *out, esf_error *err) {
   if (s->cfg.table.s > 0) /* the scene's table, for the resumed run to compare */
     esf_blob_put(out, &s->cfg.table, sizeof s->cfg.table);
   /* the restart both runs make */
-  ERKStepFree(&e->mem);
+  if (e->mem) ERKStepFree(&e->mem);
   for (int k = 0; k < 6; k++) e->base[k] = cnt[k];
   return erk_mem_create(e, h, err);
 }
@@ -551,12 +689,11 @@ static int erk_restore(esf_sim *s, void *state, esf_blob_in *in, esf_error *err)
   e->ode.ncommit = v.ncommit;
   e->ode.nfail = v.nfail;
   for (int k = 0; k < 6; k++) e->base[k] = v.base[k];
-  ERKStepFree(&e->mem);
+  if (e->mem) ERKStepFree(&e->mem);
   return erk_mem_create(e, v.h, err);
 }
 
 static void erk_stats(const esf_sim *s, void *state, esf_integ_stats *o) {
-  (void)s;
   erk *e = state;
   memset(o, 0, sizeof *o);
   long v[6];
@@ -567,8 +704,8 @@ static void erk_stats(const esf_sim *s, void *state, esf_integ_stats *o) {
   o->rhs_evals = v[3] + e->ode.ncommit;
   o->acc_limited = v[4];
   o->stab_limited = v[5];
-  realtype h = 0;
-  ERKStepGetLastStep(e->mem, &h);
+  realtype h = e->nst > 0 ? s->dt : 0.0;
+  if (e->mem) ERKStepGetLastStep(e->mem, &h);
   o->h_last = h;
   o->h_stab = e->h_stab > 0 ? e->h_stab : 0.0;
   o->events = e->events;
@@ -579,6 +716,7 @@ static void erk_destroy(void **state) {
   erk *e = *state;
   if (e) {
     if (e->mem) ERKStepFree(&e->mem);
+    own_free(e);
     if (e->y) N_VDestroy(e->y);
     if (e->atol) N_VDestroy(e->atol);
     if (e->ysave) N_VDestroy(e->ysave);

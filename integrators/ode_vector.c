@@ -12,8 +12,11 @@
  * the same bits on any thread count; the threads are those the force evaluation ran
  * on last (fewer while other programs keep them waiting: fused.c). The weighted RMS norm
  * is esfera's own, serial (a sum whose order must not depend on the threads), scaled by
- * the largest weight. Entry: len entries, threads >= 1. Units: those of y (dem_ode.h). */
+ * the largest weight. esf_dem_ode_lincomb_nz (esfera's fixed-step Runge-Kutta driver,
+ * erk.c): a combination without its zero terms, the entries that come out zero summed
+ * again with all (the same bits). Entry: len entries, threads >= 1. Units: those of y. */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <nvector/nvector_openmp.h>
@@ -259,6 +262,57 @@ static void constant_b(const op_args *o, sunindextype lo, sunindextype m) {
 static void constant(realtype c, N_Vector z) {
   const op_args o = {.a = c, .z = z};
   each_block(constant_b, &o);
+}
+
+/* esf_dem_ode_lincomb_nz's block: the sum of the nonzero terms (o->nvec, o->c, o->X),
+ * then the entries that came out zero again with all terms (o->b terms: o->cd, o->Xd),
+ * one at a time (the same operations as over a block). full < 0: only that re-sum. */
+typedef struct nz_args {
+  op_args sparse;
+  int full;
+  const double *cd;
+  N_Vector *Xd;
+  long zeros;
+} nz_args;
+
+static void lincomb_nz_b(const op_args *o, sunindextype lo, sunindextype m) {
+  nz_args *a = (nz_args *)o;
+  if (a->full >= 0) lincomb_m(o->nvec, o->c, o->X, o->z, lo, m);
+  const double *zd = NV_DATA_OMP(o->z);
+  uint64_t any = 0; /* 1 when some |z_j| has all bits 0: integer operations, vectorised */
+  for (sunindextype j = lo; j < lo + m; j++) {
+    uint64_t u;
+    memcpy(&u, zd + j, sizeof u);
+    any |= ((u & 0x7fffffffffffffffULL) - 1) >> 63;
+  }
+  if (any) {
+    long nz = 0;
+    for (sunindextype j = lo; j < lo + m; j++)
+      if (zd[j] == 0.0) {
+        lincomb_m(a->full < 0 ? -a->full : a->full, a->cd, a->Xd, o->z, j, 1);
+        nz++;
+      }
+#pragma omp atomic
+    a->zeros += nz;
+  }
+}
+
+long esf_dem_ode_lincomb_nz(int nvec, const double *c, N_Vector *X, N_Vector z,
+                            int resum_only) {
+  double cs[64];
+  N_Vector xs[64];
+  int n = 0;
+  for (int i = 0; i < nvec; i++)
+    if (c[i] != 0.0 && n < 64) {
+      cs[n] = c[i];
+      xs[n++] = X[i];
+    }
+  nz_args a = {.sparse = {.nvec = n, .c = cs, .X = xs, .z = z},
+               .full = resum_only ? -nvec : nvec,
+               .cd = c,
+               .Xd = X};
+  each_block(lincomb_nz_b, &a.sparse);
+  return a.zeros;
 }
 
 /* sqrt(sum (x w)^2 / n) as W sqrt(sum (x w/W)^2 / n), W the largest weight: ARKODE

@@ -58,9 +58,11 @@ typedef struct simtest {
   esf_error err;
 } simtest;
 
-/* Parses yaml (with --set style overrides), reads and sets up; 0 on success. */
-static inline int simtest_open(simtest *T, const char *yaml, const char *const *sets,
-                               int nsets) {
+/* As simtest_open, with erk_arkode set in the configuration before the integrator is
+ * created (1: the fixed-step erk methods on ARKODE's ERKStep, as ESF_ERK_DRIVER=arkode).
+ */
+static inline int simtest_open_drv(simtest *T, const char *yaml, const char *const *sets,
+                                   int nsets, int erk_arkode) {
   memset(T, 0, sizeof *T);
   esf_ydoc *doc = NULL;
   int rc = esf_ydoc_parse(yaml, "test.yaml", &doc, &T->err);
@@ -69,6 +71,7 @@ static inline int simtest_open(simtest *T, const char *yaml, const char *const *
   if (!rc) rc = esf_scene_read(doc, &T->s, &T->err);
   esf_ydoc_free(&doc);
   if (!rc) rc = esf_sim_setup(&T->s, &T->err);
+  T->s.cfg.erk_arkode = erk_arkode;
   if (!rc) {
     T->it = esf_integrator_find(T->s.cfg.method);
     if (!T->it) rc = esf_fail(&T->err, ESF_EINPUT, "no integrator %s", T->s.cfg.method);
@@ -76,6 +79,12 @@ static inline int simtest_open(simtest *T, const char *yaml, const char *const *
   if (!rc) rc = T->it->create(&T->s, &T->ist, &T->err);
   if (rc) fprintf(stderr, "simtest_open: %s\n", T->err.msg);
   return rc;
+}
+
+/* Parses yaml (with --set style overrides), reads and sets up; 0 on success. */
+static inline int simtest_open(simtest *T, const char *yaml, const char *const *sets,
+                               int nsets) {
+  return simtest_open_drv(T, yaml, sets, nsets, 0);
 }
 
 static inline int simtest_step(simtest *T) {

@@ -18,6 +18,7 @@
 
 #include "check.h"
 #include "fused/fused.h"
+#include "integrators/dem_ode.h"
 #include "simtest.h"
 
 static const char *const scene =
@@ -58,12 +59,13 @@ typedef struct snapshot {
   double *vc0; /* the ODE methods' carry, or NULL */
   double t, contacts;
   int fused; /* the evaluations took the fused kernels */
+  esf_integ_stats st;
 } snapshot;
 
 /* `steps` calls of the scheme's step with method (and its overrides), threads, fused
  * or the general path. */
-static int run(const char *const *msets, int nm, int hertz, int threads, int fused,
-               long steps, snapshot *out) {
+static int run_drv(const char *const *msets, int nm, int hertz, int threads, int fused,
+                   int arkode, long steps, snapshot *out) {
   const char *sets[12];
   int n = 0;
   for (int k = 0; k < nm; k++) sets[n++] = msets[k];
@@ -73,7 +75,7 @@ static int run(const char *const *msets, int nm, int hertz, int threads, int fus
     sets[n++] = hertz_sets[1];
   }
   simtest T;
-  int rc = simtest_open(&T, scene, sets, n);
+  int rc = simtest_open_drv(&T, scene, sets, n, arkode);
   if (rc) return rc;
   T.s.cfg.threads = threads;
   T.s.cfg.range_work = 1; /* one range per thread, however small the scene */
@@ -100,9 +102,15 @@ static int run(const char *const *msets, int nm, int hertz, int threads, int fus
     out->t = T.s.t;
     out->contacts = T.s.contacts_sum;
     out->fused = esf_fused_eval_refusal(&T.s, ode) == NULL;
+    if (T.it->stats) T.it->stats(&T.s, T.ist, &out->st);
   }
   simtest_close(&T);
   return rc;
+}
+
+static int run(const char *const *msets, int nm, int hertz, int threads, int fused,
+               long steps, snapshot *out) {
+  return run_drv(msets, nm, hertz, threads, fused, 0, steps, out);
 }
 
 static void release(snapshot *a) {
@@ -152,7 +160,99 @@ static void check_method(const char *name, const char *const *msets, int nm, int
   release(&gen);
 }
 
+/* The fixed-step erk methods on esfera's driver (erk.c) and on ARKODE's ERKStep
+ * (ESF_ERK_DRIVER=arkode): the same bits (state, histories, carry) and counters, on
+ * the fused kernels on 1 and 2 threads. */
+static void check_driver(const char *name, const char *const *msets, int nm, long steps) {
+  for (int th = 1; th <= 2; th++) {
+    snapshot a = {0}, b = {0};
+    char what[160];
+    snprintf(what, sizeof what, "%s, esfera's driver against ERKStep, %d threads", name,
+             th);
+    int rc = run_drv(msets, nm, 0, th, 1, 1, steps, &a);
+    if (!rc) rc = run_drv(msets, nm, 0, th, 1, 0, steps, &b);
+    CHECK(rc == 0, "%s: ran", what);
+    if (!rc) {
+      check_same(&b, &a, what);
+      CHECK(b.st.steps == a.st.steps && b.st.attempts == a.st.attempts &&
+                b.st.rhs_evals == a.st.rhs_evals && b.st.rejected == a.st.rejected &&
+                b.st.restarts == a.st.restarts && b.st.h_last == a.st.h_last,
+            "%s: counters: %ld steps, %ld rhs, %ld restarts, h %.17g (ERKStep: %ld, "
+            "%ld, %ld, %.17g)",
+            what, b.st.steps, b.st.rhs_evals, b.st.restarts, b.st.h_last, a.st.steps,
+            a.st.rhs_evals, a.st.restarts, a.st.h_last);
+      if (th == 1)
+        printf("%s: %ld steps, %ld rhs evaluations, %ld restarts\n", name, b.st.steps,
+               b.st.rhs_evals, b.st.restarts);
+    }
+    release(&a);
+    release(&b);
+  }
+}
+
+/* esf_dem_ode_lincomb_nz against SUNDIALS' N_VLinearCombination on vectors of small
+ * integers and signed zeros (exact cancellations, so many zero results of either sign)
+ * over several blocks, zero coefficients among the terms: the same bits, the re-sum
+ * only included; and the plain sum of the nonzero terms does differ in some zero's sign
+ * (the case the re-sum is there for). */
+static void check_lincomb_nz(void) {
+  SUNContext ctx;
+  CHECK(SUNContext_Create(NULL, &ctx) == 0, "SUNDIALS context");
+  const int threads = 2, nv = 6;
+  const size_t len = 9001;
+  N_Vector X[6], za, zb, zs;
+  for (int i = 0; i < nv; i++) X[i] = esf_dem_ode_vector(len, &threads, ctx);
+  za = esf_dem_ode_vector(len, &threads, ctx);
+  zb = N_VClone(za);
+  zs = N_VClone(za);
+  uint64_t r = 12345;
+  for (int i = 0; i < nv; i++) {
+    double *x = N_VGetArrayPointer(X[i]);
+    for (size_t j = 0; j < len; j++) {
+      r = r * 6364136223846793005ULL + 1442695040888963407ULL;
+      const int k = (int)(r >> 60); /* 0 .. 15 */
+      x[j] = k < 4 ? (k & 1 ? -0.0 : 0.0) : (double)(k - 10);
+    }
+  }
+  const double cs[][6] = {{0.0, 0.25, 0.0, 0.5, -0.25, 1.0},
+                          {0.0, 0.0, 0.0, 0.0, 0.0, 1.0},
+                          {0.5, 0.0, 0.25, 0.0, 0.0, 1.0},
+                          {0.0, 0.5, 1.0}};
+  const int ns[] = {6, 6, 6, 3};
+  int sign_cases = 0;
+  for (int c = 0; c < 4; c++) {
+    double cv[6], cp[6];
+    N_Vector Xp[6];
+    int np = 0;
+    for (int i = 0; i < ns[c]; i++) {
+      cv[i] = cs[c][i];
+      if (cv[i] != 0.0) {
+        cp[np] = cv[i];
+        Xp[np++] = X[i];
+      }
+    }
+    N_VLinearCombination(ns[c], cv, X, za);
+    N_VLinearCombination(np, cp, Xp, zs); /* the nonzero terms only */
+    const double *a = N_VGetArrayPointer(za), *s = N_VGetArrayPointer(zs);
+    for (size_t j = 0; j < len; j++) sign_cases += signbit(a[j]) != signbit(s[j]);
+    long zeros = esf_dem_ode_lincomb_nz(ns[c], cv, X, zb, 0);
+    CHECK(memcmp(a, N_VGetArrayPointer(zb), len * sizeof(double)) == 0 && zeros > 0,
+          "lincomb_nz, coefficients %d: the bits of N_VLinearCombination (%ld zeros)", c,
+          zeros);
+    esf_dem_ode_lincomb_nz(ns[c], cv, X, zs, 1);
+    CHECK(memcmp(a, N_VGetArrayPointer(zs), len * sizeof(double)) == 0,
+          "lincomb_nz, coefficients %d: the re-sum of the zeros", c);
+  }
+  CHECK(sign_cases > 0, "the nonzero terms alone give %d zeros another sign", sign_cases);
+  for (int i = 0; i < nv; i++) N_VDestroy(X[i]);
+  N_VDestroy(za);
+  N_VDestroy(zb);
+  N_VDestroy(zs);
+  SUNContext_Free(&ctx);
+}
+
 int main(void) {
+  check_lincomb_nz();
   const char *verlet[] = {"integrator.method=verlet"};
   const char *rk4[] = {"integrator.method=rk4"};
   const char *rk4p[] = {"integrator.method=rk4", "contact.tangential_frame=project"};
@@ -160,6 +260,15 @@ int main(void) {
                        "integrator.rtol=1.0e-5", "integrator.atol=1.0e-9"};
   const char *adams[] = {"integrator.method=cvode-adams", "integrator.rtol=1.0e-5",
                          "integrator.atol=1.0e-9"};
+  const char *heun[] = {"integrator.method=erk:ARKODE_HEUN_EULER_2_1_2"};
+  const char *bs3[] = {"integrator.method=erk:ARKODE_BOGACKI_SHAMPINE_4_2_3"};
+  const char *f45[] = {"integrator.method=erk:ARKODE_FEHLBERG_6_4_5"}; /* c_s != 1 */
+  const char *rk4s[] = {"integrator.method=rk4", "integrator.history=state"};
+  check_driver("rk4", rk4, 1, 600);
+  check_driver("Heun-Euler", heun, 1, 600);
+  check_driver("Bogacki-Shampine", bs3, 1, 600);
+  check_driver("Fehlberg 4(5)", f45, 1, 600);
+  check_driver("rk4, history as state", rk4s, 2, 600);
   check_method("verlet", verlet, 1, 0, 1500);
   check_method("rk4", rk4, 1, 0, 1500);
   check_method("rk4, projected frame", rk4p, 2, 0, 1500);

@@ -169,7 +169,8 @@ static int load_scene(const cli_args *a, const esf_ckpt *ck, esf_sim *s, esf_err
 
 /* Diagnostic knobs from the environment (docs/usage.md#environment): ESF_ISA, the
  * fused step's kernels (base, avx2, avx512); ESF_RANGE_WORK, its least work per range
- * (1: one range per thread). Results do not depend on either. */
+ * (1: one range per thread); ESF_ERK_DRIVER, the fixed-step erk methods' driver (esfera,
+ * arkode). Results do not depend on any. */
 static int env_knobs(esf_config *c, esf_error *err) {
   const char *isa = getenv("ESF_ISA"), *rw = getenv("ESF_RANGE_WORK");
   if (isa && *isa) {
@@ -183,6 +184,12 @@ static int env_knobs(esf_config *c, esf_error *err) {
     if (*end || v < 1 || v > 1000000000)
       return esf_fail(err, ESF_EINPUT, "ESF_RANGE_WORK=%s: a whole number from 1", rw);
     c->range_work = (int)v;
+  }
+  const char *drv = getenv("ESF_ERK_DRIVER");
+  if (drv && *drv) {
+    if (strcmp(drv, "arkode") && strcmp(drv, "esfera"))
+      return esf_fail(err, ESF_EINPUT, "ESF_ERK_DRIVER=%s: esfera or arkode", drv);
+    c->erk_arkode = strcmp(drv, "arkode") == 0;
   }
   return ESF_OK;
 }

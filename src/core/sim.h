@@ -126,6 +126,8 @@ typedef struct esf_config {
                        tests set 1 for one range per thread; ESF_RANGE_WORK) */
   char isa[16];     /* fused step: the kernels' instruction set, "" for the CPU's
                        widest (base, avx2, avx512; ESF_ISA) */
+  int erk_arkode;   /* fixed-step erk: 1 steps with ARKODE's ERKStep instead of esfera's
+                       driver (the same bits; ESF_ERK_DRIVER=arkode) */
   esf_where where[ESF_WHERE_N]; /* places of keys, set by the scene reader (key "" is
                                    the document itself) */
   int nwhere;
