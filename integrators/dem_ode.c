@@ -191,6 +191,11 @@ int esf_dem_ode_check(const esf_sim *s, const char *name, int state_ok, int root
   return ESF_OK;
 }
 
+/* The rest of f(t, y) after the forces: the velocities, the accelerations with the
+ * ledger (pd its damping powers), the non-finite test and the quadratures from ty. */
+static int rhs_finish(esf_dem_ode *o, double t, const double *y, double *ydot,
+                      const esf_force_tally *tyc);
+
 int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   esf_sim *s = o->s;
   size_t n = o->n;
@@ -210,6 +215,42 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
     o->nfail++;
     return 1;
   }
+  return rhs_finish(o, t, y, ydot, &ty);
+}
+
+int esf_dem_ode_rhs_commit(esf_dem_ode *o, double t, const double *y, double *ydot) {
+  esf_sim *s = o->s;
+  const size_t n = o->n;
+  if (o->state || s->led.on) return -1; /* (the caller checks esf_dem_ode_can_merge) */
+  memcpy(s->p.y, y, 9 * n * sizeof(double));
+  size_t touching = 0;
+  esf_walls_set_time(&s->walls, t);
+  const esf_eval_accel ea = {ydot + 3 * n, ydot + 6 * n, 1};
+  int rc = esf_eval_forces(&o->path, s, s->p.x, s->p.v, s->p.w, t - o->t_commit,
+                           ESF_FORCES_COMMIT, &touching, &ea, &o->err);
+  o->nrhs++;
+  if (rc) {
+    o->nfail++;
+    return 1;
+  }
+  const esf_force_tally ty = {0};
+  rc = rhs_finish(o, t, y, ydot, &ty);
+  if (rc) return rc;
+  o->t_commit = t; /* esf_dem_ode_commit's bookkeeping (no ledger) */
+  s->t = t;
+  s->led_time = t;
+  s->contacts_sum += (double)touching;
+  return 0;
+}
+
+int esf_dem_ode_can_merge(const esf_dem_ode *o) { return !o->state && !o->s->led.on; }
+
+static int rhs_finish(esf_dem_ode *o, double t, const double *y, double *ydot,
+                      const esf_force_tally *tyc) {
+  esf_sim *s = o->s;
+  const size_t n = o->n;
+  const double *v = y + 3 * n, *w = y + 6 * n;
+  const esf_force_tally ty = *tyc;
   memcpy(ydot, v, 3 * n * sizeof(double));
   double pd[2] = {0, 0};
   if (s->led.on)

@@ -164,6 +164,17 @@ int esf_dem_ode_check(const esf_sim *s, const char *name, int state_ok, int root
 /* The right-hand side: 0 ok, 1 recoverable failure (message in o->err). */
 int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot);
 
+/* The right-hand side at the end of a step already accepted (a fixed step's last stage
+ * at t_{n+1}, y_{n+1}) with the commit esf_dem_ode_commit would make there, in one
+ * evaluation: a trial and a commit at the same state compute the same forces (the
+ * commit also writes histories, touch flags and p.f, p.t), so ydot and the committed
+ * state are those of esf_dem_ode_rhs followed by esf_dem_ode_commit, bit for bit. Only
+ * where esf_dem_ode_can_merge: without history as state and without the ledger (whose
+ * quadratures and tallies the two evaluations take differently). 0 ok, 1 failure
+ * (o->err), -1 not allowed. */
+int esf_dem_ode_rhs_commit(esf_dem_ode *o, double t, const double *y, double *ydot);
+int esf_dem_ode_can_merge(const esf_dem_ode *o);
+
 /* After an accepted step to t with state y: copies x, v, w into the particles, commits
  * the contact history over [t_commit, t], updates the ledger (stored energies,
  * dissipation from the quadratures and the slip work) and sets s->t, s->led_time. */

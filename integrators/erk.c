@@ -56,7 +56,9 @@ typedef struct erk {
   N_Vector *X;       /* and their vectors */
   double tn;         /* ERKStep's t_n: the steps' sum since the last (re)start, s */
   int fn_current;    /* F[0] holds f(t_n, y_n) (else the next step evaluates it) */
-  long nst, nfe;     /* steps and rhs evaluations since the last (re)start */
+  int committed; /* own_step's last stage committed the step (esf_dem_ode_rhs_commit) */
+  long merged;   /* such steps (esf_integ_stats.merged) */
+  long nst, nfe; /* steps and rhs evaluations since the last (re)start */
   char name[128];
 } erk;
 
@@ -308,10 +310,21 @@ static int own_step(erk *e, double *tret) {
     if (rc) return rc;
     e->fn_current = 1;
   }
+  e->committed = 0;
   for (int i = 1; i < st; i++) {
     const double tc = t0 + B->c[i] * h;
     zeros = own_combine(e, i, B->A[i], h, e->ycur, 0);
-    rc = erk_rhs(tc, e->ycur, e->F[i], e);
+    /* the last stage at (t_{n+1}, y_{n+1}) exactly: it commits the step too. Its zeros
+       are those of y_{n+1} with the same signs when they are the nq quadratures alone:
+       without the ledger those are +0 in y_n and in every F_j, and a sum with a +0
+       term (1 y_n) and otherwise +-0 terms is +0; a zero elsewhere could take another
+       sign in y_{n+1}'s re-sum (which needs F of this stage): no merge then */
+    const int merge = i == st - 1 && B->c[i] == 1.0 && zeros == (long)e->ode.nq &&
+                      own_last_is_solution(B) && esf_dem_ode_can_merge(&e->ode);
+    rc = merge ? esf_dem_ode_rhs_commit(&e->ode, tc, N_VGetArrayPointer(e->ycur),
+                                        N_VGetArrayPointer(e->F[i]))
+               : erk_rhs(tc, e->ycur, e->F[i], e);
+    e->committed = merge && !rc;
     e->nfe++;
     if (rc) {
       e->tn = tc;
@@ -541,8 +554,12 @@ static int erk_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   }
   if (flag < 0) return fail_flag(e, err, flag, "step");
   if (flag == ARK_ROOT_RETURN) return erk_redo(e, tret, err);
-  int rc = esf_dem_ode_commit(&e->ode, tret, N_VGetArrayPointer(e->y), err);
+  int rc = e->committed
+               ? ESF_OK
+               : esf_dem_ode_commit(&e->ode, tret, N_VGetArrayPointer(e->y), err);
   if (rc) return rc;
+  e->merged += e->committed;
+  e->committed = 0;
   s->step++;
   if (!adaptive) s->t = (double)s->step * s->dt; /* fixed step: exact times */
   int events_back = e->roots_off && tret >= e->t_event;
@@ -702,6 +719,7 @@ static void erk_stats(const esf_sim *s, void *state, esf_integ_stats *o) {
   o->attempts = v[1];
   o->rejected = v[2] + e->retries;
   o->rhs_evals = v[3] + e->ode.ncommit;
+  o->merged = e->merged;
   o->acc_limited = v[4];
   o->stab_limited = v[5];
   realtype h = e->nst > 0 ? s->dt : 0.0;

@@ -35,6 +35,9 @@ typedef struct esf_integ_stats {
   long stab_limited; /* adaptive: steps limited by the stability bound */
   long events;       /* contact onsets and separations located (integrator.roots) */
   long restarts;     /* restarts on a changed state (history as ODE state) */
+  long merged;       /* fixed-step erk: steps whose last stage's evaluation was their
+                        commit (one evaluation fewer each; since the run's or resume's
+                        start) */
   double h_last;     /* last step size, s */
   double h_stab;     /* adaptive ERK: the stability bound given to ARKODE, s (0: none) */
 } esf_integ_stats;

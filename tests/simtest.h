@@ -59,10 +59,10 @@ typedef struct simtest {
 } simtest;
 
 /* As simtest_open, with erk_arkode set in the configuration before the integrator is
- * created (1: the fixed-step erk methods on ARKODE's ERKStep, as ESF_ERK_DRIVER=arkode).
- */
-static inline int simtest_open_drv(simtest *T, const char *yaml, const char *const *sets,
-                                   int nsets, int erk_arkode) {
+ * created (1: the fixed-step erk methods on ARKODE's ERKStep, as ESF_ERK_DRIVER=arkode)
+ * and prep (or NULL) run on the set-up simulation before that. */
+static inline int simtest_open_prep(simtest *T, const char *yaml, const char *const *sets,
+                                    int nsets, int erk_arkode, void (*prep)(esf_sim *)) {
   memset(T, 0, sizeof *T);
   esf_ydoc *doc = NULL;
   int rc = esf_ydoc_parse(yaml, "test.yaml", &doc, &T->err);
@@ -72,6 +72,7 @@ static inline int simtest_open_drv(simtest *T, const char *yaml, const char *con
   esf_ydoc_free(&doc);
   if (!rc) rc = esf_sim_setup(&T->s, &T->err);
   T->s.cfg.erk_arkode = erk_arkode;
+  if (!rc && prep) prep(&T->s); /* the particles before the integrator reads them */
   if (!rc) {
     T->it = esf_integrator_find(T->s.cfg.method);
     if (!T->it) rc = esf_fail(&T->err, ESF_EINPUT, "no integrator %s", T->s.cfg.method);
@@ -79,6 +80,11 @@ static inline int simtest_open_drv(simtest *T, const char *yaml, const char *con
   if (!rc) rc = T->it->create(&T->s, &T->ist, &T->err);
   if (rc) fprintf(stderr, "simtest_open: %s\n", T->err.msg);
   return rc;
+}
+
+static inline int simtest_open_drv(simtest *T, const char *yaml, const char *const *sets,
+                                   int nsets, int erk_arkode) {
+  return simtest_open_prep(T, yaml, sets, nsets, erk_arkode, NULL);
 }
 
 /* Parses yaml (with --set style overrides), reads and sets up; 0 on success. */
