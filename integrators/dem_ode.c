@@ -218,10 +218,19 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   return rhs_finish(o, t, y, ydot, &ty);
 }
 
+/* A commit's bookkeeping at t (both commits: esf_dem_ode_commit, the merged one). */
+static void commit_book(esf_dem_ode *o, double t, size_t touching) {
+  esf_sim *s = o->s;
+  o->t_commit = t;
+  s->t = t;
+  s->led_time = t;
+  s->contacts_sum += (double)touching;
+}
+
 int esf_dem_ode_rhs_commit(esf_dem_ode *o, double t, const double *y, double *ydot) {
   esf_sim *s = o->s;
   const size_t n = o->n;
-  if (o->state || s->led.on) return -1; /* (the caller checks esf_dem_ode_can_merge) */
+  if (!esf_dem_ode_can_merge(o)) return -1;
   memcpy(s->p.y, y, 9 * n * sizeof(double));
   size_t touching = 0;
   esf_walls_set_time(&s->walls, t);
@@ -235,12 +244,8 @@ int esf_dem_ode_rhs_commit(esf_dem_ode *o, double t, const double *y, double *yd
   }
   const esf_force_tally ty = {0};
   rc = rhs_finish(o, t, y, ydot, &ty);
-  if (rc) return rc;
-  o->t_commit = t; /* esf_dem_ode_commit's bookkeeping (no ledger) */
-  s->t = t;
-  s->led_time = t;
-  s->contacts_sum += (double)touching;
-  return 0;
+  if (!rc) commit_book(o, t, touching); /* (no ledger to book) */
+  return rc;
 }
 
 int esf_dem_ode_can_merge(const esf_dem_ode *o) { return !o->state && !o->s->led.on; }
@@ -301,10 +306,7 @@ int esf_dem_ode_commit(esf_dem_ode *o, double t, const double *y, esf_error *err
   s->tally = NULL;
   o->ncommit++;
   if (rc) return rc;
-  o->t_commit = t;
-  s->t = t;
-  s->led_time = t;
-  s->contacts_sum += (double)touching;
+  commit_book(o, t, touching);
   esf_ledger *L = &s->led;
   if (L->on) {
     const double *q = y + 9 * n;
