@@ -44,7 +44,8 @@ int esf_eval_forces(esf_eval_path *ep, esf_sim *s, const double *x, const double
                              .trial = mode == ESF_FORCES_TRIAL,
                              .acc = ea ? ea->acc : NULL,
                              .dw = ea ? ea->dw : NULL,
-                             .with_global = ea && ea->with_global};
+                             .with_global = ea && ea->with_global,
+                             .lazy = ea && ea->lazy};
   const int rc = esf_fused_forces(s, ep->fast, &ev, touching, err);
   ep->threads = esf_fused_threads(ep->fast);
   return rc;
@@ -205,7 +206,7 @@ int esf_dem_ode_rhs(esf_dem_ode *o, double t, const double *y, double *ydot) {
   attach_xi(o, y, ydot);
   esf_walls_set_time(&s->walls, t);
   /* the accelerations with the forces (without the ledger: its powers are below) */
-  const esf_eval_accel ea = {ydot + 3 * n, ydot + 6 * n, 1};
+  const esf_eval_accel ea = {ydot + 3 * n, ydot + 6 * n, 1, 0};
   int rc = esf_eval_forces(&o->path, s, x, v, w, t - o->t_commit, ESF_FORCES_TRIAL, NULL,
                            s->led.on ? NULL : &ea, &o->err);
   detach_xi(o);
@@ -234,7 +235,7 @@ int esf_dem_ode_rhs_commit(esf_dem_ode *o, double t, const double *y, double *yd
   memcpy(s->p.y, y, 9 * n * sizeof(double));
   size_t touching = 0;
   esf_walls_set_time(&s->walls, t);
-  const esf_eval_accel ea = {ydot + 3 * n, ydot + 6 * n, 1};
+  const esf_eval_accel ea = {ydot + 3 * n, ydot + 6 * n, 1, 0};
   int rc = esf_eval_forces(&o->path, s, s->p.x, s->p.v, s->p.w, t - o->t_commit,
                            ESF_FORCES_COMMIT, &touching, &ea, &o->err);
   o->nrhs++;

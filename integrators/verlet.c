@@ -13,11 +13,21 @@
  *      so the scheme stays second order with it; contact dashpots see v_{n+1/2}, which
  *      makes them first order, as in the peers.
  * Start: forces at x_0, v_0 with the history committed over a zero interval.
+ * Passes: up to s->burst steps a call; step 5 of each but the last and steps 1-2 of the
+ * next are one pass over the particles (esf_fused_vv_drift: the same operations per
+ * entry, vectorised for the CPU), which measures the displacements for the lists' check.
  * Ledger: stored energies on the step; dissipation by the trapezoidal rule over the
  * powers at successive evaluations (second order, so the residual falls as dt^2). */
+#include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "fused/fused.h"
 #include "integrators/dem_ode.h"
 #include "integrators/integrator.h"
 #include "model/forces.h"
@@ -29,7 +39,8 @@ typedef struct verlet {
   double p_prev[7]; /* normal, tangential, global, local, walls, fluid, rolling powers
                        at t_n */
   int started;
-  esf_eval_path path; /* the force evaluation's (dem_ode.h) */
+  esf_eval_path path;    /* the force evaluation's (dem_ode.h) */
+  esf_vv_drift_fn drift; /* the particle pass, for this CPU (fused.h) */
 } verlet;
 
 static int vv_create(esf_sim *s, void **state, esf_error *err) {
@@ -41,6 +52,11 @@ static int vv_create(esf_sim *s, void **state, esf_error *err) {
                     esf_config_where(&s->cfg, "domain"));
   verlet *vv = calloc(1, sizeof *vv);
   if (!vv) return esf_fail(err, ESF_ENOMEM, "out of memory");
+  rc = esf_fused_vv_drift(s->cfg.isa, &vv->drift, err);
+  if (rc) {
+    free(vv);
+    return rc;
+  }
   vv->path.name = "verlet";
   vv->path.threads = 1;
   *state = vv;
@@ -78,7 +94,7 @@ static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[7], esf_error *
   int rc = reserve(vv, p->n, err);
   if (rc) return rc;
   /* the accelerations with the forces (without the ledger: its powers are below) */
-  const esf_eval_accel ea = {vv->a, vv->dw, 0};
+  const esf_eval_accel ea = {vv->a, vv->dw, 0, 1}; /* F, M read only on demand */
   rc = esf_eval_forces(&vv->path, s, p->x, p->v, p->w, dt, ESF_FORCES_COMMIT, &touching,
                        s->led.on ? NULL : &ea, err);
   s->tally = NULL;
@@ -117,21 +133,60 @@ static void ledger_update(esf_sim *s, verlet *vv, const double pw[7]) {
   s->led_time = s->t;
 }
 
-/* Entry j of step 1 (the first half kick, global damping explicit) and the drift. */
-static inline void kick_drift(esf_particles *p, const verlet *vv, double h, double dt,
-                              double ar, double at, size_t j) {
-  p->v[j] += h * (vv->a[j] - ar * p->v[j]);
-  p->w[j] += h * (vv->dw[j] - at * p->w[j]);
-  p->x[j] += dt * p->v[j];
+/* The pass over every particle (esf_fused_vv_drift's, the kernels for this CPU) on nth
+ * threads, each a contiguous share; the largest displacement goes to the lists
+ * (esf_neighbor_check then needs no pass of its own, and decides the same: a maximum
+ * does not depend on the order). */
+static void drift_all(esf_sim *s, const verlet *vv, int end, int drift, int nth) {
+  esf_particles *p = &s->p;
+  esf_neighbor *nb = &s->nb;
+  const double dt = s->dt, h = 0.5 * dt, ar = s->alpha_r, at = s->alpha_t;
+  const int dsp = drift && nb->xref && nb->nref == p->n;
+  static const double inf3[2][3] = {{-INFINITY, -INFINITY, -INFINITY},
+                                    {INFINITY, INFINITY, INFINITY}};
+  const esf_vv_pass c = {.h = h,
+                         .dt = dt,
+                         .ar = ar,
+                         .at = at,
+                         .cr = 1.0 / (1.0 + h * ar),
+                         .ct = 1.0 / (1.0 + h * at),
+                         .x = p->x,
+                         .v = p->v,
+                         .w = p->w,
+                         .a = vv->a,
+                         .dw = vv->dw,
+                         .xref = dsp ? nb->xref : NULL,
+                         .lo3 = nb->dom_lo ? nb->dom_lo : inf3[0],
+                         .hi3 = nb->dom_lo ? nb->dom_hi : inf3[1],
+                         .end = end,
+                         .drift = drift};
+  const size_t n = p->n;
+  esf_vv_disp d = {0, 0, 0};
+#pragma omp parallel num_threads(nth) if (nth > 1)
+  {
+#ifdef _OPENMP
+    const size_t t = (size_t)omp_get_thread_num(), m = (size_t)omp_get_num_threads();
+#else
+    const size_t t = 0, m = 1;
+#endif
+    esf_vv_disp o = {0, 0, 0};
+    vv->drift(&c, n * t / m, n * (t + 1) / m, &o);
+#pragma omp critical(esf_verlet_disp)
+    {
+      if (o.max_bits > d.max_bits) d.max_bits = o.max_bits;
+      d.bad |= o.bad;
+      d.out |= o.out;
+    }
+  }
+  if (!drift) return;
+  memcpy(&nb->max_disp2, &d.max_bits, sizeof nb->max_disp2);
+  nb->escaped = d.out;
+  nb->disp_valid = dsp && !d.bad;
 }
 
-/* Entry j of step 5 (the second half kick, global damping trapezoidal: cr, ct). */
-static inline void kick_end(esf_particles *p, const verlet *vv, double h, double cr,
-                            double ct, size_t j) {
-  p->v[j] = (p->v[j] + h * vv->a[j]) * cr;
-  p->w[j] = (p->w[j] + h * vv->dw[j]) * ct;
-}
-
+/* Up to s->burst steps (one with the ledger, which reads the state at every step): the
+ * second half kick of each step but the last goes with the next step's first half kick
+ * and drift in one pass, the same operations per entry as two passes. */
 static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   (void)t_stop;
   verlet *vv = state;
@@ -151,37 +206,32 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     }
     vv->started = 1;
   }
-  const double dt = s->dt, h = 0.5 * dt;
-  const double ar = s->alpha_r, at = s->alpha_t;
+  const double dt = s->dt;
+  const long steps = s->led.on || s->burst < 1 ? 1 : s->burst;
   /* the evaluation's threads; entry by entry: no bits; no parallel region on one
      (its start costs a tiny scene more than the step) */
   const int nth = vv->path.threads > 1 && p->n >= 4096 ? vv->path.threads : 1;
-  const size_t n3 = 3 * p->n;
-  if (nth > 1) {
-#pragma omp parallel for num_threads(nth) schedule(static)
-    for (size_t j = 0; j < n3; j++) kick_drift(p, vv, h, dt, ar, at, j);
-  } else {
-    for (size_t j = 0; j < n3; j++) kick_drift(p, vv, h, dt, ar, at, j);
+  drift_all(s, vv, 0, 1, nth);
+  for (long k = 0;; k++) {
+    size_t n_before = p->n;
+    esf_walls_set_time(&s->walls, (double)(s->step + 1) * dt); /* x_{n+1}'s time */
+    rc = esf_sim_refresh(s, NULL, err);
+    if (!rc && p->n != n_before)
+      rc = esf_fail(err, ESF_EINPUT,
+                    "%s: verlet: particles left the domain at t = %.6g s; removal is "
+                    "supported by the leapfrog only in this version",
+                    esf_config_where(&s->cfg, "integrator.method"), s->t);
+    if (!rc) rc = evaluate(s, vv, dt, pw, err);
+    if (rc) return rc;
+    if (k + 1 < steps) { /* this step's end with the next one's start */
+      drift_all(s, vv, 1, 1, nth);
+      s->step++;
+      s->t = (double)s->step * dt;
+      continue;
+    }
+    break;
   }
-  size_t n_before = p->n;
-  esf_walls_set_time(&s->walls, (double)(s->step + 1) * dt); /* x_{n+1}'s time */
-  rc = esf_sim_refresh(s, NULL, err);
-  if (!rc && p->n != n_before)
-    rc = esf_fail(err, ESF_EINPUT,
-                  "%s: verlet: particles left the domain at t = %.6g s; removal is "
-                  "supported by the leapfrog only in this version",
-                  esf_config_where(&s->cfg, "integrator.method"), s->t);
-  if (!rc) rc = evaluate(s, vv, dt, pw, err);
-  if (rc) return rc;
-  /* the second half kick treats global damping implicitly (trapezoidal over the step:
-     second order, unconditionally stable for the damping term) */
-  const double cr = 1.0 / (1.0 + h * ar), ct = 1.0 / (1.0 + h * at);
-  if (nth > 1) {
-#pragma omp parallel for num_threads(nth) schedule(static)
-    for (size_t j = 0; j < n3; j++) kick_end(p, vv, h, cr, ct, j);
-  } else {
-    for (size_t j = 0; j < n3; j++) kick_end(p, vv, h, cr, ct, j);
-  }
+  drift_all(s, vv, 1, 0, nth); /* the last step's second half kick alone */
   s->step++;
   s->t = (double)s->step * dt;
   if (s->led.on) ledger_update(s, vv, pw);

@@ -70,11 +70,19 @@ static int pick_kernels(const char *want, const esf_fused_kernels **out, esf_err
   return ESF_OK;
 }
 
+int esf_fused_vv_drift(const char *isa, esf_vv_drift_fn *out, esf_error *err) {
+  const esf_fused_kernels *k;
+  const int rc = pick_kernels(isa, &k, err);
+  *out = rc ? NULL : k->vv_drift;
+  return rc;
+}
+
 int esf_fused_create(esf_fused **out, const char *isa, esf_error *err) {
   *out = esf_lines_realloc(NULL, 0, sizeof **out); /* go: a line of its own */
   if (!*out) return esf_fail(err, ESF_ENOMEM, "out of memory");
   memset(*out, 0, sizeof **out);
   (*out)->built = -1;
+  (*out)->lists_stamp = -1;
   const int rc = pick_kernels(isa, &(*out)->k, err);
   if (rc) esf_fused_free(out);
   return rc;
@@ -119,6 +127,7 @@ void esf_fused_trim(esf_sim *s, esf_fused *f) {
   }
   f->cap_k = f->cap_n = 0;
   f->built = -1; /* esf_fused_run indexes again (syncing first when acc is kept) */
+  f->lists_stamp = -1;
   esf_error e;
   if (esf_sim_forces_sync(s, &e)) return; /* acc kept when p.f, p.t cannot come */
   free(f->acc);
@@ -165,7 +174,10 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
   const size_t k0 = f->astart[lo], k1 = f->astart[hi];
   esf_fused_lists L = {
       .tl = f->list[0] + k0, .sq = f->list[1] + k0, .il = f->idle + k0, .blk = k1 - k0};
-  esf_fused_lists_from_flags(s, k0, k1, hi, &L);
+  if (B->lists_kept) /* the same lists as from the flags, in the same order */
+    L = me->L;
+  else
+    esf_fused_lists_from_flags(s, k0, k1, hi, &L);
 #ifdef _OPENMP
   const int timed = T > 1; /* the threads' balance and back-off (one range: neither) */
 #endif
@@ -243,6 +255,7 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
 #endif
     atomic_store_explicit(&me->done, e, memory_order_release);
   }
+  me->L = L;
   if (t == 0) {
     f->taken = i;
     f->decided = i < B->steps;
@@ -300,6 +313,11 @@ static int light_rows(esf_sim *s, esf_fused *f, esf_pair_batch_ctx *bc, esf_fuse
 /* esf_fused_run's steps, or with ev one force evaluation (esf_fused_forces): ev's
  * interval and mode, the particle pass writing p.f, p.t (no kick, no drift), *nt the
  * touching contacts, none of the step's counters advanced. */
+/* An evaluation whose F, M stay in the accumulators (esf_fused_eval's lazy). */
+static int lazy_eval(const esf_sim *s, const esf_fused_eval *ev) {
+  return ev->lazy && ev->acc && !ev->trial && s->cfg.dim == 3 && !s->par;
+}
+
 static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
                      const esf_fused_eval *ev, size_t *nt, esf_error *err) {
   esf_particles *p = &s->p;
@@ -312,14 +330,22 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   else
     f->cap = 0;
 #endif
+  /* the ranges' lists as the last call left them, when nothing since has touched the
+     flags (another evaluation counts in rhs_evals) nor cut the ranges anew */
+  int lists_kept = f->lists_stamp == s->rhs_evals && !s->par;
+  f->lists_stamp = -1;
   if (f->built != s->nb.builds || f->np != p->n || f->want != want || f->recut) {
     /* acc moves only when it grows (a re-cut keeps it: no p.f, p.t beside it) */
     rc = p->n + 1 > f->cap_n ? esf_sim_forces_sync(s, err) : ESF_OK;
     if (!rc) rc = esf_fused_index(s, f, want, err);
     if (rc) return rc;
+    lists_kept = 0;
   }
-  if (ev) { /* an evaluation writes p.f, p.t itself (a trial with accelerations: no) */
+  if (ev && !lazy_eval(s, ev)) { /* an evaluation writes p.f, p.t itself (a trial with
+                                      accelerations: no) */
     if ((rc = esf_sim_forces_sync(s, err))) return rc;
+  } else if (ev) { /* lazy: the last commit's F, M superseded */
+    s->ft_lazy = NULL;
   } else if (!s->ft_lazy)      /* the steps write F_n, M_n into acc: not held beside it */
     esf_sim_forces_release(s); /* (docs/performance.md#memory) */
   const int nth = f->nth;      /* the ranges worth running (fused_ranges.c) */
@@ -403,7 +429,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       .dw = ev ? ev->dw : NULL,
       .ar = ev && ev->with_global ? s->alpha_r : 0.0,
       .at = ev && ev->with_global ? s->alpha_t : 0.0,
-      .ft_skip = ev && ev->trial,
+      .ft_skip = ev && (ev->trial || lazy_eval(s, ev)),
       .loc = s->local,
       .xref = s->nb.xref,
       .dom_lo = s->nb.dom_lo,
@@ -444,6 +470,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
       .bc_light_z = &bclz,
       .started = s->led.started,
       .pre_zeroed = pre_zeroed,
+      .lists_kept = lists_kept,
       .e0 = f->epoch + 1,
       .steps = many && nmax > 1 && !ev && !s->par ? nmax : 1,
       .need = ev ? 1 : nmax,
@@ -494,6 +521,8 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
     s->rhs_evals += ok;
     s->contacts_sum += (double)esf_par_touching(s, f->nt_sum);
   }
+  /* a trial's batches drop the pairs apart from its lists, not from the flags */
+  if (!fail && !(ev && ev->trial) && !s->par) f->lists_stamp = s->rhs_evals;
   s->bonds.broken += atomic_load_explicit(&f->broken, memory_order_relaxed);
   *taken = ok;
   if (!fail && !ev && n > 0 && B.bc_light && Kl.clear_rows && n < B.need &&
@@ -505,7 +534,7 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
   }
   /* the accumulators hold F_n, M_n; on failure they are partly overwritten, and p.f,
    * p.t keep what the last sync left (an evaluation wrote p.f, p.t itself) */
-  s->ft_lazy = fail || ev ? NULL : f->acc;
+  s->ft_lazy = fail || (ev && !lazy_eval(s, ev)) ? NULL : f->acc;
   if (fail && (rc = esf_sim_forces_room(s, err))) /* p.f, p.t zero */
     return rc;
   if (r.bad_pair != SIZE_MAX) {

@@ -10,6 +10,36 @@
 
 typedef struct esf_fused esf_fused;
 
+/* Velocity Verlet's particle pass (integrators/verlet.c), compiled with the kernels for
+ * each instruction set: particles [lo, hi) get, entry by entry, with end the second half
+ * kick of the step just taken, v = (v + h a) cr, w = (w + h dw) ct, then the first half
+ * kick and drift of the next, v += h (a - ar v), w += h (dw - at w), x += dt v; with
+ * xref their squared displacement since the lists' build (esf_neighbor_check's
+ * operations) and the domain test [lo3, hi3] (infinite bounds: none). Without drift,
+ * the second half kick alone (end must be set). */
+typedef struct esf_vv_pass {
+  double h, dt, ar, at, cr, ct;
+  double *x, *v, *w;
+  const double *a, *dw;
+  const double *xref;      /* or NULL: no displacement */
+  const double *lo3, *hi3; /* never NULL */
+  int end, drift;
+} esf_vv_pass;
+
+/* What one pass measured: its largest squared displacement as the bits of a double
+ * (an integer maximum vectorises), whether one was not finite (the check's own pass
+ * then words it) and whether a particle left the domain. Start from zeros. */
+typedef struct esf_vv_disp {
+  int64_t max_bits;
+  int bad, out;
+} esf_vv_disp;
+
+typedef void (*esf_vv_drift_fn)(const esf_vv_pass *c, size_t lo, size_t hi,
+                                esf_vv_disp *o);
+
+/* The pass of the kernels for this CPU, or those isa names (as esf_fused_create). */
+int esf_fused_vv_drift(const char *isa, esf_vv_drift_fn *out, esf_error *err);
+
 /* isa: the kernels' instruction set (base, avx2, avx512), or NULL or "" for the widest
  * this CPU has. */
 int esf_fused_create(esf_fused **out, const char *isa, esf_error *err);
@@ -56,6 +86,10 @@ typedef struct esf_fused_eval {
                        esf_sim_accel, global damping with with_global), written by the
                        particle pass after the totals; a trial then leaves p.f, p.t */
   int with_global;
+  int lazy; /* with acc, committing: F, M stay in the accumulators until read
+               (s->ft_lazy, as the leapfrog's), and the previous evaluation's are
+               not copied out first (a scheme whose every evaluation commits: Verlet);
+               taken in 3D without MPI */
 } esf_fused_eval;
 
 /* Why esf_fused_forces cannot take the sim's settings (for the log), or NULL; ode: for

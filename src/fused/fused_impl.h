@@ -56,6 +56,13 @@ typedef struct esf_fused_out {
 
 #define ESF_FUSED_OUT_NONE ((esf_fused_out){.bad_pair = SIZE_MAX, .bad_part = SIZE_MAX})
 
+/* A range's interior pairs as two lists, contacts and idle candidates (fused_lists.c
+ * describes the layout). */
+typedef struct esf_fused_lists {
+  uint32_t *tl, *sq, *il;
+  size_t blk, nt, ni;
+} esf_fused_lists;
+
 /* One range's flags and the results of its latest step, a cache line of its own:
  * written by its thread, read by the others once the flag they wait for is up
  * (fused_sync.c). */
@@ -63,6 +70,7 @@ typedef struct esf_fused_range {
   _Alignas(ESF_LINE) _Atomic long ready; /* boundary pairs done for this step (epoch) */
   _Atomic long done;                     /* the whole step done, out written */
   esf_fused_out out;
+  esf_fused_lists L; /* its lists at the end of the last call (esf_fused.lists_stamp) */
 } esf_fused_range;
 
 struct esf_fused_kick;
@@ -80,6 +88,7 @@ typedef struct esf_fused_kernels {
   unsigned (*batch)(const esf_pair_batch_ctx *ctx, const uint32_t *k, int nl,
                     double out[ESF_BATCH][ESF_BATCH_OUT],
                     double lout[ESF_BATCH][ESF_BATCH_LOUT], unsigned *apart); /* tests */
+  esf_vv_drift_fn vv_drift; /* velocity Verlet's particle pass (fused.h) */
 } esf_fused_kernels;
 
 extern const esf_fused_kernels esf_fused_kernels_base;
@@ -138,9 +147,12 @@ struct esf_fused {
   int cap_logged;            /* 1: a cap to log, 2: logged */
   esf_fused_range *rr;       /* nth, line-aligned */
   long epoch;                /* steps run by esf_fused_run */
-  _Atomic long broken;       /* bonds the batches broke (esf_fused_run books them) */
-  double t_left; /* when the last call's threads finished (omp_get_wtime), or 0 */
-  double t_step; /* how long its parallel part took per step, s */
+  long lists_stamp;    /* s->rhs_evals when the ranges' lists (rr[t].L) last matched the
+                          touch flags (after a call that committed, with no failure, on
+                          the same index), or -1: the next call makes them from the flags */
+  _Atomic long broken; /* bonds the batches broke (esf_fused_run books them) */
+  double t_left;       /* when the last call's threads finished (omp_get_wtime), or 0 */
+  double t_step;       /* how long its parallel part took per step, s */
   int recut;
   /* a burst's outcome, written by range 0 (esf_fused_decide) */
   long taken;    /* steps completed */
@@ -211,6 +223,7 @@ typedef struct esf_fused_burst {
   int started; /* the ledger had booked a step before the call (its first step: full) */
   int pre_zeroed;  /* the step before the call left the light rows zero (esf_fused.z_rows)
                     */
+  int lists_kept;  /* the ranges' lists of the last call hold (esf_fused.lists_stamp) */
   long e0;         /* the epoch of the call's first step */
   long steps;      /* steps at most */
   long need;       /* the caller's steps up to a read of the stored energies (its burst:
@@ -220,13 +233,6 @@ typedef struct esf_fused_burst {
   esf_ledger *led; /* the ledger, booked step by step from K->blocks; NULL: off */
   size_t nblocks;  /* its blocks */
 } esf_fused_burst;
-
-/* A range's interior pairs as two lists, contacts and idle candidates (fused_lists.c
- * describes the layout). */
-typedef struct esf_fused_lists {
-  uint32_t *tl, *sq, *il;
-  size_t blk, nt, ni;
-} esf_fused_lists;
 
 /* Whether the spheres of pair (a, b) overlap: |x_b - x_a|^2 < (r_a + r_b)^2, the step's
  * one test (pair_batch.c's lanes compute it for the contacts in the same order). */
@@ -274,6 +280,7 @@ size_t esf_fused_pairs(esf_sim *s, esf_fused *f, const esf_pair_batch_ctx *bc, s
                        size_t *ne, size_t *kept);
 
 /* fused_kick.c: step 2's particle pass of one range: walls, kick, drift. */
+void esf_fused_vv_drift_range(const esf_vv_pass *c, size_t lo, size_t hi, esf_vv_disp *o);
 void esf_fused_kick_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *K,
                           size_t lo, size_t hi, esf_fused_out *o, size_t *nt_pw);
 

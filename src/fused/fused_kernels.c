@@ -8,4 +8,5 @@ const esf_fused_kernels ESF_ISA_NAME(esf_fused_kernels) = {
     .pairs = esf_fused_pairs,
     .kick_range = esf_fused_kick_range,
     .batch = esf_pair_batch_linear,
+    .vv_drift = esf_fused_vv_drift_range,
 };

@@ -14,11 +14,15 @@
  * Entry: the range's pair forces summed (fused_pairs.c). Units: SI. */
 #include "fused/fused_impl.h"
 
+#include <float.h>
+
 #include <math.h>
 #include <string.h>
 
 #include "loads/drag.h"
 #include "model/accel.h"
+
+#define WPF 8 /* wall pass prefetch distance, candidates */
 
 /* The wall contacts of range [lo, hi), particle by particle in ascending order
  * (each adds to its own particle's accumulator only, at the state before any kick).
@@ -34,9 +38,19 @@ static int walls_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *K, 
                  b1 = (hi - 1 - K->kbase) / ESF_LEDGER_BLOCK + 1;
     memset(s->walls.gforce_blk + per * b0, 0, (b1 - b0) * per * sizeof(double));
   }
-  for (size_t k = f->wstart[lo], k1; k < f->wstart[hi]; k = k1) {
+  const size_t kend = f->wstart[hi];
+  const esf_particles *p = &s->p;
+  for (size_t k = f->wstart[lo], k1; k < kend; k = k1) {
     const size_t i = pw->a[k];
     k1 = f->wstart[i + 1];
+    if (k + WPF < kend) { /* the state of the particle WPF candidates ahead */
+      const size_t kp = k + WPF, ip = pw->a[kp];
+      __builtin_prefetch(f->acc + ESF_FUSED_ACC * ip, 1, 3);
+      __builtin_prefetch(p->x + 3 * ip, 0, 3);
+      __builtin_prefetch(p->v + 3 * ip, 0, 3);
+      __builtin_prefetch(p->w + 3 * ip, 0, 3);
+      __builtin_prefetch(pw->h + kp, 1, 3);
+    }
     double *fi = f->acc + ESF_FUSED_ACC * i;
     if (wall_pass(s, k, k1, K->dt, nt_pw, fi, fi + 4,
                   K->rows ? K->rows + K->lr * i : NULL)) {
@@ -94,6 +108,40 @@ static void kick_plain_loop(size_t lo, size_t hi, double dt, double *restrict x,
   if (m2 > *max2) *max2 = m2;
   *nonfinite |= nan;
   *escaped |= out;
+}
+
+/* esf_accel_one's accelerations without local damping (its zero terms added, as
+ * there) of particles [lo, hi) from their accumulators acc, and with pf the totals
+ * copied to pf, pt: a loop without calls or branches, vectorised (each lane the scalar
+ * operations). */
+static inline __attribute__((always_inline)) void
+accel_loop(size_t lo, size_t hi, const double *restrict acc, const double *restrict im_,
+           const double *restrict ii_, const double *restrict v, const double *restrict w,
+           double ar, double at, double *restrict pf, double *restrict pt,
+           double *restrict a, double *restrict dw, const int keep) {
+  for (size_t i = lo; i < hi; i++) {
+    const double *fi = acc + ESF_FUSED_ACC * i, *ti = fi + 4;
+    const double im = im_[i], ii = ii_[i];
+    for (size_t q = 0; q < 3; q++) {
+      const size_t j = 3 * i + q;
+      if (keep) {
+        pf[j] = fi[q];
+        pt[j] = ti[q];
+      }
+      a[j] = (fi[q] + 0.0) * im - ar * v[j];
+      dw[j] = (ti[q] + 0.0) * ii - at * w[j];
+    }
+  }
+}
+
+static void accel_plain_loop(size_t lo, size_t hi, const double *acc, const double *im,
+                             const double *ii, const double *v, const double *w,
+                             double ar, double at, double *pf, double *pt, double *a,
+                             double *dw) {
+  if (pf)
+    accel_loop(lo, hi, acc, im, ii, v, w, ar, at, pf, pt, a, dw, 1);
+  else
+    accel_loop(lo, hi, acc, im, ii, v, w, ar, at, pf, pt, a, dw, 0);
 }
 
 /* A light step's channels of row r (those fused_pairs.c's acc_set zeroes) set to +0,
@@ -278,6 +326,11 @@ void esf_fused_kick_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *
   if (K->forces_only) { /* an evaluation (esf_fused_forces): the totals to p.f, p.t */
     esf_particles *p = &s->p;
     const int keep = !K->acc || !K->ft_skip; /* else F, M read here only */
+    if (K->acc && !K->loc && !(ESF_FUSED_FEATURES && K->dim2)) {
+      accel_plain_loop(lo, hi, f->acc, p->inv_mass, p->inv_inertia, p->v, p->w, K->ar,
+                       K->at, keep ? p->f : NULL, keep ? p->t : NULL, K->acc, K->dw);
+      return;
+    }
     for (size_t i = lo; i < hi; i++) {
       const double *fi = f->acc + ESF_FUSED_ACC * i;
       double fl[3], ml[3];
@@ -313,4 +366,73 @@ void esf_fused_kick_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *
     double *fi = f->acc + ESF_FUSED_ACC * i;
     kick_one(s, &s->p, K, i, fi, fi + 4, &o->max2, &o->nonfinite, &o->escaped);
   }
+}
+
+/* esf_vv_pass's operations on particles [lo, hi) (fused.h), without calls or branches:
+ * GCC vectorises the loop, each lane the scalar loop's operations (end, drift, dsp
+ * known when compiling). */
+static inline __attribute__((always_inline)) void
+vv_drift(const esf_vv_pass *c, size_t lo, size_t hi, double *restrict x,
+         double *restrict v, double *restrict w, const double *restrict a,
+         const double *restrict dw, const double *restrict xref, esf_vv_disp *o,
+         const int end, const int drift, const int dsp) {
+  const double h = c->h, dt = c->dt, ar = c->ar, at = c->at, cr = c->cr, ct = c->ct;
+  const double bl[3] = {c->lo3[0], c->lo3[1], c->lo3[2]},
+               bh[3] = {c->hi3[0], c->hi3[1], c->hi3[2]};
+  int64_t mb = 0;
+  int bad = 0, out = 0;
+  for (size_t i = lo; i < hi; i++) {
+    double d2 = 0.0, xn[3];
+    for (size_t q = 0; q < 3; q++) {
+      const size_t j = 3 * i + q;
+      double vj = v[j], wj = w[j];
+      if (end) {
+        vj = (vj + h * a[j]) * cr;
+        wj = (wj + h * dw[j]) * ct;
+      }
+      if (!drift) {
+        v[j] = vj;
+        w[j] = wj;
+        continue;
+      }
+      vj += h * (a[j] - ar * vj);
+      wj += h * (dw[j] - at * wj);
+      v[j] = vj;
+      w[j] = wj;
+      xn[q] = x[j] + dt * vj;
+      x[j] = xn[q];
+      if (dsp) {
+        const double d = xn[q] - xref[j];
+        d2 += d * d;
+      }
+    }
+    if (!drift || !dsp) continue;
+    const int nf = !(d2 <= DBL_MAX); /* inf or NaN */
+    int64_t b;
+    memcpy(&b, &d2, sizeof b);
+    b = nf ? 0 : b;
+    bad |= nf;
+    mb = b > mb ? b : mb;
+    out |= v3_outside(xn, bl, bh);
+  }
+  if (mb > o->max_bits) o->max_bits = mb;
+  o->bad |= bad;
+  o->out |= out;
+}
+
+void esf_fused_vv_drift_range(const esf_vv_pass *c, size_t lo, size_t hi,
+                              esf_vv_disp *o) {
+#define VV(e, d, m)                                                                      \
+  vv_drift(c, lo, hi, c->x, c->v, c->w, c->a, c->dw, c->xref, o, e, d, m)
+  if (!c->drift)
+    VV(1, 0, 0);
+  else if (c->end && c->xref)
+    VV(1, 1, 1);
+  else if (c->xref)
+    VV(0, 1, 1);
+  else if (c->end)
+    VV(1, 1, 0);
+  else
+    VV(0, 1, 0);
+#undef VV
 }

@@ -10,7 +10,8 @@
 
 #include "util/vec4.h"
 
-#define PF 32 /* history prefetch distance, pairs */
+#define PF  32 /* history prefetch distance, pairs */
+#define APF 24 /* accumulator prefetch distance, particles */
 
 /* Adds the A side of outgoing boundary pair j (its pair's a is in range), and its
  * ledger rows to A's (rows not NULL). */
@@ -34,6 +35,7 @@ static inline size_t acc_set(const esf_particles *p, const double *g, double *ac
   const esf_v4 gv = {g[0], g[1], g[2], 0.0}, zero = {0.0, 0.0, 0.0, 0.0};
   const int light = set & ESF_LEDGER_LIGHT, t = !(set & ESF_LEDGER_NO_T);
   for (size_t i = from; i < to; i++) { /* four-wide stores: the adds' four-wide loads */
+    __builtin_prefetch(acc + ESF_FUSED_ACC * (i + APF), 1, 3); /* (past the end: none) */
     v4_st(acc + ESF_FUSED_ACC * i,
           p->mass[i] * gv); /* are then forwarded from the store buffer */
     v4_st(acc + ESF_FUSED_ACC * i + 4, zero);

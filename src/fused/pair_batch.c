@@ -429,7 +429,14 @@ static void rolling(const esf_pair_batch_ctx *c, const esf_pair_params *const *p
 static inline __attribute__((always_inline)) unsigned
 batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
            double out[ESF_BATCH][ESF_BATCH_OUT], double lout[ESF_BATCH][ESF_BATCH_LOUT],
-           double *acc, unsigned *apart, const int gen, const int ldn) {
+           double *acc, unsigned *apart, const int gen, const int ldn, const int lean) {
+  /* lean: the linear law alone (no Hertz, bonds, rolling, cohesion) and no ledger but
+     ldn's, known when compiling (fewer branches and registers held) */
+  const int hertz = lean ? 0 : c->hertz, cohesion = lean ? 0 : c->cohesion;
+  esf_contact_bond *const bond = lean ? NULL : c->bond;
+  esf_contact_roll *const roll = lean ? NULL : c->roll;
+  double *const lrows = lean && !ldn ? NULL : c->rows;
+
   size_t kk[ESF_BATCH], ia[ESF_BATCH], ib[ESF_BATCH], a3[ESF_BATCH], b3[ESF_BATCH];
   size_t hk[ESF_BATCH]; /* byte offsets of the histories */
   vm tch;
@@ -452,8 +459,8 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
     mu = zero + c->one->mu;
     cnf = zero + c->one->cn_factor;
     ctf = zero + c->one->ct_factor;
-    if (c->cohesion) coh += c->one->cohesion;
-    if (c->bond) tl += c->one->tensile_limit;
+    if (cohesion) coh += c->one->cohesion;
+    if (bond) tl += c->one->tensile_limit;
   } else {
     const esf_materials *mt = c->mt;
     for (int l = 0; l < ESF_BATCH; l++)
@@ -464,17 +471,17 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
       mu[l] = pp[l]->mu;
       cnf[l] = pp[l]->cn_factor;
       ctf[l] = pp[l]->ct_factor;
-      if (c->cohesion) coh[l] = pp[l]->cohesion;
-      if (c->bond) tl[l] = pp[l]->tensile_limit;
+      if (cohesion) coh[l] = pp[l]->cohesion;
+      if (bond) tl[l] = pp[l]->tensile_limit;
     }
   }
-  if (c->hertz) /* Hertz-Mindlin pairs (every pair: the laws never mix): hn, ht */
+  if (hertz) /* Hertz-Mindlin pairs (every pair: the laws never mix): hn, ht */
     for (int l = 0; l < ESF_BATCH; l++) {
       kn[l] = pp[l]->hn;
       kt[l] = pp[l]->ht;
     }
   vd cn = zero, ct = zero; /* the dashpots, N s/m (Hertz: below, at the overlap) */
-  if (c->hertz) {
+  if (hertz) {
   } else if (c->beta > 0) {
     cn = c->beta * kn;
     ct = c->beta * kt;
@@ -513,7 +520,7 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
   const vd vn = dot(vc, n);
   vd st = zero, st0 = zero; /* Hertz: tangential stiffness now, at the last commit */
   vd sn = zero, sn0 = zero; /* Hertz: S_n now (rolling's kn), at the last commit */
-  if (c->hertz) {           /* contact_hertz.h's operations, lane-wise */
+  if (hertz) {              /* contact_hertz.h's operations, lane-wise */
     const vd rs = ra * rb / (ra + rb);
     vd ks, qa;
     esf_law_hertz_springs_v(kn, kt, rs, un, &ks, &sn, &st, &qa);
@@ -524,28 +531,28 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
       qa = esf_law_hertz_qref_v(es, sm, rs, pp[0]->v_imp);
     }
     esf_law_hertz_dashpots_v(c->beta, cnf, ctf, sm, qa, sn, st, &cn, &ct);
-    if (c->rows) st0 = esf_law_hertz_st_v(kt, rs, un + c->dt * vn);
-    if (c->rows && c->roll) sn0 = esf_law_hertz_sn_v(kn, rs, un + c->dt * vn);
+    if (lrows) st0 = esf_law_hertz_st_v(kt, rs, un + c->dt * vn);
+    if (lrows && roll) sn0 = esf_law_hertz_sn_v(kn, rs, un + c->dt * vn);
     kn = ks;        /* the secant stiffness: fel = ks un */
     kt = zero + 1.; /* the record xi is the force */
   }
   vd fd, fel = kn * un, e_brk = zero;
-  vd e_n = c->hertz ? esf_law_hertz_energy_v(kn, un) : 0.5 * kn * un * un;
+  vd e_n = hertz ? esf_law_hertz_energy_v(kn, un) : 0.5 * kn * un * un;
   vd fn = esf_law_linear_normal_v(kn, cn, un, vn, &fd);
   /* Bonds (contact/contact_adhesive.c, 004 2.22-2.25): a bonded contact's normal spring
    * is the adhesive one at u = un + s, with the dashpot unclipped (it may pull); below
    * u_rupture the bond breaks: no force, the history restarts, the bond's energy is
    * booked. The same operations per lane as adhesive_eval's. */
   vm bonded = {0}, broke = {0};
-  if (c->bond) {
+  if (bond) {
     for (int l = 0; l < ESF_BATCH; l++)
-      bonded[l] = -(long long)(c->bond[kk[l]].on && c->touch[kk[l]]);
+      bonded[l] = -(long long)(bond[kk[l]].on && c->touch[kk[l]]);
     if (any(bonded)) {
       const vd fdv = -cn * vn;
       for (int l = 0; l < ESF_BATCH; l++) {
         if (!bonded[l]) continue;
         const esf_adhesion *A = &pp[l]->adh;
-        const double u = un[l] + c->bond[kk[l]].s;
+        const double u = un[l] + bond[kk[l]].s;
         if (u < A->u_rupture) {
           broke[l] = -1;
           e_brk[l] =
@@ -569,9 +576,9 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
                       .coh = coh,
                       .tl = tl,
                       .rotate = c->rotate,
-                      .tension = c->bond != NULL, /* only bonds pull */
-                      .ledger = c->rows != NULL,
-                      .hertz = c->hertz,
+                      .tension = bond != NULL, /* only bonds pull */
+                      .ledger = lrows != NULL,
+                      .hertz = hertz,
                       .st = st,
                       .st0 = st0,
                       .vi = NULL};
@@ -592,9 +599,9 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
   vd ta[4] = {la * m[0], la * m[1], la * m[2], zero};
   vd tb[4] = {lb * m[0], lb * m[1], lb * m[2], zero};
   esf_law_rout_v R;
-  if (c->roll)
-    rolling(c, pp, kk, ia, ib, c->hertz ? sn : kn, sn0, ra, rb, fn, n, wa, wb,
-            tch & ~broke, &R, ta, tb);
+  if (roll)
+    rolling(c, pp, kk, ia, ib, hertz ? sn : kn, sn0, ra, rb, fn, n, wa, wb, tch & ~broke,
+            &R, ta, tb);
   v4 rf[ESF_BATCH], rta[ESF_BATCH], rtb[ESF_BATCH];
   if (acc) {
     rows_of(f4, rf);
@@ -620,7 +627,7 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
         char *h = (char *)c->h + hk[l];
         const esf_contact_hist h0 = {{0, 0, 0}, {n[0][l], n[1][l], n[2][l]}};
         memcpy(h, &h0, sizeof h0);
-        c->bond[kk[l]] = (esf_contact_bond){0};
+        bond[kk[l]] = (esf_contact_bond){0};
         if (ia[l] >= c->own_lo && ia[l] < c->own_hi)
           atomic_fetch_add_explicit(c->broken, 1, memory_order_relaxed);
       }
@@ -638,8 +645,8 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
     const double n12[2] = {n[1][l], n[2][l]};
     memcpy(h + HN1, n12, sizeof n12);
     c->touch[kk[l]] = 1;
-    if (c->roll)
-      c->roll[kk[l]] = (esf_contact_roll){{R.hm[0][l], R.hm[1][l], R.hm[2][l]}, R.ht[l]};
+    if (roll)
+      roll[kk[l]] = (esf_contact_roll){{R.hm[0][l], R.hm[1][l], R.hm[2][l]}, R.ht[l]};
   }
   /* ldn (from batch() alone): a light step's rows, without bonds or rolling resistance,
      go with the forces (light_dn_rows, light_dt_rows); a lane left out adds -0 there */
@@ -652,7 +659,7 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
       if ((badmask | gone) >> l & 1u) continue;
       esf_pair_batch_acc_add(acc, ia[l], ib[l], rf[l], rta[l], rtb[l]);
       if (!ldn) continue;
-      double *ra = c->rows + c->lr * ia[l], *rb = c->rows + c->lr * ib[l];
+      double *ra = lrows + c->lr * ia[l], *rb = lrows + c->lr * ib[l];
       v4_st(ra, v4_ld(ra) + rdn[l]);
       v4_st(rb, v4_ld(rb) + light_dn_b(rdn[l]));
       if (!ldt) continue;
@@ -661,9 +668,9 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
       v4_st(ra + ESF_LR_MDT, v4_ld(ra + ESF_LR_MDT) + rma[l]);
       v4_st(rb + ESF_LR_MDT, v4_ld(rb + ESF_LR_MDT) + rmb[l]);
     }
-  if (c->rows && !ldn)
-    ledger_rows(c, kt, fd, fel, e_n, n, la, lb, &T, c->roll ? &R : NULL, keep, broke,
-                e_brk, ia, ib, nl, badmask, acc ? NULL : lout);
+  if (lrows && !ldn)
+    ledger_rows(c, kt, fd, fel, e_n, n, la, lb, &T, roll ? &R : NULL, keep, broke, e_brk,
+                ia, ib, nl, badmask, acc ? NULL : lout);
   *apart = gone;
   return badmask;
 }
@@ -679,10 +686,13 @@ static __attribute__((noinline)) unsigned batch(const esf_pair_batch_ctx *c,
                                                 double lout[ESF_BATCH][ESF_BATCH_LOUT],
                                                 double *acc, unsigned *apart) {
   if (c->img || c->vc0 || c->trial)
-    return batch_body(c, k, nl, out, lout, acc, apart, 1, 0);
+    return batch_body(c, k, nl, out, lout, acc, apart, 1, 0, 0);
+  const int plain = !c->hertz && !c->bond && !c->roll && !c->cohesion;
   if (acc && c->rows && c->light && !c->roll && !c->bond)
-    return batch_body(c, k, nl, out, lout, acc, apart, 0, 1);
-  return batch_body(c, k, nl, out, lout, acc, apart, 0, 0);
+    return plain ? batch_body(c, k, nl, out, lout, acc, apart, 0, 1, 1)
+                 : batch_body(c, k, nl, out, lout, acc, apart, 0, 1, 0);
+  if (plain && !c->rows) return batch_body(c, k, nl, out, lout, acc, apart, 0, 0, 1);
+  return batch_body(c, k, nl, out, lout, acc, apart, 0, 0, 0);
 }
 
 unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,

@@ -21,6 +21,7 @@
 #include "fused/wall_fast.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "bodies/walls.h"
@@ -28,8 +29,22 @@
 #include "contact/contact_linear.h"
 #include "model/forces.h"
 #include "util/vec3.h"
+#include "util/vec4.h"
 
 #define FAST_MAX 8 /* candidates per particle whose hits go on the stack */
+
+_Static_assert(offsetof(esf_wall_hit, dist) ==
+                   offsetof(esf_wall_hit, n) + 3 * sizeof(double),
+               "a hit's n and dist contiguous");
+
+/* hit->n = s e_n (v3_scale's operations) and hit->dist = dist, in one 32-byte store:
+ * wall_contact's loads of n then come whole from the store buffer (three 8-byte stores
+ * read back by 16-byte loads cannot be forwarded and wait for the stores to retire). */
+static inline void put_n_dist(esf_wall_hit *hit, double s, const double *en,
+                              double dist) {
+  const esf_v4 r = {s * en[0], s * en[1], s * en[2], dist};
+  v4_st(hit->n, r);
+}
 
 static const double zero3[3] = {0.0, 0.0, 0.0}; /* a static wall's omega, rad/s */
 
@@ -50,8 +65,7 @@ static inline double wall_overlap(const esf_wall_elem *e, const double *x, doubl
     if (un > 0) {
       v3_copy(hit->q, x);
       v3_axpy(hit->q, -h0, e->n);
-      v3_scale(hit->n, -1, e->n);
-      hit->dist = h0;
+      put_n_dist(hit, -1, e->n, h0);
       hit->feature = ESF_FEATURE_FACE;
     }
     return un;
@@ -62,8 +76,7 @@ static inline double wall_overlap(const esf_wall_elem *e, const double *x, doubl
     const double dist = fabs(h0), un = r - dist;
     if (un > 0) {
       v3_copy(hit->q, foot);
-      hit->dist = dist;
-      v3_scale(hit->n, h0 < 0 ? 1 : -1, e->n);
+      put_n_dist(hit, h0 < 0 ? 1 : -1, e->n, dist);
       hit->feature = ESF_FEATURE_FACE;
     }
     return un;
