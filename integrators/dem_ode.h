@@ -71,8 +71,10 @@ typedef struct esf_eval_path {
 typedef struct esf_eval_accel {
   double *acc, *dw;
   int with_global;
-  int lazy; /* committing: F, M may stay in the fused step's accumulators until read
-               (esf_fused_eval's lazy: a scheme whose every evaluation commits) */
+  int lazy; /* committing: F, M may stay in the fused step's accumulators until read,
+               and then acc, dw are not written: s->ft_lazy is not NULL after the call
+               and holds them (esf_fused_eval's lazy: a scheme whose every evaluation
+               commits) */
 } esf_eval_accel;
 
 /* As esf_forces_eval(s, x, v, w, dt, mode, touching, err), by the path ep takes; with

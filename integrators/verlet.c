@@ -94,7 +94,9 @@ static int evaluate(esf_sim *s, verlet *vv, double dt, double pw[7], esf_error *
   int rc = reserve(vv, p->n, err);
   if (rc) return rc;
   /* the accelerations with the forces (without the ledger: its powers are below) */
-  const esf_eval_accel ea = {vv->a, vv->dw, 0, 1}; /* F, M read only on demand */
+  /* after the start, F and M may stay in the fused step's accumulators: the step's
+     passes then take the accelerations from them (drift_all) */
+  const esf_eval_accel ea = {vv->a, vv->dw, 0, vv->started};
   rc = esf_eval_forces(&vv->path, s, p->x, p->v, p->w, dt, ESF_FORCES_COMMIT, &touching,
                        s->led.on ? NULL : &ea, err);
   s->tally = NULL;
@@ -137,7 +139,8 @@ static void ledger_update(esf_sim *s, verlet *vv, const double pw[7]) {
  * threads, each a contiguous share; the largest displacement goes to the lists
  * (esf_neighbor_check then needs no pass of its own, and decides the same: a maximum
  * does not depend on the order). */
-static void drift_all(esf_sim *s, const verlet *vv, int end, int drift, int nth) {
+static void drift_all(esf_sim *s, const verlet *vv, int end, int drift, const double *F,
+                      int nth) {
   esf_particles *p = &s->p;
   esf_neighbor *nb = &s->nb;
   const double dt = s->dt, h = 0.5 * dt, ar = s->alpha_r, at = s->alpha_t;
@@ -155,6 +158,11 @@ static void drift_all(esf_sim *s, const verlet *vv, int end, int drift, int nth)
                          .w = p->w,
                          .a = vv->a,
                          .dw = vv->dw,
+                         .F = F,
+                         .im = p->inv_mass,
+                         .ii = p->inv_inertia,
+                         .ar0 = 0.0, /* evaluate's: global damping in the kicks */
+                         .at0 = 0.0,
                          .xref = dsp ? nb->xref : NULL,
                          .lo3 = nb->dom_lo ? nb->dom_lo : inf3[0],
                          .hi3 = nb->dom_lo ? nb->dom_hi : inf3[1],
@@ -211,7 +219,7 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
   /* the evaluation's threads; entry by entry: no bits; no parallel region on one
      (its start costs a tiny scene more than the step) */
   const int nth = vv->path.threads > 1 && p->n >= 4096 ? vv->path.threads : 1;
-  drift_all(s, vv, 0, 1, nth);
+  drift_all(s, vv, 0, 1, NULL, nth);
   for (long k = 0;; k++) {
     size_t n_before = p->n;
     esf_walls_set_time(&s->walls, (double)(s->step + 1) * dt); /* x_{n+1}'s time */
@@ -224,14 +232,14 @@ static int vv_step(esf_sim *s, void *state, double t_stop, esf_error *err) {
     if (!rc) rc = evaluate(s, vv, dt, pw, err);
     if (rc) return rc;
     if (k + 1 < steps) { /* this step's end with the next one's start */
-      drift_all(s, vv, 1, 1, nth);
+      drift_all(s, vv, 1, 1, s->ft_lazy, nth);
       s->step++;
       s->t = (double)s->step * dt;
       continue;
     }
     break;
   }
-  drift_all(s, vv, 1, 0, nth); /* the last step's second half kick alone */
+  drift_all(s, vv, 1, 0, s->ft_lazy, nth); /* the last step's second half kick alone */
   s->step++;
   s->t = (double)s->step * dt;
   if (s->led.on) ledger_update(s, vv, pw);

@@ -315,7 +315,7 @@ static int light_rows(esf_sim *s, esf_fused *f, esf_pair_batch_ctx *bc, esf_fuse
  * touching contacts, none of the step's counters advanced. */
 /* An evaluation whose F, M stay in the accumulators (esf_fused_eval's lazy). */
 static int lazy_eval(const esf_sim *s, const esf_fused_eval *ev) {
-  return ev->lazy && ev->acc && !ev->trial && s->cfg.dim == 3 && !s->par;
+  return ev->lazy && ev->acc && !ev->trial && s->cfg.dim == 3 && !s->par && !s->local;
 }
 
 static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
@@ -425,7 +425,9 @@ static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
                    !s->mats.any_rolling,
       .wall_pass = ev ? esf_wall_pass_eval(s, ev->trial) : esf_wall_pass_select(s),
       .forces_only = ev != NULL,
-      .acc = ev && !s->par ? ev->acc : NULL, /* MPI: after the call (own range only) */
+      .acc = ev && !s->par && !lazy_eval(s, ev) ? ev->acc : NULL, /* MPI: after the
+                                                  call (own range only); lazy: none */
+      .lazy = ev && lazy_eval(s, ev),
       .dw = ev ? ev->dw : NULL,
       .ar = ev && ev->with_global ? s->alpha_r : 0.0,
       .at = ev && ev->with_global ? s->alpha_t : 0.0,

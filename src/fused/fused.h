@@ -16,11 +16,18 @@ typedef struct esf_fused esf_fused;
  * kick and drift of the next, v += h (a - ar v), w += h (dw - at w), x += dt v; with
  * xref their squared displacement since the lists' build (esf_neighbor_check's
  * operations) and the domain test [lo3, hi3] (infinite bounds: none). Without drift,
- * the second half kick alone (end must be set). */
+ * the second half kick alone (end must be set). The accelerations a, dw are read from
+ * a, dw; or, with F (end must be set; the totals of a lazy evaluation, s->ft_lazy:
+ * ESF_FT_STRIDE doubles a particle, force then torque), computed from them at the
+ * velocities on entry as model/accel.h does without local damping, a = (F + 0) im -
+ * ar0 v, and stored to a, dw only without drift (for the next call's first half kick). */
 typedef struct esf_vv_pass {
   double h, dt, ar, at, cr, ct;
   double *x, *v, *w;
-  const double *a, *dw;
+  double *a, *dw;
+  const double *F;         /* or NULL */
+  const double *im, *ii;   /* with F: inverse masses and inertias */
+  double ar0, at0;         /* with F: the global damping inside the accelerations */
   const double *xref;      /* or NULL: no displacement */
   const double *lo3, *hi3; /* never NULL */
   int end, drift;
@@ -87,9 +94,11 @@ typedef struct esf_fused_eval {
                        particle pass after the totals; a trial then leaves p.f, p.t */
   int with_global;
   int lazy; /* with acc, committing: F, M stay in the accumulators until read
-               (s->ft_lazy, as the leapfrog's), and the previous evaluation's are
-               not copied out first (a scheme whose every evaluation commits: Verlet);
-               taken in 3D without MPI */
+               (s->ft_lazy, as the leapfrog's), the previous evaluation's are not
+               copied out first (a scheme whose every evaluation commits: Verlet), and
+               the accelerations are not written (esf_vv_pass's F derives them); taken
+               in 3D without local damping or MPI (else acc is written and
+               s->ft_lazy is NULL) */
 } esf_fused_eval;
 
 /* Why esf_fused_forces cannot take the sim's settings (for the log), or NULL; ode: for

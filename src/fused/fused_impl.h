@@ -194,6 +194,7 @@ typedef struct esf_fused_kick {
   double *acc, *dw, ar, at;   /* forces_only: the accelerations too (esf_fused_eval), or
                                  NULL; the global damping they take, 1/s */
   int ft_skip;                /* with acc: F, M not written to p.f, p.t (a trial) */
+  int lazy; /* an evaluation whose F, M stay in acc, no accelerations (esf_fused_eval) */
   const esf_local_damping *loc;
   const double *xref;            /* positions at the lists' build, or NULL */
   const double *dom_lo, *dom_hi; /* the domain, or NULL */

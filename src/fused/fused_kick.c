@@ -323,7 +323,8 @@ static inline void kick_one(const esf_sim *s, esf_particles *p, const esf_fused_
 void esf_fused_kick_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *K,
                           size_t lo, size_t hi, esf_fused_out *o, size_t *nt_pw) {
   if (walls_range(s, f, K, lo, hi, nt_pw, &o->bad_part)) return;
-  if (K->forces_only) { /* an evaluation (esf_fused_forces): the totals to p.f, p.t */
+  if (K->forces_only) {  /* an evaluation (esf_fused_forces): the totals to p.f, p.t */
+    if (K->lazy) return; /* they stay in acc, the caller's to read */
     esf_particles *p = &s->p;
     const int keep = !K->acc || !K->ft_skip; /* else F, M read here only */
     if (K->acc && !K->loc && !(ESF_FUSED_FEATURES && K->dim2)) {
@@ -369,14 +370,18 @@ void esf_fused_kick_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *
 }
 
 /* esf_vv_pass's operations on particles [lo, hi) (fused.h), without calls or branches:
- * GCC vectorises the loop, each lane the scalar loop's operations (end, drift, dsp
- * known when compiling). */
+ * GCC vectorises the loop, each lane the scalar loop's operations (end, drift, dsp and
+ * fm known when compiling). fm: the accelerations from the totals F (model/accel.h's
+ * operations without local damping) at the velocities on entry, stored to a, dw when
+ * st; else read from a, dw. */
 static inline __attribute__((always_inline)) void
 vv_drift(const esf_vv_pass *c, size_t lo, size_t hi, double *restrict x,
-         double *restrict v, double *restrict w, const double *restrict a,
-         const double *restrict dw, const double *restrict xref, esf_vv_disp *o,
-         const int end, const int drift, const int dsp) {
+         double *restrict v, double *restrict w, double *restrict a, double *restrict dw,
+         const double *restrict F, const double *restrict im_, const double *restrict ii_,
+         const double *restrict xref, esf_vv_disp *o, const int end, const int drift,
+         const int dsp, const int fm, const int st) {
   const double h = c->h, dt = c->dt, ar = c->ar, at = c->at, cr = c->cr, ct = c->ct;
+  const double ar0 = c->ar0, at0 = c->at0;
   const double bl[3] = {c->lo3[0], c->lo3[1], c->lo3[2]},
                bh[3] = {c->hi3[0], c->hi3[1], c->hi3[2]};
   int64_t mb = 0;
@@ -385,18 +390,29 @@ vv_drift(const esf_vv_pass *c, size_t lo, size_t hi, double *restrict x,
     double d2 = 0.0, xn[3];
     for (size_t q = 0; q < 3; q++) {
       const size_t j = 3 * i + q;
-      double vj = v[j], wj = w[j];
+      double vj = v[j], wj = w[j], aj, dwj;
+      if (fm) { /* esf_accel_one's, its local terms +0 */
+        aj = (F[ESF_FT_STRIDE * i + q] + 0.0) * im_[i] - ar0 * vj;
+        dwj = (F[ESF_FT_STRIDE * i + 4 + q] + 0.0) * ii_[i] - at0 * wj;
+        if (st) {
+          a[j] = aj;
+          dw[j] = dwj;
+        }
+      } else {
+        aj = a[j];
+        dwj = dw[j];
+      }
       if (end) {
-        vj = (vj + h * a[j]) * cr;
-        wj = (wj + h * dw[j]) * ct;
+        vj = (vj + h * aj) * cr;
+        wj = (wj + h * dwj) * ct;
       }
       if (!drift) {
         v[j] = vj;
         w[j] = wj;
         continue;
       }
-      vj += h * (a[j] - ar * vj);
-      wj += h * (dw[j] - at * wj);
+      vj += h * (aj - ar * vj);
+      wj += h * (dwj - at * wj);
       v[j] = vj;
       w[j] = wj;
       xn[q] = x[j] + dt * vj;
@@ -422,17 +438,28 @@ vv_drift(const esf_vv_pass *c, size_t lo, size_t hi, double *restrict x,
 
 void esf_fused_vv_drift_range(const esf_vv_pass *c, size_t lo, size_t hi,
                               esf_vv_disp *o) {
-#define VV(e, d, m)                                                                      \
-  vv_drift(c, lo, hi, c->x, c->v, c->w, c->a, c->dw, c->xref, o, e, d, m)
-  if (!c->drift)
-    VV(1, 0, 0);
-  else if (c->end && c->xref)
-    VV(1, 1, 1);
-  else if (c->xref)
-    VV(0, 1, 1);
-  else if (c->end)
-    VV(1, 1, 0);
-  else
-    VV(0, 1, 0);
+#define VV(e, d, m, f, t)                                                                \
+  vv_drift(c, lo, hi, c->x, c->v, c->w, c->a, c->dw, c->F, c->im, c->ii, c->xref, o, e,  \
+           d, m, f, t)
+  const int dsp = c->xref != NULL;
+  if (c->F) { /* a step's end: the accelerations from its totals */
+    if (!c->drift)
+      VV(1, 0, 0, 1, 1); /* the call's last: kept for the next call's start */
+    else if (dsp)
+      VV(1, 1, 1, 1, 0);
+    else
+      VV(1, 1, 0, 1, 0);
+  } else if (!c->drift) {
+    VV(1, 0, 0, 0, 0);
+  } else if (c->end) {
+    if (dsp)
+      VV(1, 1, 1, 0, 0);
+    else
+      VV(1, 1, 0, 0, 0);
+  } else if (dsp) {
+    VV(0, 1, 1, 0, 0);
+  } else {
+    VV(0, 1, 0, 0, 0);
+  }
 #undef VV
 }
