@@ -61,6 +61,27 @@ static double tri_area2(const double *a, const double *b, const double *c, doubl
   return v3_norm(nrm);
 }
 
+/* Centroid c and Newell normal about it (for accuracy), made unit in n; returns the
+ * area (n is not finite when it is 0). */
+static double newell(int nv, const double (*verts)[3], double c[3], double n[3]) {
+  double nn[3] = {0, 0, 0};
+  c[0] = c[1] = c[2] = 0.0;
+  for (int k = 0; k < nv; k++) v3_axpy(c, 1.0 / nv, verts[k]);
+  for (int k = 0; k < nv; k++) {
+    double a[3], b[3], t[3];
+    v3_sub(a, verts[k], c);
+    v3_sub(b, verts[(k + 1) % nv], c);
+    v3_cross(t, a, b);
+    v3_add(nn, nn, t);
+  }
+  const double area = 0.5 * v3_norm(nn);
+  v3_scale(n, 0.5 / area, nn);
+  return area;
+}
+
+static void fill(esf_wall_elem *e, int nv, const double (*verts)[3], const double c[3],
+                 const double n[3], int32_t material, int32_t group);
+
 int esf_wall_polygon_init(esf_wall_elem *e, int nv, const double (*verts)[3],
                           int32_t material, int32_t group, esf_error *err) {
   if (nv < 3 || nv > ESF_WALL_MAX_VERTS)
@@ -91,22 +112,11 @@ int esf_wall_polygon_init(esf_wall_elem *e, int nv, const double (*verts)[3],
                         a + 1, b + 1, verts[a][0], verts[a][1], verts[a][2]);
     }
 
-  /* centroid and Newell normal (about the centroid, for accuracy) */
-  double c[3] = {0, 0, 0}, nn[3] = {0, 0, 0};
-  for (int k = 0; k < nv; k++) v3_axpy(c, 1.0 / nv, verts[k]);
-  for (int k = 0; k < nv; k++) {
-    double a[3], b[3], t[3];
-    v3_sub(a, verts[k], c);
-    v3_sub(b, verts[(k + 1) % nv], c);
-    v3_cross(t, a, b);
-    v3_add(nn, nn, t);
-  }
-  double area = 0.5 * v3_norm(nn);
+  double c[3], n[3];
+  const double area = newell(nv, verts, c, n);
   if (!(area > AREA_TOL * size2))
     return esf_fail(err, ESF_EINPUT,
                     "polygon is degenerate (zero area: its vertices are collinear)");
-  double n[3];
-  v3_scale(n, 0.5 / area, nn);
 
   if (nv == 4) {
     /* how far vertex 4 lies off the plane of vertices 1-3; when that triangle is
@@ -152,6 +162,20 @@ int esf_wall_polygon_init(esf_wall_elem *e, int nv, const double (*verts)[3],
     }
   }
 
+  fill(e, nv, verts, c, n, material, group);
+  return ESF_OK;
+}
+
+void esf_wall_polygon_set(esf_wall_elem *e, int nv, const double (*verts)[3],
+                          int32_t material, int32_t group) {
+  double c[3], n[3];
+  newell(nv, verts, c, n);
+  fill(e, nv, verts, c, n, material, group);
+}
+
+/* The element's fields from its vertices, centroid c and unit normal n. */
+static void fill(esf_wall_elem *e, int nv, const double (*verts)[3], const double c[3],
+                 const double n[3], int32_t material, int32_t group) {
   memset(e, 0, sizeof *e);
   e->kind = ESF_WALL_POLYGON;
   e->nv = nv;
@@ -174,7 +198,6 @@ int esf_wall_polygon_init(esf_wall_elem *e, int nv, const double (*verts)[3],
   e->bound_r = sqrt(br2);
   e->material = material;
   e->group = group;
-  return ESF_OK;
 }
 
 void esf_wall_nearest(const esf_wall_elem *e, const double x[3], esf_wall_hit *hit) {

@@ -52,6 +52,12 @@ int esf_wall_plane_init(esf_wall_elem *e, const double point[3], const double no
 int esf_wall_polygon_init(esf_wall_elem *e, int nv, const double (*verts)[3],
                           int32_t material, int32_t group, esf_error *err);
 
+/* esf_wall_polygon_init's element without its checks, for vertices a rigid motion took
+ * from a polygon it accepted (bodies/wall_motion.c): the same operations, so the same
+ * fields as esf_wall_polygon_init would give. */
+void esf_wall_polygon_set(esf_wall_elem *e, int nv, const double (*verts)[3],
+                          int32_t material, int32_t group);
+
 /* The signed height (x - p).n of centre x over element e's plane, m. */
 static inline double esf_wall_height(const esf_wall_elem *e, const double x[3]) {
   double r[3];

@@ -106,7 +106,7 @@ static void place(const esf_wall_group *g, const double x0[3], double out[3]) {
   if (m->kind == ESF_MOTION_ROTATE) {
     double r[3], rr[3];
     v3_sub(r, x0, m->pivot);
-    v3_rotate(rr, r, m->axis, g->angle);
+    v3_rotate_cs(rr, r, m->axis, g->cos_a, g->sin_a);
     v3_add(out, m->pivot, rr);
   } else {
     v3_copy(out, x0);
@@ -155,6 +155,8 @@ void esf_walls_set_time(esf_walls *w, double t) {
     if (g->motion.kind == ESF_MOTION_ROTATE) {
       v3_scale(g->omega, rate, g->motion.axis);
       v3_add(g->center, g->motion.pivot, g->disp);
+      g->cos_a = cos(g->angle); /* once for all its vertices */
+      g->sin_a = sin(g->angle);
     }
   }
   esf_error ignore;
@@ -167,16 +169,15 @@ void esf_walls_set_time(esf_walls *w, double t) {
       double pt[3], nn[3];
       place(g, r->p, pt);
       if (g->motion.kind == ESF_MOTION_ROTATE)
-        v3_rotate(nn, r->n, g->motion.axis, g->angle);
+        v3_rotate_cs(nn, r->n, g->motion.axis, g->cos_a, g->sin_a);
       else
         v3_copy(nn, r->n);
       esf_wall_plane_init(e, pt, nn, r->material, r->group, &ignore);
     } else {
       double v[ESF_WALL_MAX_VERTS][3];
       for (int j = 0; j < r->nv; j++) place(g, r->v[j], v[j]);
-      /* a rigid motion keeps a valid polygon valid */
-      esf_wall_polygon_init(e, r->nv, (const double(*)[3])v, r->material, r->group,
-                            &ignore);
+      /* a rigid motion keeps a valid polygon valid: its geometry without the checks */
+      esf_wall_polygon_set(e, r->nv, (const double(*)[3])v, r->material, r->group);
     }
   }
 }

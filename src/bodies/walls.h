@@ -62,6 +62,7 @@ typedef struct esf_wall_group {
   int absent;                  /* removed by an event (or not yet added): no contacts */
   double disp[3];              /* displacement at the current time, m */
   double angle;                /* rotation angle at the current time, rad */
+  double cos_a, sin_a;         /* its cosine and sine (esf_walls_set_time) */
   double reach; /* largest distance of its vertices from the rotation axis, m */
   double disp_mark[3], angle_mark; /* the same at the last candidate-list build */
 } esf_wall_group;

@@ -57,11 +57,16 @@ static inline void v3_cross(double *o, const double *a, const double *b) {
 }
 /* o = v rotated by angle a (rad) about the unit axis k (Rodrigues' formula); o may
  * alias v. */
-static inline void v3_rotate(double *o, const double *v, const double *k, double a) {
-  double c = cos(a), s = sin(a), kxv[3];
+/* v3_rotate by the angle whose cosine and sine are c, s (one angle, many vectors). */
+static inline void v3_rotate_cs(double *o, const double *v, const double *k, double c,
+                                double s) {
+  double kxv[3];
   v3_cross(kxv, k, v);
   double kv = v3_dot(k, v) * (1 - c);
   for (int q = 0; q < 3; q++) o[q] = v[q] * c + kxv[q] * s + k[q] * kv;
+}
+static inline void v3_rotate(double *o, const double *v, const double *k, double a) {
+  v3_rotate_cs(o, v, k, cos(a), sin(a));
 }
 /* u, v completing the unit vector n to a right-handed orthonormal frame (u, v, n):
  * u = unit(n x e) with e the coordinate axis least aligned with n, v = n x u. */
