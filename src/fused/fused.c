@@ -310,13 +310,14 @@ static int light_rows(esf_sim *s, esf_fused *f, esf_pair_batch_ctx *bc, esf_fuse
   return ESF_OK;
 }
 
-/* esf_fused_run's steps, or with ev one force evaluation (esf_fused_forces): ev's
- * interval and mode, the particle pass writing p.f, p.t (no kick, no drift), *nt the
- * touching contacts, none of the step's counters advanced. */
 /* An evaluation whose F, M stay in the accumulators (esf_fused_eval's lazy). */
 static int lazy_eval(const esf_sim *s, const esf_fused_eval *ev) {
   return ev->lazy && ev->acc && !ev->trial && s->cfg.dim == 3 && !s->par && !s->local;
 }
+
+/* esf_fused_run's steps, or with ev one force evaluation (esf_fused_forces): ev's
+ * interval and mode, the particle pass writing p.f, p.t (no kick, no drift), *nt the
+ * touching contacts, none of the step's counters advanced. */
 
 static int run_calls(esf_sim *s, esf_fused *f, long nmax, long *taken,
                      const esf_fused_eval *ev, size_t *nt, esf_error *err) {

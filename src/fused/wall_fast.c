@@ -1,6 +1,5 @@
-/* wall_fast.c — the particle-wall contacts of one particle for static walls and the
- * linear or the Hertz-Mindlin law (wall_fast.h), the fused leapfrog step's wall pass
- * (fused_kick.c).
+/* wall_fast.c — the particle-wall contacts of one particle, static or moving walls, the
+ * linear or the Hertz-Mindlin law (wall_fast.h): the fused step's wall pass.
  *
  * Physics: exactly model/forces.c's wall contacts (docs/physics.md#contact-kinematics,
  * #linear-springdashpot-law; 004 §2.3.2, eqs. 2.4–2.5 for the nearest point; 000
@@ -10,14 +9,15 @@
  *      (wall_overlap);
  *   2. which hits carry force: with at most one overlapping candidate, that one; with
  *      more, esf_forces_select_wall_hits itself (faces first, shared points once);
- *   3. per kept hit, in candidate order: the overlap limit, then the law (wall_contact).
+ *   3. per kept hit, in candidate order: the overlap limit, then the law (wall_contact;
+ *      a moving wall's velocity at the contact point and spin as forces.c's).
  * The only arithmetic forces.c does not do: a polygon out of reach costs one dot
  * product (wall_overlap). Up to FAST_MAX candidates per particle the hits live on the
  * stack; more use the neighbour lists' wall scratch at k0 (as forces.c), so particles
  * run in parallel.
- * Entry: lists valid for s->p.x; static walls, all pairs linear or all Hertz-Mindlin, no
- * tally, servo walls or ODE-state history (esf_wall_pass_select, _eval check). SI. Exit:
- * as esf_forces_wall_particle committing; with the ODE methods' carry, also a trial. */
+ * Entry: lists valid for s->p.x; all pairs linear or all Hertz-Mindlin, no tally, servo
+ * walls or ODE-state history (esf_wall_pass_select, _eval check). SI. Exit: as
+ * esf_forces_wall_particle committing; with the ODE methods' carry, also a trial. */
 #include "fused/wall_fast.h"
 
 #include <math.h>
@@ -94,7 +94,7 @@ static inline double wall_overlap(const esf_wall_elem *e, const double *x, doubl
 static inline __attribute__((always_inline)) void
 wall_contact(esf_sim *s, const esf_wall_elem *el, const esf_wall_hit *hit, double un,
              size_t a, size_t k, double dt, size_t *nt, double *f, double *t,
-             double *rows, unsigned set, int ode, int trial) {
+             double *rows, unsigned set, int ode, int trial, const int moving) {
   const esf_particles *p = &s->p;
   esf_candidates *c = &s->nb.pw;
   const double *v = p->v + 3 * a, *w = p->w + 3 * a;
@@ -102,12 +102,20 @@ wall_contact(esf_sim *s, const esf_wall_elem *el, const esf_wall_hit *hit, doubl
   v3_copy(in.n, hit->n);
   in.un = un;
   const double la = esf_wall_lever(s->cfg.wall_lever, p->radius[a], un, hit->dist);
-  double ra[3], ta[3];
+  double ra[3], ta[3], vw[3] = {0.0, 0.0, 0.0};
+  const double *om = zero3;
+  if (moving) { /* forces.c's: the group's velocity at the contact point */
+    const esf_wall_group *g = &s->walls.g[el->group];
+    double pc[3];
+    esf_wall_contact_point(s->cfg.wall_lever, p->x + 3 * a, la, in.n, hit->q, pc);
+    esf_wall_point_velocity(g, pc, vw);
+    om = g->omega;
+  }
   v3_scale(ra, la, in.n);
   v3_cross(ta, w, ra);
   for (int q = 0; q < 3; q++)
-    in.vc[q] = (0.0 + 0.0) - v[q] - ta[q]; /* v_wall + 0 - ... */
-  in.spin_n = 0.5 * (v3_dot(w, in.n) + v3_dot(zero3, in.n));
+    in.vc[q] = (vw[q] + 0.0) - v[q] - ta[q]; /* v_wall + 0 - ... */
+  in.spin_n = 0.5 * (v3_dot(w, in.n) + v3_dot(om, in.n));
   in.mstar = p->mass[a];
   in.rstar = p->radius[a];
   in.dt = dt;
@@ -140,15 +148,15 @@ wall_contact(esf_sim *s, const esf_wall_elem *el, const esf_wall_hit *hit, doubl
     double ket[3];
     esf_contact_ket(pp, c->h[k].xi, ket);
     esf_ledger_wall_rows_set(rows, in.n, la, out.fd_n, out.fel, out.fd_t, ket,
-                             out.slip_work, out.e_el_n, out.e_el_t, out.f, zero3, dt,
-                             set);
+                             out.slip_work, out.e_el_n, out.e_el_t, out.f, vw, dt, set);
     if (pp->ht > 0) rows[ESF_LR_STIFF] += out.w_st;
   }
 }
 
 static inline __attribute__((always_inline)) int
 fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt, double *f,
-              double *t, double *rows, unsigned set, int ode, int trial) {
+              double *t, double *rows, unsigned set, int ode, int trial,
+              const int moving) {
   const esf_particles *p = &s->p;
   esf_candidates *c = &s->nb.pw;
   const esf_wall_elem *E = s->walls.e;
@@ -188,26 +196,31 @@ fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt, double *f
     }
     if (un[j] > lim) return 1; /* esf_forces_wall_particle words the failure */
     wall_contact(s, &E[c->b[k]], &hits[j], un[j], a, k, dt, nt, f, t, rows, set, ode,
-                 trial);
+                 trial, moving);
   }
   return 0;
 }
 
 int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
                            double *f, double *t, double *rows) {
-  return fast_particle(s, k0, k1, dt, nt, f, t, rows, 0, 0, 0);
+  return fast_particle(s, k0, k1, dt, nt, f, t, rows, 0, 0, 0, 0);
+}
+
+int esf_wall_fast_particle_moving(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
+                                  double *f, double *t, double *rows) {
+  return fast_particle(s, k0, k1, dt, nt, f, t, rows, 0, 0, 0, 1);
 }
 
 int esf_wall_fast_particle_light(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
                                  double *f, double *t, double *rows) {
   return fast_particle(s, k0, k1, dt, nt, f, t, rows, ESF_LEDGER_LIGHT | ESF_LEDGER_NO_W,
-                       0, 0);
+                       0, 0, 0);
 }
 
 int esf_wall_fast_particle_light_n(esf_sim *s, size_t k0, size_t k1, double dt,
                                    size_t *nt, double *f, double *t, double *rows) {
   return fast_particle(s, k0, k1, dt, nt, f, t, rows,
-                       ESF_LEDGER_LIGHT | ESF_LEDGER_NO_T | ESF_LEDGER_NO_W, 0, 0);
+                       ESF_LEDGER_LIGHT | ESF_LEDGER_NO_T | ESF_LEDGER_NO_W, 0, 0, 0);
 }
 
 int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
@@ -231,27 +244,30 @@ static int wall_trial_particle(esf_sim *s, size_t k0, size_t k1, double dt, size
  * history, touch flag or carry written). */
 static int wall_fast_ode_commit(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
                                 double *f, double *t, double *rows) {
-  return fast_particle(s, k0, k1, dt, nt, f, t, rows, 0, 1, 0);
+  return fast_particle(s, k0, k1, dt, nt, f, t, rows, 0, 1, 0, 0);
 }
 
 static int wall_fast_ode_trial(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
                                double *f, double *t, double *rows) {
-  return fast_particle(s, k0, k1, dt, nt, f, t, rows, 0, 1, 1);
+  return fast_particle(s, k0, k1, dt, nt, f, t, rows, 0, 1, 1, 0);
 }
 
-/* The fast pass's conditions but the carry (all pairs: wall materials may pair by a
- * law the particles' pairs do not use). */
+/* The fast pass's conditions but the carry and the walls' motion (all pairs: wall
+ * materials may pair by a law the particles' pairs do not use). */
 static int fast_ok(const esf_sim *s) {
-  return (s->mats.all_linear || s->mats.all_hertz) && !s->mats.any_rolling &&
-         !s->walls.moving && !s->tally && !s->walls.gforce && !s->nb.pw.xs;
+  return (s->mats.all_linear || s->mats.all_hertz) && !s->mats.any_rolling && !s->tally &&
+         !s->walls.gforce && !s->nb.pw.xs;
 }
 
 esf_wall_pass_fn esf_wall_pass_eval(const esf_sim *s, int trial) {
-  if (!fast_ok(s)) return trial ? wall_trial_particle : esf_wall_general_particle;
+  if (!fast_ok(s) || (s->walls.moving && (trial || s->nb.pw.vc0)))
+    return trial ? wall_trial_particle : esf_wall_general_particle;
   if (trial) return wall_fast_ode_trial;
-  return s->nb.pw.vc0 ? wall_fast_ode_commit : esf_wall_fast_particle;
+  if (s->nb.pw.vc0) return wall_fast_ode_commit;
+  return s->walls.moving ? esf_wall_fast_particle_moving : esf_wall_fast_particle;
 }
 
 esf_wall_pass_fn esf_wall_pass_select(const esf_sim *s) {
-  return fast_ok(s) && !s->nb.pw.vc0 ? esf_wall_fast_particle : esf_wall_general_particle;
+  if (!fast_ok(s) || s->nb.pw.vc0) return esf_wall_general_particle;
+  return s->walls.moving ? esf_wall_fast_particle_moving : esf_wall_fast_particle;
 }

@@ -18,9 +18,15 @@ typedef int (*esf_wall_pass_fn)(esf_sim *s, size_t k0, size_t k1, double dt, siz
 
 /* The fast pass: the same bits as esf_forces_wall_particle(..., ESF_FORCES_COMMIT,
  * NULL, NULL, ...) when every wall is static, every material pair has the linear law
- * and neither tally, servo walls nor history as ODE state are on. */
+ * (or every one Hertz-Mindlin), no rolling resistance, and neither tally, servo walls
+ * nor history as ODE state are on. */
 int esf_wall_fast_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
                            double *f, double *t, double *rows);
+
+/* The same with moving walls (forces.c's: the group's velocity at the contact point in
+ * the contact velocity, its spin about the normal, the ledger's wall rows). */
+int esf_wall_fast_particle_moving(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
+                                  double *f, double *t, double *rows);
 
 /* The same with the ledger's rows of the cumulative terms only (the first ESF_LR_DISS
  * of core/ledger.h: a light step of the fused step) but W (static walls:
@@ -35,7 +41,8 @@ int esf_wall_fast_particle_light_n(esf_sim *s, size_t k0, size_t k1, double dt,
 int esf_wall_general_particle(esf_sim *s, size_t k0, size_t k1, double dt, size_t *nt,
                               double *f, double *t, double *rows);
 
-/* The fast pass when s qualifies (above), else the general one. */
+/* The fast pass (static or moving walls) when s qualifies (above), else the general
+ * one. */
 esf_wall_pass_fn esf_wall_pass_select(const esf_sim *s);
 
 /* For esf_fused_forces: where the fast pass qualifies but for the ODE methods' carry
