@@ -602,59 +602,27 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
   if (roll)
     rolling(c, pp, kk, ia, ib, hertz ? sn : kn, sn0, ra, rb, fn, n, wa, wb, tch & ~broke,
             &R, ta, tb);
-  v4 rf[ESF_BATCH], rta[ESF_BATCH], rtb[ESF_BATCH];
+  const vm keep = (in | bonded) & ~broke; /* the contacts that go on */
+  unsigned badmask = 0, gone = 0;         /* apart: the contact ended; past the limit */
+  for (int l = 0; l < nl; l++)
+    if (!keep[l])
+      gone |= 1u << l;
+    else if (bad[l])
+      badmask |= 1u << l;
+  /* the forces first, from registers (the history's commit below writes other memory,
+     so the order changes no bit): the rows then need not outlive the commit loop */
   if (acc) {
+    /* ldn (from batch() alone): a light step's rows, without bonds or rolling
+       resistance, go with the forces (light_dn_rows, light_dt_rows); a lane left out
+       adds -0 there */
+    v4 rf[ESF_BATCH], rta[ESF_BATCH], rtb[ESF_BATCH];
     rows_of(f4, rf);
     rows_of(ta, rta);
     rows_of(tb, rtb);
-  } else {
-    store_rows(f4, out, 0);
-    store_rows(ta, out, 4);
-    store_rows(tb, out, 8);
-  }
-  /* the history: xi and n[0] as one row, then n[1], n[2], the record's last 16 bytes */
-  const vd c0[4] = {xi[0], xi[1], xi[2], n[0]};
-  double rows[ESF_BATCH][ESF_BATCH_OUT];
-  store_rows(c0, rows, 0);
-  const vm keep = (in | bonded) & ~broke; /* the contacts that go on */
-  unsigned badmask = 0, gone = 0;
-  for (int l = 0; l < nl; l++) {
-    if (!keep[l]) { /* apart: the contact ended */
-      gone |= 1u << l;
-      if (gen && c->trial) continue;
-      c->touch[kk[l]] = 0;
-      if (broke[l]) { /* as the linear law at un <= 0 commits: xi = 0, the normal */
-        char *h = (char *)c->h + hk[l];
-        const esf_contact_hist h0 = {{0, 0, 0}, {n[0][l], n[1][l], n[2][l]}};
-        memcpy(h, &h0, sizeof h0);
-        bond[kk[l]] = (esf_contact_bond){0};
-        if (ia[l] >= c->own_lo && ia[l] < c->own_hi)
-          atomic_fetch_add_explicit(c->broken, 1, memory_order_relaxed);
-      }
-      continue;
-    }
-    if (bad[l]) {
-      badmask |= 1u << l;
-      continue;
-    }
-    if (gen && c->trial) continue;
-    if (gen && c->vc0)
-      for (int q = 0; q < 3; q++) c->vc0[3 * kk[l] + q] = vc[q][l];
-    char *h = (char *)c->h + hk[l];
-    memcpy(h + HXI, rows[l], 4 * sizeof(double));
-    const double n12[2] = {n[1][l], n[2][l]};
-    memcpy(h + HN1, n12, sizeof n12);
-    c->touch[kk[l]] = 1;
-    if (roll)
-      roll[kk[l]] = (esf_contact_roll){{R.hm[0][l], R.hm[1][l], R.hm[2][l]}, R.ht[l]};
-  }
-  /* ldn (from batch() alone): a light step's rows, without bonds or rolling resistance,
-     go with the forces (light_dn_rows, light_dt_rows); a lane left out adds -0 there */
-  v4 rdn[ESF_BATCH], rdt[ESF_BATCH], rma[ESF_BATCH], rmb[ESF_BATCH];
-  const int ldt = ldn && !c->no_t;
-  if (ldn) light_dn_rows(fd, n, T.slip, keep, rdn);
-  if (ldt) light_dt_rows(c, T.fdt, n, la, lb, T.w_st, keep, rdt, rma, rmb);
-  if (acc)
+    v4 rdn[ESF_BATCH], rdt[ESF_BATCH], rma[ESF_BATCH], rmb[ESF_BATCH];
+    const int ldt = ldn && !c->no_t;
+    if (ldn) light_dn_rows(fd, n, T.slip, keep, rdn);
+    if (ldt) light_dt_rows(c, T.fdt, n, la, lb, T.w_st, keep, rdt, rma, rmb);
     for (int l = 0; l < nl; l++) {
       if ((badmask | gone) >> l & 1u) continue;
       esf_pair_batch_acc_add(acc, ia[l], ib[l], rf[l], rta[l], rtb[l]);
@@ -668,6 +636,41 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
       v4_st(ra + ESF_LR_MDT, v4_ld(ra + ESF_LR_MDT) + rma[l]);
       v4_st(rb + ESF_LR_MDT, v4_ld(rb + ESF_LR_MDT) + rmb[l]);
     }
+  } else {
+    store_rows(f4, out, 0);
+    store_rows(ta, out, 4);
+    store_rows(tb, out, 8);
+  }
+  /* the history: xi and n[0] as one row, then n[1], n[2], the record's last 16 bytes */
+  const vd c0[4] = {xi[0], xi[1], xi[2], n[0]};
+  v4 hr[ESF_BATCH];
+  rows_of(c0, hr);
+  for (int l = 0; l < nl; l++) {
+    if (gone >> l & 1u) {
+      if (gen && c->trial) continue;
+      c->touch[kk[l]] = 0;
+      if (broke[l]) { /* as the linear law at un <= 0 commits: xi = 0, the normal */
+        char *h = (char *)c->h + hk[l];
+        const esf_contact_hist h0 = {{0, 0, 0}, {n[0][l], n[1][l], n[2][l]}};
+        memcpy(h, &h0, sizeof h0);
+        bond[kk[l]] = (esf_contact_bond){0};
+        if (ia[l] >= c->own_lo && ia[l] < c->own_hi)
+          atomic_fetch_add_explicit(c->broken, 1, memory_order_relaxed);
+      }
+      continue;
+    }
+    if (badmask >> l & 1u) continue;
+    if (gen && c->trial) continue;
+    if (gen && c->vc0)
+      for (int q = 0; q < 3; q++) c->vc0[3 * kk[l] + q] = vc[q][l];
+    char *h = (char *)c->h + hk[l];
+    v4_st(h + HXI, hr[l]);
+    const double n12[2] = {n[1][l], n[2][l]};
+    memcpy(h + HN1, n12, sizeof n12);
+    c->touch[kk[l]] = 1;
+    if (roll)
+      roll[kk[l]] = (esf_contact_roll){{R.hm[0][l], R.hm[1][l], R.hm[2][l]}, R.ht[l]};
+  }
   if (lrows && !ldn)
     ledger_rows(c, kt, fd, fel, e_n, n, la, lb, &T, roll ? &R : NULL, keep, broke, e_brk,
                 ia, ib, nl, badmask, acc ? NULL : lout);
