@@ -150,11 +150,12 @@ def resumed(exe, tmp, scene):
               f"resumed rate x wall_s = {rate:.6g}, its own particle-steps {160 * done}")
         print(f"resumed at step {step.group(1)}: checkpoints={s['checkpoints']}, "
               f"rate x wall = {rate:.6g} for {done} steps of 160 particles")
-    # the ETA after a resume at 3/4 of a longer run: from the recent rate, not the time
-    # since the resume against the whole run's fraction
+    # the ETA after a resume past half of a longer run: from the recent rate, not the
+    # time since the resume against the whole run's fraction (the resumed part long
+    # enough, a few seconds, for whole-second ETAs)
     long = os.path.join(tmp, "eta")
     r = subprocess.run([exe, "run", scene, "--out", long, *args, "--set",
-                        "run.duration=0.8", "--checkpoint-every", "0.6"],
+                        "run.duration=1.0", "--checkpoint-every", "0.55"],
                        capture_output=True, text=True)
     t0 = time.monotonic()
     rc, buf = on_pty([exe, "run", "--resume", long, "--threads", "1"], 1e9, signal.SIGINT)
@@ -162,9 +163,10 @@ def resumed(exe, tmp, scene):
     etas = [float(x) for x in re.findall(rb"ETA (\d+) s", buf)]
     first = etas[0] if etas else -1
     check(r.returncode == 0 and rc == 0 and first >= 0.3 * (took - 0.5),
-          f"ETA after a resume at 3/4: first {first} s, the rest took {took:.1f} s "
+          f"ETA after a resume at 0.55 of 1: first {first} s, the rest took {took:.1f} s "
           f"({etas[:5]})")
-    print(f"ETA after a resume at 3/4: first {first:.0f} s, the rest took {took:.1f} s")
+    print(f"ETA after a resume at 0.55 of 1: first {first:.0f} s, the rest took "
+          f"{took:.1f} s")
 
 
 def main():
