@@ -18,7 +18,6 @@
  * entry, vectorised for the CPU), which measures the displacements for the lists' check.
  * Ledger: stored energies on the step; dissipation by the trapezoidal rule over the
  * powers at successive evaluations (second order, so the residual falls as dt^2). */
-#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -145,8 +144,6 @@ static void drift_all(esf_sim *s, const verlet *vv, int end, int drift, const do
   esf_neighbor *nb = &s->nb;
   const double dt = s->dt, h = 0.5 * dt, ar = s->alpha_r, at = s->alpha_t;
   const int dsp = drift && nb->xref && nb->nref == p->n;
-  static const double inf3[2][3] = {{-INFINITY, -INFINITY, -INFINITY},
-                                    {INFINITY, INFINITY, INFINITY}};
   const esf_vv_pass c = {.h = h,
                          .dt = dt,
                          .ar = ar,
@@ -164,8 +161,8 @@ static void drift_all(esf_sim *s, const verlet *vv, int end, int drift, const do
                          .ar0 = 0.0, /* evaluate's: global damping in the kicks */
                          .at0 = 0.0,
                          .xref = dsp ? nb->xref : NULL,
-                         .lo3 = nb->dom_lo ? nb->dom_lo : inf3[0],
-                         .hi3 = nb->dom_lo ? nb->dom_hi : inf3[1],
+                         .lo3 = nb->dom_lo,
+                         .hi3 = nb->dom_hi,
                          .end = end,
                          .drift = drift};
   const size_t n = p->n;

@@ -15,7 +15,7 @@ typedef struct esf_fused esf_fused;
  * kick of the step just taken, v = (v + h a) cr, w = (w + h dw) ct, then the first half
  * kick and drift of the next, v += h (a - ar v), w += h (dw - at w), x += dt v; with
  * xref their squared displacement since the lists' build (esf_neighbor_check's
- * operations) and the domain test [lo3, hi3] (infinite bounds: none). Without drift,
+ * operations) and the domain test [lo3, hi3] (NULL: none). Without drift,
  * the second half kick alone (end must be set). The accelerations a, dw are read from
  * a, dw; or, with F (end must be set; the totals of a lazy evaluation, s->ft_lazy:
  * ESF_FT_STRIDE doubles a particle, force then torque), computed from them at the
@@ -29,7 +29,7 @@ typedef struct esf_vv_pass {
   const double *im, *ii;   /* with F: inverse masses and inertias */
   double ar0, at0;         /* with F: the global damping inside the accelerations */
   const double *xref;      /* or NULL: no displacement */
-  const double *lo3, *hi3; /* never NULL */
+  const double *lo3, *hi3; /* the domain, or NULL: none */
   int end, drift;
 } esf_vv_pass;
 

@@ -110,6 +110,10 @@ static void kick_plain_loop(size_t lo, size_t hi, double dt, double *restrict x,
   *escaped |= out;
 }
 
+/* No domain: bounds nothing passes (the kicks' domain test then never fires). */
+static const double inf3[2][3] = {{-INFINITY, -INFINITY, -INFINITY},
+                                  {INFINITY, INFINITY, INFINITY}};
+
 /* esf_accel_one's accelerations without local damping (its zero terms added, as
  * there) of particles [lo, hi) from their accumulators acc, and with pf the totals
  * copied to pf, pt: a loop without calls or branches, vectorised (each lane the scalar
@@ -128,8 +132,8 @@ accel_loop(size_t lo, size_t hi, const double *restrict acc, const double *restr
         pf[j] = fi[q];
         pt[j] = ti[q];
       }
-      a[j] = (fi[q] + 0.0) * im - ar * v[j];
-      dw[j] = (ti[q] + 0.0) * ii - at * w[j];
+      a[j] = esf_accel_entry(fi[q], 0.0, im, ar, v[j]);
+      dw[j] = esf_accel_entry(ti[q], 0.0, ii, at, w[j]);
     }
   }
 }
@@ -348,8 +352,6 @@ void esf_fused_kick_range(esf_sim *s, const esf_fused *f, const esf_fused_kick *
     }
     return;
   }
-  const double inf3[2][3] = {{-INFINITY, -INFINITY, -INFINITY},
-                             {INFINITY, INFINITY, INFINITY}};
   const double *lo3 = K->dom_lo ? K->dom_lo : inf3[0],
                *hi3 = K->dom_lo ? K->dom_hi : inf3[1];
   if (K->plain && K->xref) {
@@ -382,8 +384,8 @@ vv_drift(const esf_vv_pass *c, size_t lo, size_t hi, double *restrict x,
          const int dsp, const int fm, const int st) {
   const double h = c->h, dt = c->dt, ar = c->ar, at = c->at, cr = c->cr, ct = c->ct;
   const double ar0 = c->ar0, at0 = c->at0;
-  const double bl[3] = {c->lo3[0], c->lo3[1], c->lo3[2]},
-               bh[3] = {c->hi3[0], c->hi3[1], c->hi3[2]};
+  const double *lo3 = c->lo3 ? c->lo3 : inf3[0], *hi3 = c->lo3 ? c->hi3 : inf3[1];
+  const double bl[3] = {lo3[0], lo3[1], lo3[2]}, bh[3] = {hi3[0], hi3[1], hi3[2]};
   int64_t mb = 0;
   int bad = 0, out = 0;
   for (size_t i = lo; i < hi; i++) {
@@ -392,8 +394,8 @@ vv_drift(const esf_vv_pass *c, size_t lo, size_t hi, double *restrict x,
       const size_t j = 3 * i + q;
       double vj = v[j], wj = w[j], aj, dwj;
       if (fm) { /* esf_accel_one's, its local terms +0 */
-        aj = (F[ESF_FT_STRIDE * i + q] + 0.0) * im_[i] - ar0 * vj;
-        dwj = (F[ESF_FT_STRIDE * i + 4 + q] + 0.0) * ii_[i] - at0 * wj;
+        aj = esf_accel_entry(F[ESF_FT_STRIDE * i + q], 0.0, im_[i], ar0, vj);
+        dwj = esf_accel_entry(F[ESF_FT_STRIDE * i + 4 + q], 0.0, ii_[i], at0, wj);
         if (st) {
           a[j] = aj;
           dw[j] = dwj;

@@ -9,6 +9,14 @@
 #include "core/sim.h"
 #include "util/vec3.h"
 
+/* One entry of an acceleration: (f + fd) times the inverse mass (or inertia) im, less
+ * the global damping ar v (fd: the local damping's term, +0 without it). The one
+ * formula of esf_accel_one and of the fused kernels' vectorised loops (fused_kick.c). */
+static inline double esf_accel_entry(double f, double fd, double im, double ar,
+                                     double v) {
+  return (f + fd) * im - ar * v;
+}
+
 /* Particle i's accelerations from force f and torque m (3 each) at velocities v, w (3n)
  * into acc, dw (3n); with pw, its damping powers added to pw[0] (global) and pw[1]
  * (local), W. */
@@ -29,8 +37,8 @@ static inline void esf_accel_one(const esf_sim *s, size_t i, const double *fi,
   }
   double mass = p->mass[i], I = p->inertia[i];
   for (int q = 0; q < 3; q++) {
-    acc[3 * i + q] = (f[q] + fd[q]) * p->inv_mass[i] - ar * vi[q];
-    dw[3 * i + q] = (m[q] + md[q]) * p->inv_inertia[i] - at * wi[q];
+    acc[3 * i + q] = esf_accel_entry(f[q], fd[q], p->inv_mass[i], ar, vi[q]);
+    dw[3 * i + q] = esf_accel_entry(m[q], md[q], p->inv_inertia[i], at, wi[q]);
   }
   if (pw) {
     pw[0] += s->alpha_r * mass * v3_norm2(vi) + s->alpha_t * I * v3_norm2(wi);
