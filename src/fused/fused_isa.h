@@ -20,11 +20,12 @@
 #define ESF_ISA_STR_(x)    #x
 #define ESF_ISA_STR(x)     ESF_ISA_STR_(x)
 
-#define esf_fused_boundary        ESF_ISA_NAME(esf_fused_boundary)
-#define esf_fused_pairs           ESF_ISA_NAME(esf_fused_pairs)
-#define esf_fused_kick_range      ESF_ISA_NAME(esf_fused_kick_range)
-#define esf_fused_vv_drift_range  ESF_ISA_NAME(esf_fused_vv_drift_range)
-#define esf_pair_batch_linear     ESF_ISA_NAME(esf_pair_batch_linear)
-#define esf_pair_batch_linear_add ESF_ISA_NAME(esf_pair_batch_linear_add)
+#define esf_fused_boundary       ESF_ISA_NAME(esf_fused_boundary)
+#define esf_fused_pairs          ESF_ISA_NAME(esf_fused_pairs)
+#define esf_fused_kick_range     ESF_ISA_NAME(esf_fused_kick_range)
+#define esf_fused_vv_drift_range ESF_ISA_NAME(esf_fused_vv_drift_range)
+#define esf_pair_batch_linear    ESF_ISA_NAME(esf_pair_batch_linear)
+#define esf_pair_batch_geometry  ESF_ISA_NAME(esf_pair_batch_geometry)
+#define esf_pair_batch_law       ESF_ISA_NAME(esf_pair_batch_law)
 
 #endif

@@ -12,6 +12,7 @@
 
 #define PF  32 /* history prefetch distance, pairs */
 #define APF 24 /* accumulator prefetch distance, particles */
+#define CH  4  /* batches a chunk: their geometry, then their laws */
 
 /* Adds the A side of outgoing boundary pair j (its pair's a is in range), and its
  * ledger rows to A's (rows not NULL). */
@@ -115,48 +116,61 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
   double out[ESF_BATCH][ESF_BATCH_OUT], lout[ESF_BATCH][ESF_BATCH_LOUT];
   const char *hist = (const char *)c->h;
   size_t w = 0, ng = 0; /* list[0 .. w) kept, ended[0 .. ng) */
-  for (size_t q0 = 0; q0 < cnt; q0 += ESF_BATCH) {
-    const int nl = cnt - q0 < ESF_BATCH ? (int)(cnt - q0) : ESF_BATCH;
-    /* the histories of the pairs PF ahead (sparse in memory, so the hardware's
-     * stream prefetch does not see them coming), both ends of each record: half the
-     * 48-byte records straddle two lines. Not b's velocity, spin and accumulator: that
-     * cost time and gained nothing (docs/performance.md#the-pair-batches). */
-    for (size_t q = q0 + PF; q < q0 + PF + ESF_BATCH && q < cnt; q++) {
-      const char *hq = hist + (size_t)list[q] * sizeof(esf_contact_hist);
-      __builtin_prefetch(hq, 1, 3);
-      __builtin_prefetch(hq + sizeof(esf_contact_hist) - 1, 1, 3);
-    }
-    for (int l = 0; l < nl; l++) /* b > a: covers the a sides and outgoing slots too */
-      if (c->b[list[q0 + l]] >= bmax) bmax = c->b[list[q0 + l]] + 1;
+  esf_pair_geo G[CH];
+  for (size_t q0 = 0; q0 < cnt; q0 += CH * ESF_BATCH) {
+    const size_t qe = cnt - q0 < CH * ESF_BATCH ? cnt : q0 + CH * ESF_BATCH;
+    for (size_t q = q0; q < qe;
+         q++) /* b > a: covers the a sides and outgoing slots too */
+      if (c->b[list[q]] >= bmax) bmax = c->b[list[q]] + 1;
     fr = acc_set(p, g, acc, rows, lr, set, fr, bmax);
-    if (jo == jo1 || f->bk[jo] > list[q0 + nl - 1]) {
-      /* no outgoing slot falls among these pairs: the batch adds its results itself,
-         as the loop below does (esf_pair_batch_acc_add) */
+    /* the chunk's geometry first: its batches' loads and square roots overlap */
+    int nb = 0;
+    for (size_t qb = q0; qb < qe; qb += ESF_BATCH, nb++)
+      esf_pair_batch_geometry(bc, list + qb,
+                              qe - qb < ESF_BATCH ? (int)(qe - qb) : ESF_BATCH, &G[nb]);
+    for (int u = 0; u < nb; u++) {
+      const esf_pair_geo *gb = &G[u];
+      const size_t qb = q0 + (size_t)u * ESF_BATCH;
+      const int nl = gb->nl;
+      /* the histories of the pairs PF ahead (sparse in memory, so the hardware's
+       * stream prefetch does not see them coming), both ends of each record: half the
+       * 48-byte records straddle two lines; a batch's worth at a time (a chunk's at
+       * once queued more misses than the core holds). Not b's velocity, spin and
+       * accumulator: that cost time and gained nothing
+       * (docs/performance.md#the-pair-batches). */
+      for (size_t q = qb + PF; q < qb + PF + ESF_BATCH && q < cnt; q++) {
+        const char *hq = hist + (size_t)list[q] * sizeof(esf_contact_hist);
+        __builtin_prefetch(hq, 1, 3);
+        __builtin_prefetch(hq + sizeof(esf_contact_hist) - 1, 1, 3);
+      }
       unsigned apart;
-      const unsigned fail = esf_pair_batch_linear_add(bc, list + q0, nl, acc, &apart);
-      for (int l = 0; fail && l < nl; l++)
-        if ((fail >> l & 1u) && list[q0 + l] < bad) bad = list[q0 + l];
-      w = compact(list, q0, nl, apart, w, ended, &ng);
-      continue;
-    }
-    unsigned apart;
-    const unsigned fail = esf_pair_batch_linear(bc, list + q0, nl, out, lout, &apart);
-    for (int l = 0; l < nl; l++) {
-      const size_t k = list[q0 + l];
-      for (; jo < jo1 && f->bk[jo] < k; jo++) outgoing(f, c, jo, rows, lr, set);
-      if (apart >> l & 1u) { /* nothing, but a broken bond's energy (ledger) */
+      if (jo == jo1 || f->bk[jo] > gb->kk[nl - 1]) {
+        /* no outgoing slot falls among these pairs: the batch adds its results itself,
+           as the loop below does (esf_pair_batch_acc_add) */
+        const unsigned fail = esf_pair_batch_law(bc, gb, NULL, NULL, acc, &apart);
+        for (int l = 0; fail && l < nl; l++)
+          if ((fail >> l & 1u) && gb->kk[l] < bad) bad = gb->kk[l];
+        w = compact(list, qb, nl, apart, w, ended, &ng);
+        continue;
+      }
+      const unsigned fail = esf_pair_batch_law(bc, gb, out, lout, NULL, &apart);
+      for (int l = 0; l < nl; l++) {
+        const size_t k = gb->kk[l];
+        for (; jo < jo1 && f->bk[jo] < k; jo++) outgoing(f, c, jo, rows, lr, set);
+        if (apart >> l & 1u) { /* nothing, but a broken bond's energy (ledger) */
+          if (rows) esf_pair_batch_led_add(rows, lr, c->a[k], c->b[k], lout[l], set);
+          continue;
+        }
+        if (fail >> l & 1u) {
+          if (k < bad) bad = k;
+          continue;
+        }
+        esf_pair_batch_acc_add(acc, c->a[k], c->b[k], v4_ld(out[l]), v4_ld(out[l] + 4),
+                               v4_ld(out[l] + 8));
         if (rows) esf_pair_batch_led_add(rows, lr, c->a[k], c->b[k], lout[l], set);
-        continue;
       }
-      if (fail >> l & 1u) {
-        if (k < bad) bad = k;
-        continue;
-      }
-      esf_pair_batch_acc_add(acc, c->a[k], c->b[k], v4_ld(out[l]), v4_ld(out[l] + 4),
-                             v4_ld(out[l] + 8));
-      if (rows) esf_pair_batch_led_add(rows, lr, c->a[k], c->b[k], lout[l], set);
+      w = compact(list, qb, nl, apart, w, ended, &ng);
     }
-    w = compact(list, q0, nl, apart, w, ended, &ng);
   }
   acc_set(p, g, acc, rows, lr, set, fr, hi);
   for (; jo < jo1; jo++) outgoing(f, c, jo, rows, lr, set);

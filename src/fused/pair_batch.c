@@ -416,6 +416,97 @@ static void rolling(const esf_pair_batch_ctx *c, const esf_pair_params *const *p
   }
 }
 
+/* The columns of esf_pair_geo. */
+enum {
+  G_N = 0,
+  G_VC = 3,
+  G_UN = 6,
+  G_LA,
+  G_LB,
+  G_VN,
+  G_SPIN,
+  G_RA,
+  G_RB,
+  G_IN,
+  G_BAD,
+  G_WA,
+  G_WB = G_WA + 3
+};
+_Static_assert(G_WB + 3 == ESF_PAIR_GEO_COLS, "esf_pair_geo's columns");
+
+static inline vd gcol(const esf_pair_geo *g, int j) { return *(const vd *)g->col[j]; }
+static inline vm gmask(const esf_pair_geo *g, int j) { return (vm)gcol(g, j); }
+static inline void gput(esf_pair_geo *g, int j, vd v) { *(vd *)g->col[j] = v; }
+
+/* The first half of the batch (esf_pair_batch_geometry): the lanes' pairs and
+ * particles, their positions (B's periodic image with gen), radii, velocities and
+ * spins gathered, then the screening's overlap test in the same operations and order
+ * (fused_lists.c), the geometry and contact velocity, vn and the mean spin about n. */
+static inline __attribute__((always_inline)) void geo_body(const esf_pair_batch_ctx *c,
+                                                           const uint32_t *k, int nl,
+                                                           esf_pair_geo *g,
+                                                           const int gen) {
+  size_t *const kk = g->kk, *const ia = g->ia, *const ib = g->ib;
+  size_t a3[ESF_BATCH], b3[ESF_BATCH];
+  for (int l = 0; l < ESF_BATCH; l++) {
+    kk[l] = k[l < nl ? l : 0];
+    ia[l] = c->a[kk[l]];
+    ib[l] = c->b[kk[l]];
+    a3[l] = 3 * sizeof(double) * ia[l]; /* byte offsets of the 3-vectors */
+    b3[l] = 3 * sizeof(double) * ib[l];
+  }
+  g->nl = nl;
+  vd xa[4], xb[4], va[4], vb[4], wa[4], wb[4], d[3], n[3];
+  load_cols_n(c->x, a3, xa, 3);
+  load_cols_n(c->x, b3, xb, 3);
+  if (gen && c->img) /* B's periodic image, esf_periodic_image's operations lane-wise */
+    for (int q = 0; q < 3; q++)
+      for (int l = 0; l < ESF_BATCH; l++)
+        xb[q][l] = xb[q][l] + (double)c->img[3 * kk[l] + q] * c->plen[q];
+  load_cols_n(c->v, a3, va, 3);
+  load_cols_n(c->v, b3, vb, 3);
+  if (gen && c->img &&
+      c->le) /* Lees-Edwards: esf_periodic_le_image's and esf_candidates_vb's lane-wise */
+    for (int l = 0; l < ESF_BATCH; l++) {
+      const int8_t mg = c->img[3 * kk[l] + c->le_grad];
+      xb[c->le_flow][l] += (double)mg * c->le_off;
+      if (mg) vb[c->le_flow][l] += (double)mg * c->le_vel;
+    }
+  load_cols_n(c->w, a3, wa, 3);
+  load_cols_n(c->w, b3, wb, 3);
+  const vd ra = gat(c->radius, ia), rb = gat(c->radius, ib);
+  vd d2, un, la, lb, vc[3];
+  const vm in = esf_law_pair_overlap_v(xa, xb, ra, rb, d, &d2);
+  esf_law_pair_kinematics_v(d, d2, ra, rb, va, vb, wa, wb, n, &un, &la, &lb, vc);
+  const vm bad = un > c->max_overlap * sel(ra < rb, ra, rb);
+  for (int q = 0; q < 3; q++) {
+    gput(g, G_N + q, n[q]);
+    gput(g, G_VC + q, vc[q]);
+  }
+  gput(g, G_UN, un);
+  gput(g, G_LA, la);
+  gput(g, G_LB, lb);
+  gput(g, G_VN, dot(vc, n));
+  gput(g, G_SPIN, 0.5 * (dot(wa, n) + dot(wb, n)));
+  gput(g, G_RA, ra);
+  gput(g, G_RB, rb);
+  gput(g, G_IN, (vd)in);
+  gput(g, G_BAD, (vd)bad);
+  if (c->roll)
+    for (int q = 0; q < 3; q++) {
+      gput(g, G_WA + q, wa[q]);
+      gput(g, G_WB + q, wb[q]);
+    }
+}
+
+void esf_pair_batch_geometry(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
+                             esf_pair_geo *g) {
+  if (c->img)
+    geo_body(c, k, nl, g, 1);
+  else
+    geo_body(c, k, nl, g, 0);
+}
+
 /* The batch; its results to out (acc NULL) or added to acc. In order: gather the lanes'
  * positions, radii, velocities, spins, history and pair parameters; compute everything
  * lane-wise with the same instructions for every lane (the Coulomb cap as a select, its
@@ -427,7 +518,7 @@ static void rolling(const esf_pair_batch_ctx *c, const esf_pair_params *const *p
  * below (GCC keeps it out of line; two copies, each inlined and specialised for its
  * output, were slower: docs/performance.md#tried-and-not-kept). */
 static inline __attribute__((always_inline)) unsigned
-batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
+batch_body(const esf_pair_batch_ctx *c, const esf_pair_geo *g,
            double out[ESF_BATCH][ESF_BATCH_OUT], double lout[ESF_BATCH][ESF_BATCH_LOUT],
            double *acc, unsigned *apart, const int gen, const int ldn, const int lean) {
   /* lean: the linear law alone (no Hertz, bonds, rolling, cohesion) and no ledger but
@@ -436,16 +527,11 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
   esf_contact_bond *const bond = lean ? NULL : c->bond;
   esf_contact_roll *const roll = lean ? NULL : c->roll;
   double *const lrows = lean && !ldn ? NULL : c->rows;
-
-  size_t kk[ESF_BATCH], ia[ESF_BATCH], ib[ESF_BATCH], a3[ESF_BATCH], b3[ESF_BATCH];
+  const int nl = g->nl;
+  const size_t *const kk = g->kk, *const ia = g->ia, *const ib = g->ib;
   size_t hk[ESF_BATCH]; /* byte offsets of the histories */
   vm tch;
   for (int l = 0; l < ESF_BATCH; l++) {
-    kk[l] = k[l < nl ? l : 0];
-    ia[l] = c->a[kk[l]];
-    ib[l] = c->b[kk[l]];
-    a3[l] = 3 * sizeof(double) * ia[l]; /* byte offsets of the 3-vectors */
-    b3[l] = 3 * sizeof(double) * ib[l];
     hk[l] = kk[l] * sizeof(esf_contact_hist);
     tch[l] = -(long long)c->touch[kk[l]];
   }
@@ -490,34 +576,17 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
     cn = cnf * sm;
     ct = ctf * sm;
   }
-  vd xa[4], xb[4], va[4], vb[4], wa[4], wb[4], h0[4], h1[4], d[3], n[3];
-  load_cols_n(c->x, a3, xa, 3);
-  load_cols_n(c->x, b3, xb, 3);
-  if (gen && c->img) /* B's periodic image, esf_periodic_image's operations lane-wise */
-    for (int q = 0; q < 3; q++)
-      for (int l = 0; l < ESF_BATCH; l++)
-        xb[q][l] = xb[q][l] + (double)c->img[3 * kk[l] + q] * c->plen[q];
-  load_cols_n(c->v, a3, va, 3);
-  load_cols_n(c->v, b3, vb, 3);
-  if (gen && c->img &&
-      c->le) /* Lees-Edwards: esf_periodic_le_image's and esf_candidates_vb's lane-wise */
-    for (int l = 0; l < ESF_BATCH; l++) {
-      const int8_t mg = c->img[3 * kk[l] + c->le_grad];
-      xb[c->le_flow][l] += (double)mg * c->le_off;
-      if (mg) vb[c->le_flow][l] += (double)mg * c->le_vel;
-    }
-  load_cols_n(c->w, a3, wa, 3);
-  load_cols_n(c->w, b3, wb, 3);
+  vd h0[4], h1[4], n[3], vc[3];
   load_cols((const char *)c->h + HXI, hk, h0); /* xi[0..2], n[0] */
   load_cols((const char *)c->h + HX2, hk, h1); /* xi[2], n[0..2] */
   const vd hx[3] = {h0[0], h0[1], h0[2]}, hn[3] = {h0[3], h1[2], h1[3]};
-  const vd ra = gat(c->radius, ia), rb = gat(c->radius, ib);
-  /* the screening's test, the same operations in the same order (fused_lists.c) */
-  vd d2, un, la, lb, vc[3];
-  const vm in = esf_law_pair_overlap_v(xa, xb, ra, rb, d, &d2);
-  esf_law_pair_kinematics_v(d, d2, ra, rb, va, vb, wa, wb, n, &un, &la, &lb, vc);
-  const vm bad = un > c->max_overlap * sel(ra < rb, ra, rb);
-  const vd vn = dot(vc, n);
+  for (int q = 0; q < 3; q++) {
+    n[q] = gcol(g, G_N + q);
+    vc[q] = gcol(g, G_VC + q);
+  }
+  const vd un = gcol(g, G_UN), la = gcol(g, G_LA), lb = gcol(g, G_LB);
+  const vd ra = gcol(g, G_RA), rb = gcol(g, G_RB), vn = gcol(g, G_VN);
+  const vm in = gmask(g, G_IN), bad = gmask(g, G_BAD);
   vd st = zero, st0 = zero; /* Hertz: tangential stiffness now, at the last commit */
   vd sn = zero, sn0 = zero; /* Hertz: S_n now (rolling's kn), at the last commit */
   if (hertz) {              /* contact_hertz.h's operations, lane-wise */
@@ -569,7 +638,7 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
       fd = sel(pull, fdv, fd);
     }
   }
-  const vd spin = 0.5 * (dot(wa, n) + dot(wb, n));
+  const vd spin = gcol(g, G_SPIN);
   esf_law_tpar_v P = {.kt = kt,
                       .ct = ct,
                       .mu = mu,
@@ -599,9 +668,15 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
   vd ta[4] = {la * m[0], la * m[1], la * m[2], zero};
   vd tb[4] = {lb * m[0], lb * m[1], lb * m[2], zero};
   esf_law_rout_v R;
-  if (roll)
+  if (roll) {
+    vd wa[3], wb[3];
+    for (int q = 0; q < 3; q++) {
+      wa[q] = gcol(g, G_WA + q);
+      wb[q] = gcol(g, G_WB + q);
+    }
     rolling(c, pp, kk, ia, ib, hertz ? sn : kn, sn0, ra, rb, fn, n, wa, wb, tch & ~broke,
             &R, ta, tb);
+  }
   const vm keep = (in | bonded) & ~broke; /* the contacts that go on */
   unsigned badmask = 0, gone = 0;         /* apart: the contact ended; past the limit */
   for (int l = 0; l < nl; l++)
@@ -684,27 +759,31 @@ batch_body(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
  * docs/performance.md), the same for a light ledger step's rows added with the forces
  * (ldn: its test kept out of the others' copies), and the general one. */
 static __attribute__((noinline)) unsigned batch(const esf_pair_batch_ctx *c,
-                                                const uint32_t *k, int nl,
+                                                const esf_pair_geo *g,
                                                 double out[ESF_BATCH][ESF_BATCH_OUT],
                                                 double lout[ESF_BATCH][ESF_BATCH_LOUT],
                                                 double *acc, unsigned *apart) {
   if (c->img || c->vc0 || c->trial)
-    return batch_body(c, k, nl, out, lout, acc, apart, 1, 0, 0);
+    return batch_body(c, g, out, lout, acc, apart, 1, 0, 0);
   const int plain = !c->hertz && !c->bond && !c->roll && !c->cohesion;
   if (acc && c->rows && c->light && !c->roll && !c->bond)
-    return plain ? batch_body(c, k, nl, out, lout, acc, apart, 0, 1, 1)
-                 : batch_body(c, k, nl, out, lout, acc, apart, 0, 1, 0);
-  if (plain && !c->rows) return batch_body(c, k, nl, out, lout, acc, apart, 0, 0, 1);
-  return batch_body(c, k, nl, out, lout, acc, apart, 0, 0, 0);
+    return plain ? batch_body(c, g, out, lout, acc, apart, 0, 1, 1)
+                 : batch_body(c, g, out, lout, acc, apart, 0, 1, 0);
+  if (plain && !c->rows) return batch_body(c, g, out, lout, acc, apart, 0, 0, 1);
+  return batch_body(c, g, out, lout, acc, apart, 0, 0, 0);
+}
+
+unsigned esf_pair_batch_law(const esf_pair_batch_ctx *c, const esf_pair_geo *g,
+                            double out[ESF_BATCH][ESF_BATCH_OUT],
+                            double lout[ESF_BATCH][ESF_BATCH_LOUT], double *acc,
+                            unsigned *apart) {
+  return batch(c, g, out, lout, acc, apart);
 }
 
 unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
                                double out[ESF_BATCH][ESF_BATCH_OUT],
                                double lout[ESF_BATCH][ESF_BATCH_LOUT], unsigned *apart) {
-  return batch(c, k, nl, out, lout, NULL, apart);
-}
-
-unsigned esf_pair_batch_linear_add(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
-                                   double *acc, unsigned *apart) {
-  return batch(c, k, nl, NULL, NULL, acc, apart);
+  esf_pair_geo g;
+  esf_pair_batch_geometry(c, k, nl, &g);
+  return batch(c, &g, out, lout, NULL, apart);
 }

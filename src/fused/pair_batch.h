@@ -82,16 +82,42 @@ typedef struct esf_pair_batch_ctx {
   double le_off, le_vel; /* gradient image, at le_vel m/s (esf_candidates_xb, _vb) */
 } esf_pair_batch_ctx;
 
-/* The contacts of pairs k[0 .. nl) (1 <= nl <= ESF_BATCH). A pair whose spheres do
+/* The first half of a batch, for pairs k[0 .. nl) (1 <= nl <= ESF_BATCH; lanes past nl
+ * repeat lane 0's pair): their particles, positions, radii, velocities and spins
+ * gathered, the overlap test, the normal, overlap, lever arms and contact velocity
+ * (law_body.h's geometry), as columns of eight lanes. Kept apart from the law so that
+ * the batches of a chunk have their loads and square roots in flight together
+ * (docs/performance.md#the-pair-batches). */
+#define ESF_PAIR_GEO_COLS 21
+typedef struct esf_pair_geo {
+  double col[ESF_PAIR_GEO_COLS][ESF_BATCH] __attribute__((aligned(64)));
+  size_t kk[ESF_BATCH], ia[ESF_BATCH], ib[ESF_BATCH]; /* pair, its A and B per lane */
+  int nl;
+} esf_pair_geo;
+
+void esf_pair_batch_geometry(const esf_pair_batch_ctx *ctx, const uint32_t *k, int nl,
+                             esf_pair_geo *g);
+
+/* The contacts of the pairs of g (esf_pair_batch_geometry's). A pair whose spheres do
  * not overlap (the fused step's screening test: |x_b - x_a|^2 < (r_a + r_b)^2, the
  * same operations) is apart: its touch flag is cleared, nothing else is written, and
- * its lane's bit is set in *apart. For the others, writes out[lane][0 ..
- * ESF_BATCH_OUT) and, with the ledger (ctx->rows), lout[lane][0 .. ESF_BATCH_LOUT),
- * and commits each pair's history and touch flag (not in a trial, ctx->trial; with
- * ctx->vc0 also its contact velocity, the increment then integrating the carry). Returns
- * a bit mask of the lanes whose overlap exceeds the limit: nothing is committed for
- * those. The particle arrays x, v, w are read four doubles at a time, so one double past
- * the last w must be readable (esf_particles' y has it). */
+ * its lane's bit is set in *apart. For the others, with acc NULL, writes
+ * out[lane][0 .. ESF_BATCH_OUT) and, with the ledger (ctx->rows),
+ * lout[lane][0 .. ESF_BATCH_LOUT); with acc, adds each lane's results to its particles'
+ * accumulators, lane by lane in lane order, as a caller's scatter of out would (force
+ * on A to A's force, its opposite to B's, the torques to A's and B's torques, and with
+ * the ledger each lane's rows to its particles' rows). Commits each pair's history and
+ * touch flag (not in a trial, ctx->trial; with ctx->vc0 also its contact velocity, the
+ * increment then integrating the carry). Returns a bit mask of the lanes whose overlap
+ * exceeds the limit: nothing is committed nor added for those. The particle arrays x,
+ * v, w are read four doubles at a time, so one double past the last w must be readable
+ * (esf_particles' y has it). */
+unsigned esf_pair_batch_law(const esf_pair_batch_ctx *ctx, const esf_pair_geo *g,
+                            double out[ESF_BATCH][ESF_BATCH_OUT],
+                            double lout[ESF_BATCH][ESF_BATCH_LOUT], double *acc,
+                            unsigned *apart);
+
+/* Both halves for pairs k[0 .. nl), the results to out and lout. */
 unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *ctx, const uint32_t *k, int nl,
                                double out[ESF_BATCH][ESF_BATCH_OUT],
                                double lout[ESF_BATCH][ESF_BATCH_LOUT], unsigned *apart);
@@ -115,7 +141,7 @@ static inline unsigned esf_pair_batch_lset(const esf_pair_batch_ctx *ctx) {
 /* The ledger rows a pair writes per side in the batches of ctx. */
 #define ESF_PAIR_BATCH_LROWS(ctx) ((ctx)->roll ? ESF_LR_PAIR_ROLL : ESF_LR_PAIR)
 
-/* The accumulators esf_pair_batch_linear_add adds into: per particle i, at
+/* The accumulators esf_pair_batch_law adds into: per particle i, at
  * acc + ESF_BATCH_ACC * i, the force (x, y, z, unused) then the torque (x, y, z,
  * unused). */
 #define ESF_BATCH_ACC 8
@@ -131,13 +157,5 @@ static inline void esf_pair_batch_acc_add(double *acc, size_t a, size_t b, esf_v
   v4_st(aa + 4, v4_ld(aa + 4) + ta);
   v4_st(ab + 4, v4_ld(ab + 4) + tb);
 }
-
-/* As esf_pair_batch_linear, but instead of writing out, adds each lane's results to
- * its particles' accumulators, lane by lane in lane order, as a caller's scatter of out
- * would: force on A to A's force, its opposite to B's, the torques to A's and B's
- * torques, and with the ledger each lane's rows to its particles' rows. Nothing is
- * added for the lanes whose bit the returned mask sets, nor for the lanes apart. */
-unsigned esf_pair_batch_linear_add(const esf_pair_batch_ctx *ctx, const uint32_t *k,
-                                   int nl, double *acc, unsigned *apart);
 
 #endif
