@@ -223,8 +223,9 @@ static void run_range(esf_sim *s, esf_fused *f, const esf_fused_burst *B, size_t
     atomic_store_explicit(&me->ready, e, memory_order_release);
     if (j < L.ni)
       nn += esf_fused_screen(s, L.il, j, L.ni, top, nn); /* range 0: the rest */
-    for (size_t u = 0; u < t; u++) /* their slots written, our particles no longer read */
-      waited += esf_fused_wait(&f->rr[u].ready, e);
+    /* their slots written, our particles no longer read: a wait the range has every
+       step, counted as its work, so that the balance gives it less of the rest */
+    for (size_t u = 0; u < t; u++) esf_fused_wait(&f->rr[u].ready, e);
     const size_t cnt = esf_fused_merge_new(L.sq, L.tl, L.nt, top, nn);
     size_t ne, kept;
     const size_t bad = f->k->pairs(s, f, bc, t, lo, hi, L.sq, cnt, L.tl, &ne, &kept);

@@ -119,15 +119,15 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
   esf_pair_geo G[CH];
   for (size_t q0 = 0; q0 < cnt; q0 += CH * ESF_BATCH) {
     const size_t qe = cnt - q0 < CH * ESF_BATCH ? cnt : q0 + CH * ESF_BATCH;
-    for (size_t q = q0; q < qe;
-         q++) /* b > a: covers the a sides and outgoing slots too */
-      if (c->b[list[q]] >= bmax) bmax = c->b[list[q]] + 1;
-    fr = acc_set(p, g, acc, rows, lr, set, fr, bmax);
     /* the chunk's geometry first: its batches' loads and square roots overlap */
     int nb = 0;
     for (size_t qb = q0; qb < qe; qb += ESF_BATCH, nb++)
       esf_pair_batch_geometry(bc, list + qb,
                               qe - qb < ESF_BATCH ? (int)(qe - qb) : ESF_BATCH, &G[nb]);
+    for (int u = 0; u < nb; u++) /* b > a: covers the a sides and outgoing slots too */
+      for (int l = 0; l < ESF_BATCH; l++) /* (lanes past nl repeat lane 0) */
+        if (G[u].ib[l] >= bmax) bmax = G[u].ib[l] + 1;
+    fr = acc_set(p, g, acc, rows, lr, set, fr, bmax);
     for (int u = 0; u < nb; u++) {
       const esf_pair_geo *gb = &G[u];
       const size_t qb = q0 + (size_t)u * ESF_BATCH;
