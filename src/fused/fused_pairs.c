@@ -1,8 +1,10 @@
 /* fused_pairs.c — step 2's pair pass of the fused step (fused.c) for one range: its
  * accumulators set to f = m g, t = 0, the incoming boundary slots (b in the range), its
- * interior pairs in batches of eight (pair_batch.h) and its outgoing boundary slots'
- * A sides, all in ascending pair index k, so that each particle receives its pair
- * forces in the order of the serial scatter of model/forces.c whatever the ranges.
+ * interior pairs in batches of eight (pair_batch.h; a chunk of CH batches has its first
+ * halves, the gathers and geometry, computed before its laws) and its outgoing
+ * boundary slots' A sides, all in ascending pair index k, so that each particle
+ * receives its pair forces in the order of the serial scatter of model/forces.c
+ * whatever the ranges.
  * Physics: the linear law of contact/contact_linear.c as pair_batch.c computes it.
  * Entry: the range's lists merged (fused_lists.c) and the lower ranges' boundary slots
  * of this step written (their ready flags seen, fused_sync.c). Units: SI. */

@@ -7,17 +7,17 @@
  * xi, then the twist of the mean spin about n) or projected and rescaled to its old
  * length, the tangential dashpot while sticking and the Mohr-Coulomb cap with radial
  * return (004 2.13–2.16). Lever arms la = ra - un/2, lb = rb - un/2; the relative
- * contact velocity vc = (vB - vA) - (la wA + lb wB) x n (000 3-21). Rolling resistance
- * (some mu_r or mu_tw): esf_law_rolling, its torque added to A's, subtracted from B's
- * (as model/forces.c). Every lane runs the same instructions (the order: batch).
+ * contact velocity vc = (vB - vA) - (la wA + lb wB) x n (000 3-21). Rolling resistance:
+ * esf_law_rolling, +M on A, -M on B (as forces.c). Every lane runs the same
+ * instructions, in two halves: gathers and geometry (geo_body), the law (batch_body).
  * Entry: the pairs overlapped at their last screening or step; their touch flag says
- * whether the history is live. Exit: a pair whose spheres no longer overlap (the
- * screening's test, |d|^2 < (ra + rb)^2, in the same order) has its touch flag cleared
- * and nothing else; for the others out holds force on A, torque on A, torque on B (N,
- * N m), or these were added, lane by lane, to the accumulators of A and B (B's force
- * negated); history committed. A trial (ctx.trial: the ODE methods' stages) writes
- * nothing; with ctx.vc0 (the ODE methods) a live contact's increment integrates
- * (vc0 + vc)/2 (forces.c's eval_contact) and a commit stores vc. Units: SI. */
+ * whether the history is live. Exit: a pair no longer overlapping (the screening's
+ * test, |d|^2 < (ra + rb)^2, in the same order) has its touch flag cleared and nothing
+ * else; for the others out holds force on A, torque on A, torque on B (N, N m), or
+ * these were added, lane by lane, to A's and B's accumulators (B's force negated);
+ * history committed. A trial (ctx.trial: the ODE methods' stages) writes nothing; with
+ * ctx.vc0 a live contact's increment integrates (vc0 + vc)/2 (forces.c's
+ * eval_contact) and a commit stores vc. Units: SI. */
 #include "fused/pair_batch.h"
 
 #include "util/vec4.h"
