@@ -94,11 +94,11 @@ static inline __attribute__((always_inline)) vd gat(const double *p, const size_
   return (vd){p[i[0]], p[i[1]], p[i[2]], p[i[3]], p[i[4]], p[i[5]], p[i[6]], p[i[7]]};
 }
 
-static inline v4 ld(const char *p) { return v4_ld(p); }
+static inline __attribute__((always_inline)) v4 ld(const char *p) { return v4_ld(p); }
 
 /* Rows r[l] (lane l's four values) to columns c[j] (value j of the four lanes), and
  * back: the same operation. */
-static inline void transpose(const v4 r[4], v4 c[4]) {
+static inline __attribute__((always_inline)) void transpose(const v4 r[4], v4 c[4]) {
   const v4m lo = {0, 4, 2, 6}, hi = {1, 5, 3, 7}, first = {0, 1, 4, 5},
             last = {2, 3, 6, 7};
   const v4 t0 = __builtin_shuffle(r[0], r[1], lo), t1 = __builtin_shuffle(r[0], r[1], hi);
@@ -110,7 +110,8 @@ static inline void transpose(const v4 r[4], v4 c[4]) {
 }
 
 /* Columns c as the eight lanes' rows r[l], by two four-wide transposes. */
-static inline void rows_by_transpose(const vd c[4], v4 r[ESF_BATCH]) {
+static inline __attribute__((always_inline)) void rows_by_transpose(const vd c[4],
+                                                                    v4 r[ESF_BATCH]) {
   v4 lo[4], hi[4];
   for (int j = 0; j < 4; j++) {
     lo[j] = __builtin_shufflevector(c[j], c[j], 0, 1, 2, 3);
@@ -123,15 +124,16 @@ static inline void rows_by_transpose(const vd c[4], v4 r[ESF_BATCH]) {
 /* Columns c to the lanes' rows at out[l] + off (by the transposes also with AVX-512:
  * the eight-wide network below, stored, was slower:
  * docs/performance.md#tried-and-not-kept). */
-static inline void store_rows(const vd c[4], double out[ESF_BATCH][ESF_BATCH_OUT],
-                              int off) {
+static inline __attribute__((always_inline)) void
+store_rows(const vd c[4], double out[ESF_BATCH][ESF_BATCH_OUT], int off) {
   v4 r[ESF_BATCH];
   rows_by_transpose(c, r);
   for (int l = 0; l < ESF_BATCH; l++) v4_st(out[l] + off, r[l]);
 }
 
 /* Columns c as the eight lanes' rows r[l], in registers. */
-static inline void rows_of(const vd c[4], v4 r[ESF_BATCH]) {
+static inline __attribute__((always_inline)) void rows_of(const vd c[4],
+                                                          v4 r[ESF_BATCH]) {
 #if defined(__AVX512F__)
   /* the load's network backwards (it is its own inverse): rows l and l + 4 side by
      side in z[l] (faster here than two four-wide transposes:
@@ -156,7 +158,8 @@ static inline void rows_of(const vd c[4], v4 r[ESF_BATCH]) {
 
 /* The four doubles at byte base + off[l] of each of the eight lanes, as columns (the
  * first nc of them). */
-static inline void load_cols_n(const void *base, const size_t *off, vd c[4], int nc) {
+static inline __attribute__((always_inline)) void
+load_cols_n(const void *base, const size_t *off, vd c[4], int nc) {
   const char *b = base;
 #if defined(__AVX512F__)
   /* rows l and l + 4 side by side, then two rounds of eight-wide shuffles: 11 shuffles
@@ -186,7 +189,8 @@ static inline void load_cols_n(const void *base, const size_t *off, vd c[4], int
 #endif
 }
 
-static inline void load_cols(const void *base, const size_t *off, vd c[4]) {
+static inline __attribute__((always_inline)) void load_cols(const void *base,
+                                                            const size_t *off, vd c[4]) {
   load_cols_n(base, off, c, 4);
 }
 
@@ -227,7 +231,7 @@ light_dn_rows(vd fd, const vd n[3], vd slip, vm keep, v4 r[ESF_BATCH]) {
   col[3] = sel(keep, slip, mz);
   rows_of(col, r);
 }
-static inline v4 light_dn_b(v4 a) {
+static inline __attribute__((always_inline)) v4 light_dn_b(v4 a) {
   const v4m flip = {(long long)0x8000000000000000ULL, (long long)0x8000000000000000ULL,
                     (long long)0x8000000000000000ULL, 0},
             xyz = {-1, -1, -1, 0};
@@ -434,9 +438,15 @@ enum {
 };
 _Static_assert(G_WB + 3 == ESF_PAIR_GEO_COLS, "esf_pair_geo's columns");
 
-static inline vd gcol(const esf_pair_geo *g, int j) { return *(const vd *)g->col[j]; }
-static inline vm gmask(const esf_pair_geo *g, int j) { return (vm)gcol(g, j); }
-static inline void gput(esf_pair_geo *g, int j, vd v) { *(vd *)g->col[j] = v; }
+static inline __attribute__((always_inline)) vd gcol(const esf_pair_geo *g, int j) {
+  return *(const vd *)g->col[j];
+}
+static inline __attribute__((always_inline)) vm gmask(const esf_pair_geo *g, int j) {
+  return (vm)gcol(g, j);
+}
+static inline __attribute__((always_inline)) void gput(esf_pair_geo *g, int j, vd v) {
+  *(vd *)g->col[j] = v;
+}
 
 /* The first half of the batch (esf_pair_batch_geometry): the lanes' pairs and
  * particles, their positions (B's periodic image with gen), radii, velocities and
