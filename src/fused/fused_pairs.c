@@ -157,19 +157,19 @@ __attribute__((noinline)) size_t esf_fused_pairs(esf_sim *s, esf_fused *f,
       }
       const unsigned fail = esf_pair_batch_law(bc, gb, out, lout, NULL, &apart);
       for (int l = 0; l < nl; l++) {
-        const size_t k = gb->kk[l];
+        const size_t k = gb->kk[l], a = gb->ia[l], b = gb->ib[l];
         for (; jo < jo1 && f->bk[jo] < k; jo++) outgoing(f, c, jo, rows, lr, set);
         if (apart >> l & 1u) { /* nothing, but a broken bond's energy (ledger) */
-          if (rows) esf_pair_batch_led_add(rows, lr, c->a[k], c->b[k], lout[l], set);
+          if (rows) esf_pair_batch_led_add(rows, lr, a, b, lout[l], set);
           continue;
         }
         if (fail >> l & 1u) {
           if (k < bad) bad = k;
           continue;
         }
-        esf_pair_batch_acc_add(acc, c->a[k], c->b[k], v4_ld(out[l]), v4_ld(out[l] + 4),
+        esf_pair_batch_acc_add(acc, a, b, v4_ld(out[l]), v4_ld(out[l] + 4),
                                v4_ld(out[l] + 8));
-        if (rows) esf_pair_batch_led_add(rows, lr, c->a[k], c->b[k], lout[l], set);
+        if (rows) esf_pair_batch_led_add(rows, lr, a, b, lout[l], set);
       }
       w = compact(list, qb, nl, apart, w, ended, &ng);
     }

@@ -498,8 +498,10 @@ static inline __attribute__((always_inline)) void geo_body(const esf_pair_batch_
   gput(g, G_LB, lb);
   gput(g, G_VN, dot(vc, n));
   gput(g, G_SPIN, 0.5 * (dot(wa, n) + dot(wb, n)));
-  gput(g, G_RA, ra);
-  gput(g, G_RB, rb);
+  if (c->hertz || c->roll) { /* their springs read the radii again */
+    gput(g, G_RA, ra);
+    gput(g, G_RB, rb);
+  }
   gput(g, G_IN, (vd)in);
   gput(g, G_BAD, (vd)bad);
   if (c->roll)
@@ -517,16 +519,16 @@ void esf_pair_batch_geometry(const esf_pair_batch_ctx *c, const uint32_t *k, int
     geo_body(c, k, nl, g, 0);
 }
 
-/* The batch; its results to out (acc NULL) or added to acc. In order: gather the lanes'
- * positions, radii, velocities, spins, history and pair parameters; compute everything
+/* The batch's second half, from its first (g); its results to out (acc NULL) or added
+ * to acc. In order: gather the lanes' history and pair parameters; compute the law
  * lane-wise with the same instructions for every lane (the Coulomb cap as a select, its
  * square root only when some lane slides); then transpose the outputs to one row per
  * lane (written to out, or kept in registers), commit the history of the lanes that
  * are in range and within the overlap limit and, for the accumulating entry point, add
  * those lanes' rows to their particles in lane order. Lanes past nl repeat lane 0's
- * pair and are neither written back nor reported. One copy behind both entry points
- * below (GCC keeps it out of line; two copies, each inlined and specialised for its
- * output, were slower: docs/performance.md#tried-and-not-kept). */
+ * pair and are neither written back nor reported. One out-of-line copy for both
+ * outputs (two copies, each specialised for its output, were slower:
+ * docs/performance.md#tried-and-not-kept). */
 static inline __attribute__((always_inline)) unsigned
 batch_body(const esf_pair_batch_ctx *c, const esf_pair_geo *g,
            double out[ESF_BATCH][ESF_BATCH_OUT], double lout[ESF_BATCH][ESF_BATCH_LOUT],
@@ -595,7 +597,9 @@ batch_body(const esf_pair_batch_ctx *c, const esf_pair_geo *g,
     vc[q] = gcol(g, G_VC + q);
   }
   const vd un = gcol(g, G_UN), la = gcol(g, G_LA), lb = gcol(g, G_LB);
-  const vd ra = gcol(g, G_RA), rb = gcol(g, G_RB), vn = gcol(g, G_VN);
+  const vd vn = gcol(g, G_VN);
+  const vd ra = hertz || roll ? gcol(g, G_RA) : zero, /* (written for these alone) */
+      rb = hertz || roll ? gcol(g, G_RB) : zero;
   const vm in = gmask(g, G_IN), bad = gmask(g, G_BAD);
   vd st = zero, st0 = zero; /* Hertz: tangential stiffness now, at the last commit */
   vd sn = zero, sn0 = zero; /* Hertz: S_n now (rolling's kn), at the last commit */
@@ -697,7 +701,7 @@ batch_body(const esf_pair_batch_ctx *c, const esf_pair_geo *g,
   /* the forces first, from registers (the history's commit below writes other memory,
      so the order changes no bit): the rows then need not outlive the commit loop */
   if (acc) {
-    /* ldn (from batch() alone): a light step's rows, without bonds or rolling
+    /* ldn (from esf_pair_batch_law alone): a light step's rows, without bonds or rolling
        resistance, go with the forces (light_dn_rows, light_dt_rows); a lane left out
        adds -0 there */
     v4 rf[ESF_BATCH], rta[ESF_BATCH], rtb[ESF_BATCH];
@@ -768,11 +772,10 @@ batch_body(const esf_pair_batch_ctx *c, const esf_pair_geo *g,
  * trials in it; a test of each inside the batch made the S1 bed 5% slower,
  * docs/performance.md), the same for a light ledger step's rows added with the forces
  * (ldn: its test kept out of the others' copies), and the general one. */
-static __attribute__((noinline)) unsigned batch(const esf_pair_batch_ctx *c,
-                                                const esf_pair_geo *g,
-                                                double out[ESF_BATCH][ESF_BATCH_OUT],
-                                                double lout[ESF_BATCH][ESF_BATCH_LOUT],
-                                                double *acc, unsigned *apart) {
+__attribute__((noinline)) unsigned
+esf_pair_batch_law(const esf_pair_batch_ctx *c, const esf_pair_geo *g,
+                   double out[ESF_BATCH][ESF_BATCH_OUT],
+                   double lout[ESF_BATCH][ESF_BATCH_LOUT], double *acc, unsigned *apart) {
   if (c->img || c->vc0 || c->trial)
     return batch_body(c, g, out, lout, acc, apart, 1, 0, 0);
   const int plain = !c->hertz && !c->bond && !c->roll && !c->cohesion;
@@ -783,17 +786,10 @@ static __attribute__((noinline)) unsigned batch(const esf_pair_batch_ctx *c,
   return batch_body(c, g, out, lout, acc, apart, 0, 0, 0);
 }
 
-unsigned esf_pair_batch_law(const esf_pair_batch_ctx *c, const esf_pair_geo *g,
-                            double out[ESF_BATCH][ESF_BATCH_OUT],
-                            double lout[ESF_BATCH][ESF_BATCH_LOUT], double *acc,
-                            unsigned *apart) {
-  return batch(c, g, out, lout, acc, apart);
-}
-
 unsigned esf_pair_batch_linear(const esf_pair_batch_ctx *c, const uint32_t *k, int nl,
                                double out[ESF_BATCH][ESF_BATCH_OUT],
                                double lout[ESF_BATCH][ESF_BATCH_LOUT], unsigned *apart) {
   esf_pair_geo g;
   esf_pair_batch_geometry(c, k, nl, &g);
-  return batch(c, &g, out, lout, NULL, apart);
+  return esf_pair_batch_law(c, &g, out, lout, NULL, apart);
 }
